@@ -1,0 +1,1 @@
+"""Command-line interface: ``patternbridge <command> ...`` (see ``docs/cli.md``)."""

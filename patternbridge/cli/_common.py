@@ -1,0 +1,57 @@
+"""Small helpers shared by the sub-commands: warnings, progress lines, JSON output."""
+
+from __future__ import annotations
+
+import json
+import sys
+import time
+from collections.abc import Callable
+
+from ..report import Report
+
+__all__ = ["print_findings", "progress_printer", "print_json"]
+
+
+def print_findings(report: Report, *, strict: bool = False) -> None:
+    """Print each finding as a warning line on stderr; raise with ``strict``."""
+    from ..errors import InputError
+
+    for finding in report:
+        print(f"patternbridge: warning: {finding}", file=sys.stderr)
+    if strict and report:
+        raise InputError(f"{len(report)} warning(s) and --strict was given")
+
+
+def progress_printer(quiet: bool = False) -> Callable[[str, int, int], None]:
+    """Return a ``progress(stage, done, total)`` callback drawing per-stage lines.
+
+    On a terminal the current line is redrawn as a bar; otherwise a line is
+    printed for every 10 % so logs stay readable.
+    """
+    tty = sys.stderr.isatty()
+    state: dict[str, float] = {}
+
+    def progress(stage: str, done: int, total: int) -> None:
+        if quiet:
+            return
+        total = max(total, 1)
+        frac = min(done / total, 1.0)
+        if tty:
+            bar = "#" * int(frac * 30)
+            end = "\n" if done >= total else ""
+            print(f"\r[{stage}] {bar:<30} {done}/{total}", end=end, file=sys.stderr, flush=True)
+            return
+        step = int(frac * 10)
+        key = stage
+        if state.get(key) == step and done < total:
+            return
+        state[key] = step
+        print(f"[{stage}] {done}/{total} ({time.strftime('%H:%M:%S')})", file=sys.stderr, flush=True)
+
+    return progress
+
+
+def print_json(obj) -> None:
+    """Print ``obj`` as indented JSON on stdout."""
+    json.dump(obj, sys.stdout, indent=2, ensure_ascii=False)
+    sys.stdout.write("\n")

@@ -1,0 +1,1 @@
+"""Character meshes: loading with unit/up-axis detection, skeleton, skinning, landmarks."""

@@ -1,0 +1,123 @@
+"""The character model shared by measuring, grading and assembling.
+
+A :class:`Character` is a body mesh in centimetres, +Y up, with its optional
+skeleton, skin weights and datum points (landmarks). Loaders in
+``patternbridge.mesh.load`` build it and say what they assumed.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from types import MappingProxyType
+
+import numpy as np
+
+from .._arrays import as_float_array, as_index_array, frozen
+
+__all__ = ["Character", "Landmark", "Skeleton", "Skin"]
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class Skeleton:
+    """Bones in rest pose.
+
+    names : tuple of str, one per bone
+    parents : (B,) int64, index of the parent bone, -1 for a root
+    heads, tails : (B, 3) float64, cm, same frame as the mesh
+    """
+
+    names: tuple[str, ...]
+    parents: np.ndarray
+    heads: np.ndarray
+    tails: np.ndarray
+
+    def __post_init__(self) -> None:
+        n = len(self.names)
+        object.__setattr__(self, "names", tuple(self.names))
+        object.__setattr__(self, "parents", frozen(as_index_array(self.parents, (n,), "parents")))
+        object.__setattr__(self, "heads", frozen(as_float_array(self.heads, (n, 3), "heads")))
+        object.__setattr__(self, "tails", frozen(as_float_array(self.tails, (n, 3), "tails")))
+
+    def index(self, name: str) -> int:
+        return self.names.index(name)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class Skin:
+    """Linear-blend-skinning weights.
+
+    bone_indices : (V, K) int64 into ``Skeleton.names``; -1 marks an unused slot
+    weights : (V, K) float64, rows sum to 1
+    """
+
+    bone_indices: np.ndarray
+    weights: np.ndarray
+
+    def __post_init__(self) -> None:
+        idx = as_index_array(self.bone_indices, (None, None), "bone_indices")
+        w = as_float_array(self.weights, idx.shape, "weights")
+        object.__setattr__(self, "bone_indices", frozen(idx))
+        object.__setattr__(self, "weights", frozen(w))
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class Landmark:
+    """A datum point on the body surface.
+
+    position : (3,) float64, cm
+    vertex : nearest mesh vertex id, or None when the point lies inside a face
+    source : where it came from: ``"file"``, ``"skeleton"`` or ``"detected"``
+    """
+
+    name: str
+    position: np.ndarray
+    vertex: int | None = None
+    source: str = "file"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "position", frozen(as_float_array(self.position, (3,), self.name)))
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class Character:
+    """A body mesh ready for measuring and dressing.
+
+    vertices : (V, 3) float64, cm, +Y up, feet near y = 0
+    faces : (F, 3) int64
+    name : short identifier (file stem)
+    skeleton, skin : present when the source file is rigged
+    landmarks : name -> :class:`Landmark`
+    assumed : what the loader assumed, e.g. ``{"units": "cm", "up": "+Y",
+        "component": "0 of 1 (13380 vertices)", "source": "A_superhero.obj"}``
+    """
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    name: str = "character"
+    skeleton: Skeleton | None = None
+    skin: Skin | None = None
+    landmarks: Mapping[str, Landmark] = field(default_factory=dict)
+    assumed: Mapping[str, str] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        v = as_float_array(self.vertices, (None, 3), "vertices")
+        f = as_index_array(self.faces, (None, 3), "faces")
+        object.__setattr__(self, "vertices", frozen(v))
+        object.__setattr__(self, "faces", frozen(f))
+        object.__setattr__(self, "landmarks", MappingProxyType(dict(self.landmarks)))
+        object.__setattr__(self, "assumed", MappingProxyType(dict(self.assumed)))
+
+    @property
+    def stature_cm(self) -> float:
+        return float(np.ptp(self.vertices[:, 1]))
+
+    def landmark_position(self, name: str) -> np.ndarray:
+        from ..errors import LandmarkError
+
+        try:
+            return self.landmarks[name].position
+        except KeyError:
+            raise LandmarkError(
+                f"{self.name}: landmark {name!r} is missing; give it with --landmarks FILE"
+            ) from None
