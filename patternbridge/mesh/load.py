@@ -1,0 +1,573 @@
+"""Load a character mesh (OBJ, PLY, STL, GLB/glTF) into a :class:`Character`.
+
+The loader converts to the internal frame (centimetres, +Y up, the character
+facing +Z), keeps the body component, checks the surface and picks up the
+skeleton, skin weights and landmarks from a ``<stem>.json`` sidecar or from the
+glTF skin. Everything it had to assume is written to ``Character.assumed`` and
+to the returned :class:`~patternbridge.report.Report`.
+
+Notes
+-----
+Unit detection: a standing character is between 20 and 300 cm tall. The
+vertical extent is tried as centimetres, metres, millimetres and inches, in
+that order (metres first for glTF, whose unit is the metre); the first unit
+that gives a plausible stature wins and a Finding says when another one would
+have fitted too.
+
+Up axis: +Y or +Z, whichever has the larger extent (for a rigged file: the
+axis along which the head joints lie farthest above the root). A Z-up file is
+turned with ``(x, y, z) -> (x, z, -y)`` so that a character facing -Y (the
+Blender convention) faces +Z afterwards.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import os
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import InputError, LandmarkError, MeshError, UnitsError
+from ..report import Report
+from ..units import unit_factor
+from .character import Character, Landmark, Skeleton, Skin
+
+__all__ = [
+    "MESH_SUFFIXES",
+    "STATURE_RANGE_CM",
+    "load_character",
+    "load_landmark_file",
+    "mesh_defects",
+    "read_mesh_arrays",
+]
+
+log = logging.getLogger(__name__)
+
+MESH_SUFFIXES = (".obj", ".ply", ".stl", ".glb", ".gltf")
+STATURE_RANGE_CM = (20.0, 300.0)
+_UNIT_ORDER = ("cm", "m", "mm", "in")
+_UP_CHOICES = ("+Y", "-Y", "+Z", "-Z")
+
+
+# --------------------------------------------------------------------------- reading
+def read_mesh_arrays(path: str | os.PathLike) -> dict[str, Any]:
+    """Read the triangles of a mesh file without changing vertex order.
+
+    Returns
+    -------
+    dict with ``vertices`` (V, 3) float64 in file units, ``faces`` (F, 3) int64
+    and, for a skinned glTF, ``skeleton`` (dict of names/parents/heads/tails,
+    file frame) and ``skin`` (indices/weights (V, 4)).
+
+    Raises
+    ------
+    MeshError
+        The file is missing, unreadable or holds no triangles.
+    """
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if not path.is_file():
+        raise MeshError(f"{path}: no such file; give the path of an OBJ, PLY, STL, GLB or glTF mesh")
+    if suffix not in MESH_SUFFIXES:
+        raise MeshError(
+            f"{path}: unsupported mesh format {suffix or '(no suffix)'!r} "
+            f"(known: {', '.join(MESH_SUFFIXES)}); convert it to one of these"
+        )
+    if suffix in (".glb", ".gltf"):
+        from .gltf import read_gltf
+
+        return read_gltf(path)
+    import trimesh
+
+    try:
+        mesh = trimesh.load(str(path), force="mesh", process=False, maintain_order=True)
+    except Exception as exc:  # trimesh raises many kinds on corrupt input
+        raise MeshError(
+            f"{path}: cannot read the mesh ({type(exc).__name__}: {exc}); check the file is a valid {suffix[1:].upper()}"
+        ) from None
+    vertices = np.asarray(getattr(mesh, "vertices", np.zeros((0, 3))), dtype=np.float64)
+    faces = np.asarray(getattr(mesh, "faces", np.zeros((0, 3))), dtype=np.int64)
+    if faces.ndim != 2 or faces.shape[0] == 0 or vertices.shape[0] < 3:
+        raise MeshError(
+            f"{path}: the file holds no triangles ({vertices.shape[0]} vertices, "
+            f"{faces.shape[0] if faces.ndim == 2 else 0} faces); export the body as a triangle or polygon mesh"
+        )
+    return {"vertices": vertices, "faces": faces}
+
+
+def _read_sidecar(path: Path) -> dict[str, Any] | None:
+    sidecar = path.with_suffix(".json")
+    if not sidecar.is_file():
+        return None
+    try:
+        data = json.loads(sidecar.read_text(encoding="utf-8"))
+    except (OSError, ValueError) as exc:
+        raise MeshError(f"{sidecar}: the sidecar is not valid JSON ({exc}); fix or remove it") from None
+    if not isinstance(data, dict):
+        raise MeshError(f"{sidecar}: the sidecar is not a JSON object; fix or remove it")
+    data["_path"] = str(sidecar)
+    return data
+
+
+# --------------------------------------------------------------------------- checks
+def mesh_defects(faces: np.ndarray) -> dict[str, int]:
+    """Count surface defects from the triangle list alone.
+
+    Parameters
+    ----------
+    faces : (F, 3) int64
+
+    Returns
+    -------
+    dict with ``boundary_edges`` (edges of one face: holes), ``nonmanifold_edges``
+    (edges of three or more faces) and ``degenerate_faces`` (repeated vertex ids).
+
+    Examples
+    --------
+    >>> mesh_defects(np.array([[0, 1, 2]]))["boundary_edges"]
+    3
+    """
+    faces = np.asarray(faces, dtype=np.int64)
+    edges = np.sort(faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
+    _, counts = np.unique(edges, axis=0, return_counts=True)
+    degenerate = (faces[:, 0] == faces[:, 1]) | (faces[:, 1] == faces[:, 2]) | (faces[:, 0] == faces[:, 2])
+    return {
+        "boundary_edges": int(np.count_nonzero(counts == 1)),
+        "nonmanifold_edges": int(np.count_nonzero(counts > 2)),
+        "degenerate_faces": int(np.count_nonzero(degenerate)),
+    }
+
+
+def _components(n_vertices: int, faces: np.ndarray) -> np.ndarray:
+    """Label of the connected component of every vertex, (V,) int64 (-1: unused)."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    a = faces[:, [0, 1, 2]].ravel()
+    b = faces[:, [1, 2, 0]].ravel()
+    graph = coo_matrix((np.ones(a.size, dtype=np.int8), (a, b)), shape=(n_vertices, n_vertices))
+    _, labels = connected_components(graph, directed=False)
+    used = np.zeros(n_vertices, dtype=bool)
+    used[faces.ravel()] = True
+    labels = labels.astype(np.int64)
+    labels[~used] = -1
+    return labels
+
+
+def _face_areas(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    tri = vertices[faces]
+    return 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+
+
+# --------------------------------------------------------------------------- frame
+def _up_matrix(up: str) -> np.ndarray:
+    """Rotation taking the file frame with ``up`` to +Y up (row vectors: v @ R.T)."""
+    return {
+        "+Y": np.eye(3),
+        "-Y": np.array([[1.0, 0, 0], [0, -1, 0], [0, 0, -1]]),
+        "+Z": np.array([[1.0, 0, 0], [0, 0, 1], [0, -1, 0]]),
+        "-Z": np.array([[1.0, 0, 0], [0, 0, -1], [0, 1, 0]]),
+    }[up]
+
+
+def _normalise_up(up: str, path: Path) -> str:
+    key = up.strip().upper()
+    if not key.startswith(("+", "-")):
+        key = "+" + key
+    if key not in _UP_CHOICES:
+        raise InputError(
+            f"{path}: unknown up axis {up!r} (known: {', '.join(_UP_CHOICES)}); pass --up Y or --up Z"
+        )
+    return key
+
+
+def _detect_up(vertices: np.ndarray, skeleton: dict | None) -> tuple[str, str]:
+    if skeleton is not None and len(skeleton["names"]) > 1:
+        heads = np.asarray(skeleton["heads"], dtype=np.float64)
+        names = [n.lower() for n in skeleton["names"]]
+        head_ids = [i for i, n in enumerate(names) if "head" in n or "neck" in n]
+        root = heads[0]
+        if head_ids:
+            d = heads[head_ids].mean(axis=0) - root
+            axis = 1 if abs(d[1]) >= abs(d[2]) else 2
+            sign = "+" if d[axis] >= 0 else "-"
+            return f"{sign}{'YZ'[axis - 1]}", "skeleton (head joints above the root)"
+    ext = np.ptp(vertices, axis=0)
+    if ext[2] > 1.15 * ext[1]:
+        return "+Z", f"extents (z {ext[2]:.4g} > y {ext[1]:.4g})"
+    return "+Y", f"extents (y {ext[1]:.4g} >= z {ext[2]:.4g})"
+
+
+def _detect_units(height: float, preferred: str | None, path: Path, report: Report) -> str:
+    lo, hi = STATURE_RANGE_CM
+    order = list(_UNIT_ORDER)
+    if preferred in order:
+        order.remove(preferred)
+        order.insert(0, preferred)
+    fits = [u for u in order if lo <= height * unit_factor(u) <= hi]
+    if not fits:
+        tried = ", ".join(f"{height * unit_factor(u):.4g} cm as {u}" for u in _UNIT_ORDER)
+        raise UnitsError(
+            f"{path}: no unit gives a stature between {lo:g} and {hi:g} cm (height {height:.4g} "
+            f"file units: {tried}); pass --units or check the mesh is one standing character"
+        )
+    if len(fits) > 1:
+        others = ", ".join(f"{u} ({height * unit_factor(u):.4g} cm)" for u in fits[1:])
+        report.add(
+            "units-ambiguous",
+            f"assumed {fits[0]} (stature {height * unit_factor(fits[0]):.4g} cm); {others} "
+            "would also be plausible: pass --units to be sure",
+            where=str(path),
+        )
+    return fits[0]
+
+
+# --------------------------------------------------------------------------- landmarks
+def load_landmark_file(path: str | os.PathLike) -> dict[str, dict[str, Any]]:
+    """Read a landmark file: ``{"landmarks": {name: {"vertex": id} | {"position": [x, y, z]}}}``.
+
+    Raises
+    ------
+    LandmarkError
+        Unreadable file, missing ``landmarks`` object, or an entry with neither
+        a vertex nor a position.
+    """
+    path = Path(path)
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise LandmarkError(f"{path}: no such landmark file; give a JSON file with a 'landmarks' object") from None
+    except (OSError, ValueError) as exc:
+        raise LandmarkError(f"{path}: the landmark file is not valid JSON ({exc}); fix it") from None
+    table = data.get("landmarks") if isinstance(data, dict) else None
+    if not isinstance(table, dict):
+        raise LandmarkError(
+            f"{path}: no 'landmarks' object (top-level keys: {sorted(data) if isinstance(data, dict) else type(data).__name__}); "
+            'write {"landmarks": {"name": {"vertex": id}}}'
+        )
+    return _check_landmark_table(table, str(path))
+
+
+def _check_landmark_table(table: Mapping[str, Any], where: str) -> dict[str, dict[str, Any]]:
+    from .landmarks import LANDMARK_NAMES
+
+    out: dict[str, dict[str, Any]] = {}
+    for name, entry in table.items():
+        if name not in LANDMARK_NAMES:
+            raise LandmarkError(
+                f"{where}: unknown landmark {name!r} (known: {', '.join(LANDMARK_NAMES)}); rename or remove it"
+            )
+        if not isinstance(entry, dict) or ("vertex" not in entry and "position" not in entry):
+            raise LandmarkError(
+                f"{where}: landmark {name!r} has neither 'vertex' nor 'position' ({entry!r}); "
+                'give {"vertex": id} or {"position": [x, y, z]}'
+            )
+        out[name] = dict(entry)
+    return out
+
+
+def _place_landmarks(
+    table: Mapping[str, Mapping[str, Any]],
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    old_to_new: np.ndarray,
+    transform,
+    where: str,
+    source: str,
+) -> dict[str, Landmark]:
+    """Turn a checked landmark table into :class:`Landmark` objects on the kept mesh."""
+    n_old = old_to_new.shape[0]
+    out: dict[str, Landmark] = {}
+    snap_names, snap_points = [], []
+    for name, entry in table.items():
+        if "vertex" in entry and entry["vertex"] is not None:
+            vid = entry["vertex"]
+            if not isinstance(vid, (int, np.integer)) or not 0 <= int(vid) < n_old:
+                raise LandmarkError(
+                    f"{where}: landmark {name!r} vertex {vid!r} is out of range (mesh has {n_old} vertices); "
+                    "use ids of this mesh"
+                )
+            new = int(old_to_new[int(vid)])
+            if new < 0:
+                raise LandmarkError(
+                    f"{where}: landmark {name!r} vertex {vid} is not on the body component; "
+                    "use ids of the body or pass --landmarks with positions"
+                )
+            out[name] = Landmark(name=name, position=vertices[new], vertex=new, source=source)
+        else:
+            p = np.asarray(entry["position"], dtype=np.float64)
+            if p.shape != (3,) or not np.all(np.isfinite(p)):
+                raise LandmarkError(
+                    f"{where}: landmark {name!r} position {entry['position']!r} is not three numbers; fix it"
+                )
+            snap_names.append(name)
+            snap_points.append(transform(p[None])[0])
+    if snap_names:
+        pts, vids = snap_to_surface(vertices, faces, np.array(snap_points))
+        for name, p, v in zip(snap_names, pts, vids):
+            out[name] = Landmark(name=name, position=p, vertex=int(v), source=source)
+    return out
+
+
+def snap_to_surface(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray):
+    """Closest surface points and their nearest vertex.
+
+    Parameters
+    ----------
+    vertices : (V, 3) float64, cm
+    faces : (F, 3) int64
+    points : (n, 3) float64, cm
+
+    Returns
+    -------
+    positions : (n, 3) float64, on the surface
+    vertex : (n,) int64, the nearest vertex of the face the point lies on
+    """
+    import trimesh
+
+    mesh = trimesh.Trimesh(vertices, faces, process=False)
+    closest, _, tri = trimesh.proximity.closest_point(mesh, points)
+    corners = faces[tri]
+    d = np.linalg.norm(vertices[corners] - closest[:, None, :], axis=2)
+    vid = corners[np.arange(len(corners)), np.argmin(d, axis=1)]
+    return np.asarray(closest, dtype=np.float64), vid.astype(np.int64)
+
+
+# --------------------------------------------------------------------------- main
+def load_character(
+    path: str | os.PathLike,
+    *,
+    units: str | None = None,
+    up: str | None = None,
+    landmarks: str | os.PathLike | Mapping[str, Any] | None = None,
+) -> tuple[Character, Report]:
+    """Load a character mesh in cm, +Y up, with its rig and landmarks when known.
+
+    Parameters
+    ----------
+    path : OBJ, PLY, STL, GLB or glTF file. A ``<stem>.json`` sidecar beside it
+        (as in ``shared/characters``) supplies units, skeleton, skin and landmarks.
+    units : source length unit (``"m"``, ``"cm"``, ``"mm"``, ``"in"``...);
+        detected from the stature when None.
+    up : ``"Y"``/``"+Y"``, ``"-Y"``, ``"Z"``/``"+Z"`` or ``"-Z"``; detected when None.
+    landmarks : a landmark JSON file or an already parsed
+        ``{name: {"vertex": id} | {"position": [x, y, z]}}`` mapping (or the
+        whole file object with a ``landmarks`` key). Vertex ids index the file's
+        vertices; positions are in the file's units and frame and snap to the
+        surface. Overrides sidecar landmarks of the same name.
+
+    Returns
+    -------
+    character : :class:`Character`; ``assumed`` holds ``units``, ``up``,
+        ``component``, ``source`` and ``floor``. Landmarks from the sidecar or
+        the ``landmarks`` argument have source ``"file"``.
+    report : findings (holes, non-manifold edges, ambiguous units, extra
+        components dropped, sidecar ignored...).
+
+    Raises
+    ------
+    MeshError, UnitsError, LandmarkError, InputError
+    """
+    path = Path(path)
+    report = Report()
+    where = str(path)
+    raw = read_mesh_arrays(path)
+    vertices = raw["vertices"]
+    faces = raw["faces"]
+    if not np.all(np.isfinite(vertices)):
+        raise MeshError(f"{path}: vertex coordinates contain NaN or infinity; repair the mesh")
+    if faces.min() < 0 or faces.max() >= len(vertices):
+        raise MeshError(
+            f"{path}: face indices out of range (0..{len(vertices) - 1} expected, got {faces.min()}..{faces.max()}); repair the mesh"
+        )
+    sidecar = _read_sidecar(path)
+    if sidecar is not None and int(sidecar.get("vertex_count", len(vertices))) != len(vertices):
+        report.add(
+            "sidecar-mismatch",
+            f"sidecar {sidecar['_path']} is for {sidecar.get('vertex_count')} vertices, the mesh has "
+            f"{len(vertices)}: its skeleton, skin and landmarks were ignored",
+            where=where,
+        )
+        sidecar = None
+
+    # -- skeleton & skin, in the file frame
+    skel_raw: dict | None = raw.get("skeleton")
+    skin_raw: dict | None = raw.get("skin")
+    if sidecar is not None and "skeleton" in sidecar:
+        bones = sidecar["skeleton"].get("bones", [])
+        names = [b["name"] for b in bones]
+        index = {n: i for i, n in enumerate(names)}
+        skel_raw = {
+            "names": names,
+            "parents": [index.get(b.get("parent"), -1) if b.get("parent") else -1 for b in bones],
+            "heads": [b["head"] for b in bones],
+            "tails": [b["tail"] for b in bones],
+        }
+        if "skinning" in sidecar:
+            s = sidecar["skinning"]
+            remap = np.array([index.get(n, -1) for n in s["bone_names"]] + [-1], dtype=np.int64)
+            idx = np.asarray(s["indices"], dtype=np.int64)
+            skin_raw = {"indices": remap[idx], "weights": np.asarray(s["weights"], dtype=np.float64)}
+
+    # -- frame: up axis, then units
+    if up is not None:
+        up_key = _normalise_up(up, path)
+        up_why = "given"
+    elif sidecar is not None and isinstance(sidecar.get("axes"), dict) and sidecar["axes"].get("up"):
+        up_key = _normalise_up(str(sidecar["axes"]["up"]), path)
+        up_why = "sidecar"
+    else:
+        up_key, up_why = _detect_up(vertices, skel_raw)
+    rot = _up_matrix(up_key)
+    height = float(np.ptp(vertices @ rot.T[:, 1]))
+    if units is not None:
+        unit = units
+        factor = unit_factor(unit)
+        units_why = "given"
+        stature = height * factor
+        lo, hi = STATURE_RANGE_CM
+        if not lo <= stature <= hi:
+            raise UnitsError(
+                f"{path}: with --units {unit} the stature would be {stature:.4g} cm, outside "
+                f"{lo:g}..{hi:g} cm; check --units and --up"
+            )
+    elif sidecar is not None and sidecar.get("units"):
+        unit = str(sidecar["units"])
+        factor = unit_factor(unit)
+        units_why = "sidecar"
+    else:
+        nominal = "m" if path.suffix.lower() in (".glb", ".gltf") else None
+        unit = _detect_units(height, nominal, path, report)
+        factor = unit_factor(unit)
+        units_why = "detected from stature"
+    if units_why == "detected from stature":
+        report.add("units-assumed", f"units assumed {unit} from the stature ({height * factor:.4g} cm)", where=where)
+
+    def transform(p: np.ndarray) -> np.ndarray:
+        return (np.asarray(p, dtype=np.float64) @ rot.T) * factor
+
+    v_all = transform(vertices)
+
+    # -- body component
+    labels = _components(len(v_all), faces)
+    n_comp = int(labels.max()) + 1
+    if n_comp > 1:
+        areas = np.bincount(labels[faces[:, 0]], weights=_face_areas(v_all, faces), minlength=n_comp)
+        body = int(np.argmax(areas))
+        counts = np.bincount(labels[labels >= 0], minlength=n_comp)
+        component = f"{body} of {n_comp} (largest by area, {counts[body]} vertices, {areas[body]:.4g} cm²)"
+        report.add(
+            "components",
+            f"{n_comp} connected components; measured the largest by area ({counts[body]} vertices), "
+            f"ignored {n_comp - 1} (eyes, teeth, props...)",
+            where=where,
+        )
+    else:
+        body = 0
+        component = f"0 of 1 ({int(np.count_nonzero(labels == 0))} vertices)"
+    keep = labels == body
+    old_to_new = np.full(len(v_all), -1, dtype=np.int64)
+    old_to_new[keep] = np.arange(int(np.count_nonzero(keep)))
+    kept_faces_mask = keep[faces[:, 0]]
+    new_faces = old_to_new[faces[kept_faces_mask]]
+    new_vertices = v_all[keep]
+    if len(new_faces) < 4:
+        raise MeshError(f"{path}: the body component has only {len(new_faces)} triangles; give a body mesh")
+    if n_comp == 1 and not np.all(keep):
+        report.add("unused-vertices", f"{int(np.count_nonzero(~keep))} vertices belong to no face and were dropped", where=where)
+
+    # -- floor at y = 0
+    floor = float(new_vertices[:, 1].min())
+    shift = np.zeros(3)
+    if abs(floor) > 0.5:
+        shift[1] = -floor
+        new_vertices = new_vertices + shift
+        report.add("floor-moved", f"moved the body by {-floor:+.4g} cm in y to stand on y = 0", where=where, fixed=True)
+
+    # -- checks
+    defects = mesh_defects(new_faces)
+    if defects["boundary_edges"]:
+        report.add(
+            "mesh-holes",
+            f"the body has holes ({defects['boundary_edges']} boundary edges); girths are unaffected, "
+            "geodesic lengths may detour around them",
+            where=where,
+        )
+    if defects["nonmanifold_edges"]:
+        n_nm = defects["nonmanifold_edges"]
+        if n_nm > 0.05 * len(new_faces):
+            raise MeshError(
+                f"{path}: {n_nm} non-manifold edges out of {len(new_faces) * 3 // 2} "
+                "(more than 5 %); repair the mesh (merge by distance, remove internal faces)"
+            )
+        report.add(
+            "mesh-nonmanifold",
+            f"{n_nm} non-manifold edges (shared by 3+ faces); geodesic lengths may be less accurate",
+            where=where,
+        )
+    if defects["degenerate_faces"]:
+        report.add("mesh-degenerate", f"{defects['degenerate_faces']} degenerate triangles", where=where)
+
+    # -- skeleton & skin in the internal frame
+    skeleton = skin = None
+    if skel_raw is not None and len(skel_raw["names"]):
+        skeleton = Skeleton(
+            names=tuple(skel_raw["names"]),
+            parents=np.asarray(skel_raw["parents"], dtype=np.int64),
+            heads=transform(np.asarray(skel_raw["heads"])) + shift,
+            tails=transform(np.asarray(skel_raw["tails"])) + shift,
+        )
+        if skin_raw is not None:
+            idx = np.asarray(skin_raw["indices"], dtype=np.int64)
+            w = np.asarray(skin_raw["weights"], dtype=np.float64)
+            if idx.shape[0] == len(v_all):
+                idx = idx[keep]
+                w = np.where(idx >= 0, w[keep], 0.0)
+                total = w.sum(axis=1, keepdims=True)
+                w = np.divide(w, total, out=np.zeros_like(w), where=total > 0)
+                skin = Skin(bone_indices=idx, weights=w)
+            else:
+                report.add("skin-mismatch", "skin weights do not match the vertex count and were ignored", where=where)
+
+    # -- landmarks: sidecar first, then the given file (overrides by name)
+    marks: dict[str, Landmark] = {}
+    if sidecar is not None and isinstance(sidecar.get("landmarks"), dict):
+        table = _check_landmark_table(sidecar["landmarks"], sidecar["_path"])
+        marks.update(_place_landmarks(table, new_vertices, new_faces, old_to_new,
+                                      lambda p: transform(p) + shift, sidecar["_path"], "file"))
+    if landmarks is not None:
+        if isinstance(landmarks, Mapping):
+            lm_where = "landmarks"
+            table = landmarks.get("landmarks", landmarks)
+            if not isinstance(table, Mapping):
+                raise LandmarkError("landmarks: no 'landmarks' object; give {name: {'vertex': id}}")
+            table = _check_landmark_table(table, lm_where)
+        else:
+            lm_where = str(landmarks)
+            table = load_landmark_file(landmarks)
+        marks.update(_place_landmarks(table, new_vertices, new_faces, old_to_new,
+                                      lambda p: transform(p) + shift, lm_where, "file"))
+
+    assumed = {
+        "source": path.name,
+        "units": f"{unit} ({units_why})",
+        "up": f"{up_key} ({up_why})",
+        "component": component,
+        "floor": f"y = 0 (moved {-floor:+.4g} cm)" if shift[1] else "y = 0",
+        "rig": "sidecar" if sidecar is not None and skeleton is not None else ("gltf skin" if skeleton is not None else "none"),
+    }
+    character = Character(
+        vertices=new_vertices,
+        faces=new_faces,
+        name=path.stem,
+        skeleton=skeleton,
+        skin=skin,
+        landmarks=marks,
+        assumed=assumed,
+    )
+    log.info("loaded %s: %d vertices, %d faces, %s", path.name, len(new_vertices), len(new_faces), assumed)
+    return character, report
