@@ -96,6 +96,9 @@ def read_mesh_arrays(path: str | os.PathLike) -> dict[str, Any]:
             f"{path}: the file holds no triangles ({vertices.shape[0]} vertices, "
             f"{faces.shape[0] if faces.ndim == 2 else 0} faces); export the body as a triangle or polygon mesh"
         )
+    if suffix == ".stl":  # STL repeats the corners of every triangle: weld exact copies
+        vertices, inverse = np.unique(vertices, axis=0, return_inverse=True)
+        faces = inverse.reshape(-1)[faces]
     return {"vertices": vertices, "faces": faces}
 
 
