@@ -1,0 +1,56 @@
+# PatternBridge — `make demo` and `make test` are the quick start.
+PYTHON ?= python3
+VENV   := .venv
+BIN    := $(VENV)/bin
+DEMO_CHARACTER := examples/characters/E_average_male.obj
+DEMO_GARMENT   := shirt
+DEMO_OUT       := out/demo
+
+.PHONY: demo test bench system-deps clean help
+
+help:
+	@echo "make demo   create .venv, install, fit the $(DEMO_GARMENT) to the demo character"
+	@echo "make test   create .venv, install with the test extra, run the test suite"
+	@echo "make bench  run the benchmarks (installs the bench extra)"
+
+# open3d's wheel links against libusb-1.0 (Debian package libusb-1.0-0).
+system-deps:
+	@if ! /sbin/ldconfig -p 2>/dev/null | grep -q 'libusb-1.0.so.0'; then \
+	  if [ "$$(id -u)" = "0" ] && command -v apt-get >/dev/null; then \
+	    echo "installing libusb-1.0-0 (needed by open3d)"; \
+	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libusb-1.0-0 >/dev/null; \
+	  else \
+	    echo "open3d needs the system library libusb-1.0; run: sudo apt-get install libusb-1.0-0"; exit 1; \
+	  fi; \
+	fi
+
+$(BIN)/python:
+	$(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install -q --upgrade pip
+
+$(VENV)/.installed: pyproject.toml | $(BIN)/python
+	$(BIN)/python -m pip install -q -e .
+	@touch $@
+
+$(VENV)/.installed-test: pyproject.toml | $(BIN)/python
+	$(BIN)/python -m pip install -q -e ".[test]"
+	@touch $@ $(VENV)/.installed
+
+$(VENV)/.installed-bench: pyproject.toml | $(BIN)/python
+	$(BIN)/python -m pip install -q -e ".[test,bench]"
+	@touch $@ $(VENV)/.installed $(VENV)/.installed-test
+
+demo: system-deps $(VENV)/.installed
+	$(BIN)/patternbridge fit $(DEMO_CHARACTER) --garment $(DEMO_GARMENT) --seed 1 -o $(DEMO_OUT)
+	@echo
+	@echo "Demo outputs are in $(DEMO_OUT)/:"
+	@ls -1 $(DEMO_OUT) | sed 's/^/  /'
+
+test: system-deps $(VENV)/.installed-test
+	$(BIN)/python -m pytest -q -p no:cacheprovider
+
+bench: system-deps $(VENV)/.installed-bench
+	@for script in benchmarks/*.py; do echo "== $$script"; $(BIN)/python $$script || exit 1; done
+
+clean:
+	rm -rf $(VENV) out .pytest_cache
