@@ -1,0 +1,196 @@
+"""Point-to-point geodesic paths: the public entry points.
+
+Pipeline per path: a neighbourhood-limited Dijkstra edge path
+(:mod:`.initial`), geodesic curvature flow (:mod:`.flow`), projection onto the
+mesh by a face walk (:mod:`.project`), exact straightening in the unfolded
+strip with swings over vertices (:mod:`.straighten`) and, optionally, tape
+correction (:mod:`.tape`).
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import MeshError
+from .initial import edge_path
+from .straighten import Endpoint, _Local, straighten, strip_from_vertex_path
+from .surface import SurfaceMesh, SurfacePoint
+
+__all__ = ["METHODS", "GeodesicPath", "geodesic_path", "geodesic_paths"]
+
+log = logging.getLogger(__name__)
+
+#: ``"lsq"``: least-squares curvature flow, projection, exact straightening;
+#: ``"euler"``: the same with implicit-Euler flow; ``"exact"``: straightening
+#: straight from the Dijkstra strip; ``"flow"``: the thesis method alone (flow
+#: and projection, no straightening); ``"dijkstra"``: the edge path.
+METHODS = ("lsq", "euler", "exact", "flow", "dijkstra")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class GeodesicPath:
+    """A path on the surface.
+
+    points : (k, 3) float64, cm; the first and last are the end points
+    faces : (k,) int64, a face each point lies on (either face for edge points)
+    edges : (k, 2) int64, the edge's vertex pair for points on edges,
+        (-1, -1) for vertex and face points
+    length : float, cm, sum of the segment lengths of ``points``
+    surface_length : float, cm, length of the path on the surface before tape
+        correction (equal to ``length`` without ``tape``)
+    method : str, the method that produced it
+    """
+
+    points: np.ndarray
+    faces: np.ndarray
+    edges: np.ndarray
+    length: float
+    surface_length: float
+    method: str
+
+    def __post_init__(self) -> None:
+        for name in ("points", "faces", "edges"):
+            getattr(self, name).flags.writeable = False
+
+
+def _endpoint(mesh: SurfaceMesh, p: SurfacePoint) -> tuple[Endpoint, int]:
+    xyz = mesh.point_position(p)
+    if p.vertex_id is not None:
+        return Endpoint(vertex=p.vertex_id, face=None, xyz=tuple(xyz.tolist())), p.vertex_id
+    k = int(np.argmax(p.bary))
+    return (Endpoint(vertex=None, face=p.face, xyz=tuple(xyz.tolist())),
+            int(mesh.faces[p.face, k]))
+
+
+def _polyline(points: np.ndarray) -> float:
+    return float(np.linalg.norm(np.diff(points, axis=0), axis=1).sum())
+
+
+def geodesic_path(mesh: SurfaceMesh, a, b, *, tape: bool = False, exempt=None,
+                  method: str = "lsq") -> GeodesicPath:
+    """Geodesic path between two surface points.
+
+    Parameters
+    ----------
+    mesh : SurfaceMesh
+    a, b : SurfacePoint or int vertex id
+    tape : bool
+        Straighten concave stretches where a tape would leave the skin.
+    exempt : sequence of (start, stop) fractions of the path length in [0, 1]
+        (or a (k,) bool mask over the surface points) kept on the skin by the tape
+        correction, e.g. a bent elbow.
+    method : one of :data:`METHODS`
+
+    Returns
+    -------
+    GeodesicPath
+
+    Raises
+    ------
+    MeshError
+        Unknown points, points on different components, unknown method.
+    """
+    if not isinstance(mesh, SurfaceMesh):
+        raise MeshError(f"geodesic: expected a SurfaceMesh, got {type(mesh).__name__}; "
+                        "wrap the arrays with SurfaceMesh(vertices, faces)")
+    if method not in METHODS:
+        raise MeshError(f"geodesic: unknown method {method!r} (expected one of "
+                        f"{', '.join(METHODS)}); pick a listed method")
+    pa = mesh.check_point(a, "from")
+    pb = mesh.check_point(b, "to")
+    ea, va = _endpoint(mesh, pa)
+    eb, vb = _endpoint(mesh, pb)
+    vpath, _ = edge_path(mesh, va, vb)
+    loc = _Local(mesh)
+    result = None
+    if method == "dijkstra":
+        pts = mesh.vertices[vpath]
+        pts = np.vstack([ea.xyz, pts, eb.xyz])
+        keep = np.ones(len(pts), dtype=bool)
+        keep[1:] = np.linalg.norm(np.diff(pts, axis=0), axis=1) > 0
+        pts = pts[keep]
+        vf = mesh.vertex_faces
+        fcs = np.array([vf[1][vf[0][v]] for v in vpath], dtype=np.int64)
+        fcs = np.concatenate([[ea.face if ea.face is not None else fcs[0]], fcs,
+                              [eb.face if eb.face is not None else fcs[-1]]])[keep]
+        result = (pts, fcs, np.full((len(pts), 2), -1, dtype=np.int64))
+    else:
+        strip = None
+        if method in ("lsq", "euler", "flow"):
+            from .flow import flow_path
+            from .project import project_walk
+
+            fl = flow_path(mesh, vpath, ea, eb, scheme="euler" if method == "euler" else "lsq")
+            walk = project_walk(mesh, fl, ea, eb, local=loc)
+            if walk is not None:
+                if method == "flow":
+                    result = walk.points, walk.faces, walk.edges
+                else:
+                    strip = walk.strip
+            elif method == "flow":
+                log.info("projection walk failed; straightening instead")
+        if result is None:
+            if strip is None:
+                strip = strip_from_vertex_path(mesh, vpath, ea.face, eb.face, local=loc)
+            if strip is None:
+                log.warning("no face strip around the edge path; returning the edge path")
+                return geodesic_path(mesh, pa, pb, tape=tape, exempt=exempt,
+                                     method="dijkstra")
+            try:
+                sp_ = straighten(mesh, strip, ea, eb, local=loc)
+            except ValueError as exc:
+                log.warning("straightening failed (%s); returning the edge path", exc)
+                return geodesic_path(mesh, pa, pb, tape=tape, exempt=exempt,
+                                     method="dijkstra")
+            result = sp_.points, sp_.faces, sp_.edges
+    pts, fcs, eds = result
+    surface_length = _polyline(pts)
+    if tape and len(pts) > 2:
+        from .tape import tape_correct
+
+        normals = mesh.face_normals[fcs]
+        pts = tape_correct(pts, normals, exempt=exempt)
+        # tape points off the skin keep the face of the nearest surface point
+        fcs, eds = _relabel(pts, result)
+    return GeodesicPath(points=pts, faces=fcs, edges=eds, length=_polyline(pts),
+                        surface_length=surface_length, method=method)
+
+
+def _relabel(pts: np.ndarray, result) -> tuple[np.ndarray, np.ndarray]:
+    src_pts, src_f, src_e = result
+    from scipy.spatial import cKDTree
+
+    _, idx = cKDTree(src_pts).query(pts)
+    same = np.linalg.norm(src_pts[idx] - pts, axis=1) < 1e-9
+    eds = np.where(same[:, None], src_e[idx], -1)
+    return src_f[idx].copy(), eds
+
+
+def geodesic_paths(mesh: SurfaceMesh, pairs: Iterable[Sequence], *, tape: bool = False,
+                   method: str = "lsq",
+                   progress: Callable[[str, int, int], None] | None = None
+                   ) -> list[GeodesicPath]:
+    """Geodesic paths for many ``(a, b)`` pairs on one mesh (preparation shared).
+
+    Parameters
+    ----------
+    mesh : SurfaceMesh
+    pairs : iterable of (a, b), each a SurfacePoint or vertex id
+    tape, method : as in :func:`geodesic_path`
+    progress : optional ``progress(stage, done, total)`` callback
+
+    Returns
+    -------
+    list of GeodesicPath, in the order of ``pairs``
+    """
+    pairs = list(pairs)
+    out = []
+    for i, (a, b) in enumerate(pairs):
+        out.append(geodesic_path(mesh, a, b, tape=tape, method=method))
+        if progress is not None:
+            progress("geodesic", i + 1, len(pairs))
+    return out

@@ -1,0 +1,311 @@
+"""The prepared surface: edge graph, vertex-face incidence, tangent planes.
+
+:class:`SurfaceMesh` does the per-mesh work once so that many paths can be
+measured on one character. Everything is vectorised and most of it is lazy:
+constructing the object validates and welds; the edge graph is built on the
+first path, tangent planes are computed only for the vertices a path needs.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..errors import MeshError
+
+__all__ = ["SurfaceMesh", "SurfacePoint"]
+
+log = logging.getLogger(__name__)
+
+# a face whose area is below this fraction of (mean edge length)^2 is degenerate
+_AREA_EPS = 1e-12
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class SurfacePoint:
+    """A point on the surface: a vertex, or a face with barycentric coordinates.
+
+    vertex_id : int or None, the vertex the point sits on
+    face : int or None, the face holding the point (when ``vertex_id`` is None)
+    bary : (b0, b1, b2) floats summing to 1, weights of ``faces[face]``
+    """
+
+    vertex_id: int | None = None
+    face: int | None = None
+    bary: tuple[float, float, float] | None = None
+
+    def __post_init__(self) -> None:
+        if self.vertex_id is None and (self.face is None or self.bary is None):
+            raise MeshError(
+                "surface point: neither a vertex nor a face with barycentric "
+                "coordinates was given; use SurfacePoint.vertex(i) or "
+                "SurfacePoint(face=f, bary=(b0, b1, b2))"
+            )
+        if self.vertex_id is not None:
+            object.__setattr__(self, "vertex_id", int(self.vertex_id))
+        if self.bary is not None:
+            b = tuple(float(x) for x in self.bary)
+            s = sum(b)
+            if len(b) != 3 or not np.all(np.isfinite(b)) or abs(s) < 1e-12:
+                raise MeshError(
+                    f"surface point: barycentric coordinates {self.bary!r} are not "
+                    "three finite weights with a non-zero sum; pass (b0, b1, b2)"
+                )
+            object.__setattr__(self, "bary", (b[0] / s, b[1] / s, b[2] / s))
+            object.__setattr__(self, "face", int(self.face))
+
+    @classmethod
+    def vertex(cls, i: int) -> SurfacePoint:
+        """The point at vertex ``i``."""
+        return cls(vertex_id=int(i))
+
+
+class SurfaceMesh:
+    """A triangle mesh prepared for geodesic queries.
+
+    Parameters
+    ----------
+    vertices : (V, 3) float64, cm
+    faces : (F, 3) int64
+    weld : bool
+        Merge vertices at exactly the same position (split seams) so that paths
+        can cross them. Vertex ids keep their meaning: a welded vertex is
+        represented by the lowest id at its position.
+
+    Raises
+    ------
+    MeshError
+        Wrong shapes, non-finite coordinates, face indices out of range, or no
+        face with a non-zero area.
+
+    Notes
+    -----
+    Zero-area faces are kept in ``faces`` but take no part in paths; edges
+    shared by more than two faces (non-manifold) are walked around, never
+    through. Connected components are found lazily and a path between two of
+    them raises :class:`MeshError`.
+    """
+
+    __slots__ = (
+        "_cache",
+        "degenerate",
+        "face_normals",
+        "faces",
+        "n_faces",
+        "n_vertices",
+        "rep",
+        "vertices",
+    )
+
+    def __init__(self, vertices, faces, *, weld: bool = True) -> None:
+        try:
+            v = np.array(vertices, dtype=np.float64)
+            f = np.array(faces, dtype=np.int64)
+        except (TypeError, ValueError) as exc:
+            raise MeshError(f"mesh: vertices/faces are not numeric arrays ({exc}); "
+                            "pass (V, 3) floats and (F, 3) ints") from None
+        if v.ndim != 2 or v.shape[1] != 3 or len(v) < 3:
+            raise MeshError(f"mesh: vertices must be (V, 3) with V >= 3 (got {v.shape}); "
+                            "pass an (V, 3) float array in cm")
+        if f.ndim != 2 or f.shape[1] != 3 or len(f) < 1:
+            raise MeshError(f"mesh: faces must be (F, 3) triangles (got {f.shape}); "
+                            "triangulate the mesh first")
+        if not np.all(np.isfinite(v)):
+            raise MeshError(f"mesh: {int((~np.isfinite(v)).any(axis=1).sum())} vertices "
+                            "have NaN or infinite coordinates; repair the mesh")
+        if f.min() < 0 or f.max() >= len(v):
+            raise MeshError(f"mesh: face indices out of range (min {f.min()}, max {f.max()}, "
+                            f"{len(v)} vertices); check the face list")
+        self.n_vertices = len(v)
+        self.n_faces = len(f)
+        self._cache: dict = {}
+        rep = _weld_map(v) if weld else np.arange(len(v), dtype=np.int64)
+        self.rep = rep
+        fw = rep[f]
+        v.flags.writeable = False
+        fw.flags.writeable = False
+        self.vertices = v
+        self.faces = fw
+        e1 = v[fw[:, 1]] - v[fw[:, 0]]
+        e2 = v[fw[:, 2]] - v[fw[:, 0]]
+        cr = np.cross(e1, e2)
+        dbl_area = np.sqrt(np.einsum("ij,ij->i", cr, cr))
+        scale = float(np.mean(np.einsum("ij,ij->i", e1, e1))) or 1.0
+        degenerate = (dbl_area <= _AREA_EPS * scale) | (fw[:, 0] == fw[:, 1]) | (
+            fw[:, 1] == fw[:, 2]) | (fw[:, 0] == fw[:, 2])
+        if degenerate.all():
+            raise MeshError(f"mesh: all {len(f)} faces have zero area; "
+                            "the mesh has no usable surface")
+        with np.errstate(invalid="ignore", divide="ignore"):
+            fn = cr / np.where(dbl_area > 0, dbl_area, 1.0)[:, None]
+        fn[degenerate] = 0.0
+        degenerate.flags.writeable = False
+        fn.flags.writeable = False
+        self.degenerate = degenerate
+        self.face_normals = fn
+        if degenerate.any():
+            log.info("mesh: %d zero-area faces ignored", int(degenerate.sum()))
+
+    # ------------------------------------------------------------------ graph
+    def _build_graph(self) -> None:
+        f = self.faces[~self.degenerate]
+        n = self.n_vertices
+        a = f.ravel()
+        b = f[:, [1, 2, 0]].ravel()
+        key = np.sort(np.concatenate([a * n + b, b * n + a]))
+        keep = np.ones(len(key), dtype=bool)
+        keep[1:] = key[1:] != key[:-1]
+        key = key[keep]
+        src = key // n
+        dst = key - src * n
+        w = np.sqrt(((self.vertices[src] - self.vertices[dst]) ** 2).sum(axis=1))
+        w = np.maximum(w, 1e-12)  # a zero weight would read as "no edge"
+        indptr = np.zeros(n + 1, dtype=np.int64)
+        np.cumsum(np.bincount(src, minlength=n), out=indptr[1:])
+        graph = sp.csr_matrix((w, dst.astype(np.int32), indptr.astype(np.int32)),
+                              shape=(n, n))
+        self._cache["graph"] = graph
+        self._cache["edge_max"] = float(w.max()) if len(w) else 0.0
+        self._cache["edge_mean"] = float(w.mean()) if len(w) else 0.0
+
+    @property
+    def graph(self) -> sp.csr_matrix:
+        """Symmetric (V, V) CSR matrix of edge lengths, cm (usable faces only)."""
+        if "graph" not in self._cache:
+            self._build_graph()
+        return self._cache["graph"]
+
+    @property
+    def edge_max(self) -> float:
+        """Longest edge, cm."""
+        if "graph" not in self._cache:
+            self._build_graph()
+        return self._cache["edge_max"]
+
+    @property
+    def edge_mean(self) -> float:
+        """Mean edge length, cm."""
+        if "graph" not in self._cache:
+            self._build_graph()
+        return self._cache["edge_mean"]
+
+    @property
+    def vertex_faces(self) -> tuple[np.ndarray, np.ndarray]:
+        """CSR ``(indptr (V+1,), faces)`` of the usable faces around each vertex."""
+        if "vf" not in self._cache:
+            good = np.flatnonzero(~self.degenerate)
+            fv = self.faces[good].ravel()
+            fid = np.repeat(good, 3)
+            m = max(self.n_faces, 1)
+            key = np.sort(fv * m + fid)
+            vs = key // m
+            indptr = np.zeros(self.n_vertices + 1, dtype=np.int64)
+            np.cumsum(np.bincount(vs, minlength=self.n_vertices), out=indptr[1:])
+            self._cache["vf"] = (indptr, key - vs * m)
+        return self._cache["vf"]
+
+    @property
+    def components(self) -> np.ndarray:
+        """(V,) int64 connected-component label of each vertex."""
+        if "comp" not in self._cache:
+            from scipy.sparse.csgraph import connected_components
+
+            _, lab = connected_components(self.graph, directed=False)
+            self._cache["comp"] = lab.astype(np.int64)
+        return self._cache["comp"]
+
+    def faces_of(self, v: int) -> np.ndarray:
+        """Usable faces around vertex ``v`` (int64 array)."""
+        indptr, fl = self.vertex_faces
+        return fl[indptr[v]:indptr[v + 1]]
+
+    # ---------------------------------------------------------- tangent planes
+    def vertex_normals(self, vids) -> np.ndarray:
+        """Tangent-plane normals of vertices ``vids`` by PCA of one-ring face normals.
+
+        Parameters
+        ----------
+        vids : (n,) int
+
+        Returns
+        -------
+        (n, 3) float64 unit normals: the principal direction of the area-weighted
+        scatter of the surrounding face normals, oriented like their mean.
+        """
+        vids = np.asarray(vids, dtype=np.int64)
+        indptr, fl = self.vertex_faces
+        counts = indptr[vids + 1] - indptr[vids]
+        owner = np.repeat(np.arange(len(vids)), counts)
+        starts = np.repeat(indptr[vids], counts)
+        within = np.arange(len(owner)) - np.repeat(np.cumsum(counts) - counts, counts)
+        fidx = fl[starts + within]
+        nrm = self.face_normals[fidx]
+        outer = (nrm[:, :, None] * nrm[:, None, :]).reshape(-1, 9)
+        scatter = np.zeros((len(vids), 9))
+        np.add.at(scatter, owner, outer)
+        mean = np.zeros((len(vids), 3))
+        np.add.at(mean, owner, nrm)
+        _, vecs = np.linalg.eigh(scatter.reshape(-1, 3, 3) + 1e-15 * np.eye(3))
+        n = vecs[:, :, 2]
+        sign = np.sign(np.einsum("ij,ij->i", n, mean))
+        sign[sign == 0] = 1.0
+        n = n * sign[:, None]
+        lonely = counts == 0
+        if lonely.any():
+            n[lonely] = (0.0, 0.0, 1.0)
+        return n
+
+    # --------------------------------------------------------------- points
+    def point_position(self, p: SurfacePoint) -> np.ndarray:
+        """(3,) float64 position, cm, of a surface point."""
+        if p.vertex_id is not None:
+            return self.vertices[p.vertex_id].copy()
+        return np.asarray(p.bary) @ self.vertices[self.faces[p.face]]
+
+    def check_point(self, p, name: str) -> SurfacePoint:
+        """Coerce ``p`` (int or SurfacePoint) and check it against this mesh."""
+        if isinstance(p, (int, np.integer)):
+            p = SurfacePoint.vertex(int(p))
+        if not isinstance(p, SurfacePoint):
+            raise MeshError(f"{name}: expected a vertex id or SurfacePoint, got "
+                            f"{type(p).__name__}; pass an int or SurfacePoint")
+        if p.vertex_id is not None:
+            if not 0 <= p.vertex_id < self.n_vertices:
+                raise MeshError(f"{name}: vertex {p.vertex_id} out of range "
+                                f"(0..{self.n_vertices - 1}); pick a vertex of this mesh")
+            r = int(self.rep[p.vertex_id])
+            return p if r == p.vertex_id else SurfacePoint.vertex(r)
+        if not 0 <= p.face < self.n_faces:
+            raise MeshError(f"{name}: face {p.face} out of range "
+                            f"(0..{self.n_faces - 1}); pick a face of this mesh")
+        b = np.asarray(p.bary)
+        if b.min() < -1e-9:
+            raise MeshError(f"{name}: barycentric coordinates {p.bary} leave the face "
+                            "(negative weight); pass weights >= 0")
+        k = int(np.argmax(b))
+        if b[k] > 1 - 1e-12 or self.degenerate[p.face]:
+            return SurfacePoint.vertex(int(self.faces[p.face, k]))
+        return p
+
+
+def _weld_map(v: np.ndarray) -> np.ndarray:
+    """(V,) int64 map to the lowest vertex id at exactly the same position."""
+    n = len(v)
+    rep = np.arange(n, dtype=np.int64)
+    order = np.argsort(v[:, 0], kind="stable")
+    xs = v[order, 0]
+    tie = np.zeros(n, dtype=bool)
+    tie[1:] = xs[1:] == xs[:-1]
+    tie[:-1] |= tie[1:]
+    cand = order[tie]
+    if len(cand) == 0:
+        return rep
+    _, inv = np.unique(v[cand], axis=0, return_inverse=True)
+    inv = inv.ravel()
+    first = np.full(inv.max() + 1, n, dtype=np.int64)
+    np.minimum.at(first, inv, cand)
+    rep[cand] = first[inv]
+    return rep
