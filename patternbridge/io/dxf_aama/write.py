@@ -1,0 +1,591 @@
+"""Write a :class:`~patternbridge.pattern.model.Pattern` as DXF-AAMA or DXF-ASTM.
+
+The output follows the exporter compatibility rules of the format reference
+(``docs/formats.md``): DXF R12 ASCII with ``$ACADVER AC1009`` as the only
+header variable, no TABLES, no handles, CRLF line ends, 7-bit ASCII text, and
+a BLOCKS section that holds nothing but piece blocks (``8 0``, ``70 64``, base
+0,0), each inserted once at the origin from ENTITIES.
+
+Two grading forms are written:
+
+- ``sizes="sample"``: one block per piece in the sample size, ``# n`` grade-rule
+  texts at the graded points and, with ``rul_path``, the ``.RUL`` rule table;
+- ``sizes="all"`` or a list of sizes: a *graded nest*, one block per piece per
+  size in size-list order; only the sample-size block carries turn/curve
+  points, notches, rule texts and the full piece text.
+
+The tag writer is our own (a few lines): it gives exact control over what an
+R12 pattern file may contain, which a general DXF library would add to.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import logging
+import math
+import os
+import re
+import unicodedata
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ... import __version__
+from ...atomic import atomic_path
+from ...errors import InputError
+from ...pattern.model import (
+    Flavor,
+    Line,
+    NotchType,
+    Pattern,
+    Piece,
+    Polyline,
+    Units,
+    VertexKind,
+)
+from ...report import Report
+from ...units import from_cm
+
+__all__ = [
+    "NOTCH_LAYERS",
+    "format_dxf",
+    "sanitize_block_name",
+    "to_ascii",
+    "write_dxf",
+]
+
+log = logging.getLogger(__name__)
+
+#: notch type -> DXF layer (slit and V share layer 4; width 0 marks a slit)
+NOTCH_LAYERS: dict[NotchType, int] = {
+    NotchType.SLIT: 4,
+    NotchType.V: 4,
+    NotchType.T: 80,
+    NotchType.CASTLE: 81,
+    NotchType.CHECK: 82,
+    NotchType.U: 83,
+}
+
+#: owner geometry layer -> its quality-validation curve layer (ASTM only)
+_VALIDATION_LAYER = {1: 84, 8: 85, 11: 86, 14: 87}
+
+_VENDOR = "PATTERNBRIDGE"
+_PRODUCT = "PATTERNBRIDGE"
+_ASTM_VERSION = "ASTM/D13Proposal 1 Version: D 6673-04"
+_TEXT_HEIGHT = {Units.METRIC: 2.5, Units.ENGLISH: 0.1}  # file units
+_CURVE_TOLERANCE = {Units.METRIC: ".152", Units.ENGLISH: ".006"}
+_MAX_NAME = 20  # Gerber truncates piece/style names beyond this
+
+
+# ---------------------------------------------------------------------------
+# text and names
+# ---------------------------------------------------------------------------
+
+
+def to_ascii(text: str) -> tuple[str, bool]:
+    """Return ``(ascii_text, changed)``: 7-bit ASCII for a DXF TEXT value.
+
+    Accents are stripped (``"Ärmel"`` → ``"Armel"``), other non-ASCII
+    characters become ``?``, and line breaks become spaces (a DXF value is
+    one line).
+
+    Examples
+    --------
+    >>> to_ascii("Ärmel vorn")
+    ('Armel vorn', True)
+    >>> to_ascii("BACK")
+    ('BACK', False)
+    """
+    text = str(text)
+    flat = text.replace("\r\n", " ").replace("\n", " ").replace("\r", " ")
+    if flat.isascii() and flat == text:
+        return text, False
+    decomposed = unicodedata.normalize("NFKD", flat)
+    out = "".join(
+        ch if ch.isascii() else ("" if unicodedata.combining(ch) else "?")
+        for ch in decomposed
+    )
+    return out, out != text
+
+
+def sanitize_block_name(name: str) -> str:
+    """Return an R12-safe block name: ASCII letters, digits, ``_ - $`` only.
+
+    Examples
+    --------
+    >>> sanitize_block_name("ORILEG WB_36")
+    'ORILEG_WB_36'
+    """
+    ascii_name, _ = to_ascii(name)
+    safe = re.sub(r"[^A-Za-z0-9_\-$]", "_", ascii_name)
+    return safe or "PIECE"
+
+
+# ---------------------------------------------------------------------------
+# low-level tag writer
+# ---------------------------------------------------------------------------
+
+
+class _Tags:
+    """Collects DXF group-code/value pairs and renders them as R12 text."""
+
+    __slots__ = ("decimals", "lines")
+
+    def __init__(self, decimals: int = 4) -> None:
+        self.lines: list[str] = []
+        self.decimals = decimals
+
+    def tag(self, code: int, value) -> None:
+        self.lines.append(f"{code:>3}")
+        self.lines.append(str(value))
+
+    def num(self, code: int, value: float) -> None:
+        text = f"{float(value):.{self.decimals}f}"
+        if float(text) == 0.0:
+            text = f"{0.0:.{self.decimals}f}"
+        self.tag(code, text)
+
+    def xy(self, point, code: int = 10) -> None:
+        self.num(code, point[0])
+        self.num(code + 10, point[1])
+
+    def text(self, layer: int, at, value: str, height: float, angle_deg: float = 0.0) -> None:
+        self.tag(0, "TEXT")
+        self.tag(8, layer)
+        self.xy(at)
+        self.num(40, height)
+        self.num(50, angle_deg)
+        self.tag(1, value)
+        self.tag(7, "STANDARD")
+
+    def point(self, layer: int, at, *, z: float | None = None, thickness: float | None = None,
+              angle_deg: float | None = None) -> None:
+        self.tag(0, "POINT")
+        self.tag(8, layer)
+        self.xy(at)
+        if z is not None:
+            self.num(30, z)
+        if thickness is not None:
+            self.num(39, thickness)
+        if angle_deg is not None:
+            self.num(50, angle_deg)
+
+    def line(self, layer: int, start, end) -> None:
+        self.tag(0, "LINE")
+        self.tag(8, layer)
+        self.xy(start)
+        self.xy(end, 11)
+
+    def polyline(self, layer: int, points: np.ndarray, closed: bool) -> None:
+        self.tag(0, "POLYLINE")
+        self.tag(8, layer)
+        self.tag(66, 1)
+        self.tag(70, 1 if closed else 0)
+        for p in points:
+            self.tag(0, "VERTEX")
+            self.tag(8, layer)
+            self.xy(p)
+        self.tag(0, "SEQEND")
+        self.tag(8, layer)
+
+    def render(self) -> str:
+        return "\r\n".join(self.lines) + "\r\n"
+
+
+# ---------------------------------------------------------------------------
+# one block
+# ---------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class _Context:
+    flavor: Flavor
+    units: Units
+    scale: float  # file units per cm
+    height: float  # text height in file units
+    report: Report
+
+
+def _ascii(ctx: _Context, value: str, where: str) -> str:
+    out, changed = to_ascii(value)
+    if changed:
+        ctx.report.add(
+            "non-ascii-replaced",
+            f"text {value!r} written as {out!r} (DXF-AAMA/ASTM allow 7-bit ASCII only)",
+            where=where,
+            fixed=True,
+        )
+    return out
+
+
+def _rule_text(rule: str) -> str:
+    return f"# {rule}"
+
+
+def _vertex_points(tags: _Tags, ctx: _Context, owner_layer: int, pts: np.ndarray,
+                   kinds: Sequence[VertexKind], rules: Sequence[str | None], where: str) -> None:
+    """Turn/curve POINTs on 2/3 and ``# n`` texts of one polyline's vertices."""
+    for p, kind, rule in zip(pts, kinds, rules):
+        point_layer = {VertexKind.TURN: 2, VertexKind.CURVE: 3}.get(VertexKind(kind))
+        text = None if rule is None else _ascii(ctx, _rule_text(rule), where)
+        if ctx.flavor is Flavor.ASTM:
+            # ASTM: the rule text sits on the geometry's own layer, before the point
+            if text is not None:
+                tags.text(owner_layer, p, text, ctx.height)
+            if point_layer is not None:
+                tags.point(point_layer, p)
+        else:
+            # AAMA: the rule text follows the point on layer 2/3; a graded vertex
+            # that is neither turn nor curve point keeps it on its own layer
+            if point_layer is not None:
+                tags.point(point_layer, p)
+            if text is not None:
+                tags.text(point_layer if point_layer is not None else owner_layer, p, text, ctx.height)
+
+
+def _line_rules(tags: _Tags, ctx: _Context, layer: int, line: Line, pts: np.ndarray, where: str) -> None:
+    for p, rule in zip(pts, line.rules):
+        if rule is not None:
+            tags.text(layer, p, _ascii(ctx, _rule_text(rule), where), ctx.height)
+
+
+def _label_anchor(piece_pts: np.ndarray) -> np.ndarray:
+    """A point inside the piece's bounding box to hang the piece text on."""
+    lo, hi = piece_pts.min(axis=0), piece_pts.max(axis=0)
+    return np.array([lo[0] + 0.25 * (hi[0] - lo[0]), lo[1] + 0.5 * (hi[1] - lo[1])])
+
+
+def _piece_text_lines(piece: Piece, size: str, ctx: _Context, full: bool, where: str) -> list[str]:
+    name = _ascii(ctx, piece.name, where)
+    lines = [f"Piece Name: {name}", f"Size: {_ascii(ctx, size, where)}"]
+    if not full:
+        return lines
+    q = piece.quantity
+    if ctx.flavor is Flavor.ASTM:
+        lines.append(f"Quantity: {q.right},{q.left}")
+    else:
+        lines.append(f"Quantity: {q.total}")
+        if q.right != (q.total + 1) // 2:
+            ctx.report.add(
+                "quantity-total-only",
+                f"quantity right={q.right}, left={q.left} written as the AAMA total {q.total}; "
+                "export as ASTM to keep the right/left split",
+                where=where,
+            )
+    for key, value in (("Category", piece.category), ("Annotation", piece.annotation),
+                       ("Fabric", piece.fabric)):
+        if value:
+            lines.append(f"{key}: {_ascii(ctx, value, where)}")
+    known = {"piece name", "size", "quantity", "category", "annotation", "fabric"}
+    for key, value in piece.extra_text.items():
+        if key.strip().lower() in known:
+            continue
+        lines.append(_ascii(ctx, f"{key}: {value}" if value else f"{key}:", where))
+    return lines
+
+
+def _write_polyline(tags: _Tags, ctx: _Context, layer: int, poly: Polyline, scale: float,
+                    full: bool, where: str) -> np.ndarray:
+    pts = np.asarray(poly.points) * scale
+    if len(pts) == 0:
+        return pts
+    tags.polyline(layer, pts, poly.closed)
+    if poly.label and full:
+        tags.text(layer, pts[0], _ascii(ctx, poly.label, where), ctx.height)
+    return pts
+
+
+def _block(tags: _Tags, ctx: _Context, piece: Piece, size: str, block_name: str, *, full: bool,
+           validation: bool) -> None:
+    """Write one BLOCK ... ENDBLK; ``full`` = sample-size block with points and rules."""
+    s = ctx.scale
+    where = f"{piece.name} ({size})"
+    outline = np.asarray(piece.outline) * s
+    tags.tag(0, "BLOCK")
+    tags.tag(8, 0)
+    tags.tag(2, block_name)
+    tags.tag(70, 64)
+    tags.num(10, 0.0)
+    tags.num(20, 0.0)
+
+    # piece system text, layer 1
+    anchor = _label_anchor(outline)
+    step = 1.6 * ctx.height
+    for i, text in enumerate(_piece_text_lines(piece, size, ctx, full, where)):
+        tags.text(1, anchor - np.array([0.0, i * step]), text, ctx.height)
+
+    # boundary: one closed polyline, turn/curve points, rule texts
+    tags.polyline(1, outline, closed=True)
+    if full:
+        _vertex_points(tags, ctx, 1, outline, piece.kinds, piece.rules, where)
+        for notch in piece.notches:
+            layer = NOTCH_LAYERS[NotchType(notch.type)]
+            angle = math.degrees(notch.angle) % 360.0
+            tags.point(layer, outline[notch.vertex], z=abs(notch.depth_cm) * s,
+                       thickness=abs(notch.width_cm) * s, angle_deg=angle)
+            if notch.rule is not None:
+                tags.text(layer, outline[notch.vertex], _ascii(ctx, _rule_text(notch.rule), where),
+                          ctx.height)
+    if validation:
+        tags.polyline(_VALIDATION_LAYER[1], outline, closed=True)
+
+    # grain (7), grade reference (5), mirror (6)
+    for layer, line in ((7, piece.grain_line), (5, piece.grade_reference), (6, piece.mirror_line)):
+        if line is None:
+            continue
+        pts = np.asarray(line.points) * s
+        tags.line(layer, pts[0], pts[1])
+        if full:
+            _line_rules(tags, ctx, layer, line, pts, where)
+
+    # internal lines (8), cutouts (11), sew lines (14)
+    for layer, polys in ((8, piece.internal_lines), (11, piece.cutouts), (14, piece.sew_lines)):
+        for poly in polys:
+            pts = _write_polyline(tags, ctx, layer, poly, s, full, where)
+            if len(pts) == 0:
+                continue
+            if full:
+                _vertex_points(tags, ctx, layer, pts, poly.kinds, poly.rules, where)
+            if validation:
+                tags.polyline(_VALIDATION_LAYER[layer], pts, poly.closed)
+
+    # drill holes (13): POINT with Z = diameter, label and rule texts on 13
+    for hole in piece.drill_holes:
+        at = np.asarray(hole.position) * s
+        tags.point(13, at, z=hole.diameter_cm * s)
+        if full and hole.label:
+            tags.text(13, at, _ascii(ctx, hole.label, where), ctx.height)
+        if full and hole.rule is not None:
+            tags.text(13, at, _ascii(ctx, _rule_text(hole.rule), where), ctx.height)
+
+    # annotations (15, or the layer they came from)
+    if full:
+        for note in piece.annotations:
+            tags.text(note.layer, np.asarray(note.position) * s, _ascii(ctx, note.text, where),
+                      note.height_cm * s, math.degrees(note.angle) % 360.0)
+
+    tags.tag(0, "ENDBLK")
+    tags.tag(8, 0)
+
+
+# ---------------------------------------------------------------------------
+# whole file
+# ---------------------------------------------------------------------------
+
+
+def _style_text_lines(pattern: Pattern, ctx: _Context, validation: bool,
+                      now: _dt.datetime) -> list[str]:
+    where = f"style {pattern.style}"
+    style = _ascii(ctx, pattern.style, where)
+    if len(style) > _MAX_NAME:
+        ctx.report.add("name-too-long", f"style name {style!r} is longer than {_MAX_NAME} characters; "
+                       "Gerber AccuMark truncates it", where=where)
+    lines = [
+        f"Style Name: {style}",
+        f"Creation Date: {now:%d-%m-%Y}",
+        f"Creation Time: {now:%H:%M}",
+    ]
+    if ctx.flavor is Flavor.ASTM:
+        lines.append(f"Author: {_VENDOR} ; {_PRODUCT} ; {__version__}")
+    else:
+        lines += [f"Author: {_VENDOR}", f"PRODUCT: {_PRODUCT}", f"VERSION: {__version__}"]
+    lines += [
+        f"Sample Size: {_ascii(ctx, pattern.sample_size, where)}",
+        f"Grade Rule Table: {_ascii(ctx, pattern.rules.name, where)}".rstrip(),
+        f"Units: {ctx.units}",
+    ]
+    if validation:
+        lines.append(f"Curve Tolerance: {_CURVE_TOLERANCE[ctx.units]}")
+    if ctx.flavor is Flavor.ASTM:
+        lines.append(_ASTM_VERSION)
+    return lines
+
+
+def _unique_names(names: Iterable[str]) -> list[str]:
+    seen: dict[str, int] = {}
+    out = []
+    for name in names:
+        base = sanitize_block_name(name)
+        key = base.upper()
+        if key in seen:
+            seen[key] += 1
+            base = f"{base}_{seen[key]}"
+            key = base.upper()
+        seen.setdefault(key, 0)
+        out.append(base)
+    return out
+
+
+def _resolve_sizes(pattern: Pattern, sizes, report: Report) -> list[str] | None:
+    """``None`` for a sample-size file, else the nest's sizes in size-list order."""
+    if sizes is None or (isinstance(sizes, str) and sizes.lower() == "sample"):
+        return None
+    size_list = list(pattern.sizes) or [pattern.sample_size]
+    if isinstance(sizes, str):
+        if sizes.lower() == "all":
+            return size_list
+        sizes = [s.strip() for s in sizes.split(",") if s.strip()]
+    wanted = [str(s) for s in sizes]
+    unknown = [s for s in wanted if s not in size_list]
+    if unknown:
+        raise InputError(
+            f"{pattern.style}: sizes {unknown} are not in the size list {size_list}; "
+            "choose from the pattern's sizes"
+        )
+    if pattern.sample_size not in wanted:
+        report.add(
+            "sample-size-added",
+            f"sample size {pattern.sample_size!r} added to the nest (it carries the "
+            "turn/curve points, notches and rule texts)",
+            where=pattern.style,
+            fixed=True,
+        )
+        wanted.append(pattern.sample_size)
+    return [s for s in size_list if s in set(wanted)]
+
+
+def _graded_pieces(pattern: Pattern, size: str) -> tuple[Piece, ...]:
+    if size == pattern.sample_size:
+        return pattern.pieces
+    from ...pattern.grading import grade
+
+    return grade(pattern, size).pieces
+
+
+def format_dxf(
+    pattern: Pattern,
+    *,
+    flavor: Flavor | str = Flavor.AAMA,
+    sizes: str | Sequence[str] = "sample",
+    units: Units | str | None = None,
+    report: Report | None = None,
+    now: _dt.datetime | None = None,
+) -> str:
+    """Return the DXF text of ``pattern`` (CRLF line ends, ASCII only).
+
+    Parameters are those of :func:`write_dxf`; ``now`` fixes the creation
+    date/time written in the style text (tests).
+    """
+    flavor = Flavor(str(flavor).lower())
+    units = Units(str(units).upper()) if units is not None else pattern.units
+    report = report if report is not None else Report()
+    now = now or _dt.datetime.now()
+    ctx = _Context(flavor=flavor, units=units, scale=float(from_cm(1.0, str(units))),
+                   height=_TEXT_HEIGHT[units], report=report)
+    validation = flavor is Flavor.ASTM
+    nest_sizes = _resolve_sizes(pattern, sizes, report)
+
+    for piece in pattern.pieces:
+        name, _ = to_ascii(piece.name)
+        if len(name) > _MAX_NAME:
+            report.add("name-too-long", f"piece name {name!r} is longer than {_MAX_NAME} characters; "
+                       "Gerber AccuMark truncates it", where=piece.name)
+
+    # (piece, size, full) in file order: per size, every piece
+    entries: list[tuple[Piece, str, bool]] = []
+    if nest_sizes is None:
+        entries = [(p, p.size or pattern.sample_size, True) for p in pattern.pieces]
+    else:
+        for size in nest_sizes:
+            pieces = _graded_pieces(pattern, size)
+            entries += [(p, size, size == pattern.sample_size) for p in pieces]
+    block_names = _unique_names(f"{p.name}_{size}" for p, size, _ in entries)
+
+    tags = _Tags()
+    tags.tag(0, "SECTION")
+    tags.tag(2, "HEADER")
+    tags.tag(9, "$ACADVER")
+    tags.tag(1, "AC1009")
+    tags.tag(0, "ENDSEC")
+    tags.tag(0, "SECTION")
+    tags.tag(2, "BLOCKS")
+    for (piece, size, full), block_name in zip(entries, block_names):
+        _block(tags, ctx, piece, size, block_name, full=full, validation=validation)
+    tags.tag(0, "ENDSEC")
+    tags.tag(0, "SECTION")
+    tags.tag(2, "ENTITIES")
+    for i, text in enumerate(_style_text_lines(pattern, ctx, validation, now)):
+        tags.text(1, (0.0, -i * 1.6 * ctx.height), text, ctx.height)
+    for block_name in block_names:
+        tags.tag(0, "INSERT")
+        tags.tag(8, 1)
+        tags.tag(2, block_name)
+        tags.num(10, 0.0)
+        tags.num(20, 0.0)
+    tags.tag(0, "ENDSEC")
+    tags.tag(0, "EOF")
+    text = tags.render()
+    if not text.isascii():  # pragma: no cover - every value went through to_ascii
+        raise AssertionError("DXF text is not ASCII")
+    return text
+
+
+def write_dxf(
+    pattern: Pattern,
+    path: str | os.PathLike,
+    *,
+    flavor: Flavor | str = Flavor.AAMA,
+    sizes: str | Sequence[str] = "sample",
+    rul_path: str | os.PathLike | None = None,
+    units: Units | str | None = None,
+    report: Report | None = None,
+) -> Path:
+    """Write ``pattern`` as a DXF-AAMA or DXF-ASTM file, atomically.
+
+    Parameters
+    ----------
+    pattern : Pattern
+        Geometry in cm; converted to mm (METRIC) or inches (ENGLISH) with 4
+        decimals.
+    path : path of the ``.dxf`` to write
+    flavor : ``"aama"`` or ``"astm"``
+        AAMA: ``Author``/``PRODUCT``/``VERSION`` style text, ``Quantity: N``
+        totals, ``# n`` rule texts on layers 2/3. ASTM: the D 6673-04 version
+        string, ``Author: vendor ; app ; release``, ``Quantity: R,L``, rule
+        texts on the geometry's layer and validation curves on 84–87.
+    sizes : ``"sample"``, ``"all"``, a comma-separated string or a list of sizes
+        ``"sample"`` writes the sample size only (grade with ``rul_path``);
+        anything else writes a graded nest of those sizes (the sample size is
+        always included).
+    rul_path : path of a ``.RUL`` to write beside the DXF (grade-rule table in
+        the same units); the DXF and the RUL are both written or neither.
+    units : ``"METRIC"`` or ``"ENGLISH"`` to override ``pattern.units``.
+    report : findings (non-ASCII text replaced, long names, quantity split
+        lost in AAMA) are appended here; without one they are logged as
+        warnings.
+
+    Returns
+    -------
+    Path of the DXF written.
+
+    Raises
+    ------
+    InputError
+        When a requested size is not in the pattern's size list, or a RUL is
+        requested for a pattern without grade rules.
+    """
+    own_report = Report()
+    units_ = Units(str(units).upper()) if units is not None else pattern.units
+    text = format_dxf(pattern, flavor=flavor, sizes=sizes, units=units_, report=own_report)
+    rul_text = None
+    if rul_path is not None:
+        if not pattern.rules.deltas and not pattern.rules.sizes:
+            raise InputError(f"{rul_path}: pattern {pattern.style!r} has no grade-rule table to write")
+        from ..rul import format_rul
+
+        rul_text = format_rul(pattern.rules, units=units_)
+    if report is not None:
+        report.extend(own_report)
+    else:
+        for finding in own_report:
+            log.warning("%s", finding)
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        tmp.write_bytes(text.encode("ascii"))
+        if rul_text is not None:
+            with atomic_path(rul_path) as rul_tmp:
+                data = rul_text if "\r\n" in rul_text else rul_text.replace("\n", "\r\n")
+                rul_tmp.write_bytes(data.encode("ascii", errors="replace"))
+    return path
