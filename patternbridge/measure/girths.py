@@ -1,0 +1,398 @@
+"""Tape girths: convex hulls of plane sections of one body part.
+
+Torso and head girths use horizontal planes (the torso axis of a standing
+character is vertical); limb girths use planes perpendicular to the limb axis,
+which is estimated from the datum points and refined through the centres of
+two sections, so an inclined A-pose arm is cut square. Of all the loops of a
+cut, only those of the body part are kept:
+
+* torso: loops whose centre lies between the two armpit points (arms and
+  hanging hands fall outside);
+* a limb, the neck or the head: the loop that contains the part's axis point,
+  or the loop nearest to it.
+
+Chest and hip are the largest girths over a search band, the waist and the
+ankle the smallest. ``formats/measurements.md`` gives the bands.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import LandmarkError
+from .model import Measurement
+from .section import Section, SlabIndex, hull_girth, plane_loops
+
+__all__ = ["BodyFrame", "GirthError", "measure_girths", "torso_levels"]
+
+
+class GirthError(LandmarkError):
+    """A girth could not be taken (no section of the body part found)."""
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class _Cut:
+    value_cm: float
+    polyline: np.ndarray
+    origin: np.ndarray
+    normal: np.ndarray
+
+
+def _hull_centroid_uv(uv: np.ndarray) -> np.ndarray:
+    from scipy.spatial import ConvexHull, QhullError
+
+    try:
+        ring = uv[ConvexHull(uv).vertices]
+    except (QhullError, ValueError):
+        return uv.mean(axis=0)
+    x, y = ring[:, 0], ring[:, 1]
+    xn, yn = np.roll(x, -1), np.roll(y, -1)
+    cross = x * yn - xn * y
+    a = cross.sum() / 2
+    if abs(a) < 1e-12:
+        return uv.mean(axis=0)
+    return np.array([((x + xn) * cross).sum(), ((y + yn) * cross).sum()]) / (6 * a)
+
+
+class BodyFrame:
+    """The mesh, its datum points and the search helpers shared by all girths.
+
+    Parameters
+    ----------
+    vertices : (V, 3) float64, cm, +Y up
+    faces : (F, 3) int64
+    marks : landmark name -> (3,) position, cm
+    """
+
+    def __init__(self, vertices: np.ndarray, faces: np.ndarray, marks: Mapping[str, np.ndarray]) -> None:
+        self.v = vertices
+        self.f = faces
+        self.marks = marks
+        self.floor = float(vertices[:, 1].min())
+        top = self.mark("top_of_head")
+        self.stature = float(top[1] - self.floor)
+        self.step = max(self.stature / 400.0, 0.05)
+        self.slabs = SlabIndex(vertices, faces, axis=1, slab_cm=max(self.stature / 200.0, 0.1))
+
+    def mark(self, name: str) -> np.ndarray:
+        try:
+            return np.asarray(self.marks[name], dtype=np.float64)
+        except KeyError:
+            raise LandmarkError(f"landmark {name!r} is missing") from None
+
+    # -- cutting
+    def horizontal(self, y: float) -> Section:
+        return plane_loops(self.v, self.f, np.array([0.0, y, 0.0]), np.array([0.0, 1.0, 0.0]),
+                           candidates=self.slabs.faces_at(y))
+
+    def near_segment(self, a: np.ndarray, b: np.ndarray, radius: float) -> np.ndarray:
+        """Ids of the faces with a vertex within ``radius`` of the segment ab."""
+        ab = b - a
+        t = np.clip((self.v - a) @ ab / max(float(ab @ ab), 1e-12), 0.0, 1.0)
+        d2 = np.sum((self.v - (a + t[:, None] * ab)) ** 2, axis=1)
+        near = d2 <= radius * radius
+        return np.flatnonzero(near[self.f].any(axis=1))
+
+    @staticmethod
+    def part_loops(section: Section, ref: np.ndarray):
+        """The loops containing ``ref`` (its part), else the nearest loop."""
+        if not section.loops:
+            return ()
+        q = section.to_uv(ref)
+        closed = [lp for lp in section.loops if lp.closed]
+        inside = [lp for lp in closed if lp.contains_uv(q)]
+        if inside:
+            return tuple(inside)
+        pool = closed or list(section.loops)
+        return (min(pool, key=lambda lp: lp.distance_uv(q)),)
+
+    def loop_centre(self, section: Section, loops) -> np.ndarray:
+        uv = np.concatenate([lp.uv for lp in loops])
+        return section.to_xyz(_hull_centroid_uv(uv))
+
+    def torso_loops(self, section: Section):
+        left, right = self.mark("armpit_point_left"), self.mark("armpit_point_right")
+        mid = 0.5 * (left[0] + right[0])
+        half = 0.5 * abs(left[0] - right[0])
+        return tuple(lp for lp in section.loops if abs(section.to_xyz(lp.centroid_uv)[0] - mid) < half)
+
+    def torso_cut(self, y: float) -> _Cut:
+        sec = self.horizontal(y)
+        loops = self.torso_loops(sec)
+        if not loops:
+            return _Cut(value_cm=0.0, polyline=np.zeros((0, 3)), origin=sec.origin, normal=sec.normal)
+        g, ring = hull_girth(sec, loops)
+        return _Cut(value_cm=g, polyline=ring, origin=sec.origin, normal=sec.normal)
+
+    def part_cut(self, origin: np.ndarray, normal: np.ndarray, ref: np.ndarray, candidates: np.ndarray) -> _Cut:
+        sec = plane_loops(self.v, self.f, origin, normal, candidates=candidates)
+        loops = self.part_loops(sec, ref)
+        if not loops:
+            return _Cut(value_cm=0.0, polyline=np.zeros((0, 3)), origin=sec.origin, normal=sec.normal)
+        g, ring = hull_girth(sec, loops)
+        return _Cut(value_cm=g, polyline=ring, origin=sec.origin, normal=sec.normal)
+
+    def refine_axis(self, p0: np.ndarray, p1: np.ndarray, candidates: np.ndarray,
+                    fractions=(0.35, 0.7)) -> tuple[np.ndarray, np.ndarray]:
+        """Axis line of a limb: through the centres of two perpendicular sections."""
+        d = p1 - p0
+        centres = []
+        for t in fractions:
+            q = p0 + t * d
+            sec = plane_loops(self.v, self.f, q, d, candidates=candidates)
+            loops = self.part_loops(sec, q)
+            if not loops:
+                raise GirthError("no limb section found between the datum points")
+            centres.append(self.loop_centre(sec, loops))
+        c0, c1 = centres
+        axis = c1 - c0
+        if axis @ d < 0:
+            axis = -axis
+        return c0, axis / np.linalg.norm(axis)
+
+
+def _best(cuts: list[tuple[float, _Cut]], pick: Callable) -> tuple[float, _Cut]:
+    good = [(t, c) for t, c in cuts if c.value_cm > 0]
+    if not good:
+        raise GirthError("no section of the body part in the search band")
+    return pick(good, key=lambda tc: tc[1].value_cm)
+
+
+def _scan(lo: float, hi: float, step: float) -> np.ndarray:
+    n = max(2, int(np.ceil((hi - lo) / step)) + 1)
+    return np.linspace(lo, hi, n)
+
+
+def torso_levels(body: BodyFrame) -> dict[str, tuple[float, _Cut]]:
+    """Waist (narrowest), chest (widest), hip (widest), high hip and underbust levels.
+
+    Returns
+    -------
+    name -> (level y in cm, the cut at that level)
+    """
+    y_crotch = float(body.mark("crotch_point")[1])
+    y_arm = float(min(body.mark("armpit_point_left")[1], body.mark("armpit_point_right")[1]))
+    if y_arm <= y_crotch:
+        raise GirthError("the armpit points lie below the crotch point")
+    h = y_arm - y_crotch
+    out: dict[str, tuple[float, _Cut]] = {}
+    ys = _scan(y_crotch + 0.35 * h, y_crotch + 0.75 * h, body.step)
+    out["waist"] = _best([(y, body.torso_cut(y)) for y in ys], min)
+    y_waist = out["waist"][0]
+    ys = _scan(y_waist + 0.5 * (y_arm - y_waist), y_arm - 0.01 * body.stature, body.step)
+    out["chest"] = _best([(y, body.torso_cut(y)) for y in ys], max)
+    ys = _scan(y_crotch + 0.2 * (y_waist - y_crotch), y_waist - 0.2 * (y_waist - y_crotch), body.step)
+    out["hip"] = _best([(y, body.torso_cut(y)) for y in ys], max)
+    y_high = 0.5 * (y_waist + out["hip"][0])
+    out["high_hip"] = (y_high, body.torso_cut(y_high))
+    # under-bust: on the front profile through the bust points, the point lying
+    # deepest behind the chord from the bust point down to the waist level
+    y_bust = out["chest"][0]
+    try:
+        bl, br = body.mark("bust_point_left"), body.mark("bust_point_right")
+        y_bust = float(0.5 * (bl[1] + br[1]))
+        bx = float(0.5 * (abs(bl[0]) + abs(br[0])))
+    except LandmarkError:
+        bx = None
+    ys = _scan(y_waist, y_bust, body.step)
+    level = y_bust - 0.3 * (y_bust - y_waist)  # no fold (flat or male chest)
+    if bx is not None:
+        front = []
+        for y in ys:
+            sec = body.horizontal(y)
+            pts = np.concatenate([lp.points for lp in body.torso_loops(sec)] or [np.zeros((0, 3))])
+            strip = pts[np.abs(np.abs(pts[:, 0]) - bx) < max(1.5, 0.01 * body.stature)] if len(pts) else pts
+            front.append(strip[:, 2].max() if len(strip) else np.nan)
+        front = np.asarray(front)
+        if np.isfinite(front).all() and len(front) > 2:
+            chord = front[0] + (front[-1] - front[0]) * (ys - ys[0]) / (ys[-1] - ys[0])
+            depth = chord - front
+            edge = max(1, len(ys) // 10)
+            depth[:edge] = -np.inf  # neither at the waist nor at the bust point
+            depth[-edge:] = -np.inf
+            if depth.max() > 0.005 * body.stature:
+                level = float(ys[int(np.argmax(depth))])
+    out["underbust"] = (level, body.torso_cut(level))
+    return out
+
+
+def _girth(mid: str, cut: _Cut, landmarks: tuple[str, ...], **details) -> Measurement:
+    return Measurement(
+        id=mid, value_cm=cut.value_cm, kind="girth", method="hull", polyline=cut.polyline,
+        landmarks=landmarks, details={"plane_origin": cut.origin, "plane_normal": cut.normal, **details},
+    )
+
+
+def _torso_girths(body: BodyFrame) -> dict[str, Measurement]:
+    levels = torso_levels(body)
+    used = ("armpit_point_left", "armpit_point_right", "crotch_point")
+    names = {"chest": "chest_girth", "underbust": "underbust_girth", "waist": "waist_girth",
+             "high_hip": "high_hip_girth", "hip": "hip_girth"}
+    out = {}
+    for key, mid in names.items():
+        y, cut = levels[key]
+        if cut.value_cm <= 0:
+            raise GirthError(f"no torso section at the {key} level (y = {y:.1f} cm)")
+        extra = ("bust_point_left", "bust_point_right") if key == "underbust" else ()
+        out[mid] = _girth(mid, cut, used + extra, level_y_cm=y)
+    return out
+
+
+def _neck_girth(body: BodyFrame) -> Measurement:
+    names = ("front_neck_point", "back_neck_point", "neck_shoulder_point_left", "neck_shoulder_point_right")
+    pts = np.stack([body.mark(n) for n in names])
+    centre = pts.mean(axis=0)
+    _, _, vt = np.linalg.svd(pts - centre)
+    normal = vt[2] if vt[2][1] >= 0 else -vt[2]
+    radius = 0.15 * body.stature
+    cands = body.near_segment(centre, centre, radius)
+    cut = body.part_cut(centre, normal, centre, cands)
+    if cut.value_cm <= 0:
+        raise GirthError("no neck section through the neck points")
+    return _girth("neck_girth", cut, names)
+
+
+def _head_girth(body: BodyFrame) -> Measurement:
+    top = body.mark("top_of_head")
+    h = float(top[1] - body.mark("front_neck_point")[1])
+    ys = _scan(top[1] - 0.30 * h, top[1] - 0.12 * h, body.step)
+    cuts = []
+    for y in ys:
+        sec = body.horizontal(y)
+        loops = body.part_loops(sec, np.array([top[0], y, top[2]]))
+        if loops:
+            g, ring = hull_girth(sec, loops)
+            cuts.append((y, _Cut(value_cm=g, polyline=ring, origin=sec.origin, normal=sec.normal)))
+    y, cut = _best(cuts, max)
+    return _girth("head_girth", cut, ("top_of_head", "front_neck_point"), level_y_cm=y)
+
+
+def _arm_girths(body: BodyFrame, side: str) -> dict[str, Measurement]:
+    sh = body.mark(f"shoulder_point_{side}")
+    el = body.mark(f"elbow_point_{side}")
+    wr = body.mark(f"wrist_point_{side}")
+    reach = np.linalg.norm(el - sh) + np.linalg.norm(wr - el)
+    cands = body.near_segment(sh, el, 0.45 * reach)
+    cands = np.union1d(cands, body.near_segment(el, wr, 0.35 * reach))
+    c_up, u_up = body.refine_axis(sh, el, cands)
+    c_lo, u_lo = body.refine_axis(el, wr, cands, fractions=(0.3, 0.7))
+    out = {}
+    cuts = []
+    for t in np.linspace(0.40, 0.65, 6):
+        q = sh + t * (el - sh)
+        q = c_up + ((q - c_up) @ u_up) * u_up
+        cuts.append((float(t), body.part_cut(q, u_up, q, cands)))
+    t, cut = _best(cuts, max)
+    out[f"upper_arm_girth_{side}"] = _girth(f"upper_arm_girth_{side}", cut,
+                                           (f"shoulder_point_{side}", f"elbow_point_{side}"), axis_fraction=t)
+    bis = u_up + u_lo
+    bis /= np.linalg.norm(bis)
+    ref = c_up + ((el - c_up) @ u_up) * u_up
+    cut = body.part_cut(el, bis, ref, cands)
+    out[f"elbow_girth_{side}"] = _girth(f"elbow_girth_{side}", cut,
+                                       (f"shoulder_point_{side}", f"elbow_point_{side}", f"wrist_point_{side}"))
+    ref = c_lo + ((wr - c_lo) @ u_lo) * u_lo
+    cut = body.part_cut(wr, u_lo, ref, cands)
+    out[f"wrist_girth_{side}"] = _girth(f"wrist_girth_{side}", cut, (f"elbow_point_{side}", f"wrist_point_{side}"))
+    for mid, m in out.items():
+        if m.value_cm <= 0:
+            raise GirthError(f"{mid}: no arm section found")
+    return out
+
+
+def _leg_loop(body: BodyFrame, y: float, x_hint: float):
+    sec = body.horizontal(y)
+    if not sec.loops:
+        raise GirthError(f"no leg section at y = {y:.1f} cm")
+    loop = min(sec.loops, key=lambda lp: abs(sec.to_xyz(lp.centroid_uv)[0] - x_hint))
+    return sec, loop
+
+
+def _leg_girths(body: BodyFrame, side: str) -> dict[str, Measurement]:
+    crotch = body.mark("crotch_point")
+    knee = body.mark(f"knee_point_{side}")
+    a_in, a_out = body.mark(f"ankle_inside_{side}"), body.mark(f"ankle_outside_{side}")
+    ankle = 0.5 * (a_in + a_out)
+    s = body.stature
+    y_top = crotch[1] - 0.04 * s
+    x_hint = 0.5 * (knee[0] + crotch[0])
+    sec, loop = _leg_loop(body, y_top, x_hint)
+    hip_c = body.loop_centre(sec, (loop,))
+    sec, loop = _leg_loop(body, knee[1], knee[0])
+    knee_c = body.loop_centre(sec, (loop,))
+    u_th = (knee_c - hip_c) / np.linalg.norm(knee_c - hip_c)
+    u_sh = (ankle - knee_c) / np.linalg.norm(ankle - knee_c)
+    cands = body.near_segment(hip_c + u_th * (crotch[1] - hip_c[1]) / max(-u_th[1], 1e-6), ankle, 0.12 * s)
+    out = {}
+
+    def at_height(y: float) -> np.ndarray:  # point of the thigh axis at height y
+        return hip_c + u_th * (hip_c[1] - y) / max(-u_th[1], 1e-6)
+
+    cuts = []
+    for frac in np.linspace(0.01, 0.05, 9):
+        q = at_height(crotch[1] - frac * s)
+        cuts.append((float(frac), body.part_cut(q, u_th, q, cands)))
+    frac, cut = _best(cuts, max)
+    out[f"thigh_girth_{side}"] = _girth(f"thigh_girth_{side}", cut, ("crotch_point", f"knee_point_{side}"),
+                                       below_crotch_cm=frac * s)
+    bis = u_th + u_sh
+    bis /= np.linalg.norm(bis)
+    cut = body.part_cut(knee, bis, knee_c, cands)
+    out[f"knee_girth_{side}"] = _girth(f"knee_girth_{side}", cut,
+                                      ("crotch_point", f"knee_point_{side}", f"ankle_inside_{side}", f"ankle_outside_{side}"))
+    length = float(np.linalg.norm(ankle - knee_c))
+    cuts = []
+    for t in np.linspace(0.15, 0.60, 10):
+        q = knee_c + t * length * u_sh
+        cuts.append((float(t), body.part_cut(q, u_sh, q, cands)))
+    t, cut = _best(cuts, max)
+    used = (f"knee_point_{side}", f"ankle_inside_{side}", f"ankle_outside_{side}")
+    out[f"calf_girth_{side}"] = _girth(f"calf_girth_{side}", cut, used, axis_fraction=t)
+    lo_t = 1.0 - 0.015 * s / length
+    cuts = []
+    for t in np.linspace(0.70, lo_t, 8):
+        q = knee_c + t * length * u_sh
+        cuts.append((float(t), body.part_cut(q, u_sh, q, cands)))
+    t, cut = _best(cuts, min)
+    out[f"ankle_girth_{side}"] = _girth(f"ankle_girth_{side}", cut, used, axis_fraction=t)
+    for mid, m in out.items():
+        if m.value_cm <= 0:
+            raise GirthError(f"{mid}: no leg section found")
+    return out
+
+
+#: girth groups: the ids each computes, and the function
+GROUPS: dict[str, tuple[tuple[str, ...], Callable[[BodyFrame], dict[str, Measurement]]]] = {
+    "torso": (("chest_girth", "underbust_girth", "waist_girth", "high_hip_girth", "hip_girth"), _torso_girths),
+    "neck": (("neck_girth",), lambda b: {"neck_girth": _neck_girth(b)}),
+    "head": (("head_girth",), lambda b: {"head_girth": _head_girth(b)}),
+    **{
+        f"arm_{s}": (tuple(f"{k}_girth_{s}" for k in ("upper_arm", "elbow", "wrist")),
+                     (lambda side: lambda b: _arm_girths(b, side))(s))
+        for s in ("left", "right")
+    },
+    **{
+        f"leg_{s}": (tuple(f"{k}_girth_{s}" for k in ("thigh", "knee", "calf", "ankle")),
+                     (lambda side: lambda b: _leg_girths(b, side))(s))
+        for s in ("left", "right")
+    },
+}
+
+
+def measure_girths(body: BodyFrame, *, progress=None, errors: dict[str, str] | None = None) -> dict[str, Measurement]:
+    """Every girth; failures go to ``errors`` (id -> reason) when it is given, else raise."""
+    out: dict[str, Measurement] = {}
+    for i, (_, (ids, fn)) in enumerate(GROUPS.items()):
+        try:
+            out.update(fn(body))
+        except LandmarkError as exc:
+            if errors is None:
+                raise
+            for mid in ids:
+                errors[mid] = str(exc)
+        if progress is not None:
+            progress("girths", i + 1, len(GROUPS))
+    return out
