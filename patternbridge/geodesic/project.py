@@ -110,6 +110,7 @@ def project_walk(mesh: SurfaceMesh, samples: np.ndarray, start: Endpoint, end: E
     pts, fcs, eds, strip = [x], [f], [(-1, -1)], [f]
     i = 1
     entry = None  # edge we came in through
+    at_vertex = start.vertex  # vertex the walk stands on, if any
     limit = max_steps or 40 * len(Q) + 2000
 
     def arrived(face):
@@ -132,6 +133,7 @@ def project_walk(mesh: SurfaceMesh, samples: np.ndarray, start: Endpoint, end: E
             fcs.append(f)
             eds.append((-1, -1))
             entry = None
+            at_vertex = None
             i += 1
             continue
         fv = loc.face(f)
@@ -139,28 +141,55 @@ def project_walk(mesh: SurfaceMesh, samples: np.ndarray, start: Endpoint, end: E
         nf = _crs(_sub(b, a), _sub(c, a))
         d = _sub(q, x)
         N = _crs(d, nf)
-        if _dot(N, N) == 0.0:
+        nn = math.sqrt(_dot(N, N))
+        if nn == 0.0:
             return None
+        N = (N[0] / nn, N[1] / nn, N[2] / nn)
+        sd = {v: _dot(N, _sub(loc.pos(v), x)) for v in fv}
+        tol = 1e-9 * math.sqrt(_dot(d, d)) + 1e-12
         best = None
+        for v in fv:  # the plane through a vertex ahead
+            if v != at_vertex and abs(sd[v]) <= tol:
+                ahead = _dot(_sub(loc.pos(v), x), d)
+                if ahead > 0 and (best is None or ahead > best[0]):
+                    best = (ahead, v, v, loc.pos(v))
         for u, w in ((fv[0], fv[1]), (fv[1], fv[2]), (fv[2], fv[0])):
             if entry is not None and {u, w} == entry:
                 continue
-            pu, pw = loc.pos(u), loc.pos(w)
-            su, sw = _dot(N, _sub(pu, x)), _dot(N, _sub(pw, x))
-            if su == sw or su * sw > 0:
+            su, sw = sd[u], sd[w]
+            if abs(su) <= tol or abs(sw) <= tol or su * sw > 0:
                 continue
             t = su / (su - sw)
-            t = min(max(t, 1e-9), 1 - 1e-9)
+            pu, pw = loc.pos(u), loc.pos(w)
             cpt = (pu[0] + t * (pw[0] - pu[0]), pu[1] + t * (pw[1] - pu[1]),
                    pu[2] + t * (pw[2] - pu[2]))
             ahead = _dot(_sub(cpt, x), d)
-            if ahead <= 0:
-                continue
-            if best is None or ahead > best[0]:
+            if ahead > 0 and (best is None or ahead > best[0]):
                 best = (ahead, u, w, cpt)
         if best is None:
+            if i < len(Q) - 1:  # the sample is behind us: aim at the next one
+                i += 1
+                continue
             return None
         _, u, w, cpt = best
+        if u == w:  # through a vertex: turn around it to the face ahead
+            g = _start_face(loc, u, q if i < len(Q) - 1 else end.xyz)
+            if g is None:
+                return None
+            if g != f:
+                fan = None
+                for xo in (x_ for x_ in fv if x_ != u):
+                    cand = loc.walk(u, f, xo, lambda h, g=g: h == g)
+                    if cand is not None and (fan is None or len(cand) < len(fan)):
+                        fan = cand
+                if fan is None:
+                    return None
+                strip.extend(fan)
+            pts.append(cpt)
+            fcs.append(g)
+            eds.append((-1, -1))
+            x, f, entry, at_vertex = cpt, g, None, u
+            continue
         g = loc.across(u, w, f)
         if g is None:
             return None
@@ -169,6 +198,5 @@ def project_walk(mesh: SurfaceMesh, samples: np.ndarray, start: Endpoint, end: E
         eds.append((u, w))
         strip.append(g)
         entry = {u, w}
-        x = cpt
-        f = g
+        x, f, at_vertex = cpt, g, None
     return None

@@ -331,11 +331,15 @@ def _angle(u, w) -> float:
 
 
 def _corner(loc: _Local, f: int, v: int) -> float:
-    a, b, c = loc.face(f)
-    o = [x for x in (a, b, c) if x != v]
-    pv, p1, p2 = np.array(loc.pos(v)), np.array(loc.pos(o[0])), np.array(loc.pos(o[1]))
-    u, w = p1 - pv, p2 - pv
-    return math.atan2(float(np.linalg.norm(np.cross(u, w))), float(u @ w))
+    o = [x for x in loc.face(f) if x != v]
+    pv, p1, p2 = loc.pos(v), loc.pos(o[0]), loc.pos(o[1])
+    u = (p1[0] - pv[0], p1[1] - pv[1], p1[2] - pv[2])
+    w = (p2[0] - pv[0], p2[1] - pv[1], p2[2] - pv[2])
+    cx = u[1] * w[2] - u[2] * w[1]
+    cy = u[2] * w[0] - u[0] * w[2]
+    cz = u[0] * w[1] - u[1] * w[0]
+    return math.atan2(math.sqrt(cx * cx + cy * cy + cz * cz),
+                      u[0] * w[0] + u[1] * w[1] + u[2] * w[2])
 
 
 def _find_swings(loc: _Local, strip, portals, apexes, face_xy, s: Endpoint, e: Endpoint):
