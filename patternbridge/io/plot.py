@@ -60,9 +60,10 @@ def layout_offsets(boxes: np.ndarray, *, gap: float | None = None, aspect: float
 
     Notes
     -----
-    Boxes are placed tallest first, left to right on shelves whose width is
-    chosen from the total box area and ``aspect``; each shelf sits on top of
-    the previous one (pattern pieces read bottom-up like a marker).
+    Boxes are placed tallest first, left to right on shelves stacked bottom-up
+    (like a marker); of the shelf widths that start a new shelf after the
+    k-th box, the one whose layout is smallest, with its width/height ratio
+    closest to ``aspect``, wins.
 
     Examples
     --------
@@ -79,18 +80,33 @@ def layout_offsets(boxes: np.ndarray, *, gap: float | None = None, aspect: float
     h = boxes[:, 3] - boxes[:, 1]
     if gap is None:
         gap = 0.04 * float(max(w.max(), h.max(), 1e-9))
-    total = float(np.sum((w + gap) * (h + gap)))
-    shelf_width = max(float(w.max()), math.sqrt(total * aspect))
     order = np.lexsort((-w, -h))  # tallest first, then widest
+    best = None
+    # candidate shelf widths: the running widths of the first k boxes in order
+    for limit in np.unique(np.maximum(np.cumsum(w[order] + gap) - gap, w.max())):
+        cand = _shelves(boxes, w, h, order, float(limit), gap)
+        span = np.ptp(np.concatenate([cand, cand + np.column_stack([w, h])]), axis=0)
+        ratio = span[0] / max(span[1], 1e-9)
+        score = span[0] * span[1] * max(ratio / aspect, aspect / ratio)
+        if best is None or score < best[0] - 1e-9:
+            best = (score, cand)
+    placed = best[1]
+    offsets = placed - boxes[:, :2]
+    return offsets
+
+
+def _shelves(boxes, w, h, order, shelf_width: float, gap: float) -> np.ndarray:
+    """Lower-left corner of every box, packed on shelves of ``shelf_width``."""
+    corners = np.zeros((len(boxes), 2))
     x = y = shelf_h = 0.0
     for i in order:
         if x > 0 and x + w[i] > shelf_width + 1e-9:
             y += shelf_h + gap
             x = shelf_h = 0.0
-        offsets[i] = (x - boxes[i, 0], y - boxes[i, 1])
+        corners[i] = (x, y)
         x += w[i] + gap
         shelf_h = max(shelf_h, h[i])
-    return offsets
+    return corners
 
 
 def _piece_points(piece: Piece) -> np.ndarray:
