@@ -1,0 +1,404 @@
+"""Per-piece control grids (the thesis's *blocks*) and their vectorised evaluation.
+
+Every piece gets an axis-aligned grid over its bounding box whose lines pass
+through the piece's critical points (turn points, extremes, marks). The grid
+intersections are the control points; every tracked point of the piece (its
+outline, internal lines, grain line, drill holes, annotations) gets fixed
+parametric ``(u, v)`` coordinates in that grid, so the piece deforms with it.
+
+The deformation is the tensor-product **bilinear** map (a degree-1 B-spline
+surface whose control points are the grid intersections):
+
+* a point is a fixed linear combination of at most four control points, so the
+  whole population is evaluated with one matrix product per piece,
+  ``points = W @ C``, ``(n_pop, n, 2)`` from ``(n_pop, m, 2)``;
+* moving a control point changes only the four cells around it (local
+  support), which is what tailors do when they spread a pattern at a line;
+* a cell folds exactly when it stops being a convex quad, so "no fold" is the
+  sign of the corner cross products (:meth:`PatternGrid.fold_margin`).
+
+The price is C0 continuity across grid lines: a curve crossing a grid line can
+get a kink when the two cells deform differently. The shape objective measures
+angle changes at every outline vertex as well as at the critical points, which
+keeps such kinks small.
+
+Gene layout: ``X[:, offset:offset + 2 * m]`` holds the piece's control points
+row by row (``v`` rows of ``u`` columns), ``x`` then ``y`` for each point.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..pattern.model import Pattern, Piece, VertexKind
+
+__all__ = [
+    "PatternGrid",
+    "PieceGrid",
+    "bilinear_weights",
+    "build_grid",
+    "critical_vertices",
+    "deform_pattern",
+    "grid_lines",
+    "piece_grid",
+]
+
+
+def critical_vertices(piece: Piece) -> np.ndarray:
+    """Outline indices of a piece's critical points.
+
+    Turn points, marks, notch vertices and the extreme vertices in ``x`` and
+    ``y``, sorted and unique, ``(k,) int64``.
+    """
+    outline = piece.outline
+    idx = {i for i, kind in enumerate(piece.kinds) if kind == VertexKind.TURN}
+    idx.update(int(v) for v in piece.marks.values())
+    idx.update(int(n.vertex) for n in piece.notches)
+    idx.update(int(i) for i in (
+        np.argmin(outline[:, 0]), np.argmax(outline[:, 0]),
+        np.argmin(outline[:, 1]), np.argmax(outline[:, 1]),
+    ))
+    if len(idx) < 3:  # all-plain outline without marks: use a coarse subsample
+        idx.update(np.linspace(0, len(outline) - 1, 8).astype(int).tolist())
+    return np.array(sorted(idx), dtype=np.int64)
+
+
+def grid_lines(values: np.ndarray, lo: float, hi: float, *, max_lines: int, min_gap_cm: float) -> np.ndarray:
+    """Choose grid line positions through ``values`` spanning ``[lo, hi]``.
+
+    Positions closer than ``min_gap_cm`` merge; at most ``max_lines`` lines are
+    kept (the bounding-box ends always, then the interior values that split
+    the largest remaining gap first).
+
+    Returns
+    -------
+    (k,) float64, strictly increasing, ``k >= 2``, first ``lo`` and last ``hi``.
+    """
+    interior = np.unique(np.asarray(values, dtype=np.float64))
+    interior = interior[(interior > lo + min_gap_cm) & (interior < hi - min_gap_cm)]
+    chosen = [lo, hi]
+    candidates = list(interior)
+    while candidates and len(chosen) < max_lines:
+        arr = np.array(sorted(chosen))
+        # distance of each candidate to its nearest chosen line
+        dist = np.array([np.min(np.abs(arr - c)) for c in candidates])
+        best = int(np.argmax(dist))
+        if dist[best] < min_gap_cm:
+            break
+        chosen.append(candidates.pop(best))
+    return np.array(sorted(chosen), dtype=np.float64)
+
+
+def bilinear_weights(points: np.ndarray, xs: np.ndarray, ys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Parametric coordinates and bilinear weights of ``points`` in a grid.
+
+    Parameters
+    ----------
+    points : (n, 2) float64, cm
+    xs : (nu,) grid line x positions, increasing
+    ys : (nv,) grid line y positions, increasing
+
+    Returns
+    -------
+    uv : (n, 2) float64 — ``u`` in ``[0, nu - 1]``, ``v`` in ``[0, nv - 1]``
+        (integer part = cell, fraction = position in the cell); points outside
+        the grid extrapolate from the border cell.
+    weights : (n, nv * nu) float64 — rows sum to 1; control point ``(j, i)``
+        (row ``j``, column ``i``) is column ``j * nu + i``.
+    """
+    points = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+    nu, nv = len(xs), len(ys)
+    i = np.clip(np.searchsorted(xs, points[:, 0], side="right") - 1, 0, nu - 2)
+    j = np.clip(np.searchsorted(ys, points[:, 1], side="right") - 1, 0, nv - 2)
+    s = (points[:, 0] - xs[i]) / (xs[i + 1] - xs[i])
+    t = (points[:, 1] - ys[j]) / (ys[j + 1] - ys[j])
+    n = len(points)
+    w = np.zeros((n, nv * nu))
+    rows = np.arange(n)
+    np.add.at(w, (rows, j * nu + i), (1 - s) * (1 - t))
+    np.add.at(w, (rows, j * nu + i + 1), s * (1 - t))
+    np.add.at(w, (rows, (j + 1) * nu + i), (1 - s) * t)
+    np.add.at(w, (rows, (j + 1) * nu + i + 1), s * t)
+    uv = np.stack([i + s, j + t], axis=1)
+    return uv, w
+
+
+def _piece_extra_points(piece: Piece) -> np.ndarray:
+    """All non-outline points that must move with the grid, in a fixed order."""
+    chunks = [pl.points for pl in piece.internal_lines]
+    chunks += [pl.points for pl in piece.cutouts]
+    chunks += [pl.points for pl in piece.sew_lines]
+    for line in (piece.grain_line, piece.grade_reference, piece.mirror_line):
+        if line is not None:
+            chunks.append(line.points)
+    chunks += [h.position[None, :] for h in piece.drill_holes]
+    chunks += [a.position[None, :] for a in piece.annotations]
+    if not chunks:
+        return np.zeros((0, 2))
+    return np.concatenate(chunks, axis=0)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class PieceGrid:
+    """The control grid (block) of one piece.
+
+    xs : (nu,) grid x positions, cm ; ys : (nv,) grid y positions, cm
+    control : (nv * nu, 2) original control points (row-major, cm)
+    outline_weights : (n, nv * nu) bilinear weights of the outline vertices
+    extra_points : (e, 2) the piece's other geometry (internal lines, grain,
+        drill holes, annotations) in the order :func:`deform_piece` expects
+    extra_weights : (e, nv * nu)
+    critical : (k,) int64 outline indices of the critical points
+    extent_cm : the larger side of the bounding box
+    """
+
+    name: str
+    xs: np.ndarray
+    ys: np.ndarray
+    control: np.ndarray
+    outline_weights: np.ndarray
+    extra_points: np.ndarray
+    extra_weights: np.ndarray
+    critical: np.ndarray
+    extent_cm: float
+
+    @property
+    def nu(self) -> int:
+        return len(self.xs)
+
+    @property
+    def nv(self) -> int:
+        return len(self.ys)
+
+    @property
+    def n_control(self) -> int:
+        return self.nu * self.nv
+
+
+def piece_grid(piece: Piece, *, max_lines: int = 6, min_gap_frac: float = 0.06) -> PieceGrid:
+    """Build the control grid of ``piece`` through its critical points."""
+    outline = piece.outline
+    lo = outline.min(axis=0)
+    hi = outline.max(axis=0)
+    extent = float(np.max(hi - lo))
+    crit = critical_vertices(piece)
+    gap = max(min_gap_frac * extent, 1e-6)
+    xs = grid_lines(outline[crit, 0], lo[0], hi[0], max_lines=max_lines, min_gap_cm=gap)
+    ys = grid_lines(outline[crit, 1], lo[1], hi[1], max_lines=max_lines, min_gap_cm=gap)
+    gx, gy = np.meshgrid(xs, ys)
+    control = np.stack([gx.ravel(), gy.ravel()], axis=1)
+    _, w_out = bilinear_weights(outline, xs, ys)
+    extra = _piece_extra_points(piece)
+    _, w_extra = bilinear_weights(extra, xs, ys)
+    return PieceGrid(
+        name=piece.name, xs=xs, ys=ys, control=control, outline_weights=w_out,
+        extra_points=extra, extra_weights=w_extra, critical=crit, extent_cm=extent,
+    )
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class PatternGrid:
+    """The grids of all pieces and the gene layout of an individual.
+
+    pieces : one :class:`PieceGrid` per pattern piece, pattern order
+    var_offsets : (n_pieces + 1,) int64 — piece ``p``'s genes are
+        ``X[:, var_offsets[p]:var_offsets[p + 1]]``
+    point_offsets : (n_pieces + 1,) int64 — piece ``p``'s outline vertices are
+        ``points[:, point_offsets[p]:point_offsets[p + 1]]`` in the global
+        outline-point array returned by :meth:`outlines`
+    x0 : (n_var,) the undeformed individual (the original pattern)
+    """
+
+    pattern: Pattern
+    pieces: tuple[PieceGrid, ...]
+    var_offsets: np.ndarray
+    point_offsets: np.ndarray
+    x0: np.ndarray
+
+    @property
+    def n_var(self) -> int:
+        return int(self.var_offsets[-1])
+
+    @property
+    def n_points(self) -> int:
+        return int(self.point_offsets[-1])
+
+    def piece_index(self, name: str) -> int:
+        for k, g in enumerate(self.pieces):
+            if g.name == name:
+                return k
+        raise KeyError(f"no piece {name!r} in the grid (pieces: {[g.name for g in self.pieces]})")
+
+    def control(self, X: np.ndarray, k: int) -> np.ndarray:
+        """Control points of piece ``k``: ``(n_pop, nv, nu, 2)`` from ``X (n_pop, n_var)``."""
+        g = self.pieces[k]
+        sl = X[:, self.var_offsets[k]:self.var_offsets[k + 1]]
+        return sl.reshape(len(X), g.nv, g.nu, 2)
+
+    def outlines(self, X: np.ndarray) -> np.ndarray:
+        """All outline vertices of all pieces, ``(n_pop, n_points, 2)`` cm."""
+        X = np.atleast_2d(np.asarray(X, dtype=np.float64))
+        parts = []
+        for k, g in enumerate(self.pieces):
+            c = X[:, self.var_offsets[k]:self.var_offsets[k + 1]].reshape(len(X), g.n_control, 2)
+            parts.append(np.einsum("pm,imd->ipd", g.outline_weights, c))
+        return np.concatenate(parts, axis=1)
+
+    def piece_outline(self, X: np.ndarray, k: int) -> np.ndarray:
+        """Outline of piece ``k`` for every individual, ``(n_pop, n_k, 2)``."""
+        X = np.atleast_2d(np.asarray(X, dtype=np.float64))
+        g = self.pieces[k]
+        c = X[:, self.var_offsets[k]:self.var_offsets[k + 1]].reshape(len(X), g.n_control, 2)
+        return np.einsum("pm,imd->ipd", g.outline_weights, c)
+
+    def fold_margin(self, X: np.ndarray) -> np.ndarray:
+        """Smallest corner cross product of every cell relative to the original.
+
+        A value of 1 is an undeformed (or uniformly scaled, x≈y) cell; 0 or
+        less means some cell stopped being a convex quad, i.e. the piece folds.
+
+        Returns
+        -------
+        (n_pop,) float64
+        """
+        X = np.atleast_2d(np.asarray(X, dtype=np.float64))
+        out = np.full(len(X), np.inf)
+        for k, g in enumerate(self.pieces):
+            c = self.control(X, k)
+            c0 = self.control(self.x0[None, :], k)
+            out = np.minimum(out, _min_corner_ratio(c, c0))
+        return out
+
+    def order_ok(self, X: np.ndarray, *, min_ratio: float = 0.1) -> np.ndarray:
+        """True where every grid row keeps its x order and every column its y order.
+
+        ``min_ratio`` is the smallest allowed spacing relative to the original.
+
+        Returns
+        -------
+        (n_pop,) bool
+        """
+        X = np.atleast_2d(np.asarray(X, dtype=np.float64))
+        ok = np.ones(len(X), dtype=bool)
+        for k, g in enumerate(self.pieces):
+            c = self.control(X, k)
+            dx = np.diff(c[..., 0], axis=2) / np.diff(g.xs)[None, None, :]
+            dy = np.diff(c[..., 1], axis=1) / np.diff(g.ys)[None, :, None]
+            ok &= np.all(dx > min_ratio, axis=(1, 2)) & np.all(dy > min_ratio, axis=(1, 2))
+        return ok
+
+    def fit_controls(self, outlines: list[np.ndarray] | tuple[np.ndarray, ...]) -> np.ndarray:
+        """Least-squares individual whose outlines best match ``outlines``.
+
+        Parameters
+        ----------
+        outlines : one ``(n_k, 2)`` array per piece, same vertex count as the
+            original (e.g. a graded size of the same pattern)
+
+        Returns
+        -------
+        (n_var,) float64
+        """
+        x = np.zeros(self.n_var)
+        for k, g in enumerate(self.pieces):
+            target = np.asarray(outlines[k], dtype=np.float64)
+            # regularise towards the shifted original grid so cells without
+            # outline points stay put
+            shift = target.mean(axis=0) - (g.outline_weights @ g.control).mean(axis=0)
+            prior = g.control + shift
+            lam = 1e-3
+            a = np.vstack([g.outline_weights, lam * np.eye(g.n_control)])
+            b = np.vstack([target, lam * prior])
+            sol, *_ = np.linalg.lstsq(a, b, rcond=None)
+            x[self.var_offsets[k]:self.var_offsets[k + 1]] = sol.ravel()
+        return x
+
+
+def _min_corner_ratio(c: np.ndarray, c0: np.ndarray) -> np.ndarray:
+    """(n_pop,) min over cells and corners of cross(c) / cross(c0)."""
+
+    def corners(a):
+        p00 = a[:, :-1, :-1]
+        p10 = a[:, :-1, 1:]
+        p11 = a[:, 1:, 1:]
+        p01 = a[:, 1:, :-1]
+        quad = [p00, p10, p11, p01]  # CCW
+        res = []
+        for q in range(4):
+            cur, nxt, prv = quad[q], quad[(q + 1) % 4], quad[(q - 1) % 4]
+            e1 = nxt - cur
+            e2 = prv - cur
+            res.append(e1[..., 0] * e2[..., 1] - e1[..., 1] * e2[..., 0])
+        return np.stack(res, axis=-1)
+
+    cr = corners(c)
+    cr0 = corners(c0)
+    ratio = cr / cr0
+    return ratio.reshape(len(c), -1).min(axis=1)
+
+
+def build_grid(pattern: Pattern, *, max_lines: int = 6) -> PatternGrid:
+    """Control grids for every piece of ``pattern`` and the gene layout."""
+    grids = tuple(piece_grid(p, max_lines=max_lines) for p in pattern.pieces)
+    var_offsets = np.concatenate([[0], np.cumsum([2 * g.n_control for g in grids])]).astype(np.int64)
+    point_offsets = np.concatenate([[0], np.cumsum([len(g.outline_weights) for g in grids])]).astype(np.int64)
+    x0 = np.concatenate([g.control.ravel() for g in grids])
+    return PatternGrid(pattern=pattern, pieces=grids, var_offsets=var_offsets, point_offsets=point_offsets, x0=x0)
+
+
+def _map_points(g: PieceGrid, control: np.ndarray, points: np.ndarray) -> np.ndarray:
+    _, w = bilinear_weights(points, g.xs, g.ys)
+    return w @ control
+
+
+def deform_pattern(grid: PatternGrid, x: np.ndarray, *, size: str | None = None) -> Pattern:
+    """The pattern an individual ``x (n_var,)`` stands for.
+
+    Outlines, internal lines, cutouts, sew lines, grain/grade-reference/mirror
+    lines, drill holes and annotations move with the grid (fixed ``(u, v)``);
+    notch directions turn with the local deformation. Vertex kinds, marks,
+    rules and all bridge data are kept. ``size`` renames every piece's size.
+    """
+    import dataclasses
+
+    x = np.asarray(x, dtype=np.float64).reshape(-1)
+    pieces = []
+    for k, (piece, g) in enumerate(zip(grid.pattern.pieces, grid.pieces)):
+        control = x[grid.var_offsets[k]:grid.var_offsets[k + 1]].reshape(g.n_control, 2)
+        outline = g.outline_weights @ control
+
+        def move(points, _g=g, _c=control):
+            return _map_points(_g, _c, np.asarray(points, dtype=np.float64))
+
+        def move_polyline(pl):
+            return dataclasses.replace(pl, points=move(pl.points)) if len(pl.points) else pl
+
+        def move_line(line):
+            return None if line is None else dataclasses.replace(line, points=move(line.points))
+
+        notches = []
+        eps = 0.05 * g.extent_cm
+        for notch in piece.notches:
+            base = piece.outline[notch.vertex]
+            tip = base + eps * np.array([np.cos(notch.angle), np.sin(notch.angle)])
+            d = move(tip[None, :])[0] - outline[notch.vertex]
+            notches.append(dataclasses.replace(notch, angle=float(np.arctan2(d[1], d[0]))))
+        holes = [dataclasses.replace(h, position=move(h.position[None, :])[0]) for h in piece.drill_holes]
+        notes = [dataclasses.replace(a, position=move(a.position[None, :])[0]) for a in piece.annotations]
+        pieces.append(dataclasses.replace(
+            piece,
+            outline=outline,
+            size=piece.size if size is None else size,
+            notches=tuple(notches),
+            grain_line=move_line(piece.grain_line),
+            grade_reference=move_line(piece.grade_reference),
+            mirror_line=move_line(piece.mirror_line),
+            internal_lines=tuple(move_polyline(pl) for pl in piece.internal_lines),
+            cutouts=tuple(move_polyline(pl) for pl in piece.cutouts),
+            sew_lines=tuple(move_polyline(pl) for pl in piece.sew_lines),
+            drill_holes=tuple(holes),
+            annotations=tuple(notes),
+        ))
+    return dataclasses.replace(grid.pattern, pieces=tuple(pieces))

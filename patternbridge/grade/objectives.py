@@ -1,0 +1,507 @@
+"""The grader's three objectives and its constraint, vectorised over the population.
+
+All functions take the outline points of every individual at once,
+``points : (n_pop, n_points, 2)`` cm (from :meth:`PatternGrid.outlines`), and
+an :class:`ObjectiveData` compiled once per pattern and character by
+:func:`objective_data`. Nothing loops over individuals.
+
+Objectives (all minimised)
+--------------------------
+1. **Measurement error**, cm: mean over the pattern's measurement links of
+   ``|target - achieved|`` with ``target = body measurement + ease`` and
+   ``achieved = Σ factor · length(leg)`` (thesis eq. 4.5; a link may run over
+   several pieces sewn together).
+2. **Seam error**, cm: mean over seams of
+   ``|L_b - L_a - ease|`` (whole-seam length mismatch)
+   ``+ Σ_k |l_b,k - l_a,k - ease/(K-1)| / (K-1)`` (eq. 4.7: the two sides are
+   sampled at the same K arc-length fractions of the original seam, so
+   corresponding stitch intervals must stay equal)
+   ``+ Σ_k |Δθ_a,k - Δθ_b,k| / (K-2)`` (eq. 4.6: the change of the turning
+   angle at corresponding stitch points must agree, 1 rad counted as 1 cm)
+   ``+ mean |notch misalignment|`` (corresponding notches, paired in sewing
+   order, keep their original offset along the seam).
+   The sum over both parts divided by the number of points follows eq. 4.8.
+3. **Shape error**, rad: mean ``|Δ inner angle|`` at the critical points
+   (turn points, marks, notches, extremes) plus mean ``|Δ inner angle|`` at
+   every outline vertex, halved — Kendall's shape: invariant to moving,
+   rotating and uniformly scaling a piece.
+
+Constraint: ``G = 0.05 - fold_margin <= 0``; every grid cell stays a convex
+quad with at least 5 % of its original corner cross products, so no piece
+folds and a simple outline stays simple.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+from ..pattern.geometry import boundary_indices
+from ..pattern.model import Pattern
+from .grid import PatternGrid
+
+__all__ = [
+    "Evaluation",
+    "ObjectiveData",
+    "evaluate",
+    "measurement_error",
+    "objective_data",
+    "residuals",
+    "seam_error",
+    "shape_error",
+]
+
+FOLD_MARGIN = 0.05
+"""Smallest allowed cell corner cross product relative to the original."""
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class ObjectiveData:
+    """Index arrays and targets of one grading problem (all int64 / float64).
+
+    Points are global outline indices (see :class:`PatternGrid`); ``edge e``
+    runs from point ``e`` to point ``nxt[e]`` of the same piece.
+    """
+
+    nxt: np.ndarray  # (N,) next vertex in the same piece
+    prv: np.ndarray  # (N,) previous vertex
+    # measurements
+    link_ids: tuple[str, ...]
+    link_measurements: tuple[str, ...]
+    target_cm: np.ndarray  # (L,)
+    link_edges: np.ndarray  # (N, L) factor per boundary edge
+    chord_a: np.ndarray  # (C,)
+    chord_b: np.ndarray  # (C,)
+    link_chords: np.ndarray  # (C, L)
+    # seams
+    seam_ids: tuple[str, ...]
+    seam_labels: tuple[tuple[str, str], ...]
+    seam_ease_cm: np.ndarray  # (S,)
+    seam_a_edges: np.ndarray  # (N, S) 0/1
+    seam_b_edges: np.ndarray  # (N, S)
+    sample_i0: np.ndarray  # (Q,) sample = (1-w) P[i0] + w P[i1]
+    sample_i1: np.ndarray
+    sample_w: np.ndarray
+    interval_a: np.ndarray  # (I, 2) consecutive sample indices on side a
+    interval_b: np.ndarray  # (I, 2) the corresponding interval on side b
+    interval_seam: np.ndarray  # (I,)
+    turn_a: np.ndarray  # (T, 3) prev/cur/next sample indices on side a
+    turn_b: np.ndarray  # (T, 3) the corresponding triple on side b (pairing order)
+    turn_seam: np.ndarray  # (T,)
+    turn_sign_b: np.ndarray  # (T,) +1 or -1 (b traversed against its outline)
+    turn0: np.ndarray  # (T,) original Δ-reference: θ_a0 - sign·θ_b0
+    notch_a: np.ndarray  # (N, M) arc length from seam start (side a) per notch pair
+    notch_b: np.ndarray  # (N, M) same on side b, own order
+    notch_b_len: np.ndarray  # (N, M) full length of side b when b is reversed, else 0
+    notch_b_sign: np.ndarray  # (M,) -1 if b reversed
+    notch_offset0: np.ndarray  # (M,)
+    notch_seam: np.ndarray  # (M,)
+    # shape
+    critical: np.ndarray  # (K,) global indices
+    angle0: np.ndarray  # (N,) original inner angles
+    # normalisers
+    n_seams: int
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class Evaluation:
+    """Every figure of a population, arrays with a leading ``n_pop`` axis."""
+
+    achieved_cm: np.ndarray  # (n_pop, L)
+    measurement_error: np.ndarray  # (n_pop,)
+    seam_mismatch_cm: np.ndarray  # (n_pop, S) L_b - L_a - ease
+    seam_edge_cm: np.ndarray  # (n_pop, S)
+    seam_angle: np.ndarray  # (n_pop, S)
+    notch_cm: np.ndarray  # (n_pop, M) misalignment per notch pair
+    seam_error: np.ndarray  # (n_pop,)
+    shape_error: np.ndarray  # (n_pop,)
+
+    @property
+    def F(self) -> np.ndarray:
+        """(n_pop, 3) objectives."""
+        return np.stack([self.measurement_error, self.seam_error, self.shape_error], axis=1)
+
+
+def _neighbours(grid: PatternGrid) -> tuple[np.ndarray, np.ndarray]:
+    n = grid.n_points
+    nxt = np.arange(1, n + 1)
+    prv = np.arange(-1, n - 1)
+    for a, b in zip(grid.point_offsets[:-1], grid.point_offsets[1:]):
+        nxt[b - 1] = a
+        prv[a] = b - 1
+    return nxt.astype(np.int64), prv.astype(np.int64)
+
+
+def _range_points(grid: PatternGrid, piece: str, start: str, end: str, where: str) -> np.ndarray:
+    """Global point indices from mark ``start`` to mark ``end`` in outline order."""
+    try:
+        k = grid.piece_index(piece)
+    except KeyError:
+        raise InputError(f"{where}: unknown piece {piece!r} (pieces: {[g.name for g in grid.pieces]}); "
+                         "fix the pattern's bridge data") from None
+    p = grid.pattern.pieces[k]
+    for m in (start, end):
+        if m not in p.marks:
+            raise InputError(f"{where}: piece {piece!r} has no mark {m!r} (marks: {sorted(p.marks)}); "
+                             "fix the pattern's bridge data")
+    idx = boundary_indices(p.n_vertices, p.marks[start], p.marks[end])
+    return grid.point_offsets[k] + idx
+
+
+def _angles(points: np.ndarray, prv: np.ndarray, nxt: np.ndarray) -> np.ndarray:
+    """Inner angle (CCW outlines) at every point, (..., N) radians in (0, 2π)."""
+    a = points[..., prv, :] - points
+    b = points[..., nxt, :] - points
+    cross = b[..., 0] * a[..., 1] - b[..., 1] * a[..., 0]
+    dot = np.sum(a * b, axis=-1)
+    ang = np.arctan2(cross, dot)
+    return np.where(ang < 0, ang + 2 * np.pi, ang)
+
+
+def _turning(s: np.ndarray, triples: np.ndarray) -> np.ndarray:
+    """Signed turning angle at the middle sample of each triple, (..., T)."""
+    p, c, n = s[..., triples[:, 0], :], s[..., triples[:, 1], :], s[..., triples[:, 2], :]
+    d1 = c - p
+    d2 = n - c
+    cross = d1[..., 0] * d2[..., 1] - d1[..., 1] * d2[..., 0]
+    dot = np.sum(d1 * d2, axis=-1)
+    return np.arctan2(cross, dot)
+
+
+def _arc_samples(points0: np.ndarray, idx: np.ndarray, fractions: np.ndarray):
+    """Samples at arc-length ``fractions`` of the polyline ``points0[idx]``.
+
+    Returns ``(i0, i1, w)`` so that sample = (1-w)·P[i0] + w·P[i1].
+    """
+    poly = points0[idx]
+    seg = np.linalg.norm(np.diff(poly, axis=0), axis=1)
+    cum = np.concatenate([[0.0], np.cumsum(seg)])
+    total = cum[-1]
+    s = fractions * total
+    k = np.clip(np.searchsorted(cum, s, side="right") - 1, 0, len(seg) - 1)
+    w = np.where(seg[k] > 0, (s - cum[k]) / np.where(seg[k] > 0, seg[k], 1.0), 0.0)
+    return idx[k], idx[k + 1], np.clip(w, 0.0, 1.0)
+
+
+def objective_data(
+    grid: PatternGrid,
+    measurements: Mapping[str, float],
+    *,
+    n_samples: int = 17,
+    source: str = "pattern",
+) -> ObjectiveData:
+    """Compile the targets and index arrays of grading ``grid.pattern`` to ``measurements``.
+
+    Parameters
+    ----------
+    grid : the pattern's control grids (:func:`build_grid`)
+    measurements : body measurement id -> value in cm
+    n_samples : stitch points sampled along each seam (thesis: point pairs)
+    source : name used in error messages (file or garment name)
+
+    Raises
+    ------
+    InputError
+        The pattern has no measurement links (with how to add them), or the
+        character lacks measurements the links need (listed by name), or the
+        bridge data names unknown pieces or marks.
+    """
+    pattern: Pattern = grid.pattern
+    if not pattern.measurements:
+        raise InputError(
+            f"{source}: the pattern has no landmark-to-measurement mapping (no measurement links); "
+            "add them with `patternbridge seams infer PATTERN` or write them into the pattern's "
+            "bridge-data sidecar (see docs/library.md), then run fit again"
+        )
+    missing = sorted({lk.measurement for lk in pattern.measurements} - set(measurements))
+    if missing:
+        raise InputError(
+            f"{source}: the character lacks measurements the garment needs ({', '.join(missing)}); "
+            "measure them (patternbridge measure --all) or give them in the measurements JSON"
+        )
+    nxt, prv = _neighbours(grid)
+    n = grid.n_points
+    points0 = grid.outlines(grid.x0[None, :])[0]
+
+    # --- measurement links
+    L = len(pattern.measurements)
+    link_edges = np.zeros((n, L))
+    chords: list[tuple[int, int, int, float]] = []
+    for j, link in enumerate(pattern.measurements):
+        if not link.legs:
+            raise InputError(f"{source}: measurement link {link.id!r} has no legs; give it at least one")
+        for leg in link.legs:
+            idx = _range_points(grid, leg.piece, leg.start, leg.end, f"{source}: link {link.id!r}")
+            if leg.along == "chord":
+                chords.append((int(idx[0]), int(idx[-1]), j, leg.factor))
+            else:
+                np.add.at(link_edges, (idx[:-1], j), leg.factor)
+    chord_a = np.array([c[0] for c in chords], dtype=np.int64)
+    chord_b = np.array([c[1] for c in chords], dtype=np.int64)
+    link_chords = np.zeros((len(chords), L))
+    for r, c in enumerate(chords):
+        link_chords[r, c[2]] += c[3]
+    target = np.array([float(measurements[lk.measurement]) + lk.ease_cm for lk in pattern.measurements])
+
+    # --- seams
+    S = len(pattern.seams)
+    a_edges = np.zeros((n, S))
+    b_edges = np.zeros((n, S))
+    i0s, i1s, ws = [], [], []
+    int_a, int_b, int_s = [], [], []
+    tr_a, tr_b, tr_s, tr_sign = [], [], [], []
+    n_a_cols, n_b_cols, nb_len_cols, n_sign, n_off, n_seam = [], [], [], [], [], []
+    labels = []
+    fractions = np.linspace(0.0, 1.0, n_samples)
+    notch_sets = {}
+    for k, piece in enumerate(pattern.pieces):
+        notch_sets[piece.name] = {int(nt.vertex) for nt in piece.notches}
+    q = 0
+    for s_i, seam in enumerate(pattern.seams):
+        where = f"{source}: seam {seam.id!r}"
+        ia = _range_points(grid, seam.a.piece, seam.a.start, seam.a.end, where)
+        ib = _range_points(grid, seam.b.piece, seam.b.start, seam.b.end, where)
+        labels.append((f"{seam.a.piece}:{seam.a.start}-{seam.a.end}",
+                       f"{seam.b.piece}:{seam.b.start}-{seam.b.end}"))
+        np.add.at(a_edges, (ia[:-1], s_i), 1.0)
+        np.add.at(b_edges, (ib[:-1], s_i), 1.0)
+        a0, a1, aw = _arc_samples(points0, ia, fractions)
+        ib_pair = ib[::-1] if seam.reverse else ib
+        b0, b1, bw = _arc_samples(points0, ib_pair, fractions)
+        base_a = q
+        base_b = q + n_samples
+        i0s += [a0, b0]
+        i1s += [a1, b1]
+        ws += [aw, bw]
+        q += 2 * n_samples
+        ks = np.arange(n_samples - 1)
+        int_a.append(np.stack([base_a + ks, base_a + ks + 1], axis=1))
+        int_b.append(np.stack([base_b + ks, base_b + ks + 1], axis=1))
+        int_s.append(np.full(n_samples - 1, s_i))
+        kt = np.arange(1, n_samples - 1)
+        tr_a.append(np.stack([base_a + kt - 1, base_a + kt, base_a + kt + 1], axis=1))
+        tr_b.append(np.stack([base_b + kt - 1, base_b + kt, base_b + kt + 1], axis=1))
+        tr_s.append(np.full(n_samples - 2, s_i))
+        # b's turning measured in pairing order is the negative of its own-order turning
+        tr_sign.append(np.full(n_samples - 2, -1.0 if seam.reverse else 1.0))
+        # notches strictly inside each side, paired in sewing order
+        pa = grid.pattern.piece(seam.a.piece)
+        pb = grid.pattern.piece(seam.b.piece)
+        off_a = grid.point_offsets[grid.piece_index(pa.name)]
+        off_b = grid.point_offsets[grid.piece_index(pb.name)]
+        na = [i for i in ia[1:-1] if (i - off_a) in notch_sets[pa.name]]
+        nb = [i for i in ib[1:-1] if (i - off_b) in notch_sets[pb.name]]
+        if seam.reverse:
+            nb = nb[::-1]
+        if na and len(na) == len(nb):
+            for va, vb in zip(na, nb):
+                col_a = np.zeros(n)
+                pos_a = int(np.flatnonzero(ia == va)[0])
+                col_a[ia[:pos_a]] = 1.0
+                col_b = np.zeros(n)
+                pos_b = int(np.flatnonzero(ib == vb)[0])
+                col_b[ib[:pos_b]] = 1.0
+                col_bl = np.zeros(n)
+                if seam.reverse:
+                    col_bl[ib[:-1]] = 1.0
+                n_a_cols.append(col_a)
+                n_b_cols.append(col_b)
+                nb_len_cols.append(col_bl)
+                n_sign.append(-1.0 if seam.reverse else 1.0)
+                n_seam.append(s_i)
+                n_off.append(0.0)
+    sample_i0 = np.concatenate(i0s) if i0s else np.zeros(0, np.int64)
+    sample_i1 = np.concatenate(i1s) if i1s else np.zeros(0, np.int64)
+    sample_w = np.concatenate(ws) if ws else np.zeros(0)
+    interval_a = np.concatenate(int_a) if int_a else np.zeros((0, 2), np.int64)
+    interval_b = np.concatenate(int_b) if int_b else np.zeros((0, 2), np.int64)
+    interval_seam = np.concatenate(int_s) if int_s else np.zeros(0, np.int64)
+    turn_a = np.concatenate(tr_a) if tr_a else np.zeros((0, 3), np.int64)
+    turn_b = np.concatenate(tr_b) if tr_b else np.zeros((0, 3), np.int64)
+    turn_seam = np.concatenate(tr_s) if tr_s else np.zeros(0, np.int64)
+    turn_sign = np.concatenate(tr_sign) if tr_sign else np.zeros(0)
+    M = len(n_seam)
+    notch_a = np.stack(n_a_cols, axis=1) if M else np.zeros((n, 0))
+    notch_b = np.stack(n_b_cols, axis=1) if M else np.zeros((n, 0))
+    notch_bl = np.stack(nb_len_cols, axis=1) if M else np.zeros((n, 0))
+
+    crit = np.concatenate([grid.point_offsets[k] + g.critical for k, g in enumerate(grid.pieces)])
+    data = ObjectiveData(
+        nxt=nxt, prv=prv,
+        link_ids=tuple(lk.id for lk in pattern.measurements),
+        link_measurements=tuple(lk.measurement for lk in pattern.measurements),
+        target_cm=target, link_edges=link_edges, chord_a=chord_a, chord_b=chord_b,
+        link_chords=link_chords,
+        seam_ids=tuple(s.id for s in pattern.seams), seam_labels=tuple(labels),
+        seam_ease_cm=np.array([s.ease_cm for s in pattern.seams], dtype=np.float64),
+        seam_a_edges=a_edges, seam_b_edges=b_edges,
+        sample_i0=sample_i0.astype(np.int64), sample_i1=sample_i1.astype(np.int64), sample_w=sample_w,
+        interval_a=interval_a.astype(np.int64), interval_b=interval_b.astype(np.int64),
+        interval_seam=interval_seam.astype(np.int64),
+        turn_a=turn_a.astype(np.int64), turn_b=turn_b.astype(np.int64),
+        turn_seam=turn_seam.astype(np.int64), turn_sign_b=turn_sign, turn0=np.zeros(len(turn_seam)),
+        notch_a=notch_a, notch_b=notch_b, notch_b_len=notch_bl,
+        notch_b_sign=np.array(n_sign, dtype=np.float64), notch_offset0=np.array(n_off, dtype=np.float64),
+        notch_seam=np.array(n_seam, dtype=np.int64),
+        critical=crit.astype(np.int64), angle0=_angles(points0, prv, nxt), n_seams=S,
+    )
+    # reference values of the original design (turning-angle relation, notch offsets)
+    p0 = points0[None, :, :]
+    samples = _samples(data, p0)
+    ta = _turning(samples, data.turn_a)[0]
+    tb = _turning(samples, data.turn_b)[0] * data.turn_sign_b
+    edge0 = _edge_lengths(data, p0)
+    pos_a, pos_b = _notch_positions(data, edge0)
+    object.__setattr__(data, "turn0", ta - tb)
+    object.__setattr__(data, "notch_offset0", (pos_b - pos_a)[0])
+    return data
+
+
+def _edge_lengths(data: ObjectiveData, points: np.ndarray) -> np.ndarray:
+    return np.linalg.norm(points[:, data.nxt, :] - points, axis=-1)
+
+
+def _samples(data: ObjectiveData, points: np.ndarray) -> np.ndarray:
+    w = data.sample_w[None, :, None]
+    return (1 - w) * points[:, data.sample_i0, :] + w * points[:, data.sample_i1, :]
+
+
+def _notch_positions(data: ObjectiveData, edges: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    pos_a = edges @ data.notch_a
+    pos_b = edges @ data.notch_b
+    lb = edges @ data.notch_b_len
+    pos_b = np.where(data.notch_b_sign < 0, lb - pos_b, pos_b)
+    return pos_a, pos_b
+
+
+def measurement_error(data: ObjectiveData, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Achieved pattern distances and the mean absolute error.
+
+    Parameters
+    ----------
+    points : (n_pop, N, 2) float64, cm
+
+    Returns
+    -------
+    achieved : (n_pop, L) float64, cm
+    error : (n_pop,) float64, cm — mean ``|target - achieved|``
+    """
+    edges = _edge_lengths(data, points)
+    achieved = edges @ data.link_edges
+    if len(data.chord_a):
+        chord = np.linalg.norm(points[:, data.chord_b, :] - points[:, data.chord_a, :], axis=-1)
+        achieved = achieved + chord @ data.link_chords
+    return achieved, np.mean(np.abs(achieved - data.target_cm), axis=1)
+
+
+def _seam_terms(data: ObjectiveData, points: np.ndarray, edges: np.ndarray):
+    n_pop = len(points)
+    S = data.n_seams
+    mismatch = edges @ data.seam_b_edges - edges @ data.seam_a_edges - data.seam_ease_cm
+    samples = _samples(data, points)
+    la = np.linalg.norm(samples[:, data.interval_a[:, 1]] - samples[:, data.interval_a[:, 0]], axis=-1)
+    lb = np.linalg.norm(samples[:, data.interval_b[:, 1]] - samples[:, data.interval_b[:, 0]], axis=-1)
+    counts_i = np.maximum(np.bincount(data.interval_seam, minlength=S), 1)
+    ease_i = data.seam_ease_cm[data.interval_seam] / counts_i[data.interval_seam]
+    edge_dev = lb - la - ease_i
+    ta = _turning(samples, data.turn_a)
+    tb = _turning(samples, data.turn_b) * data.turn_sign_b
+    ang_dev = (ta - tb) - data.turn0
+    ang_dev = (ang_dev + np.pi) % (2 * np.pi) - np.pi
+    pos_a, pos_b = _notch_positions(data, edges)
+    notch = (pos_b - pos_a) - data.notch_offset0
+    return mismatch, edge_dev, ang_dev, notch, counts_i
+
+
+def _per_seam(values: np.ndarray, seam: np.ndarray, S: int) -> np.ndarray:
+    """Sum (n_pop, K) values into (n_pop, S) by seam index."""
+    out = np.zeros((values.shape[0], S))
+    if values.shape[1]:
+        np.add.at(out.T, seam, values.T)
+    return out
+
+
+def seam_error(data: ObjectiveData, points: np.ndarray) -> dict[str, np.ndarray]:
+    """Seam figures of every individual (see the module docstring).
+
+    Returns
+    -------
+    dict with ``mismatch_cm (n_pop, S)``, ``edge_cm (n_pop, S)``,
+    ``angle (n_pop, S)``, ``notch_cm (n_pop, M)`` and ``error (n_pop,)``.
+    """
+    S = data.n_seams
+    n_pop = len(points)
+    if S == 0:
+        z = np.zeros((n_pop, 0))
+        return {"mismatch_cm": z, "edge_cm": z, "angle": z, "notch_cm": z, "error": np.zeros(n_pop)}
+    edges = _edge_lengths(data, points)
+    mismatch, edge_dev, ang_dev, notch, counts_i = _seam_terms(data, points, edges)
+    edge_cm = _per_seam(np.abs(edge_dev), data.interval_seam, S) / counts_i
+    counts_t = np.maximum(np.bincount(data.turn_seam, minlength=S), 1)
+    angle = _per_seam(np.abs(ang_dev), data.turn_seam, S) / counts_t
+    counts_n = np.bincount(data.notch_seam, minlength=S)
+    notch_s = _per_seam(np.abs(notch), data.notch_seam, S) / np.maximum(counts_n, 1)
+    per_seam = np.abs(mismatch) + edge_cm + angle + notch_s
+    return {"mismatch_cm": mismatch, "edge_cm": edge_cm, "angle": angle, "notch_cm": notch,
+            "error": per_seam.mean(axis=1)}
+
+
+def shape_error(data: ObjectiveData, points: np.ndarray) -> np.ndarray:
+    """(n_pop,) mean inner-angle change at critical points and at all vertices, halved (rad)."""
+    d = _angles(points, data.prv, data.nxt) - data.angle0
+    d = np.abs((d + np.pi) % (2 * np.pi) - np.pi)
+    return 0.5 * (d[:, data.critical].mean(axis=1) + d.mean(axis=1))
+
+
+def evaluate(data: ObjectiveData, points: np.ndarray) -> Evaluation:
+    """All objectives of a population, ``points (n_pop, N, 2)``."""
+    points = np.asarray(points, dtype=np.float64)
+    achieved, m_err = measurement_error(data, points)
+    seams = seam_error(data, points)
+    return Evaluation(
+        achieved_cm=achieved, measurement_error=m_err,
+        seam_mismatch_cm=seams["mismatch_cm"], seam_edge_cm=seams["edge_cm"],
+        seam_angle=seams["angle"], notch_cm=seams["notch_cm"], seam_error=seams["error"],
+        shape_error=shape_error(data, points),
+    )
+
+
+def residuals(
+    data: ObjectiveData,
+    points: np.ndarray,
+    *,
+    w_measure: float = 1.0,
+    w_seam: float = 8.0,
+    w_interval: float = 1.0,
+    w_notch: float = 4.0,
+    w_turn: float = 0.3,
+    w_critical: float = 2.0,
+    w_angle: float = 0.5,
+) -> np.ndarray:
+    """Weighted residual vector of every individual, ``(n_pop, n_res)``.
+
+    The least-squares form of the three objectives used by the repair step
+    (:func:`patternbridge.grade.run.repair`): measurement residuals (cm), seam
+    length mismatches and notch offsets (cm, weighted up so they close to well
+    under 1 mm), stitch-interval differences (cm), turning-angle disagreement
+    along seams (rad), and inner-angle changes at critical points and at all
+    vertices (rad, scaled by the piece count so the shape term does not grow
+    with resolution).
+    """
+    points = np.asarray(points, dtype=np.float64)
+    achieved, _ = measurement_error(data, points)
+    parts = [w_measure * (achieved - data.target_cm)]
+    if data.n_seams:
+        edges = _edge_lengths(data, points)
+        mismatch, edge_dev, ang_dev, notch, _ = _seam_terms(data, points, edges)
+        parts += [w_seam * mismatch, w_interval * edge_dev, w_notch * notch, w_turn * ang_dev]
+    d = _angles(points, data.prv, data.nxt) - data.angle0
+    d = (d + np.pi) % (2 * np.pi) - np.pi
+    n_all = d.shape[1]
+    parts.append(w_critical * d[:, data.critical] / np.sqrt(max(len(data.critical), 1) / 10.0))
+    parts.append(w_angle * d / np.sqrt(n_all / 10.0))
+    return np.concatenate(parts, axis=1)
+

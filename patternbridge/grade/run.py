@@ -1,0 +1,493 @@
+"""Grade a pattern to a character's measurements: seeds, NSGA-II, choice, repair.
+
+:func:`fit_pattern` is the grader's entry point:
+
+1. build the control grids (:mod:`.grid`) and compile the targets
+   (:mod:`.objectives`);
+2. make the seeds and baselines: proportional scaling per the thesis's
+   Algorithm 4 (one factor per piece, the largest measurement ratio),
+   proportional scaling along and across the grain (one factor per axis per
+   piece, from the measurements running mostly that way), the nearest graded
+   size when the pattern has grade rules, and the original;
+3. run pymoo's NSGA-II with the grader's sampling, crossover and mutation
+   (:mod:`.operators`) on :class:`~.problem.GradingProblem`;
+4. choose, on the final Pareto front, the solution with the least shape error
+   among those within tolerance on measurements and seams;
+5. **repair**: a deterministic Gauss–Newton/trust-region least-squares
+   correction of the chosen grid (:func:`repair`) that closes the residual
+   measurement and seam errors while penalising inner-angle changes; it is
+   kept only when it leaves no fold and no self-intersection.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import SolverError
+from ..pattern.model import Pattern
+from .grid import PatternGrid, build_grid, deform_pattern
+from .objectives import FOLD_MARGIN, ObjectiveData, evaluate, objective_data, residuals
+
+__all__ = [
+    "FitResult",
+    "Scores",
+    "Solution",
+    "axis_scaling",
+    "choose",
+    "fit_pattern",
+    "nearest_size",
+    "repair",
+    "score_points",
+    "uniform_scaling",
+]
+
+log = logging.getLogger(__name__)
+
+Progress = Callable[[str, int, int], None]
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class Scores:
+    """Figures of one solution.
+
+    target_cm, achieved_cm : (L,) per measurement link
+    seam_mismatch_cm : (S,) ``L_b - L_a - ease`` per seam
+    notch_cm : (M,) notch misalignment per notch pair ; notch_seam : (M,) seam index
+    measurement_error : mean |error| cm (objective 1) ; seam_error : objective 2 ;
+    shape_error : objective 3 (rad)
+    fold_margin : smallest relative cell corner cross product (> 0: no fold)
+    is_simple : every piece outline free of self-intersections
+    """
+
+    target_cm: np.ndarray
+    achieved_cm: np.ndarray
+    seam_mismatch_cm: np.ndarray
+    notch_cm: np.ndarray
+    notch_seam: np.ndarray
+    measurement_error: float
+    seam_error: float
+    shape_error: float
+    fold_margin: float
+    is_simple: bool
+
+    @property
+    def max_measurement_error(self) -> float:
+        err = np.abs(self.achieved_cm - self.target_cm)
+        return float(err.max()) if len(err) else 0.0
+
+    @property
+    def max_seam_mismatch_cm(self) -> float:
+        vals = np.abs(np.concatenate([self.seam_mismatch_cm, self.notch_cm]))
+        return float(vals.max()) if len(vals) else 0.0
+
+    @property
+    def F(self) -> np.ndarray:
+        return np.array([self.measurement_error, self.seam_error, self.shape_error])
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class Solution:
+    """A named candidate: its pattern, genes (if it lives in the grid) and scores."""
+
+    name: str
+    pattern: Pattern
+    scores: Scores
+    x: np.ndarray | None = None
+    note: str = ""
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class FitResult:
+    """Everything :func:`fit_pattern` found.
+
+    pattern : the graded pattern (chosen solution after the repair step)
+    chosen : the same as a :class:`Solution`; ``ga_choice`` is it before repair
+    front_F : (n_front, 3) objectives of the final Pareto front
+    front_X : (n_front, n_var) its genes ; chosen_index : row of ``ga_choice``
+    baselines : ``"proportional"`` (along/across the grain),
+        ``"proportional_uniform"`` (Algorithm 4) and ``"nearest_size"`` when
+        the pattern has grade rules
+    seconds : wall time of the whole fit
+    """
+
+    pattern: Pattern
+    original: Pattern
+    chosen: Solution
+    ga_choice: Solution
+    front_F: np.ndarray
+    front_X: np.ndarray
+    chosen_index: int
+    baselines: Mapping[str, Solution]
+    measurements: Mapping[str, float]
+    grid: PatternGrid
+    data: ObjectiveData
+    seconds: float
+    seed: int
+    pop_size: int
+    n_gen: int
+    history: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
+
+
+def _is_simple(pattern: Pattern) -> bool:
+    import shapely
+
+    rings = shapely.linearrings([p.outline for p in pattern.pieces]) if pattern.pieces else []
+    return bool(np.all(shapely.is_simple(rings))) if len(pattern.pieces) else True
+
+
+def score_points(data: ObjectiveData, points: np.ndarray, *, fold_margin: float, pattern: Pattern) -> Scores:
+    """:class:`Scores` of one solution given its outline points ``(N, 2)``."""
+    ev = evaluate(data, points[None, :, :])
+    return Scores(
+        target_cm=data.target_cm.copy(),
+        achieved_cm=ev.achieved_cm[0],
+        seam_mismatch_cm=ev.seam_mismatch_cm[0],
+        notch_cm=ev.notch_cm[0],
+        notch_seam=data.notch_seam.copy(),
+        measurement_error=float(ev.measurement_error[0]),
+        seam_error=float(ev.seam_error[0]),
+        shape_error=float(ev.shape_error[0]),
+        fold_margin=float(fold_margin),
+        is_simple=_is_simple(pattern),
+    )
+
+
+def _solution(grid: PatternGrid, data: ObjectiveData, name: str, x: np.ndarray, size: str, note: str = "") -> Solution:
+    pattern = deform_pattern(grid, x, size=size)
+    points = grid.outlines(x[None, :])[0]
+    scores = score_points(data, points, fold_margin=float(grid.fold_margin(x[None, :])[0]), pattern=pattern)
+    return Solution(name=name, pattern=pattern, scores=scores, x=np.array(x), note=note)
+
+
+def _link_ratios(data: ObjectiveData, grid: PatternGrid) -> np.ndarray:
+    achieved0 = _achieved(data, grid, grid.x0[None, :])[0][0]
+    return data.target_cm / np.where(achieved0 > 0, achieved0, 1.0)
+
+
+def _achieved(data: ObjectiveData, grid: PatternGrid, X: np.ndarray):
+    from .objectives import measurement_error
+
+    return measurement_error(data, grid.outlines(X))
+
+
+def _piece_link_shares(data: ObjectiveData, grid: PatternGrid) -> tuple[np.ndarray, np.ndarray]:
+    """Per piece and link: length share (P, L) and horizontal fraction (P, L)."""
+    points0 = grid.outlines(grid.x0[None, :])[0]
+    d = points0[data.nxt] - points0  # edge vectors (N, 2)
+    P = len(grid.pieces)
+    L = len(data.target_cm)
+    piece_of_point = np.repeat(np.arange(P), np.diff(grid.point_offsets))
+    length = np.zeros((P, L))
+    horiz = np.zeros((P, L))
+    w_len = np.abs(data.link_edges) * np.linalg.norm(d, axis=1)[:, None]
+    w_h = np.abs(data.link_edges) * np.abs(d[:, 0])[:, None]
+    np.add.at(length, piece_of_point, w_len)
+    np.add.at(horiz, piece_of_point, w_h)
+    if len(data.chord_a):
+        cd = points0[data.chord_b] - points0[data.chord_a]
+        cw = np.abs(data.link_chords)
+        np.add.at(length, piece_of_point[data.chord_a], cw * np.linalg.norm(cd, axis=1)[:, None])
+        np.add.at(horiz, piece_of_point[data.chord_a], cw * np.abs(cd[:, 0])[:, None])
+    # horizontal fraction by |dx| / (|dx| + |dy|) of the piece's part of each link
+    vert = np.zeros((P, L))
+    w_v = np.abs(data.link_edges) * np.abs(d[:, 1])[:, None]
+    np.add.at(vert, piece_of_point, w_v)
+    if len(data.chord_a):
+        np.add.at(vert, piece_of_point[data.chord_a], cw * np.abs(cd[:, 1])[:, None])
+    frac_h = np.where(horiz + vert > 0, horiz / np.maximum(horiz + vert, 1e-12), 0.5)
+    return length, frac_h
+
+
+def _scaled(grid: PatternGrid, factors: np.ndarray) -> np.ndarray:
+    """Individual with piece ``k`` scaled by ``factors[k] = (sx, sy)`` about its centre."""
+    x = grid.x0.copy()
+    for k, g in enumerate(grid.pieces):
+        c = g.control
+        centre = 0.5 * (c.min(axis=0) + c.max(axis=0))
+        x[grid.var_offsets[k]:grid.var_offsets[k + 1]] = (centre + (c - centre) * factors[k]).ravel()
+    return x
+
+
+def uniform_scaling(grid: PatternGrid, data: ObjectiveData) -> np.ndarray:
+    """Thesis Algorithm 4: each piece scaled by the largest target/pattern ratio of its links.
+
+    Pieces no link touches take the median ratio. Returns ``(n_var,)``.
+    """
+    ratios = _link_ratios(data, grid)
+    length, _ = _piece_link_shares(data, grid)
+    touched = length > 0
+    fallback = float(np.median(ratios)) if len(ratios) else 1.0
+    s = np.array([ratios[t].max() if t.any() else fallback for t in touched])
+    return _scaled(grid, np.stack([s, s], axis=1))
+
+
+def axis_scaling(grid: PatternGrid, data: ObjectiveData) -> np.ndarray:
+    """Proportional scaling along and across the grain, one factor per axis per piece.
+
+    The across factor (x) averages the target/pattern ratios of the piece's
+    links weighted by how much of the link runs horizontally on the piece,
+    the along factor (y) those running vertically; an axis no link covers
+    takes the other axis's factor. Returns ``(n_var,)``.
+    """
+    ratios = _link_ratios(data, grid)
+    length, frac_h = _piece_link_shares(data, grid)
+    fallback = float(np.median(ratios)) if len(ratios) else 1.0
+    factors = np.ones((len(grid.pieces), 2))
+    for k in range(len(grid.pieces)):
+        wh = length[k] * frac_h[k]
+        wv = length[k] * (1 - frac_h[k])
+        sx = float(wh @ ratios / wh.sum()) if wh.sum() > 1e-9 else None
+        sy = float(wv @ ratios / wv.sum()) if wv.sum() > 1e-9 else None
+        # an axis with little evidence leans on the other one
+        total = wh.sum() + wv.sum()
+        if sx is None and sy is None:
+            sx = sy = fallback
+        elif sx is None:
+            sx = sy
+        elif sy is None:
+            sy = sx
+        elif total > 0:
+            bh, bv = wh.sum() / total, wv.sum() / total
+            if bh < 0.15:
+                sx = bh / 0.15 * sx + (1 - bh / 0.15) * sy
+            if bv < 0.15:
+                sy = bv / 0.15 * sy + (1 - bv / 0.15) * sx
+        factors[k] = (sx, sy)
+    return _scaled(grid, factors)
+
+
+def nearest_size(pattern: Pattern, data: ObjectiveData, grid: PatternGrid) -> tuple[str, np.ndarray] | None:
+    """The graded size with the least measurement error and its outline points.
+
+    Returns ``(size, points (N, 2))`` or None when the pattern has no grade
+    rules (or a single size).
+    """
+    if len(pattern.rules.sizes) < 2 or not pattern.rules.deltas:
+        return None
+    try:
+        from ..pattern.grading import graded_outlines
+    except ImportError:  # pragma: no cover - grading lives in the pattern stage
+        return None
+    from .objectives import measurement_error
+
+    table = graded_outlines(pattern)
+    sizes = list(table)
+    pts = np.stack([np.concatenate([table[s][p.name] for p in pattern.pieces]) for s in sizes])
+    if pts.shape[1] != grid.n_points:
+        return None
+    _, err = measurement_error(data, pts)
+    best = int(np.argmin(err))
+    return sizes[best], pts[best]
+
+
+def choose(F: np.ndarray, *, tol_measure_cm: float, tol_seam: float) -> int:
+    """Row of ``F`` with the least shape error among those within tolerance.
+
+    When no row is within tolerance on both objective 1 and 2, the rows whose
+    worst normalised violation ``max(f1/tol1, f2/tol2)`` is within 25 % of the
+    best one compete instead.
+    """
+    F = np.asarray(F, dtype=np.float64)
+    score = np.maximum(F[:, 0] / tol_measure_cm, F[:, 1] / tol_seam)
+    ok = score <= 1.0
+    if not ok.any():
+        ok = score <= score.min() * 1.25
+    rows = np.flatnonzero(ok)
+    return int(rows[np.argmin(F[rows, 2])])
+
+
+def repair(
+    grid: PatternGrid,
+    data: ObjectiveData,
+    x: np.ndarray,
+    *,
+    max_nfev: int = 60,
+    w_reg: float = 0.02,
+    w_fold: float = 50.0,
+    progress: Progress | None = None,
+) -> np.ndarray:
+    """Least-squares correction of one individual (deterministic).
+
+    Minimises the weighted residuals of :func:`~.objectives.residuals` (all
+    measurement, seam and notch errors plus the inner-angle changes) with a
+    small pull back to ``x`` and a barrier that keeps every grid cell convex,
+    using scipy's trust-region reflective solver. The Jacobian is taken by
+    forward differences evaluated as one vectorised batch: the perturbed
+    individuals form a population.
+
+    Returns
+    -------
+    (n_var,) float64
+    """
+    from scipy.optimize import least_squares
+
+    x_start = np.asarray(x, dtype=np.float64).copy()
+    scale = np.concatenate([np.full(2 * g.n_control, g.extent_cm) for g in grid.pieces])
+    h = 1e-6 * scale
+
+    def resid_batch(X: np.ndarray) -> np.ndarray:
+        r = residuals(data, grid.outlines(X))
+        reg = w_reg * (X - x_start) / scale
+        fold = w_fold * np.maximum(0.0, 2 * FOLD_MARGIN - grid.fold_margin(X))[:, None]
+        return np.concatenate([r, reg, fold], axis=1)
+
+    calls = {"n": 0}
+
+    def fun(xv):
+        calls["n"] += 1
+        if progress is not None:
+            progress("repair", min(calls["n"], max_nfev), max_nfev)
+        return resid_batch(xv[None, :])[0]
+
+    def jac(xv):
+        base = resid_batch(xv[None, :])[0]
+        Xp = xv[None, :] + np.diag(h)
+        rp = resid_batch(Xp)
+        return ((rp - base[None, :]) / h[:, None]).T
+
+    sol = least_squares(fun, x_start, jac=jac, method="trf", x_scale=scale, max_nfev=max_nfev,
+                        ftol=1e-10, xtol=1e-10, gtol=1e-10)
+    if progress is not None:
+        progress("repair", max_nfev, max_nfev)
+    return sol.x
+
+
+class _ProgressCallback:
+    """pymoo callback: reports generations and records the best objectives."""
+
+    def __init__(self, n_gen: int, progress: Progress | None) -> None:
+        self.n_gen = n_gen
+        self.progress = progress
+        self.history: list[tuple[float, float, float, float]] = []
+
+    def __call__(self, algorithm) -> None:
+        F = algorithm.opt.get("F") if algorithm.opt is not None else None
+        if F is not None and len(F):
+            self.history.append((algorithm.n_gen, *np.min(F, axis=0)))
+        if self.progress is not None:
+            self.progress("grade", int(algorithm.n_gen), self.n_gen)
+
+
+def fit_pattern(
+    pattern: Pattern,
+    measurements: Mapping[str, float],
+    *,
+    seed: int = 0,
+    pop_size: int = 80,
+    n_gen: int = 120,
+    max_lines: int = 6,
+    tol_measure_cm: float = 0.5,
+    tol_seam: float = 0.5,
+    size: str = "fit",
+    do_repair: bool = True,
+    source: str = "pattern",
+    progress: Progress | None = None,
+) -> FitResult:
+    """Grade ``pattern`` to ``measurements`` with NSGA-II and a repair step.
+
+    Parameters
+    ----------
+    pattern : pattern with bridge data (seams and measurement links)
+    measurements : body measurement id -> cm (e.g. ``Measurements.values_cm()``)
+    seed : every random draw derives from it; same seed, same result
+    pop_size, n_gen : NSGA-II population size and generations
+    max_lines : grid lines per direction per piece (control grid resolution)
+    tol_measure_cm, tol_seam : tolerances on objectives 1 and 2 for the choice
+    size : size name of the graded pieces (e.g. the character's name)
+    do_repair : run the least-squares repair on the chosen solution
+    source : pattern name for error messages
+    progress : ``progress(stage, done, total)`` callback
+
+    Returns
+    -------
+    FitResult
+
+    Raises
+    ------
+    InputError
+        No measurement links (message says how to add them), measurements the
+        garment needs that the character lacks (listed), bad bridge data.
+    SolverError
+        No feasible (fold-free) solution was found.
+    """
+    from pymoo.algorithms.moo.nsga2 import NSGA2
+    from pymoo.optimize import minimize
+
+    from .operators import GridCrossover, GridMutation, SeedSampling
+    from .problem import GradingProblem
+
+    t0 = time.perf_counter()
+    measurements = {str(k): float(v) for k, v in measurements.items()}
+    grid = build_grid(pattern, max_lines=max_lines)
+    data = objective_data(grid, measurements, source=source)
+    if progress is not None:
+        progress("seed", 0, 1)
+
+    x_uniform = uniform_scaling(grid, data)
+    x_axis = axis_scaling(grid, data)
+    baselines = {
+        "proportional": _solution(grid, data, "proportional", x_axis, size,
+                                  "each piece scaled along and across the grain by its measurements"),
+        "proportional_uniform": _solution(grid, data, "proportional_uniform", x_uniform, size,
+                                          "each piece scaled by its largest measurement ratio (thesis Algorithm 4)"),
+    }
+    seeds = [x_axis, x_uniform]
+    near = nearest_size(pattern, data, grid)
+    if near is not None:
+        size_name, pts = near
+        from ..pattern.grading import grade
+
+        graded = grade(pattern, size_name)
+        offs = grid.point_offsets
+        x_near = grid.fit_controls([pts[offs[k]:offs[k + 1]] for k in range(len(grid.pieces))])
+        scores = score_points(data, pts, fold_margin=float(grid.fold_margin(x_near[None, :])[0]),
+                              pattern=graded)
+        baselines["nearest_size"] = Solution(name="nearest_size", pattern=graded, scores=scores,
+                                             x=None, note=f"graded size {size_name}")
+        seeds.append(x_near)
+    seeds.append(grid.x0.copy())
+    if progress is not None:
+        progress("seed", 1, 1)
+
+    problem = GradingProblem(grid, data)
+    seeds_arr = np.clip(np.stack(seeds), problem.xl, problem.xu)
+    algorithm = NSGA2(
+        pop_size=pop_size,
+        sampling=SeedSampling(grid, seeds_arr),
+        crossover=GridCrossover(grid),
+        mutation=GridMutation(grid, n_gen),
+        eliminate_duplicates=False,
+    )
+    callback = _ProgressCallback(n_gen, progress)
+    res = minimize(problem, algorithm, ("n_gen", n_gen), seed=int(seed), callback=callback,
+                   verbose=False, save_history=False, copy_algorithm=False)
+    opt = res.opt if res.opt is not None and len(res.opt) else None
+    if opt is None:
+        raise SolverError(f"{source}: NSGA-II found no fold-free solution in {n_gen} generations; "
+                          "try more generations or a finer grid")
+    front_X = np.asarray(opt.get("X"), dtype=np.float64)
+    front_F = np.asarray(opt.get("F"), dtype=np.float64)
+    order = np.lexsort((front_F[:, 2], front_F[:, 1], front_F[:, 0]))
+    front_X, front_F = front_X[order], front_F[order]
+    idx = choose(front_F, tol_measure_cm=tol_measure_cm, tol_seam=tol_seam)
+    ga_choice = _solution(grid, data, "nsga2", front_X[idx], size, "least shape error within tolerance")
+    chosen = ga_choice
+    if do_repair:
+        x_rep = repair(grid, data, front_X[idx], progress=progress)
+        fixed = _solution(grid, data, "nsga2+repair", x_rep, size, "chosen solution after least-squares repair")
+        if fixed.scores.fold_margin > 0 and fixed.scores.is_simple:
+            chosen = fixed
+        else:
+            log.warning("%s: repair step folded a piece; keeping the NSGA-II choice", source)
+    seconds = time.perf_counter() - t0
+    return FitResult(
+        pattern=chosen.pattern, original=pattern, chosen=chosen, ga_choice=ga_choice,
+        front_F=front_F, front_X=front_X, chosen_index=idx, baselines=baselines,
+        measurements=measurements, grid=grid, data=data, seconds=seconds, seed=int(seed),
+        pop_size=pop_size, n_gen=n_gen, history=np.array(callback.history, dtype=np.float64).reshape(-1, 4),
+    )
