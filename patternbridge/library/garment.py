@@ -1,0 +1,213 @@
+"""Turn per-size drafts into one graded :class:`Pattern` with bridge data.
+
+A garment's ``draft.py`` gives a function ``body dimensions -> [PieceDraft]``
+and its seams and measurement links; :func:`build_pattern` drafts every size
+of a size chart with it, checks that each piece keeps its vertex count, and
+stores the sample size plus one grade rule per vertex (the per-size
+displacement of that vertex from the sample size, drawing axes, cm) — the
+same rule table an AccuMark graded nest yields.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from ..pattern.model import (
+    Copy,
+    EdgeRange,
+    GradeRuleTable,
+    Leg,
+    Line,
+    MeasurementLink,
+    Notch,
+    NotchType,
+    Pattern,
+    Piece,
+    Placement,
+    Polyline,
+    Provenance,
+    Quantity,
+    Seam,
+    SeamKind,
+)
+from .draft import NetOutline, offset_outline
+from .sizes import SizeChart
+
+__all__ = ["PieceDraft", "build_pattern", "leg", "link", "seam"]
+
+NOTCH_DEPTH_CM = 0.6
+
+
+@dataclass
+class PieceDraft:
+    """One drafted piece in one size (sew line, allowances, metadata).
+
+    grain : ((2,), (2,)) tail and head of the grain line, cm
+    landmarks : body landmark name -> mark name
+    internal : extra open polylines ``(points (k, 2), label)`` (fold lines, pocket marks)
+    """
+
+    name: str
+    net: NetOutline
+    quantity: Quantity
+    grain: tuple
+    placement: Placement
+    landmarks: dict[str, str] = field(default_factory=dict)
+    category: str = ""
+    annotation: str = ""
+    fabric: str = "SELF"
+    internal: list = field(default_factory=list)
+    mirror_line: tuple | None = None
+
+
+def seam(seam_id: str, a: Sequence[str], b: Sequence[str], *, ease_cm: float = 0.0,
+         kind: str = "seam") -> Seam:
+    """A seam between ``a`` and ``b`` given as ``(piece, start, end[, copy])``.
+
+    ``reverse`` is set by the library convention (every piece seen from the
+    outside, outlines CCW): two copies of the same handedness meet running
+    opposite ways, a primary and a mirror copy run the same way.
+    """
+    ea = EdgeRange(piece=a[0], start=a[1], end=a[2], copy=a[3] if len(a) > 3 else Copy.PRIMARY)
+    eb = EdgeRange(piece=b[0], start=b[1], end=b[2], copy=b[3] if len(b) > 3 else Copy.PRIMARY)
+    return Seam(id=seam_id, a=ea, b=eb, kind=SeamKind(kind), reverse=ea.copy == eb.copy, ease_cm=ease_cm)
+
+
+def leg(piece: str, start: str, end: str, along: str = "chord", factor: float = 1.0) -> Leg:
+    """Shorthand for :class:`Leg`."""
+    return Leg(piece=piece, start=start, end=end, along=along, factor=factor)
+
+
+def link(measurement: str, ease_cm: float | None, *legs: Leg, link_id: str = "") -> tuple:
+    """A measurement link; ``ease_cm=None`` takes the ease the sample size realises."""
+    return (measurement, ease_cm, tuple(legs), link_id)
+
+
+def _inward_angle(cut: np.ndarray, i: int) -> float:
+    n = len(cut)
+    e1 = cut[i] - cut[i - 1]
+    e2 = cut[(i + 1) % n] - cut[i]
+    # inward normal of a CCW edge (dx, dy) is (-dy, dx)
+    n1 = np.array([-e1[1], e1[0]]) / max(np.hypot(*e1), 1e-12)
+    n2 = np.array([-e2[1], e2[0]]) / max(np.hypot(*e2), 1e-12)
+    v = n1 + n2
+    return float(np.arctan2(v[1], v[0]))
+
+
+def _piece_geometry(d: PieceDraft) -> dict[str, np.ndarray]:
+    cut = offset_outline(d.net.points, d.net.allowance, d.net.darts)
+    geo = {"outline": cut, "sew": d.net.points, "grain": np.asarray(d.grain, dtype=np.float64)}
+    for k, (pts, _label) in enumerate(d.internal):
+        geo[f"internal{k}"] = np.asarray(pts, dtype=np.float64)
+    if d.mirror_line is not None:
+        geo["mirror"] = np.asarray(d.mirror_line, dtype=np.float64)
+    return geo
+
+
+def build_pattern(
+    *,
+    style: str,
+    description: str,
+    chart: SizeChart,
+    draft: Callable[[dict[str, float]], list[PieceDraft]],
+    seams: Sequence[Seam],
+    links: Sequence[tuple],
+) -> Pattern:
+    """Draft every size of ``chart`` and return the graded pattern.
+
+    Raises
+    ------
+    ValueError
+        When a piece changes vertex count or marks between sizes (a drafting bug).
+    """
+    drafts = {size: {d.name: d for d in draft(chart.body(size))} for size in chart.sizes}
+    sample = drafts[chart.sample_size]
+    k_sample = chart.sizes.index(chart.sample_size)
+    deltas: dict[str, np.ndarray] = {}
+    next_rule = [1]
+
+    def new_rules(key_arrays: list[np.ndarray]) -> tuple[str, ...]:
+        stack = np.stack(key_arrays)  # (n_sizes, m, 2)
+        rel = stack - stack[k_sample]
+        ids = []
+        for j in range(stack.shape[1]):
+            rid = str(next_rule[0])
+            next_rule[0] += 1
+            deltas[rid] = rel[:, j, :]
+            ids.append(rid)
+        return tuple(ids)
+
+    pieces = []
+    for name, d in sample.items():
+        geos = []
+        for size in chart.sizes:
+            other = drafts[size][name]
+            if len(other.net.points) != len(d.net.points) or other.net.marks != d.net.marks:
+                raise ValueError(f"{style}/{name}: size {size} has {len(other.net.points)} vertices or other "
+                                 f"marks than the sample ({len(d.net.points)})")
+            geos.append(_piece_geometry(other))
+        g0 = geos[k_sample]
+        outline_rules = new_rules([g["outline"] for g in geos])
+        sew_rules = new_rules([g["sew"] for g in geos])
+        grain_rules = new_rules([g["grain"] for g in geos])
+        internal = []
+        for k, (_pts, label) in enumerate(d.internal):
+            key = f"internal{k}"
+            internal.append(Polyline(points=g0[key], rules=new_rules([g[key] for g in geos]), label=label))
+        mirror = None
+        if d.mirror_line is not None:
+            mirror = Line(points=g0["mirror"], rules=new_rules([g["mirror"] for g in geos]))
+        notches = tuple(
+            Notch(vertex=d.net.marks[m], type=NotchType.SLIT, depth_cm=NOTCH_DEPTH_CM,
+                  angle=_inward_angle(g0["outline"], d.net.marks[m]))
+            for m in d.net.notches
+        )
+        notches = tuple(sorted(notches, key=lambda n: n.vertex))
+        pieces.append(Piece(
+            name=name,
+            size=chart.sample_size,
+            outline=g0["outline"],
+            kinds=tuple(d.net.kinds),
+            rules=outline_rules,
+            quantity=d.quantity,
+            category=d.category or name,
+            annotation=d.annotation,
+            fabric=d.fabric,
+            notches=notches,
+            grain_line=Line(points=g0["grain"], rules=grain_rules),
+            mirror_line=mirror,
+            internal_lines=tuple(internal),
+            sew_lines=(Polyline(points=g0["sew"], kinds=tuple(d.net.kinds), rules=sew_rules,
+                                closed=True, label="sew"),),
+            marks=d.net.marks,
+            landmarks=d.landmarks,
+            placement=d.placement,
+        ))
+    rules = GradeRuleTable(name=style.upper(), sizes=chart.sizes, sample_size=chart.sample_size, deltas=deltas)
+    pattern = Pattern(
+        style=style,
+        pieces=tuple(pieces),
+        sample_size=chart.sample_size,
+        sizes=chart.sizes,
+        rules=rules,
+        provenance=Provenance(producer="PATTERNBRIDGE", product="patternbridge garment library",
+                              author="patternbridge", source_file=f"garment_library/{style}/draft.py"),
+        description=description,
+        seams=tuple(seams),
+    )
+    from .seams import link_lengths
+
+    body = chart.body(chart.sample_size)
+    measurements = []
+    provisional = tuple(
+        MeasurementLink(measurement=m, legs=legs_, ease_cm=0.0, id=lid or m) for m, _e, legs_, lid in links
+    )
+    achieved = link_lengths(replace(pattern, measurements=provisional))
+    for (m, ease, legs_, lid), ml in zip(links, provisional):
+        if ease is None:
+            ease = round(float(achieved[ml.id][k_sample]) - body[m], 1)
+        measurements.append(MeasurementLink(measurement=m, legs=legs_, ease_cm=float(ease), id=ml.id))
+    return replace(pattern, measurements=tuple(measurements))
