@@ -1,0 +1,177 @@
+"""Tape lengths: geodesic paths between datum points, chained through intermediate points.
+
+Each leg is a geodesic of :mod:`patternbridge.geodesic` with tape correction
+(the tape bridges hollows such as the spine groove or the gluteal cleft
+instead of following the skin into them). A multi-point length (arm length:
+shoulder point, elbow point, wrist point) is the sum of its legs, so the tape
+bends at the intermediate points as a tailor's does. Heights (stature, knee
+height) are vertical distances to the floor, not surface paths.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable, Mapping, Sequence
+
+import numpy as np
+
+from ..errors import InputError, LandmarkError
+from ..mesh.character import Landmark
+from .definitions import DEFINITIONS
+from .model import Measurement
+
+__all__ = ["PATHS", "measure_lengths"]
+
+log = logging.getLogger(__name__)
+
+#: geodesic length id -> chain(s) of landmark names; several chains are averaged
+PATHS: dict[str, tuple[tuple[str, ...], ...]] = {
+    "back_length": (("back_neck_point", "waist_back"),),
+    "front_length": (("front_neck_point", "waist_front"),),
+    "shoulder_width": (("shoulder_point_left", "back_neck_point", "shoulder_point_right"),),
+    "back_width": (("axilla_back_left", "axilla_back_right"),),
+    "front_width": (("axilla_front_left", "axilla_front_right"),),
+    "waist_to_hip": (("waist_side_left", "hip_side_left"), ("waist_side_right", "hip_side_right")),
+    "crotch_length": (("waist_front", "crotch_point", "waist_back"),),
+    **{
+        f"{base}_{s}": (tuple(n.format(s=s) for n in chain),)
+        for s in ("left", "right")
+        for base, chain in {
+            "shoulder_length": ("neck_shoulder_point_{s}", "shoulder_point_{s}"),
+            "armhole": ("axilla_front_{s}", "shoulder_point_{s}", "axilla_back_{s}"),
+            "arm_length": ("shoulder_point_{s}", "elbow_point_{s}", "wrist_point_{s}"),
+            "neck_to_wrist": ("back_neck_point", "shoulder_point_{s}", "elbow_point_{s}", "wrist_point_{s}"),
+            "inside_leg": ("crotch_point", "ankle_inside_{s}"),
+            "outside_leg": ("waist_side_{s}", "ankle_outside_{s}"),
+        }.items()
+    },
+}
+
+#: vertical heights: id -> landmark
+HEIGHTS: dict[str, str] = {
+    "stature": "top_of_head",
+    "knee_height_left": "knee_point_left",
+    "knee_height_right": "knee_point_right",
+}
+
+
+def _vertex_of(lm: Landmark, mesh) -> int:
+    if lm.vertex is None:
+        from ..mesh.load import snap_to_surface
+
+        _, vid = snap_to_surface(mesh.vertices, mesh.faces, lm.position[None])
+        return int(vid[0])
+    return int(lm.vertex)
+
+
+def measure_lengths(
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    landmarks: Mapping[str, Landmark],
+    *,
+    ids: Sequence[str] | None = None,
+    tape: bool = True,
+    progress: Callable[[str, int, int], None] | None = None,
+    errors: dict[str, str] | None = None,
+) -> dict[str, Measurement]:
+    """Geodesic lengths and heights.
+
+    Parameters
+    ----------
+    vertices : (V, 3) float64, cm, +Y up
+    faces : (F, 3) int64
+    landmarks : name -> Landmark (vertex ids are used as path ends)
+    ids : which lengths (default: all of :data:`PATHS` and :data:`HEIGHTS`)
+    tape : apply the tape correction
+    errors : when given, failures are recorded there (id -> reason) instead of raised
+
+    Returns
+    -------
+    id -> Measurement (``polyline`` is the path; ``details`` holds the length of
+    every leg and the straight-line distance between the end points).
+    """
+    ids = list(ids) if ids is not None else [*HEIGHTS, *PATHS]
+    out: dict[str, Measurement] = {}
+    floor = float(vertices[:, 1].min())
+
+    def fail(mid: str, exc: Exception) -> None:
+        if errors is None:
+            raise exc
+        errors[mid] = str(exc)
+
+    for mid in [m for m in ids if m in HEIGHTS]:
+        name = HEIGHTS[mid]
+        if name not in landmarks:
+            fail(mid, LandmarkError(f"{mid}: landmark {name!r} is missing"))
+            continue
+        p = landmarks[name].position
+        poly = np.array([p, [p[0], floor, p[2]]])
+        out[mid] = Measurement(id=mid, value_cm=float(p[1] - floor), kind="length", method="vertical",
+                               polyline=poly, landmarks=(name,), details={"floor_y_cm": floor})
+    todo = [m for m in ids if m in PATHS]
+    if not todo:
+        return out
+    from ..geodesic import SurfaceMesh, geodesic_path
+
+    mesh = SurfaceMesh(vertices, faces)
+    if tape:
+        import importlib.util
+
+        if importlib.util.find_spec("patternbridge.geodesic.tape") is None:
+            log.warning("tape correction is not available in this build; lengths follow the skin")
+            tape = False
+    cache: dict[tuple[int, int], object] = {}
+
+    def leg(a: int, b: int):
+        key = (a, b)
+        if key not in cache:
+            if (b, a) in cache:
+                p = cache[(b, a)]
+                cache[key] = (p[0][::-1], p[1])
+            else:
+                path = geodesic_path(mesh, a, b, tape=tape)
+                cache[key] = (np.asarray(path.points, dtype=np.float64), float(path.length))
+        return cache[key]
+
+    for i, mid in enumerate(todo):
+        chains = PATHS[mid]
+        needed = sorted({n for chain in chains for n in chain})
+        missing = [n for n in needed if n not in landmarks]
+        if missing:
+            fail(mid, LandmarkError(f"{mid}: landmark(s) {', '.join(missing)} missing"))
+            continue
+        try:
+            values, polylines, legs = [], [], []
+            for chain in chains:
+                vids = [_vertex_of(landmarks[n], mesh) for n in chain]
+                total, pts = 0.0, []
+                for a, b in zip(vids[:-1], vids[1:]):
+                    if a == b:
+                        continue
+                    p, length = leg(a, b)
+                    total += length
+                    legs.append(length)
+                    pts.append(p if not pts else p[1:])
+                values.append(total)
+                polylines.append(np.concatenate(pts) if pts else landmarks[chain[0]].position[None])
+        except InputError as exc:
+            fail(mid, exc)
+            continue
+        ends = (landmarks[chains[0][0]].position, landmarks[chains[0][-1]].position)
+        out[mid] = Measurement(
+            id=mid,
+            value_cm=float(np.mean(values)),
+            kind="length",
+            method="geodesic",
+            polyline=polylines[0],
+            landmarks=tuple(DEFINITIONS[mid].landmarks),
+            details={
+                "legs_cm": legs,
+                "straight_cm": float(np.linalg.norm(ends[1] - ends[0])),
+                "tape": tape,
+                **({"per_side_cm": values} if len(values) > 1 else {}),
+            },
+        )
+        if progress is not None:
+            progress("lengths", i + 1, len(todo))
+    return out

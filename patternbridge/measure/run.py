@@ -1,0 +1,88 @@
+"""Measure a character: resolve its datum points, then take every girth and length."""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable
+
+import numpy as np
+
+from ..errors import LandmarkError
+from ..mesh.character import Character
+from .definitions import DEFINITIONS, MEASUREMENT_IDS
+from .girths import BodyFrame, measure_girths
+from .lengths import measure_lengths
+from .model import Measurements
+
+__all__ = ["measure"]
+
+log = logging.getLogger(__name__)
+
+
+def measure(
+    character: Character,
+    *,
+    progress: Callable[[str, int, int], None] | None = None,
+    partial: bool = False,
+    detect: bool = True,
+    tape: bool = True,
+) -> Measurements:
+    """Every measurement of ``formats/measurements.md`` on one character.
+
+    Parameters
+    ----------
+    character : the body (cm, +Y up); its ``landmarks`` are used first, then
+        the skeleton's joints, then automatic detection (``detect``)
+    progress : ``progress(stage, done, total)`` callback
+    partial : return what could be measured and list the rest in
+        ``Measurements.missing`` instead of raising
+    detect : detect missing landmarks from the geometry
+    tape : tape-correct the geodesic lengths
+
+    Returns
+    -------
+    Measurements; ``landmarks`` records where each datum point came from.
+
+    Raises
+    ------
+    LandmarkError
+        (without ``partial``) landmarks are missing or a measurement could not
+        be taken; the message lists them.
+    """
+    from ..mesh.landmarks import resolve_landmarks
+
+    marks = resolve_landmarks(character, detect=detect)
+    errors: dict[str, str] = {}
+    needed = {n for d in DEFINITIONS.values() for n in d.landmarks} | {"top_of_head"}
+    absent = sorted(n for n in needed if n not in marks)
+    if absent and not partial:
+        blocked = [d.id for d in DEFINITIONS.values() if set(d.landmarks) & set(absent)]
+        raise LandmarkError(
+            f"{character.name}: landmarks {', '.join(absent)} are missing, so {len(blocked)} measurements "
+            f"({', '.join(blocked[:6])}{'...' if len(blocked) > 6 else ''}) cannot be taken; "
+            "give them with --landmarks FILE or pass --partial"
+        )
+    positions = {k: lm.position for k, lm in marks.items()}
+    if "top_of_head" not in positions:
+        top = character.vertices[int(np.argmax(character.vertices[:, 1]))]
+        positions["top_of_head"] = top
+    body = BodyFrame(character.vertices, character.faces, positions)
+    girths = measure_girths(body, progress=progress, errors=errors)
+    lengths = measure_lengths(character.vertices, character.faces, marks, tape=tape,
+                              progress=progress, errors=errors)
+    found = {**girths, **lengths}
+    ordered = {mid: found[mid] for mid in MEASUREMENT_IDS if mid in found}
+    missing = {mid: errors.get(mid, "not measured") for mid in MEASUREMENT_IDS if mid not in found}
+    if missing and not partial:
+        first = next(iter(missing.items()))
+        raise LandmarkError(
+            f"{character.name}: {len(missing)} measurement(s) could not be taken "
+            f"({', '.join(missing)}; first: {first[1]}); check the landmarks or pass --partial"
+        )
+    return Measurements(
+        character=character.name,
+        measurements=ordered,
+        landmarks=marks,
+        assumed=character.assumed,
+        missing=missing,
+    )
