@@ -147,7 +147,8 @@ def _resample(points: np.ndarray, max_seg: float) -> np.ndarray:
 
 
 def flow_path(mesh: SurfaceMesh, vpath, start, end, *, scheme: str = "lsq",
-              n_outer: int = 4, mu: float = 4.0) -> np.ndarray:
+              n_outer: int = 4, mu: float = 4.0,
+              omega: float = 1.0, rings: int = 8) -> np.ndarray:
     """Run the curvature flow from an edge path.
 
     Parameters
@@ -171,14 +172,12 @@ def flow_path(mesh: SurfaceMesh, vpath, start, end, *, scheme: str = "lsq",
         pts = np.vstack([pts, end.xyz])
     if len(pts) < 3:
         return pts.copy()
-    verts = corridor(mesh, vp, rings=8)
+    verts = corridor(mesh, vp, rings=rings)
     tree = cKDTree(mesh.vertices[verts])
     max_seg = 1.5 * mesh.edge_mean
-    for _ in range(n_outer):
+    for it in range(n_outer):
         _, n, pbar = tangent_planes(mesh, pts, tree, verts)
-        if scheme == "lsq":
-            pts = lsq_step(pts, n, pbar)
-        else:
-            pts = euler_step(pts, n, pbar, mu)
+        new = lsq_step(pts, n, pbar) if scheme == "lsq" else euler_step(pts, n, pbar, mu)
+        pts = pts + omega * (new - pts) if it > 0 else new
         pts = _resample(pts, max_seg)
     return pts

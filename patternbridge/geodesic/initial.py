@@ -62,7 +62,7 @@ def edge_path(mesh: SurfaceMesh, a: int, b: int) -> tuple[np.ndarray, float]:
     r = 0.62 * chord + 2.0 * emax
     reached_before = -1
     while True:
-        dist, pred = dijkstra(g, directed=False, indices=[a, b], limit=r,
+        dist, pred = dijkstra(g, directed=True, indices=[a, b], limit=r,
                               return_predecessors=True)
         total = dist[0] + dist[1]
         m = int(np.argmin(total))
