@@ -35,11 +35,11 @@ class _Diff:
         self.ignore = ignore
         self.out: list[str] = []
 
-    def skip(self, name: str) -> bool:
-        return name in self.ignore
+    def skip(self, name: str, kind: str = "") -> bool:
+        return name in self.ignore or (bool(kind) and f"{kind}.{name}" in self.ignore)
 
-    def eq(self, where: str, name: str, a, b) -> None:
-        if self.skip(name):
+    def eq(self, where: str, name: str, a, b, kind: str = "") -> None:
+        if self.skip(name, kind):
             return
         if a != b:
             self.out.append(f"{where}.{name}: {a!r} != {b!r}")
@@ -93,18 +93,18 @@ class _Diff:
                 self.out.append(f"{where}.{name}: {a!r} != {b!r}")
             return
         self.close(f"{where}.{name}", "points", a.points, b.points)
-        self.eq(f"{where}.{name}", "rules", a.rules, b.rules)
+        self.eq(f"{where}.{name}", "rules", a.rules, b.rules, "line")
 
     def polyline(self, where: str, a: Polyline, b: Polyline) -> None:
         self.close(where, "points", a.points, b.points)
         self.eq(where, "kinds", a.kinds, b.kinds)
-        self.eq(where, "rules", a.rules, b.rules)
+        self.eq(where, "rules", a.rules, b.rules, "polyline")
         self.eq(where, "closed", a.closed, b.closed)
         self.eq(where, "label", a.label, b.label)
 
     def notch(self, where: str, a: Notch, b: Notch) -> None:
         for f in ("vertex", "type", "rule"):
-            self.eq(where, f, getattr(a, f), getattr(b, f))
+            self.eq(where, f, getattr(a, f), getattr(b, f), "notch")
         self.close(where, "depth_cm", a.depth_cm, b.depth_cm)
         self.close(where, "width_cm", a.width_cm, b.width_cm)
         self.angle(where, "angle", a.angle, b.angle)
@@ -114,7 +114,7 @@ class _Diff:
     def drill(self, where: str, a: DrillHole, b: DrillHole) -> None:
         self.close(where, "position", a.position, b.position)
         self.close(where, "diameter_cm", a.diameter_cm, b.diameter_cm)
-        self.eq(where, "rule", a.rule, b.rule)
+        self.eq(where, "rule", a.rule, b.rule, "drill")
         self.eq(where, "label", a.label, b.label)
 
     def annotation(self, where: str, a: Annotation, b: Annotation) -> None:
@@ -127,7 +127,7 @@ class _Diff:
     def piece(self, where: str, a: Piece, b: Piece) -> None:
         for f in ("name", "size", "kinds", "rules", "quantity", "category", "annotation",
                   "fabric", "placement"):
-            self.eq(where, f, getattr(a, f), getattr(b, f))
+            self.eq(where, f, getattr(a, f), getattr(b, f), "piece")
         for f in ("marks", "landmarks", "extra_text"):
             self.eq(where, f, dict(getattr(a, f)), dict(getattr(b, f)))
         self.close(where, "outline", a.outline, b.outline)
@@ -140,7 +140,7 @@ class _Diff:
         self.seq(where, "annotations", a.annotations, b.annotations, self.annotation)
 
     def rules(self, where: str, a: GradeRuleTable, b: GradeRuleTable) -> None:
-        if self.skip("rules"):
+        if self.skip("rules") or self.skip("table"):
             return
         where = f"{where}.rules"
         for f in ("name", "sizes", "sample_size"):
@@ -188,7 +188,10 @@ def pattern_differences(
     atol_cm : absolute tolerance on every length and coordinate (cm)
     atol_rad : absolute tolerance on angles (radians, compared modulo 2π)
     ignore : field names to skip wherever they occur, e.g. ``{"provenance",
-        "source_angle_deg"}`` (a file format that cannot carry them)
+        "source_angle_deg"}`` (a file format that cannot carry them), or
+        qualified by element: ``"piece.rules"``, ``"polyline.rules"``,
+        ``"line.rules"``, ``"notch.rule"``, ``"drill.rule"``; ``"table"`` skips
+        the grade-rule table, ``"deltas"`` only its values
     """
     diff = _Diff(atol_cm, atol_rad, set(ignore))
     diff.pattern(a, b)
@@ -233,7 +236,9 @@ def example_pattern() -> Pattern:
     Front (curved armhole and neck, two notches, dart, sew line, drill hole),
     back (cut on fold, T notch) and sleeve (cap curve, cutout); grade rules on
     the front and back turn points, marks, a seam and a measurement link. Used
-    by tests and examples; notch angles point into the piece.
+    by tests and examples; notch angles point into the piece, and a notch or
+    line end on a graded vertex carries that vertex's rule (as in a DXF, where
+    rule texts attach by position).
     """
     from .pattern.grading import inward_angles
     from .pattern.model import (
@@ -262,7 +267,7 @@ def example_pattern() -> Pattern:
         name="FRONT", size="M", outline=front_pts, kinds=kinds, rules=rules,
         quantity=Quantity(right=1, left=1), category="SHELL", fabric="1",
         notches=(
-            Notch(vertex=2, type="slit", depth_cm=0.6, angle=float(f_angles[0])),
+            Notch(vertex=2, type="slit", depth_cm=0.6, angle=float(f_angles[0]), rule=rules[2]),
             Notch(vertex=5, type="V", depth_cm=0.6, width_cm=0.4, angle=float(f_angles[1])),
         ),
         grain_line=Line(points=[[10, 10], [10, 45]]),
@@ -278,9 +283,9 @@ def example_pattern() -> Pattern:
     back = Piece(
         name="BACK", size="M", outline=back_pts, kinds=["turn"] * 6,
         rules=[str(i + 20) for i in range(6)], quantity=Quantity(right=1, left=0),
-        mirror_line=Line(points=[[0, 61], [0, 0]]), grain_line=Line(points=[[8, 8], [8, 50]]),
+        mirror_line=Line(points=[[0, 61], [0, 0]], rules=("25", "20")), grain_line=Line(points=[[8, 8], [8, 50]]),
         notches=(Notch(vertex=2, type="T", depth_cm=0.5, width_cm=0.3,
-                       angle=float(inward_angles(back_pts, [2])[0])),),
+                       angle=float(inward_angles(back_pts, [2])[0]), rule="22"),),
         marks={"hem_cb": 0, "hem_side": 1, "underarm": 2},
     )
     cap = _bezier([34, 35], [17, 62], [0, 35], 12)[1:-1]

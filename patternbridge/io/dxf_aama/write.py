@@ -26,7 +26,7 @@ import math
 import os
 import re
 import unicodedata
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -47,9 +47,9 @@ from ...pattern.model import (
 )
 from ...report import Report
 from ...units import from_cm
+from .layers import NOTCH_LAYER_BY_TYPE
 
 __all__ = [
-    "NOTCH_LAYERS",
     "format_dxf",
     "sanitize_block_name",
     "to_ascii",
@@ -57,16 +57,6 @@ __all__ = [
 ]
 
 log = logging.getLogger(__name__)
-
-#: notch type -> DXF layer (slit and V share layer 4; width 0 marks a slit)
-NOTCH_LAYERS: dict[NotchType, int] = {
-    NotchType.SLIT: 4,
-    NotchType.V: 4,
-    NotchType.T: 80,
-    NotchType.CASTLE: 81,
-    NotchType.CHECK: 82,
-    NotchType.U: 83,
-}
 
 #: owner geometry layer -> its quality-validation curve layer (ASTM only)
 _VALIDATION_LAYER = {1: 84, 8: 85, 11: 86, 14: 87}
@@ -77,6 +67,7 @@ _ASTM_VERSION = "ASTM/D13Proposal 1 Version: D 6673-04"
 _TEXT_HEIGHT = {Units.METRIC: 2.5, Units.ENGLISH: 0.1}  # file units
 _CURVE_TOLERANCE = {Units.METRIC: ".152", Units.ENGLISH: ".006"}
 _MAX_NAME = 20  # Gerber truncates piece/style names beyond this
+_SAME_MOTION_CM = 1e-3  # two rules at one point agree when their deltas agree this well (0.01 mm)
 
 
 # ---------------------------------------------------------------------------
@@ -131,11 +122,26 @@ def sanitize_block_name(name: str) -> str:
 class _Tags:
     """Collects DXF group-code/value pairs and renders them as R12 text."""
 
-    __slots__ = ("decimals", "lines")
+    __slots__ = ("decimals", "lines", "rules_seen")
 
     def __init__(self, decimals: int = 4) -> None:
         self.lines: list[str] = []
         self.decimals = decimals
+        self.rules_seen: dict[tuple[str, str], str] = {}  # position -> rule text, per block
+
+    def rule(self, layer: int, at, value: str, height: float) -> str | None:
+        """A ``# n`` rule text, once per position within a block.
+
+        Returns the rule text already written at this position when it differs
+        (a reader attaches rule texts by position, so only one can be there).
+        """
+        key = (f"{float(at[0]):.{self.decimals}f}", f"{float(at[1]):.{self.decimals}f}")
+        seen = self.rules_seen.get(key)
+        if seen is not None:
+            return None if seen == value else seen
+        self.rules_seen[key] = value
+        self.text(layer, at, value, height)
+        return None
 
     def tag(self, code: int, value) -> None:
         self.lines.append(f"{code:>3}")
@@ -206,6 +212,7 @@ class _Context:
     scale: float  # file units per cm
     height: float  # text height in file units
     report: Report
+    table: Mapping[str, np.ndarray]  # rule id -> deltas (cm), for conflict checks
 
 
 def _ascii(ctx: _Context, value: str, where: str) -> str:
@@ -224,16 +231,38 @@ def _rule_text(rule: str) -> str:
     return f"# {rule}"
 
 
+def _put_rule(tags: _Tags, ctx: _Context, layer: int, at, rule: str, where: str, *,
+              check: bool = True) -> None:
+    """Write ``# rule`` at ``at`` unless another rule already sits there.
+
+    Coincident points (a notch on a graded vertex, a grade reference line on
+    the grain line) normally share their motion; when their rules differ in
+    value the first one wins and the conflict is reported.
+    """
+    text = _ascii(ctx, _rule_text(rule), where)
+    other = tags.rule(layer, at, text, ctx.height)
+    if other is None or not check:
+        return
+    first = other[2:]
+    a, b = ctx.table.get(first), ctx.table.get(rule)
+    if a is None or b is None or a.shape != b.shape or not np.allclose(a, b, atol=_SAME_MOTION_CM):
+        ctx.report.add(
+            "rule-position-conflict",
+            f"rule {rule} and rule {first} sit on the same point and grade differently; "
+            f"the file keeps rule {first} there",
+            where=where,
+        )
+
+
 def _vertex_points(tags: _Tags, ctx: _Context, owner_layer: int, pts: np.ndarray,
                    kinds: Sequence[VertexKind], rules: Sequence[str | None], where: str) -> None:
     """Turn/curve POINTs on 2/3 and ``# n`` texts of one polyline's vertices."""
     for p, kind, rule in zip(pts, kinds, rules):
         point_layer = {VertexKind.TURN: 2, VertexKind.CURVE: 3}.get(VertexKind(kind))
-        text = None if rule is None else _ascii(ctx, _rule_text(rule), where)
         if ctx.flavor is Flavor.ASTM:
             # ASTM: the rule text sits on the geometry's own layer, before the point
-            if text is not None:
-                tags.text(owner_layer, p, text, ctx.height)
+            if rule is not None:
+                _put_rule(tags, ctx, owner_layer, p, rule, where)
             if point_layer is not None:
                 tags.point(point_layer, p)
         else:
@@ -241,14 +270,15 @@ def _vertex_points(tags: _Tags, ctx: _Context, owner_layer: int, pts: np.ndarray
             # that is neither turn nor curve point keeps it on its own layer
             if point_layer is not None:
                 tags.point(point_layer, p)
-            if text is not None:
-                tags.text(point_layer if point_layer is not None else owner_layer, p, text, ctx.height)
+            if rule is not None:
+                _put_rule(tags, ctx, point_layer if point_layer is not None else owner_layer, p, rule,
+                          where)
 
 
 def _line_rules(tags: _Tags, ctx: _Context, layer: int, line: Line, pts: np.ndarray, where: str) -> None:
     for p, rule in zip(pts, line.rules):
         if rule is not None:
-            tags.text(layer, p, _ascii(ctx, _rule_text(rule), where), ctx.height)
+            _put_rule(tags, ctx, layer, p, rule, where)
 
 
 def _label_anchor(piece_pts: np.ndarray) -> np.ndarray:
@@ -303,6 +333,7 @@ def _block(tags: _Tags, ctx: _Context, piece: Piece, size: str, block_name: str,
     s = ctx.scale
     where = f"{piece.name} ({size})"
     outline = np.asarray(piece.outline) * s
+    tags.rules_seen.clear()
     tags.tag(0, "BLOCK")
     tags.tag(8, 0)
     tags.tag(2, block_name)
@@ -321,13 +352,13 @@ def _block(tags: _Tags, ctx: _Context, piece: Piece, size: str, block_name: str,
     if full:
         _vertex_points(tags, ctx, 1, outline, piece.kinds, piece.rules, where)
         for notch in piece.notches:
-            layer = NOTCH_LAYERS[NotchType(notch.type)]
+            layer = NOTCH_LAYER_BY_TYPE[NotchType(notch.type)]
             angle = math.degrees(notch.angle) % 360.0
             tags.point(layer, outline[notch.vertex], z=abs(notch.depth_cm) * s,
                        thickness=abs(notch.width_cm) * s, angle_deg=angle)
             if notch.rule is not None:
-                tags.text(layer, outline[notch.vertex], _ascii(ctx, _rule_text(notch.rule), where),
-                          ctx.height)
+                # a notch rides on its boundary vertex: that vertex's rule governs
+                _put_rule(tags, ctx, layer, outline[notch.vertex], notch.rule, where, check=False)
     if validation:
         tags.polyline(_VALIDATION_LAYER[1], outline, closed=True)
 
@@ -358,7 +389,7 @@ def _block(tags: _Tags, ctx: _Context, piece: Piece, size: str, block_name: str,
         if full and hole.label:
             tags.text(13, at, _ascii(ctx, hole.label, where), ctx.height)
         if full and hole.rule is not None:
-            tags.text(13, at, _ascii(ctx, _rule_text(hole.rule), where), ctx.height)
+            _put_rule(tags, ctx, 13, at, hole.rule, where)
 
     # annotations (15, or the layer they came from)
     if full:
@@ -473,7 +504,7 @@ def format_dxf(
     report = report if report is not None else Report()
     now = now or _dt.datetime.now()
     ctx = _Context(flavor=flavor, units=units, scale=float(from_cm(1.0, str(units))),
-                   height=_TEXT_HEIGHT[units], report=report)
+                   height=_TEXT_HEIGHT[units], report=report, table=pattern.rules.deltas)
     validation = flavor is Flavor.ASTM
     nest_sizes = _resolve_sizes(pattern, sizes, report)
 
