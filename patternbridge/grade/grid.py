@@ -271,6 +271,37 @@ class PatternGrid:
             out = np.minimum(out, _min_corner_ratio(c, c0))
         return out
 
+    def bending(self, X: np.ndarray) -> np.ndarray:
+        """Change of the displacement gradient between neighbouring cells, cm.
+
+        For every row and column of every grid, the difference of the
+        displacement slopes of consecutive intervals times their mean length;
+        zero for any affine deformation of a piece. Used by the repair step to
+        keep control points that few outline points see in line with their
+        neighbours.
+
+        Returns
+        -------
+        (n_pop, n_terms) float64
+        """
+        X = np.atleast_2d(np.asarray(X, dtype=np.float64))
+        parts = []
+        for k, g in enumerate(self.pieces):
+            c = self.control(X, k)
+            c0 = self.control(self.x0[None, :], k)
+            d = c - c0
+            if g.nu >= 3:
+                h = np.diff(g.xs)
+                slope = np.diff(d, axis=2) / h[None, None, :, None]
+                parts.append((np.diff(slope, axis=2) * (0.5 * (h[1:] + h[:-1]))[None, None, :, None]).reshape(len(X), -1))
+            if g.nv >= 3:
+                h = np.diff(g.ys)
+                slope = np.diff(d, axis=1) / h[None, :, None, None]
+                parts.append((np.diff(slope, axis=1) * (0.5 * (h[1:] + h[:-1]))[None, :, None, None]).reshape(len(X), -1))
+        if not parts:
+            return np.zeros((len(X), 0))
+        return np.concatenate(parts, axis=1)
+
     def order_ok(self, X: np.ndarray, *, min_ratio: float = 0.1) -> np.ndarray:
         """True where every grid row keeps its x order and every column its y order.
 

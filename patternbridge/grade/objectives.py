@@ -49,6 +49,7 @@ __all__ = [
     "evaluate",
     "measurement_error",
     "objective_data",
+    "piece_pose",
     "residuals",
     "seam_error",
     "shape_error",
@@ -102,6 +103,13 @@ class ObjectiveData:
     # shape
     critical: np.ndarray  # (K,) global indices
     angle0: np.ndarray  # (N,) original inner angles
+    piece_of_point: np.ndarray  # (N,) piece index of every point
+    points0: np.ndarray  # (N, 2) original outline points
+    centre0: np.ndarray  # (P, 2) original piece centroids (vertex mean)
+    extent_cm: np.ndarray  # (P,) piece extents
+    span_edges: np.ndarray  # (N, B) 0/1: outline edges of each span between consecutive critical points
+    span_piece: np.ndarray  # (B,) piece of each span
+    span_len0: np.ndarray  # (B,) original span lengths
     # normalisers
     n_seams: int
 
@@ -329,8 +337,21 @@ def objective_data(
     notch_bl = np.stack(nb_len_cols, axis=1) if M else np.zeros((n, 0))
 
     crit = np.concatenate([grid.point_offsets[k] + g.critical for k, g in enumerate(grid.pieces)])
+    spans, span_piece = [], []
+    for k, g in enumerate(grid.pieces):
+        crit_k = np.asarray(g.critical)
+        n_k = len(g.outline_weights)
+        for a, b in zip(crit_k, np.roll(crit_k, -1)):
+            col = np.zeros(n)
+            col[grid.point_offsets[k] + boundary_indices(n_k, int(a), int(b))[:-1]] = 1.0
+            spans.append(col)
+            span_piece.append(k)
+    span_edges = np.stack(spans, axis=1)
+    edge_len0 = np.linalg.norm(points0[nxt] - points0, axis=1)
     data = ObjectiveData(
         nxt=nxt, prv=prv,
+        span_edges=span_edges, span_piece=np.array(span_piece, dtype=np.int64),
+        span_len0=edge_len0 @ span_edges,
         link_ids=tuple(lk.id for lk in pattern.measurements),
         link_measurements=tuple(lk.measurement for lk in pattern.measurements),
         target_cm=target, link_edges=link_edges, chord_a=chord_a, chord_b=chord_b,
@@ -347,6 +368,10 @@ def objective_data(
         notch_b_sign=np.array(n_sign, dtype=np.float64), notch_offset0=np.array(n_off, dtype=np.float64),
         notch_seam=np.array(n_seam, dtype=np.int64),
         critical=crit.astype(np.int64), angle0=_angles(points0, prv, nxt), n_seams=S,
+        piece_of_point=np.repeat(np.arange(len(grid.pieces)), np.diff(grid.point_offsets)).astype(np.int64),
+        points0=points0,
+        centre0=np.stack([points0[a:b].mean(axis=0) for a, b in zip(grid.point_offsets[:-1], grid.point_offsets[1:])]),
+        extent_cm=np.array([g.extent_cm for g in grid.pieces]),
     )
     # reference values of the original design (turning-angle relation, notch offsets)
     p0 = points0[None, :, :]
@@ -469,6 +494,32 @@ def evaluate(data: ObjectiveData, points: np.ndarray) -> Evaluation:
     )
 
 
+def piece_pose(data: ObjectiveData, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Rotation (rad) and centroid shift (cm) of every piece against the original.
+
+    The rotation is the least-squares (Procrustes) angle between the
+    centred original and current outline vertices.
+
+    Returns
+    -------
+    rotation : (n_pop, P) ; shift : (n_pop, P, 2)
+    """
+    P = len(data.centre0)
+    counts = np.bincount(data.piece_of_point, minlength=P).astype(np.float64)
+    sums = np.zeros((points.shape[0], P, 2))
+    np.add.at(sums.transpose(1, 0, 2), data.piece_of_point, points.transpose(1, 0, 2))
+    centre = sums / counts[None, :, None]
+    q = points - centre[:, data.piece_of_point, :]
+    q0 = data.points0 - data.centre0[data.piece_of_point]
+    cross = q0[None, :, 0] * q[..., 1] - q0[None, :, 1] * q[..., 0]
+    dot = q0[None, :, 0] * q[..., 0] + q0[None, :, 1] * q[..., 1]
+    cs = np.zeros((points.shape[0], P))
+    ds = np.zeros((points.shape[0], P))
+    np.add.at(cs.T, data.piece_of_point, cross.T)
+    np.add.at(ds.T, data.piece_of_point, dot.T)
+    return np.arctan2(cs, ds), centre - data.centre0[None]
+
+
 def residuals(
     data: ObjectiveData,
     points: np.ndarray,
@@ -480,6 +531,9 @@ def residuals(
     w_turn: float = 0.3,
     w_critical: float = 2.0,
     w_angle: float = 0.5,
+    w_rotation: float = 3.0,
+    w_shift: float = 0.05,
+    w_proportion: float = 0.5,
 ) -> np.ndarray:
     """Weighted residual vector of every individual, ``(n_pop, n_res)``.
 
@@ -489,7 +543,9 @@ def residuals(
     under 1 mm), stitch-interval differences (cm), turning-angle disagreement
     along seams (rad), and inner-angle changes at critical points and at all
     vertices (rad, scaled by the piece count so the shape term does not grow
-    with resolution).
+    with resolution), the change of proportions between the spans joining
+    consecutive critical points (weak), each piece's rotation (a graded piece keeps its
+    orientation to the grain) and, weakly, its centroid shift.
     """
     points = np.asarray(points, dtype=np.float64)
     achieved, _ = measurement_error(data, points)
@@ -503,5 +559,18 @@ def residuals(
     n_all = d.shape[1]
     parts.append(w_critical * d[:, data.critical] / np.sqrt(max(len(data.critical), 1) / 10.0))
     parts.append(w_angle * d / np.sqrt(n_all / 10.0))
+    # proportions: each span between critical points keeps its share of the
+    # piece's growth (log length ratio minus the piece's mean log ratio)
+    edges = np.linalg.norm(points[:, data.nxt, :] - points, axis=-1)
+    ratio = np.log(np.maximum(edges @ data.span_edges, 1e-9) / np.maximum(data.span_len0, 1e-9))
+    P = len(data.centre0)
+    counts = np.maximum(np.bincount(data.span_piece, minlength=P), 1)
+    mean = np.zeros((len(points), P))
+    np.add.at(mean.T, data.span_piece, ratio.T)
+    mean /= counts
+    parts.append(w_proportion * (ratio - mean[:, data.span_piece]) / np.sqrt(max(ratio.shape[1], 1) / 10.0))
+    rotation, shift = piece_pose(data, points)
+    parts.append(w_rotation * rotation)
+    parts.append(w_shift * (shift / data.extent_cm[None, :, None]).reshape(len(points), -1))
     return np.concatenate(parts, axis=1)
 
