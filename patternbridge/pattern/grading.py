@@ -41,7 +41,7 @@ __all__ = [
     "rules_from_nest",
 ]
 
-_SAME_RULE_CM = 5e-5  # two points share a rule id when their deltas agree this well
+_SAME_RULE_CM = 5e-4  # cm (0.005 mm): two points share a rule id when their deltas agree this well
 
 
 # --------------------------------------------------------------------------- geometry helpers
@@ -340,7 +340,13 @@ def graded_outlines(pattern: Pattern) -> dict[str, dict[str, np.ndarray]]:
 
 
 class _RuleBook:
-    """Collects derived deltas per rule id, splitting ids whose points move differently."""
+    """Collects derived deltas per rule id, splitting ids whose points move differently.
+
+    Points at the same sample location that move the same way share one id,
+    so coincident points of different elements (a grain-line end on the grade
+    reference line, two internal lines meeting) get one rule, as a CAD file
+    that matches rule texts by coordinates would give them.
+    """
 
     def __init__(self, used_ids: Iterable[str], atol_cm: float) -> None:
         ints = [int(r) for r in used_ids if r is not None and re.fullmatch(r"-?\d+", str(r))]
@@ -348,25 +354,45 @@ class _RuleBook:
         self.atol = atol_cm
         self.deltas: dict[str, np.ndarray] = {}
         self.variants: dict[str, list[str]] = {}
+        self.origin: dict[str, str | None] = {}
+        self.at: dict[tuple, list[str]] = {}
 
     def fresh(self) -> str:
         rid = str(self.next_id)
         self.next_id += 1
         return rid
 
-    def assign(self, rule: str | None, delta: np.ndarray) -> str:
-        """Id under which ``delta`` (n_sizes, 2) is stored: ``rule`` or a split-off id."""
+    def _same(self, rid: str, delta: np.ndarray) -> bool:
+        return bool(np.max(np.abs(self.deltas[rid] - delta)) <= self.atol)
+
+    def assign(self, rule: str | None, delta: np.ndarray, key: tuple | None = None) -> str:
+        """Id under which ``delta`` (n_sizes, 2) is stored: ``rule`` or a split-off id.
+
+        ``key`` identifies the point's sample location (piece, x, y).
+        """
+        if key is not None:
+            for rid in self.at.get(key, []):
+                if (rule is None or rule in (rid, self.origin[rid])) and self._same(rid, delta):
+                    return rid
         if rule is None:
             rid = self.fresh()
+        else:
+            for rid in self.variants.setdefault(rule, []):
+                if self._same(rid, delta):
+                    break
+            else:
+                rid = rule if not self.variants[rule] else self.fresh()
+                self.variants[rule].append(rid)
+        if rid not in self.deltas:
             self.deltas[rid] = delta
-            return rid
-        for rid in self.variants.setdefault(rule, []):
-            if np.max(np.abs(self.deltas[rid] - delta)) <= self.atol:
-                return rid
-        rid = rule if not self.variants[rule] else self.fresh()
-        self.variants[rule].append(rid)
-        self.deltas[rid] = delta
+            self.origin[rid] = rule
+        if key is not None:
+            self.at.setdefault(key, []).append(rid)
         return rid
+
+
+def _key(name: str, p: np.ndarray) -> tuple:
+    return (name, round(float(p[0]) * 1e4), round(float(p[1]) * 1e4))
 
 
 def _used_rule_ids(pattern: Pattern) -> set:
@@ -480,7 +506,10 @@ def rules_from_nest(
             turn = [k == VertexKind.TURN for k in piece.kinds]
             has_rule = turn if any(turn) else [True] * piece.n_vertices
             rules = [None] * piece.n_vertices
-        new_rules = [book.assign(rules[i], d[i]) if has_rule[i] else None for i in range(piece.n_vertices)]
+        new_rules = [
+            book.assign(rules[i], d[i], _key(piece.name, piece.outline[i])) if has_rule[i] else None
+            for i in range(piece.n_vertices)
+        ]
         changes: dict = {"rules": tuple(new_rules)}
         full = [v if isinstance(v, Piece) else None for v in per_size]
         if all(v is not None or s == sample.sample_size for v, s in zip(full, sizes)) and any(full):
@@ -513,7 +542,9 @@ def _derive_elements(piece: Piece, full: list, sizes, book: _RuleBook, local) ->
                 new.append(pl)
                 continue
             d = local(stack, pl.points)
-            new.append(dataclasses.replace(pl, rules=tuple(book.assign(r, d[i]) for i, r in enumerate(pl.rules))))
+            new.append(dataclasses.replace(pl, rules=tuple(
+                book.assign(r, d[i], _key(piece.name, pl.points[i])) for i, r in enumerate(pl.rules)
+            )))
         changes[attr] = tuple(new)
     for attr in ("grain_line", "grade_reference", "mirror_line"):
         line = getattr(piece, attr)
@@ -523,7 +554,9 @@ def _derive_elements(piece: Piece, full: list, sizes, book: _RuleBook, local) ->
         stack = _stack(line.points, [None if o is None else o.points for o in per], sizes, attr)
         if stack is not None:
             d = local(stack, line.points)
-            changes[attr] = dataclasses.replace(line, rules=tuple(book.assign(r, d[i]) for i, r in enumerate(line.rules)))
+            changes[attr] = dataclasses.replace(line, rules=tuple(
+                book.assign(r, d[i], _key(piece.name, line.points[i])) for i, r in enumerate(line.rules)
+            ))
     if piece.drill_holes:
         per = others("drill_holes")
         if all(o is None or len(o) == len(piece.drill_holes) for o in per):
@@ -532,7 +565,8 @@ def _derive_elements(piece: Piece, full: list, sizes, book: _RuleBook, local) ->
             if stack is not None:
                 d = local(stack, base)
                 changes["drill_holes"] = tuple(
-                    dataclasses.replace(h, rule=book.assign(h.rule, d[i])) for i, h in enumerate(piece.drill_holes)
+                    dataclasses.replace(h, rule=book.assign(h.rule, d[i], _key(piece.name, h.position)))
+                    for i, h in enumerate(piece.drill_holes)
                 )
     return changes
 

@@ -258,7 +258,7 @@ class _RawBlock:
     boundary: list[tuple[np.ndarray, bool]]  # segments (k, 2), closed flag
     turn: np.ndarray
     curve: np.ndarray
-    rule_texts: list[tuple[float, float, str, str | None]]
+    rule_texts: list[tuple[float, float, str, int | None]]  # x, y, id, layer
     notches: list[tuple[int, np.ndarray, float, float, float | None, np.ndarray | None]]
     lines: dict[int, list[np.ndarray]]  # layer 5/6/7 -> (2, 2) lines
     internal: list[tuple[np.ndarray, bool]]
@@ -294,14 +294,14 @@ def _raw_block(block: _Block) -> _RawBlock:
                 validation += 1
             if t == "TEXT" and parse_rule_text(ent.tags.get(1, "")) is not None:
                 rid = parse_rule_text(ent.tags.get(1, ""))
-                rule_texts.append((ent.f(10), ent.f(20), rid[0], rid[1]))
+                rule_texts.append((ent.f(10), ent.f(20), rid[0], layer))
             continue
         if t == "TEXT" or t == "MTEXT":
             s = ent.tags.get(1, "")
             pos = np.array([ent.f(10), ent.f(20)])
             rid = parse_rule_text(s)
             if rid is not None:
-                rule_texts.append((pos[0], pos[1], rid[0], rid[1]))
+                rule_texts.append((pos[0], pos[1], rid[0], layer))
                 continue
             if layer == Layer.BOUNDARY:
                 kv = split_key(s)
@@ -574,7 +574,7 @@ class _PieceBuilder:
                             "may be wrong", where)
         outline_cm = pts * self.f
         notches = []
-        rule_pts, rule_ids = self._rule_arrays(raw)
+        rule_pts, rule_ids = self._rule_arrays(raw, prefer=4)
         for kind, k, layer, depth, width, ang, pos in notch_locs:
             v = int(old_to_new[k]) if kind == "vertex" else new_index[k]
             m = _match(np.asarray(pos, float)[None], rule_pts, self.tol)[0]
@@ -602,15 +602,19 @@ class _PieceBuilder:
         )
         return piece, recipe
 
-    def _rule_arrays(self, raw: _RawBlock) -> tuple[np.ndarray, list[str]]:
-        pts = np.array([(x, y) for x, y, _, _ in raw.rule_texts], dtype=np.float64).reshape(-1, 2)
-        return pts, [r for _, _, r, _ in raw.rule_texts]
+    def _rule_arrays(self, raw: _RawBlock, layers=None, prefer: int | None = None) -> tuple[np.ndarray, list[str]]:
+        """Rule-text positions and ids (only on ``layers`` if given; ``prefer``'s texts first)."""
+        items = [t for t in raw.rule_texts if layers is None or t[3] in layers]
+        if prefer is not None:
+            items.sort(key=lambda t: (t[3] != prefer) and not (prefer == 4 and t[3] in NOTCH_LAYERS))
+        pts = np.array([(x, y) for x, y, _, _ in items], dtype=np.float64).reshape(-1, 2)
+        return pts, [r for _, _, r, _ in items]
 
-    def _kinds_rules(self, pts: np.ndarray, raw: _RawBlock) -> tuple[list, list]:
+    def _kinds_rules(self, pts: np.ndarray, raw: _RawBlock, layer: int = 1) -> tuple[list, list]:
         turn = _match(pts, raw.turn, self.tol) >= 0
         curve = _match(pts, raw.curve, self.tol) >= 0
         kinds = [VertexKind.TURN if a else VertexKind.CURVE if b else VertexKind.PLAIN for a, b in zip(turn, curve)]
-        rule_pts, rule_ids = self._rule_arrays(raw)
+        rule_pts, rule_ids = self._rule_arrays(raw, prefer=layer)
         m = _match(pts, rule_pts, self.tol)
         rules = [None if j < 0 else rule_ids[j] for j in m]
         return kinds, rules
@@ -619,9 +623,9 @@ class _PieceBuilder:
         f = self.f
         out: dict = {}
 
-        def poly(pts, closed, label=None) -> Polyline:
+        def poly(pts, closed, label=None, layer=8) -> Polyline:
             if full:
-                kinds, rules = self._kinds_rules(pts, raw)
+                kinds, rules = self._kinds_rules(pts, raw, layer)
             else:
                 kinds, rules = None, None
             return Polyline(points=pts * f, kinds=kinds, rules=rules, closed=closed, label=label)
@@ -636,7 +640,7 @@ class _PieceBuilder:
             pts = items[0]
             rules = (None, None)
             if full:
-                rp, ri = self._rule_arrays(raw)
+                rp, ri = self._rule_arrays(raw, prefer=layer)
                 m = _match(pts, rp, self.tol)
                 rules = tuple(None if j < 0 else ri[j] for j in m)
             return Line(points=pts * f, rules=rules)
@@ -657,11 +661,11 @@ class _PieceBuilder:
                     break
             internal.append(poly(pts, closed, label))
         out["internal_lines"] = tuple(internal)
-        out["cutouts"] = tuple(poly(p, True) for p, _ in _polylines(raw.cutouts, self.tol))
-        out["sew_lines"] = tuple(poly(p, c) for p, c in _sew_lines(raw, self.tol))
+        out["cutouts"] = tuple(poly(p, True, layer=11) for p, _ in _polylines(raw.cutouts, self.tol))
+        out["sew_lines"] = tuple(poly(p, c, layer=14) for p, c in _sew_lines(raw, self.tol))
         drill_texts = [(s, pos) for lay, s, pos, _, _ in raw.texts if lay == Layer.DRILL]
         holes = []
-        rp, ri = self._rule_arrays(raw)
+        rp, ri = self._rule_arrays(raw, prefer=13)
         for pos, z in raw.drills:
             label = next((s for s, p in drill_texts if np.hypot(*(p - pos)) <= self.tol), None)
             m = _match(pos[None], rp, self.tol)[0] if full else -1
