@@ -182,7 +182,12 @@ def torso_levels(body: BodyFrame) -> dict[str, tuple[float, _Cut]]:
     ys = _scan(y_crotch + 0.35 * h, y_crotch + 0.75 * h, body.step)
     out["waist"] = _best([(y, body.torso_cut(y)) for y in ys], min)
     y_waist = out["waist"][0]
-    ys = _scan(y_waist + 0.5 * (y_arm - y_waist), y_arm - 0.01 * body.stature, body.step)
+    top = y_arm - 0.01 * body.stature
+    if "bust_point_left" in body.marks and "bust_point_right" in body.marks:
+        # raised arms lift the armpits: stay within reach of the bust points
+        y_b = 0.5 * (body.mark("bust_point_left")[1] + body.mark("bust_point_right")[1])
+        top = min(top, y_b + 0.02 * body.stature)
+    ys = _scan(y_waist + 0.5 * (top - y_waist), top, body.step)
     out["chest"] = _best([(y, body.torso_cut(y)) for y in ys], max)
     ys = _scan(y_crotch + 0.2 * (y_waist - y_crotch), y_waist - 0.2 * (y_waist - y_crotch), body.step)
     out["hip"] = _best([(y, body.torso_cut(y)) for y in ys], max)
