@@ -27,7 +27,11 @@ __all__ = [
     "OutlineBuilder",
     "NetOutline",
     "bezier",
+    "bezier_length",
+    "bezier_split",
+    "bezier_t_at",
     "hermite",
+    "hermite_controls",
     "insert_at_length",
     "offset_outline",
 ]
@@ -61,6 +65,49 @@ def bezier(p0, p1, p2, p3, n: int) -> np.ndarray:
         + 3 * (1 - t) * t**2 * c[2]
         + t**3 * c[3]
     )
+
+
+def bezier_split(ctrl, t: float) -> tuple[np.ndarray, np.ndarray]:
+    """Split a cubic Bézier (4, 2) at parameter ``t`` (de Casteljau); returns two (4, 2)."""
+    c = np.asarray(ctrl, dtype=np.float64)
+    a = c[:-1] + t * (c[1:] - c[:-1])
+    b = a[:-1] + t * (a[1:] - a[:-1])
+    m = b[0] + t * (b[1] - b[0])
+    return np.array([c[0], a[0], b[0], m]), np.array([m, b[1], a[2], c[3]])
+
+
+def bezier_length(ctrl, n: int = 200) -> float:
+    """Arc length (cm) of a cubic Bézier given as (4, 2) controls."""
+    c = np.asarray(ctrl, dtype=np.float64)
+    pts = bezier(*c, n)
+    return float(np.linalg.norm(np.diff(pts, axis=0), axis=1).sum())
+
+
+def bezier_t_at(ctrl, axis: int, value: float, n: int = 400) -> float:
+    """Parameter where a cubic Bézier first crosses ``coordinate[axis] == value``.
+
+    Raises
+    ------
+    ValueError
+        When the curve does not reach ``value``.
+    """
+    c = np.asarray(ctrl, dtype=np.float64)
+    pts = bezier(*c, n)[:, axis] - value
+    sign = np.sign(pts)
+    cross = np.nonzero(sign[:-1] * sign[1:] <= 0)[0]
+    if len(cross) == 0:
+        raise ValueError(f"curve does not cross {'xy'[axis]} = {value}")
+    i = int(cross[0])
+    f = pts[i] / (pts[i] - pts[i + 1]) if pts[i] != pts[i + 1] else 0.0
+    return (i + f) / n
+
+
+def hermite_controls(p0, t0, p1, t1) -> np.ndarray:
+    """Bézier controls (4, 2) of the Hermite curve of :func:`hermite`."""
+    p0, p1 = np.asarray(p0, float), np.asarray(p1, float)
+    t0, t1 = np.asarray(t0, float), np.asarray(t1, float)
+    chord = float(np.hypot(*(p1 - p0)))
+    return np.array([p0, p0 + t0 * chord / 3.0, p1 - t1 * chord / 3.0, p1])
 
 
 def hermite(p0, t0, p1, t1, n: int) -> np.ndarray:
@@ -128,6 +175,22 @@ class NetOutline:
     notches: list[str]
     allowance: np.ndarray
     darts: list[int] = field(default_factory=list)
+
+    def length(self, start: str, end: str) -> float:
+        """Sew-line length (cm) from mark ``start`` to mark ``end`` in outline order."""
+        n = len(self.points)
+        i, j = self.marks[start], self.marks[end]
+        idx = np.arange(i, j + 1) if j >= i else np.r_[i:n, 0 : j + 1]
+        return float(np.linalg.norm(np.diff(self.points[idx], axis=0), axis=1).sum())
+
+    def notch_offsets(self, start: str, end: str) -> list[float]:
+        """Arc lengths (cm from ``start``) of the notches strictly inside the range."""
+        n = len(self.points)
+        i, j = self.marks[start], self.marks[end]
+        idx = np.arange(i, j + 1) if j >= i else np.r_[i:n, 0 : j + 1]
+        cum = arc_lengths(self.points[idx])
+        notch_idx = {self.marks[m] for m in self.notches}
+        return [float(cum[k]) for k in range(1, len(idx) - 1) if int(idx[k]) in notch_idx]
 
 
 class OutlineBuilder:
@@ -218,10 +281,41 @@ class OutlineBuilder:
 
     def curve(self, c1, c2, p3, mark: str | None = None, *, n: int = 10,
               allowance_cm: float = 1.0, notch: bool = False,
-              at: Sequence[tuple[float, str, bool]] = ()) -> None:
+              at: Sequence[tuple[float, str, bool]] = (),
+              end_kind: VertexKind = VertexKind.TURN) -> None:
         """Cubic Bézier from the current vertex with controls ``c1``, ``c2`` to ``p3``."""
         self.polyline(bezier(self._pts[-1], c1, c2, p3, n), mark, allowance_cm=allowance_cm,
-                      notch=notch, at=at)
+                      notch=notch, at=at, end_kind=end_kind)
+
+    def bezier(self, ctrl, mark: str | None = None, *, n: int = 10, allowance_cm: float = 1.0,
+               notch: bool = False, at: Sequence[tuple[float, str, bool]] = (),
+               end_kind: VertexKind = VertexKind.TURN) -> None:
+        """Cubic Bézier given as (4, 2) controls whose first row is the current vertex.
+
+        Marks ``at`` arc lengths split the curve there; each part is sampled
+        with a fixed share of the ``n`` segments, so the vertex count and the
+        marks' indices do not depend on where the marks fall (unlike
+        :meth:`polyline`'s insertion, which is only safe far from vertices).
+        """
+        c = np.asarray(ctrl, dtype=np.float64)
+        if not at:
+            self.curve(c[1], c[2], c[3], mark, n=n, allowance_cm=allowance_cm, notch=notch, end_kind=end_kind)
+            return
+        dense_t = np.linspace(0.0, 1.0, 4001)
+        cum = arc_lengths(bezier(*c, 4000))
+        stops = sorted(at, key=lambda a: a[0])
+        ts = [float(np.interp(s, cum, dense_t)) for s, _m, _k in stops]
+        k = len(stops) + 1
+        counts = [max(2, n // k)] * (k - 1) + [max(2, n - (n // k) * (k - 1))]
+        rest, t_done = c, 0.0
+        for (s, name, is_notch), t, m in zip(stops, ts, counts):
+            local = (t - t_done) / (1.0 - t_done)
+            part, rest = bezier_split(rest, local)
+            t_done = t
+            self.polyline(bezier(*part, m), name, allowance_cm=allowance_cm, notch=is_notch,
+                          end_kind=VertexKind.CURVE)
+        self.polyline(bezier(*rest, counts[-1]), mark, allowance_cm=allowance_cm, notch=notch,
+                      end_kind=end_kind)
 
     def close(self, *, allowance_cm: float = 1.0) -> NetOutline:
         """Close the walk (last vertex back to the first) and return the net outline.
