@@ -145,7 +145,12 @@ def _closed(points: np.ndarray) -> np.ndarray:
 
 
 def _label_point(outline: np.ndarray) -> np.ndarray:
-    """Pole of inaccessibility of the outline (the roomiest spot for a label)."""
+    """A roomy spot inside the outline for the label.
+
+    The pole of inaccessibility is the roomiest point, but on long strips many
+    points tie and it may sit near an end; the centroid or the bounding-box
+    centre is taken instead when it is nearly as far from the boundary.
+    """
     import shapely
     from shapely.ops import polylabel
 
@@ -157,8 +162,14 @@ def _label_point(outline: np.ndarray) -> np.ndarray:
     if poly.geom_type != "Polygon":
         poly = max(poly.geoms, key=lambda g: g.area)
     size = max(np.ptp(outline[:, 0]), np.ptp(outline[:, 1]), 1e-9)
-    p = polylabel(poly, tolerance=size / 200.0)
-    return np.array([p.x, p.y])
+    pole = polylabel(poly, tolerance=size / 200.0)
+    lo, hi = outline.min(axis=0), outline.max(axis=0)
+    candidates = [poly.centroid, shapely.Point((lo + hi) / 2.0), pole]
+    ring = poly.exterior
+    room = [ring.distance(c) if poly.contains(c) else -1.0 for c in candidates]
+    best = max(room)
+    pick = next(c for c, r in zip(candidates, room) if r >= 0.8 * best)
+    return np.array([pick.x, pick.y])
 
 
 def _quantity_text(piece: Piece) -> str:
@@ -283,8 +294,12 @@ def _figure(extent: np.ndarray, *, legend_rows: int = 0):
 
 
 def _save(fig, path: Path) -> Path:
+    import matplotlib
+
     fmt = _format_for(path)
-    with atomic_path(path) as tmp:
+    # SVG keeps text as text: searchable and editable in a drawing program
+    with matplotlib.rc_context({"svg.fonttype": "none", "svg.hashsalt": "patternbridge"}), \
+            atomic_path(path) as tmp:
         fig.savefig(tmp, format=fmt, dpi=150, metadata=_metadata(fmt))
     return path
 
