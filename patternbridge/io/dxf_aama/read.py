@@ -824,10 +824,14 @@ def _unfold(piece: Piece, table: GradeRuleTable, report: Report, where: str,
 
 
 def _find_rul(path: Path) -> Path | None:
-    for cand in path.parent.iterdir() if path.parent.is_dir() else ():
-        if cand.stem == path.stem and cand.suffix.lower() == ".rul" and cand.is_file():
-            return cand
-    return None
+    """The .RUL beside ``path``: same stem (exact case first, then any case), suffix in any case."""
+    try:
+        cands = sorted(c for c in path.parent.iterdir() if c.suffix.lower() == ".rul" and c.is_file())
+    except OSError:
+        return None
+    exact = [c for c in cands if c.stem == path.stem]
+    loose = [c for c in cands if c.stem.lower() == path.stem.lower()]
+    return (exact or loose or [None])[0]
 
 
 def _units_override(units) -> Units | None:
