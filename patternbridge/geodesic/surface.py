@@ -217,6 +217,28 @@ class SurfaceMesh:
             self._cache["comp"] = lab.astype(np.int64)
         return self._cache["comp"]
 
+    @property
+    def neighbour_table(self) -> np.ndarray:
+        """(V, D) int64 one-ring neighbours, rows padded with the vertex itself."""
+        if "nbt" not in self._cache:
+            g = self.graph
+            deg = np.diff(g.indptr)
+            d = int(deg.max()) if len(deg) else 0
+            tab = np.repeat(np.arange(self.n_vertices, dtype=np.int64)[:, None], max(d, 1),
+                            axis=1)
+            rows = np.repeat(np.arange(self.n_vertices), deg)
+            cols = np.arange(len(rows)) - np.repeat(g.indptr[:-1], deg)
+            tab[rows, cols] = g.indices
+            self._cache["nbt"] = tab
+        return self._cache["nbt"]
+
+    @property
+    def all_vertex_normals(self) -> np.ndarray:
+        """(V, 3) float64 tangent-plane normals of every vertex (cached)."""
+        if "vn" not in self._cache:
+            self._cache["vn"] = self.vertex_normals(np.arange(self.n_vertices))
+        return self._cache["vn"]
+
     def faces_of(self, v: int) -> np.ndarray:
         """Usable faces around vertex ``v`` (int64 array)."""
         indptr, fl = self.vertex_faces

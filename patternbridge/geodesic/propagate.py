@@ -1,0 +1,292 @@
+"""Single source, all destinations: the wavefront propagation with curvature flow.
+
+No priority queue: the wavefront grows in bands of one mean edge length (the
+radius limit ``r_max`` of the propagation rises band by band); a new vertex
+takes the *straightest* path among its visited neighbours (the smallest turn
+between the neighbour's path tangent and the edge towards the new vertex,
+among neighbours whose distance estimate is close to the best) and extends it
+by the edge; then the path is relaxed by the least-squares curvature flow.
+
+* windowed form (``window=w``): only the last ``w`` samples of each path are
+  re-solved, the rest is frozen, so each vertex costs a constant and the whole
+  propagation is linear in the number of vertices. The windows of one band are
+  independent and solved together as a stack of small dense systems.
+* full form (``window=None``): every path is re-solved whole (slow; small
+  meshes only).
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable
+
+import numpy as np
+
+from ..errors import MeshError
+from .surface import SurfaceMesh, SurfacePoint
+
+__all__ = ["geodesic_distances", "solve_windows"]
+
+log = logging.getLogger(__name__)
+
+_FIX_WEIGHT = 1e4
+_NEAR = 0.5
+
+
+def _tangent_bases(normals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Two unit tangent vectors per normal (..., 3) -> (..., 3), (..., 3)."""
+    helper = np.where((np.abs(normals[..., 0]) < 0.9)[..., None], [1.0, 0.0, 0.0],
+                      [0.0, 1.0, 0.0])
+    t1 = np.cross(normals, helper)
+    t1 /= np.linalg.norm(t1, axis=-1, keepdims=True)
+    t2 = np.cross(normals, t1)
+    return t1, t2
+
+
+def solve_windows(points: np.ndarray, normals: np.ndarray, anchors_xyz: np.ndarray,
+                  free: np.ndarray) -> np.ndarray:
+    """Least-squares curvature flow on a stack of windows at once.
+
+    Parameters
+    ----------
+    points : (B, w, 3) float64, cm, current samples
+    normals : (B, w, 3) float64, tangent-plane normals at the samples
+    anchors_xyz : (B, w, 3) float64, a point of each tangent plane (the vertex)
+    free : (B, w) bool, samples that may move; the first and last must be fixed
+
+    Returns
+    -------
+    (B, w, 3) float64 relaxed samples with zero tangential curvature
+    ``(I - n n^T) K p = 0`` and ``n . p = n . anchor`` at the free samples.
+
+    Notes
+    -----
+    The system of :func:`patternbridge.geodesic.flow.lsq_step` is consistent
+    (three independent rows per free sample), so its least-squares solution
+    solves it exactly. Writing each free sample as ``anchor + T u`` with ``T`` an
+    orthonormal tangent basis satisfies the plane rows identically and leaves
+    two tangential rows per sample: a square (2m, 2m) system per window, solved
+    for the whole stack with one batched dense solve.
+    """
+    B, w, _ = points.shape
+    t1, t2 = _tangent_bases(normals)
+    T = np.stack([t1, t2], axis=-1)  # (B, w, 3, 2)
+    fr = free.astype(np.float64)
+    base = np.where(free[..., None], anchors_xyz, points)  # p = base + T u (free)
+    # rows: for interior sample i, T_i^T (p_{i-1} - 2 p_i + p_{i+1}) = 0
+    M = np.zeros((B, w, 2, w, 2))
+    i = np.arange(1, w - 1)
+    TT = np.einsum("bwci,bwcj->bwij", T[:, 1:-1], T[:, :-2])  # T_i^T T_{i-1}
+    TU = np.einsum("bwci,bwcj->bwij", T[:, 1:-1], T[:, 2:])   # T_i^T T_{i+1}
+    M[:, i, :, i - 1, :] = np.moveaxis(TT * (fr[:, :-2] * fr[:, 1:-1])[..., None, None], 1, 0)
+    M[:, i, :, i + 1, :] = np.moveaxis(TU * (fr[:, 2:] * fr[:, 1:-1])[..., None, None], 1, 0)
+    M[:, i, :, i, :] = np.moveaxis(-2.0 * np.eye(2) * fr[:, 1:-1, None, None], 1, 0)
+    lap = base[:, :-2] - 2.0 * base[:, 1:-1] + base[:, 2:]
+    rhs = np.zeros((B, w, 2))
+    rhs[:, 1:-1] = -np.einsum("bwci,bwc->bwi", T[:, 1:-1], lap)
+    # fixed samples: identity rows, u = 0
+    k = np.arange(w)
+    M[:, k, :, k, :] += np.moveaxis((1.0 - fr)[..., None, None] * np.eye(2), 1, 0)
+    rhs *= fr[..., None]
+    u = np.linalg.solve(M.reshape(B, 2 * w, 2 * w), rhs.reshape(B, 2 * w, 1))
+    u = u.reshape(B, w, 2)
+    return base + np.einsum("bwcj,bwj->bwc", T, u) * fr[..., None]
+
+
+def _neighbours(indptr, indices, verts):
+    cnt = indptr[verts + 1] - indptr[verts]
+    own = np.repeat(verts, cnt)
+    pos = np.repeat(indptr[verts] - np.cumsum(cnt) + cnt, cnt) + np.arange(cnt.sum())
+    return own, indices[pos]
+
+
+def geodesic_distances(mesh: SurfaceMesh, source, *, r_max: float | None = None,
+                       window: int | None = 8,
+                       progress: Callable[[str, int, int], None] | None = None
+                       ) -> np.ndarray:
+    """Geodesic distance from one source vertex to every vertex.
+
+    Parameters
+    ----------
+    mesh : SurfaceMesh
+    source : int vertex id or SurfacePoint at a vertex (a face point is snapped
+        to its nearest corner)
+    r_max : float, cm, or None
+        Stop the propagation at this radius; vertices beyond get ``inf``.
+    window : int or None
+        Samples re-solved per new vertex (>= 3); ``None`` re-solves whole paths.
+    progress : optional ``progress(stage, done, total)``
+
+    Returns
+    -------
+    (V,) float64, cm; ``inf`` for vertices beyond ``r_max`` or not connected.
+    """
+    if not isinstance(mesh, SurfaceMesh):
+        raise MeshError(f"geodesic: expected a SurfaceMesh, got {type(mesh).__name__}; "
+                        "wrap the arrays with SurfaceMesh(vertices, faces)")
+    sp_ = mesh.check_point(source, "source")
+    if sp_.vertex_id is None:
+        sp_ = SurfacePoint.vertex(int(mesh.faces[sp_.face, int(np.argmax(sp_.bary))]))
+    src = sp_.vertex_id
+    if window is not None and window < 3:
+        raise MeshError(f"geodesic: window {window} is too small (need >= 3 samples); "
+                        "pass window >= 3 or None for the full form")
+    if r_max is not None and not r_max > 0:
+        raise MeshError(f"geodesic: r_max {r_max} is not a positive length in cm; "
+                        "pass r_max > 0 or None")
+    full = window is None
+    w = 3 if full else int(window)
+    g = mesh.graph
+    indptr, indices, weights = g.indptr, g.indices, g.data
+    V = mesh.vertices
+    nv = mesh.n_vertices
+    step = mesh.edge_mean
+    limit = np.inf if r_max is None else float(r_max)
+
+    dist = np.full(nv, np.inf)
+    visited = np.zeros(nv, dtype=bool)
+    parent = np.full(nv, -1, dtype=np.int64)
+    tails = np.zeros((nv, w, 3)) if not full else None
+    tail_ids = np.full((nv, w), -1, dtype=np.int64) if not full else None
+    dstart = np.zeros(nv)
+    normal_cache = mesh.all_vertex_normals
+
+    def normals_of(ids):
+        return normal_cache[np.asarray(ids)]
+
+    dist[src] = 0.0
+    visited[src] = True
+    if not full:
+        tails[src, :] = V[src]
+        tail_ids[src, :] = src
+    front = np.array([src], dtype=np.int64)
+    pending = np.zeros(0, dtype=np.int64)
+    r = 0.0
+    done = 1
+    while True:
+        _, nb = _neighbours(indptr, indices, front)
+        cand = np.unique(np.concatenate([pending, nb]))
+        cand = cand[~visited[cand]]
+        if len(cand) == 0:
+            break
+        own, nbr = _neighbours(indptr, indices, cand)
+        ok = visited[nbr]
+        own, nbr = own[ok], nbr[ok]
+        el = np.linalg.norm(V[own] - V[nbr], axis=1)
+        dest = dist[nbr] + el
+        order = np.lexsort((dest, own))
+        own, nbr, el, dest = own[order], nbr[order], el[order], dest[order]
+        firsts = np.ones(len(own), dtype=bool)
+        firsts[1:] = own[1:] != own[:-1]
+        grp = np.cumsum(firsts) - 1
+        best = dest[firsts]
+        best_own = own[firsts]
+        lo = best.min()
+        if lo > limit:
+            break
+        r = max(r + step, lo)
+        accept_mask = best <= r
+        acc = best_own[accept_mask]
+        # straightest parent among neighbours whose estimate is near the best
+        near = dest <= best[grp] + _NEAR * el
+        near &= accept_mask[grp]
+        if full:
+            tan = np.where((parent[nbr] >= 0)[:, None],
+                           V[nbr] - V[np.maximum(parent[nbr], 0)], 0.0)
+        else:
+            tan = tails[nbr, -1] - tails[nbr, -2]
+        edge = V[own] - V[nbr]
+        tn = np.linalg.norm(tan, axis=1)
+        cosang = np.where(tn > 0, np.einsum("ij,ij->i", tan, edge) / (tn * el + 1e-300), 1.0)
+        score = np.where(near, -cosang, np.inf)
+        o2 = np.lexsort((score, own))
+        own2, nbr2, sc2 = own[o2], nbr[o2], score[o2]
+        f2 = np.ones(len(own2), dtype=bool)
+        f2[1:] = own2[1:] != own2[:-1]
+        sel = f2 & np.isfinite(sc2)
+        q = own2[sel]
+        p = nbr2[sel]
+        if len(q):
+            parent[q] = p
+            visited[q] = True
+            if full:
+                _solve_full(mesh, q, parent, dist, normals_of)
+            else:
+                _solve_windowed(mesh, q, p, tails, tail_ids, dstart, dist, normals_of)
+            done += len(q)
+            if progress is not None:
+                progress("propagate", done, nv)
+        front = q
+        pending = cand[~visited[cand]]
+        if r > limit and len(q) == 0:
+            break
+    dist[dist > limit] = np.inf
+    return dist
+
+
+def _solve_windowed(mesh, q, p, tails, tail_ids, dstart, dist, normals_of) -> None:
+    V = mesh.vertices
+    w = tails.shape[1]
+    full_p = tail_ids[p, 0] >= 0
+    # shift the parent's window by one and append the new vertex
+    new_pts = np.concatenate([tails[p, 1:], V[q][:, None, :]], axis=1)
+    new_ids = np.concatenate([tail_ids[p, 1:], q[:, None]], axis=1)
+    seg0 = np.linalg.norm(tails[p, 1] - tails[p, 0], axis=1)
+    dstart[q] = dstart[p] + np.where(full_p, seg0, 0.0)
+    valid = new_ids >= 0
+    # pad the unused front slots with the first valid sample
+    first = np.argmax(valid, axis=1)
+    rows = np.arange(len(q))
+    pad = ~valid
+    new_pts = np.where(pad[..., None], new_pts[rows, first][:, None, :], new_pts)
+    new_ids = np.where(pad, new_ids[rows, first][:, None], new_ids)
+    free = valid.copy()
+    free[rows, first] = False
+    free[:, -1] = False
+    if free.any():
+        new_ids = _reanchor(mesh, new_pts, new_ids, free)
+        nrm = normals_of(new_ids.ravel()).reshape(len(q), w, 3)
+        anc = V[new_ids]
+        new_pts = solve_windows(new_pts, nrm, anc, free)
+    tails[q] = new_pts
+    tail_ids[q] = np.where(valid, new_ids, -1)
+    seg = np.linalg.norm(np.diff(new_pts, axis=1), axis=2).sum(axis=1)
+    dist[q] = dstart[q] + seg
+
+
+def _reanchor(mesh, pts, ids, free, n_steps: int = 2):
+    """Move each free sample's anchor to the nearest vertex of its one ring
+    (a local descent, as the samples drift away from their first vertices)."""
+    tab = mesh.neighbour_table
+    V = mesh.vertices
+    sel = np.flatnonzero(free.ravel())
+    cur = ids.ravel()[sel]
+    x = pts.reshape(-1, 3)[sel]
+    for _ in range(n_steps):
+        cand = tab[cur]  # (n, D), padded with cur itself
+        diff = V[cand] - x[:, None, :]
+        d2 = np.einsum("ijk,ijk->ij", diff, diff)
+        nxt = cand[np.arange(len(cur)), np.argmin(d2, axis=1)]
+        if np.array_equal(nxt, cur):
+            break
+        cur = nxt
+    out = ids.copy().ravel()
+    out[sel] = cur
+    return out.reshape(ids.shape)
+
+
+def _solve_full(mesh, q, parent, dist, normals_of) -> None:
+    from .flow import lsq_step
+
+    V = mesh.vertices
+    for v in q.tolist():
+        ids = [v]
+        while parent[ids[-1]] >= 0:
+            ids.append(int(parent[ids[-1]]))
+        ids = np.array(ids[::-1])
+        pts = V[ids]
+        if len(ids) >= 3:
+            nrm = normals_of(ids)
+            off = np.einsum("ij,ij->i", pts - V[ids], nrm)
+            pts = lsq_step(pts, nrm, pts - off[:, None] * nrm)
+        dist[v] = float(np.linalg.norm(np.diff(pts, axis=0), axis=1).sum())

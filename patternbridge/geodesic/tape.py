@@ -1,0 +1,127 @@
+"""Tape correction: a real tape bridges concave stretches instead of following them.
+
+A point of a surface path is concave when its curve normal (the second
+difference ``p_{i-1} - 2 p_i + p_{i+1}``) agrees with the outward surface
+normal: the skin curves away under the tape there. Such points are moved onto
+the line through their neighbours, alternately on even and odd indices, until
+none is left. Points of an exempt section (a bent elbow, say) stay on the skin.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import MeshError
+
+__all__ = ["exempt_mask", "tape_correct"]
+
+
+def exempt_mask(points: np.ndarray, exempt) -> np.ndarray:
+    """(k,) bool mask of exempt points.
+
+    Parameters
+    ----------
+    points : (k, 3) float64, cm
+    exempt : None, a (k,) bool mask, or a sequence of ``(start, stop)`` fractions
+        of the path length in [0, 1]
+    """
+    k = len(points)
+    if exempt is None:
+        return np.zeros(k, dtype=bool)
+    arr = np.asarray(exempt)
+    if arr.dtype == bool:
+        if arr.shape != (k,):
+            raise MeshError(f"tape: exempt mask has shape {arr.shape}, expected ({k},); "
+                            "pass one flag per path point or (start, stop) fractions")
+        return arr.copy()
+    arr = np.asarray(exempt, dtype=np.float64).reshape(-1, 2) if arr.size else np.zeros((0, 2))
+    if np.any(arr < 0) or np.any(arr > 1) or np.any(arr[:, 0] > arr[:, 1]):
+        raise MeshError(f"tape: exempt sections {arr.tolist()} are not (start, stop) "
+                        "fractions with 0 <= start <= stop <= 1; fix the sections")
+    seg = np.linalg.norm(np.diff(points, axis=0), axis=1)
+    s = np.concatenate([[0.0], np.cumsum(seg)])
+    t = s / s[-1] if s[-1] > 0 else np.zeros(k)
+    mask = np.zeros(k, dtype=bool)
+    for a, b in arr:
+        mask |= (t >= a) & (t <= b)
+    return mask
+
+
+def tape_correct(points, normals, exempt=None, *, tol_cm: float = 1e-6,
+                 max_sweeps: int | None = None) -> np.ndarray:
+    """Straighten the concave stretches of a path like a taut tape.
+
+    Parameters
+    ----------
+    points : (k, 3) float64, cm, a path on the surface
+    normals : (k, 3) float64, outward unit surface normals at the points
+    exempt : None, (k,) bool mask, or sequence of (start, stop) length fractions
+        of sections that stay on the skin
+    tol_cm : a point is concave when its curve normal has more than this
+        component along the surface normal
+    max_sweeps : cap on the even/odd sweeps (default ``4 k``)
+
+    Returns
+    -------
+    (k', 3) float64, cm: the corrected path; points left exactly on a straight
+    span between their neighbours are dropped (the ends always stay).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> p = np.array([[0.0, 0, 0], [1, -1, 0], [2, 0, 0]])
+    >>> n = np.tile([0.0, 1, 0], (3, 1))
+    >>> tape_correct(p, n).tolist()
+    [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0]]
+    """
+    p = np.array(points, dtype=np.float64)
+    n = np.array(normals, dtype=np.float64)
+    if p.ndim != 2 or p.shape[1] != 3 or n.shape != p.shape:
+        raise MeshError(f"tape: points {p.shape} and normals {n.shape} must both be "
+                        "(k, 3); pass one normal per point")
+    k = len(p)
+    if k < 3:
+        return p
+    fixed = exempt_mask(p, exempt)
+    fixed[[0, -1]] = True
+    sweeps = max_sweeps or 4 * k
+    idx = np.arange(1, k - 1)
+    groups = (idx[idx % 2 == 1], idx[idx % 2 == 0])
+    moved = np.zeros(k, dtype=bool)
+    for _ in range(sweeps):
+        changed = False
+        for g in groups:
+            g = g[~fixed[g]]
+            if len(g) == 0:
+                continue
+            a, b = p[g - 1], p[g + 1]
+            c = a - 2 * p[g] + b
+            concave = np.einsum("ij,ij->i", c, n[g]) > tol_cm
+            if not concave.any():
+                continue
+            g, a, b = g[concave], a[concave], b[concave]
+            d = b - a
+            dd = np.einsum("ij,ij->i", d, d)
+            t = np.where(dd > 0, np.einsum("ij,ij->i", p[g] - a, d) / np.where(dd > 0, dd, 1), 0.0)
+            p[g] = a + np.clip(t, 0.0, 1.0)[:, None] * d
+            moved[g] = True
+            changed = True
+        if not changed:
+            break
+    # drop moved points lying on the straight span between their neighbours
+    keep = np.ones(k, dtype=bool)
+    i = 1
+    last = 0
+    while i < k - 1:
+        if moved[i] and not fixed[i]:
+            a, b = p[last], p[i + 1]
+            d = b - a
+            dd = float(d @ d)
+            t = float((p[i] - a) @ d) / dd if dd > 0 else 0.0
+            if np.linalg.norm(a + t * d - p[i]) < 1e-9:
+                keep[i] = False
+                i += 1
+                continue
+        last = i
+        i += 1
+    return p[keep]
