@@ -67,6 +67,11 @@ def frame_angle(piece: Piece) -> float:
     return float(np.arctan2(d[1], d[0]))
 
 
+def _left(e: np.ndarray) -> np.ndarray:
+    """Inward normal of an edge of a CCW outline (its left side)."""
+    return np.array([-e[1], e[0]])
+
+
 def inward_angles(outline: np.ndarray, vertices: Iterable[int]) -> np.ndarray:
     """Direction into the piece at boundary vertices, radians CCW from +x.
 
@@ -108,10 +113,9 @@ def inward_angles(outline: np.ndarray, vertices: Iterable[int]) -> np.ndarray:
         if prev_dir is None or next_dir is None:
             out.append(0.0)
             continue
-        left = lambda e: np.array([-e[1], e[0]])  # noqa: E731 - inward normal of a CCW edge
-        b = left(prev_dir) + left(next_dir)
+        b = _left(prev_dir) + _left(next_dir)
         if np.hypot(*b) < 1e-9:  # a cusp: the edges fold back on each other
-            b = -prev_dir + next_dir if np.hypot(*(-prev_dir + next_dir)) > 1e-9 else left(next_dir)
+            b = -prev_dir + next_dir if np.hypot(*(-prev_dir + next_dir)) > 1e-9 else _left(next_dir)
         out.append(float(np.arctan2(b[1], b[0])))
     return np.array(out, dtype=np.float64)
 
@@ -422,10 +426,10 @@ def _nest_sizes(sample: Pattern, nest: Mapping) -> tuple[str, ...]:
     return sizes
 
 
-def _stack(sample_pts: np.ndarray, per_size: list, sizes, what: str) -> np.ndarray | None:
+def _stack(sample_pts: np.ndarray, per_size: list) -> np.ndarray | None:
     """(n_sizes, n, 2) from a list of arrays or None (None = take the sample)."""
     out = []
-    for size, pts in zip(sizes, per_size):
+    for pts in per_size:
         if pts is None:
             out.append(sample_pts)
             continue
@@ -486,7 +490,7 @@ def rules_from_nest(
             except KeyError:
                 raise ValueError(f"graded nest: piece {piece.name!r} missing in size {size!r}") from None
         outlines = [v.outline if isinstance(v, Piece) else v for v in per_size]
-        stack = _stack(piece.outline, outlines, sizes, "outline")
+        stack = _stack(piece.outline, outlines)
         if stack is None:
             counts = {s: len(np.asarray(o)) for s, o in zip(sizes, outlines) if o is not None}
             raise ValueError(
@@ -495,7 +499,7 @@ def rules_from_nest(
             )
         inv = _rotation(-frame_angle(piece))
 
-        def local(pts_stack: np.ndarray, base: np.ndarray) -> np.ndarray:
+        def local(pts_stack: np.ndarray, base: np.ndarray, inv: np.ndarray = inv) -> np.ndarray:
             # (n_sizes, n, 2) positions -> (n, n_sizes, 2) deltas in the rule frame
             return np.einsum("ij,snj->nsi", inv, pts_stack - base[None])
 
@@ -537,7 +541,7 @@ def _derive_elements(piece: Piece, full: list, sizes, book: _RuleBook, local) ->
             continue
         new = []
         for j, pl in enumerate(items):
-            stack = _stack(pl.points, [None if o is None else o[j].points for o in per], sizes, attr)
+            stack = _stack(pl.points, [None if o is None else o[j].points for o in per])
             if stack is None:
                 new.append(pl)
                 continue
@@ -551,7 +555,7 @@ def _derive_elements(piece: Piece, full: list, sizes, book: _RuleBook, local) ->
         per = others(attr)
         if line is None or any(o is None for o, s in zip(per, full) if s is not None):
             continue
-        stack = _stack(line.points, [None if o is None else o.points for o in per], sizes, attr)
+        stack = _stack(line.points, [None if o is None else o.points for o in per])
         if stack is not None:
             d = local(stack, line.points)
             changes[attr] = dataclasses.replace(line, rules=tuple(
@@ -561,7 +565,7 @@ def _derive_elements(piece: Piece, full: list, sizes, book: _RuleBook, local) ->
         per = others("drill_holes")
         if all(o is None or len(o) == len(piece.drill_holes) for o in per):
             base = np.array([h.position for h in piece.drill_holes])
-            stack = _stack(base, [None if o is None else np.array([h.position for h in o]) for o in per], sizes, "drill")
+            stack = _stack(base, [None if o is None else np.array([h.position for h in o]) for o in per])
             if stack is not None:
                 d = local(stack, base)
                 changes["drill_holes"] = tuple(
@@ -637,7 +641,7 @@ def add_size(
     k_new = len(old_sizes) if position is None else int(position)
     if not 0 <= k_new <= len(old_sizes):
         raise ValueError(f"add_size: position {position} outside 0..{len(old_sizes)}")
-    new_sizes = old_sizes[:k_new] + (size,) + old_sizes[k_new:]
+    new_sizes = (*old_sizes[:k_new], size, *old_sizes[k_new:])
 
     def widen(old: np.ndarray, new: np.ndarray) -> np.ndarray:
         return np.insert(np.asarray(old), k_new, new, axis=0)
@@ -677,7 +681,7 @@ def add_size(
     # rules used only off the boundary: give them the new-size displacement of
     # the nearest boundary vertex of the first point that uses them
     out_pieces = []
-    for piece, rules, disp, target, inv in pieces:
+    for piece, rules, _, target, inv in pieces:
         moved = target - piece.outline
         for pts, rls in _off_boundary_points(piece):
             for p, r in zip(pts, rls):

@@ -471,7 +471,7 @@ def _insert_points(pts: np.ndarray, inserts: list[tuple[int, float]]) -> tuple[n
     return np.array(out, dtype=np.float64).reshape(-1, 2), old_to_new, new_index
 
 
-def _polylines(items, tol) -> list[tuple[np.ndarray, bool]]:
+def _polylines(items) -> list[tuple[np.ndarray, bool]]:
     return [(np.asarray(p, dtype=np.float64), c) for p, c in items if len(p) >= 2]
 
 
@@ -555,7 +555,7 @@ class _PieceBuilder:
                 self.report.add("notch-off-boundary",
                                 f"notch at ({pos[0]:.4f}, {pos[1]:.4f}) is {dist:.4g} file units off the "
                                 "boundary; snapped to it", where, fixed=True)
-            if t <= 0.0 or dist <= self.tol and t == 0.0:
+            if t <= 0.0:
                 notch_locs.append(("vertex", e, layer, depth, width, ang, pos))
             elif t >= 1.0:
                 notch_locs.append(("vertex", (e + 1) % len(pts), layer, depth, width, ang, pos))
@@ -652,7 +652,7 @@ class _PieceBuilder:
         labels = [k for k, (lay, _, _, _, _) in enumerate(raw.texts) if lay == Layer.INTERNAL]
         used_labels: set[int] = set()
         internal = []
-        for pts, closed in _polylines(raw.internal, self.tol):
+        for pts, closed in _polylines(raw.internal):
             label = None
             for k in labels:
                 if k not in used_labels and np.hypot(*(raw.texts[k][2] - pts[0])) <= self.tol:
@@ -661,7 +661,7 @@ class _PieceBuilder:
                     break
             internal.append(poly(pts, closed, label))
         out["internal_lines"] = tuple(internal)
-        out["cutouts"] = tuple(poly(p, True, layer=11) for p, _ in _polylines(raw.cutouts, self.tol))
+        out["cutouts"] = tuple(poly(p, True, layer=11) for p, _ in _polylines(raw.cutouts))
         out["sew_lines"] = tuple(poly(p, c, layer=14) for p, c in _sew_lines(raw, self.tol))
         drill_texts = [(s, pos) for lay, s, pos, _, _ in raw.texts if lay == Layer.DRILL]
         holes = []
@@ -705,7 +705,7 @@ class _PieceBuilder:
         }
 
     # ---- other sizes of a nest ----------------------------------------------------------------
-    def graded(self, name: str, size: str, raw: _RawBlock, recipe: _BoundaryRecipe, sample: Piece) -> Piece | None:
+    def graded(self, name: str, size: str, raw: _RawBlock, recipe: _BoundaryRecipe) -> Piece | None:
         chain, _, _, unjoined = _chain(raw.boundary, self.tol)
         pts = None if unjoined else recipe.apply(chain)
         if pts is None:
@@ -1002,7 +1002,7 @@ def _build(path, blocks, entities, report, *, rul, units, unfold, strict) -> tup
         pieces.append(piece)
         for size in nest:
             raw = by_size.get(size)
-            graded = None if raw is None else builder.graded(name, size, raw, recipe, piece)
+            graded = None if raw is None else builder.graded(name, size, raw, recipe)
             if raw is None:
                 report.add("nest-size-missing", f"piece {name!r} has no block in size {size}", where)
             nest[size][name] = graded if graded is not None else piece
