@@ -1,0 +1,205 @@
+"""The six shared characters: completeness, symmetry, shape ordering, pose invariance, bad input."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+
+import numpy as np
+import pytest
+
+from patternbridge.cli.main import main
+from patternbridge.errors import LandmarkError
+from patternbridge.measure import (
+    MEASUREMENT_IDS,
+    load_measurements,
+    measure,
+    measurements_to_dict,
+    write_measurements,
+)
+from patternbridge.mesh.character import Landmark
+from patternbridge.mesh.landmarks import LANDMARK_NAMES, detect_landmarks, landmark_errors
+from patternbridge.mesh.load import load_character
+
+pytestmark = pytest.mark.shared
+
+NAMES = ("A_superhero", "B_slim_female", "C_heavy_male", "D_cartoon_child", "E_average_male", "F_tall_thin_elder")
+
+
+@pytest.fixture(scope="module")
+def characters(characters_dir):
+    return {n[0]: load_character(characters_dir / f"{n}.obj")[0] for n in NAMES}
+
+
+@pytest.fixture(scope="module")
+def results(characters):
+    return {k: measure(c) for k, c in characters.items()}
+
+
+def test_every_id_measured(results, characters_dir):
+    index = json.loads((characters_dir / "index.json").read_text())["characters"]
+    for key, res in results.items():
+        values = res.values_cm()
+        assert list(values) == list(MEASUREMENT_IDS), key
+        assert all(np.isfinite(x) and x > 0 for x in values.values()), key
+        name = next(n for n in NAMES if n[0] == key)
+        assert values["stature"] == pytest.approx(index[name]["stature_cm"], abs=0.06)
+        assert all(lm.source == "file" for lm in res.landmarks.values())
+
+
+def test_left_right_agree(results):
+    for key, res in results.items():
+        v = res.values_cm()
+        for mid in v:
+            if mid.endswith("_left"):
+                right = v[mid.replace("_left", "_right")]
+                assert v[mid] == pytest.approx(right, rel=0.01), (key, mid)
+
+
+def test_values_follow_the_shapes(results):
+    v = {k: r.values_cm() for k, r in results.items()}
+    assert v["A"]["chest_girth"] > 1.3 * v["E"]["chest_girth"]
+    assert v["D"]["arm_length_left"] < 0.75 * v["E"]["arm_length_left"]
+    assert v["C"]["waist_girth"] > 1.25 * v["E"]["waist_girth"]  # the belly
+    assert v["A"]["upper_arm_girth_left"] > 1.3 * v["E"]["upper_arm_girth_left"]
+    assert v["A"]["waist_girth"] < v["E"]["waist_girth"]  # V shape
+    assert v["B"]["hip_girth"] > v["B"]["chest_girth"] > v["B"]["waist_girth"]
+    assert v["D"]["head_girth"] > 0.95 * v["E"]["head_girth"]  # enlarged head on a child
+    for r in v.values():  # plausible order of magnitude everywhere
+        assert r["wrist_girth_left"] < r["elbow_girth_left"] + 3 < r["upper_arm_girth_left"] + 6
+        assert r["ankle_girth_left"] < r["calf_girth_left"] < r["thigh_girth_left"]
+        assert r["inside_leg_left"] < r["outside_leg_left"] < r["stature"]
+        assert r["arm_length_left"] < r["neck_to_wrist_left"]
+
+
+def test_json_round_trip(results, tmp_path):
+    res = results["E"]
+    path = write_measurements(tmp_path / "m.json", res)
+    back = load_measurements(path)
+    assert back.values_cm() == pytest.approx(res.values_cm(), abs=1e-3)
+    d = measurements_to_dict(back)
+    assert d["units"] == "cm" and set(d["landmarks"]) == set(LANDMARK_NAMES)
+    m = d["measurements"]["waist_girth"]
+    assert m["kind"] == "girth" and len(m["polyline"]) > 10 and m["landmarks"]
+    assert d["measurements"]["arm_length_left"]["kind"] == "length"
+    assert {"units", "up", "component", "source"} <= set(d["assumed"])
+    # a closed hull: first point repeated, girth = polyline length
+    poly = np.array(m["polyline"])
+    np.testing.assert_allclose(poly[0], poly[-1])
+    assert np.linalg.norm(np.diff(poly, axis=0), axis=1).sum() == pytest.approx(m["value_cm"], abs=0.01)
+    (tmp_path / "plain.json").write_text(json.dumps({"waist_girth": 80.5}))
+    assert load_measurements(tmp_path / "plain.json").values_cm() == {"waist_girth": 80.5}
+
+
+def test_bad_measurement_files(tmp_path):
+    from patternbridge.errors import InputError
+
+    with pytest.raises(InputError, match="no such measurements file"):
+        load_measurements(tmp_path / "none.json")
+    (tmp_path / "bad.json").write_text("[1, 2")
+    with pytest.raises(InputError, match="not valid JSON"):
+        load_measurements(tmp_path / "bad.json")
+    (tmp_path / "other.json").write_text(json.dumps({"measurements": {"x": {"kind": "girth"}}}))
+    with pytest.raises(InputError, match="malformed"):
+        load_measurements(tmp_path / "other.json")
+    (tmp_path / "inch.json").write_text(json.dumps({"units": "in", "measurements": {}}))
+    with pytest.raises(InputError, match="not 'cm'"):
+        load_measurements(tmp_path / "inch.json")
+
+
+def _posed(c, rotations):
+    from patternbridge.mesh.skinning import pose_vertices
+
+    v = pose_vertices(c, rotations)
+    marks = {k: Landmark(name=k, position=v[lm.vertex], vertex=lm.vertex, source=lm.source)
+             for k, lm in c.landmarks.items()}
+    return dataclasses.replace(c, vertices=v, landmarks=marks)
+
+
+def test_pose_invariance(characters, results):
+    """A-pose, T-pose, T-pose with the elbows bent 45 degrees more (linear blend skinning)."""
+    from patternbridge.mesh.skinning import a_to_t_pose_rotations, bend_elbow_rotations
+
+    c = characters["E"]
+    t = a_to_t_pose_rotations(c.skeleton)
+    bent = {**t, **bend_elbow_rotations(c.skeleton, "left"), **bend_elbow_rotations(c.skeleton, "right")}
+    poses = [results["E"], measure(_posed(c, t)), measure(_posed(c, bent))]
+    for side in ("left", "right"):
+        arm = np.array([r[f"arm_length_{side}"].value_cm for r in poses])
+        straight = np.array([r[f"arm_length_{side}"].details["straight_cm"] for r in poses])
+        assert np.ptp(arm) / arm.min() <= 0.05
+        assert np.ptp(straight) / straight.max() >= 0.15  # the shoulder-wrist chord changes a lot
+    for mid in ("waist_girth", "hip_girth", "high_hip_girth", "thigh_girth_left", "calf_girth_left", "head_girth"):
+        vals = np.array([r[mid].value_cm for r in poses])
+        assert np.ptp(vals) / vals.min() <= 0.01, mid
+
+
+def test_detected_landmarks_near_reference(characters):
+    errors = {}
+    for key, c in characters.items():
+        found = detect_landmarks(c.vertices, c.faces)
+        assert set(found) == set(LANDMARK_NAMES), key
+        assert all(lm.source == "detected" for lm in found.values())
+        errors[key] = landmark_errors(found, c.landmarks)
+    all_err = np.array([e for per in errors.values() for e in per.values()])
+    assert np.median(all_err) < 3.0
+    for per in errors.values():
+        assert per["top_of_head"] < 0.5 and per["crotch_point"] < 3.0
+        assert per["wrist_point_left"] < 5.0 and per["ankle_outside_left"] < 5.0
+
+
+def test_measure_with_detected_landmarks_only(characters):
+    c = dataclasses.replace(characters["E"], landmarks={}, skeleton=None, skin=None)
+    res = measure(c)
+    assert set(res.values_cm()) == set(MEASUREMENT_IDS)
+    assert {lm.source for lm in res.landmarks.values()} == {"detected"}
+    ref = measure(characters["E"]).values_cm()
+    got = res.values_cm()
+    for mid in ("stature", "waist_girth", "hip_girth", "chest_girth", "thigh_girth_left"):
+        assert got[mid] == pytest.approx(ref[mid], rel=0.05), mid
+
+
+def test_skeleton_landmarks(characters):
+    from patternbridge.mesh.landmarks import skeleton_landmarks
+
+    c = characters["B"]
+    found = skeleton_landmarks(c)
+    assert {"elbow_point_left", "wrist_point_left", "knee_point_left", "crotch_point"} <= set(found)
+    assert all(lm.source == "skeleton" for lm in found.values())
+    err = landmark_errors(found, c.landmarks)
+    assert max(err.values()) < 8.0 and np.median(list(err.values())) < 4.0
+
+
+def test_missing_landmarks(characters):
+    c = dataclasses.replace(characters["E"], landmarks={}, skeleton=None, skin=None)
+    with pytest.raises(LandmarkError, match="are missing") as info:
+        measure(c, detect=False)
+    assert "\n" not in str(info.value) and "--partial" in str(info.value)
+    keep = {k: v for k, v in characters["E"].landmarks.items() if not k.startswith("elbow_point")}
+    res = measure(dataclasses.replace(characters["E"], landmarks=keep, skeleton=None, skin=None),
+                  detect=False, partial=True)
+    assert "arm_length_left" in res.missing and "elbow_girth_right" in res.missing
+    assert "waist_girth" in res.values_cm() and "arm_length_left" not in res.values_cm()
+
+
+def test_cli(characters_dir, tmp_path, capsys):
+    out = tmp_path / "E.json"
+    png = tmp_path / "E.png"
+    code = main(["measure", str(characters_dir / "E_average_male.obj"), "-o", str(out), "--png", str(png)])
+    assert code == 0
+    data = json.loads(out.read_text())
+    assert data["measurements"]["stature"]["value_cm"] == pytest.approx(177.79, abs=0.05)
+    from PIL import Image
+
+    assert Image.open(png).size[0] > Image.open(png).size[1]
+    # bad input: one line, exit 2, nothing written
+    bad = tmp_path / "lm.json"
+    bad.write_text(json.dumps({"landmarks": {"nose": {"vertex": 1}}}))
+    capsys.readouterr()
+    code = main(["measure", str(characters_dir / "E_average_male.obj"), "--landmarks", str(bad),
+                 "-o", str(tmp_path / "x.json")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and "unknown landmark 'nose'" in err[0]
+    assert not (tmp_path / "x.json").exists()
+    code = main(["measure", str(tmp_path / "missing.obj"), "-o", str(tmp_path / "x.json")])
+    assert code == 2
