@@ -162,7 +162,7 @@ def build_pattern(
             mirror = Line(points=g0["mirror"], rules=new_rules([g["mirror"] for g in geos]))
         notches = tuple(
             Notch(vertex=d.net.marks[m], type=NotchType.SLIT, depth_cm=NOTCH_DEPTH_CM,
-                  angle=_inward_angle(g0["outline"], d.net.marks[m]))
+                  angle=_inward_angle(g0["outline"], d.net.marks[m]), rule=outline_rules[d.net.marks[m]])
             for m in d.net.notches
         )
         notches = tuple(sorted(notches, key=lambda n: n.vertex))
@@ -181,7 +181,7 @@ def build_pattern(
             mirror_line=mirror,
             internal_lines=tuple(internal),
             sew_lines=(Polyline(points=g0["sew"], kinds=tuple(d.net.kinds), rules=sew_rules,
-                                closed=True, label="sew"),),
+                                closed=True),),
             marks=d.net.marks,
             landmarks=d.landmarks,
             placement=d.placement,

@@ -61,6 +61,7 @@ def sidecar_dict(pattern: Pattern, *, proposals: list[dict[str, Any]] | None = N
         "format_version": SIDECAR_VERSION,
         "length_unit": "cm",
         "style": pattern.style,
+        "description": pattern.description,
         "sample_size": pattern.sample_size,
         "pieces": pieces,
         "seams": seams,
@@ -190,4 +191,5 @@ def apply_sidecar(pattern: Pattern, path: str | os.PathLike, *, confirmed_only: 
             if g.piece not in names or g.start not in out.piece(g.piece).marks or g.end not in out.piece(g.piece).marks:
                 raise InputError(f"{path}: measurement {m.id!r} leg {g.piece}:{g.start}-{g.end} names an "
                                  "unknown piece or mark; fix the sidecar")
-    return replace(out, seams=tuple(seams), measurements=links)
+    description = data.get("description") or out.description
+    return replace(out, seams=tuple(seams), measurements=links, description=description)

@@ -1,0 +1,108 @@
+"""``patternbridge check PATTERN``: seam lengths and notches in every graded size."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+HELP = "check that every seam sews to equal length (or its declared ease) in every size"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "pattern", help="pattern .json/.dxf file or library garment name"
+    )
+    parser.add_argument(
+        "--rul", help="grade-rule file for a .dxf (default: the .rul beside it)"
+    )
+    parser.add_argument(
+        "--sidecar",
+        help="bridge-data sidecar (default: <pattern>.seams.json beside a .dxf)",
+    )
+    parser.add_argument(
+        "--tol-mm",
+        type=float,
+        default=1.0,
+        help="allowed seam length mismatch (default 1 mm)",
+    )
+    parser.add_argument(
+        "--notch-tol-mm",
+        type=float,
+        default=1.5,
+        help="allowed notch misalignment (default 1.5 mm)",
+    )
+    parser.add_argument(
+        "--json", action="store_true", help="print every seam result as JSON"
+    )
+
+
+def load_with_sidecar(spec: str, rul: str | None = None, sidecar: str | None = None):
+    """Load a pattern (file or library name) and apply its bridge-data sidecar.
+
+    The sidecar is ``sidecar`` when given, else ``<stem>.seams.json`` beside a
+    ``.dxf`` when that exists. Returns ``(pattern, report)``.
+    """
+    from pathlib import Path
+
+    from ..io.load import load_pattern
+    from ..library.sidecar import apply_sidecar
+
+    pattern, report = load_pattern(spec, rul=rul)
+    path = Path(spec)
+    if sidecar is None and path.suffix.lower() == ".dxf":
+        beside = path.with_name(
+            path.stem.removesuffix("_aama").removesuffix("_astm") + ".seams.json"
+        )
+        own = path.with_suffix(".seams.json")
+        sidecar = next((str(p) for p in (own, beside) if p.is_file()), None)
+    if sidecar is not None:
+        pattern = apply_sidecar(pattern, sidecar)
+    return pattern, report
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..library.seams import check_seams
+    from ._common import print_findings, print_json
+
+    pattern, report = load_with_sidecar(args.pattern, args.rul, args.sidecar)
+    print_findings(report)
+    if not pattern.seams:
+        print(
+            f"patternbridge: warning: {args.pattern}: no seams to check; propose some with "
+            "'patternbridge seams infer'",
+            file=sys.stderr,
+        )
+        return 0
+    results = check_seams(
+        pattern, tol_cm=args.tol_mm / 10, notch_tol_cm=args.notch_tol_mm / 10
+    )
+    failed = [r for r in results if not r.ok]
+    if args.json:
+        print_json(
+            [
+                {
+                    "seam": r.seam,
+                    "size": r.size,
+                    "length_a_cm": round(r.length_a_cm, 4),
+                    "length_b_cm": round(r.length_b_cm, 4),
+                    "ease_cm": r.ease_cm,
+                    "mismatch_mm": round(r.mismatch_cm * 10, 3),
+                    "notch_error_mm": round(r.notch_error_cm * 10, 3),
+                    "ok": r.ok,
+                    "problems": list(r.problems),
+                }
+                for r in results
+            ]
+        )
+    else:
+        for r in failed:
+            print(
+                f"FAIL {r.seam} size {r.size}: mismatch {r.mismatch_cm * 10:+.1f} mm; "
+                + "; ".join(r.problems)
+            )
+        sizes = len({r.size for r in results})
+        print(
+            f"{pattern.style}: {len(pattern.seams)} seams x {sizes} sizes: "
+            f"{len(results) - len(failed)} passed, {len(failed)} failed"
+        )
+    return 1 if failed else 0

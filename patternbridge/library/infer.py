@@ -1,0 +1,199 @@
+"""Propose seams for a pattern without bridge data (a tailor's DXF).
+
+The sew line of every piece is cut into *stretches* at its turn points and
+notches (or, for files that mark neither, at corners sharper than
+``CORNER_DEG``). Two stretches are a candidate seam when their lengths agree
+(within ``max(LENGTH_TOL_CM, 3 %)``, the room sleeve-cap ease needs, and
+with a difference that stays constant over the graded sizes) and
+their shapes are compatible: both straight, or both curved by a similar
+amount (a convex cap against a concave armhole counts as similar — only the
+magnitude of the bend is compared). Each candidate gets a confidence in
+(0, 1]; stretches are then paired greedily, best first, each used once.
+
+The result is a proposal, not a truth: ``patternbridge seams infer`` writes it
+to a sidecar for the user to confirm or edit.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ..pattern.geometry import interior_angles
+from ..pattern.model import EdgeRange, Pattern, Seam, VertexKind
+from .seams import sew_line
+
+__all__ = ["SeamProposal", "Stretch", "infer_seams", "stretches", "with_proposals"]
+
+CORNER_DEG = 30.0
+LENGTH_TOL_CM = 0.3
+MIN_STRETCH_CM = 2.0
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Stretch:
+    """A boundary stretch of one piece between two break vertices.
+
+    start, end : vertex indices (outline order, wrapping)
+    length_cm : sew-line length (sample size)
+    graded_cm : the same length in every graded size
+    bend : total absolute turning along the stretch, radians
+    straightness : chord / length (1 for a straight edge)
+    """
+
+    piece: str
+    start: int
+    end: int
+    length_cm: float
+    bend: float
+    straightness: float
+    graded_cm: tuple[float, ...] = ()
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class SeamProposal:
+    """A proposed seam: two stretches and how sure we are (0..1)."""
+
+    a: Stretch
+    b: Stretch
+    confidence: float
+
+    @property
+    def seam_id(self) -> str:
+        return f"{self.a.piece}_{self.a.start}_{self.b.piece}_{self.b.start}"
+
+
+def _breaks(piece) -> np.ndarray:
+    pts, _ = sew_line(piece)
+    n = len(pts)
+    brk = np.zeros(n, dtype=bool)
+    kinds = piece.kinds
+    brk |= np.array([k == VertexKind.TURN for k in kinds])
+    for notch in piece.notches:
+        brk[notch.vertex] = True
+    ang = interior_angles(pts)  # outlines are stored CCW
+    corner = np.abs(np.pi - ang) > np.radians(CORNER_DEG)
+    if not brk.any() or all(k == VertexKind.PLAIN for k in kinds):
+        brk |= corner
+    return np.nonzero(brk)[0]
+
+
+def stretches(pattern: Pattern) -> list[Stretch]:
+    """All stretches of every piece (between consecutive break vertices)."""
+    from .seams import graded_sew_lines
+
+    lines = graded_sew_lines(pattern)
+    out = []
+    for piece in pattern.pieces:
+        pts, _ = sew_line(piece)
+        n = len(pts)
+        brk = _breaks(piece)
+        if len(brk) < 2:
+            continue
+        for i, s in enumerate(brk):
+            e = brk[(i + 1) % len(brk)]
+            idx = np.arange(s, e + 1) if e > s else np.r_[s:n, 0 : e + 1]
+            seg = pts[idx]
+            d = np.diff(seg, axis=0)
+            length = float(np.linalg.norm(d, axis=1).sum())
+            if length < MIN_STRETCH_CM:
+                continue
+            heading = np.unwrap(np.arctan2(d[:, 1], d[:, 0]))
+            bend = float(np.abs(np.diff(heading)).sum()) if len(heading) > 1 else 0.0
+            chord = float(np.hypot(*(seg[-1] - seg[0])))
+            graded = np.linalg.norm(np.diff(lines[piece.name][:, idx], axis=1), axis=-1).sum(axis=-1)
+            out.append(Stretch(piece=piece.name, start=int(s), end=int(e), length_cm=length,
+                               bend=bend, straightness=chord / length,
+                               graded_cm=tuple(float(x) for x in graded)))
+    return out
+
+
+def _score(a: Stretch, b: Stretch) -> float:
+    tol = max(LENGTH_TOL_CM, 0.03 * max(a.length_cm, b.length_cm))
+    dl = abs(a.length_cm - b.length_cm)
+    if a.graded_cm and len(a.graded_cm) == len(b.graded_cm):
+        # a real seam keeps its two sides equal (up to a constant ease) in every graded size
+        diff = np.asarray(a.graded_cm) - np.asarray(b.graded_cm)
+        dl = max(dl, float(np.ptp(diff)) * 2.0)
+    if dl > tol:
+        return 0.0
+    length_term = np.exp(-((dl / (0.35 * tol)) ** 2))
+    shape_term = np.exp(-abs(a.straightness - b.straightness) / 0.02) * np.exp(-abs(a.bend - b.bend) / 0.6)
+    # long matching stretches are less likely to be coincidences
+    size_term = 1.0 - np.exp(-min(a.length_cm, b.length_cm) / 8.0)
+    return float(length_term * shape_term * size_term)
+
+
+def _twins(pattern: Pattern) -> set[frozenset[str]]:
+    """Pairs of pieces that are mirror images of each other (same area and perimeter)."""
+    from ..pattern.geometry import area, perimeter
+
+    stats = [(p.name, float(area(sew_line(p)[0])), float(perimeter(sew_line(p)[0]))) for p in pattern.pieces]
+    out = set()
+    for i, (na, aa, pa) in enumerate(stats):
+        for nb, ab, pb in stats[i + 1 :]:
+            if abs(aa - ab) <= 0.005 * max(aa, ab) and abs(pa - pb) <= 0.005 * max(pa, pb):
+                out.add(frozenset((na, nb)))
+    return out
+
+
+#: confidence factor for a match between mirror-twin pieces: the same edge on a
+#: left and a right piece matches itself whether or not it is a centre seam
+TWIN_FACTOR = 0.5
+
+
+def infer_seams(pattern: Pattern, *, min_confidence: float = 0.2) -> list[SeamProposal]:
+    """Propose seam pairs between stretches of equal length and compatible shape.
+
+    Parameters
+    ----------
+    pattern : any pattern; only its sample-size sew lines (or outlines) are used
+    min_confidence : proposals below this are dropped
+
+    Returns
+    -------
+    Proposals sorted by decreasing confidence; every stretch appears at most once.
+    """
+    items = stretches(pattern)
+    twins = _twins(pattern)
+    cands = []
+    for i in range(len(items)):
+        for j in range(i + 1, len(items)):
+            a, b = items[i], items[j]
+            if a.piece == b.piece and (a.end == b.start or b.end == a.start):
+                continue  # neighbours on one piece (e.g. the two halves of a hem)
+            c = _score(a, b)
+            if frozenset((a.piece, b.piece)) in twins:
+                c *= TWIN_FACTOR
+            if c >= min_confidence:
+                cands.append((c, i, j))
+    cands.sort(key=lambda t: -t[0])
+    used: set[int] = set()
+    out = []
+    for c, i, j in cands:
+        if i in used or j in used:
+            continue
+        used.update((i, j))
+        out.append(SeamProposal(a=items[i], b=items[j], confidence=round(c, 3)))
+    return out
+
+
+def with_proposals(pattern: Pattern, proposals: list[SeamProposal]) -> Pattern:
+    """``pattern`` with marks ``v<index>`` at the proposals' ends and one seam per proposal.
+
+    Existing marks and seams are kept.
+    """
+    extra: dict[str, dict[str, int]] = {}
+    for p in proposals:
+        for s in (p.a, p.b):
+            extra.setdefault(s.piece, {}).update({f"v{s.start}": s.start, f"v{s.end}": s.end})
+    pieces = tuple(
+        replace(pc, marks={**extra.get(pc.name, {}), **dict(pc.marks)}) for pc in pattern.pieces
+    )
+    seams = tuple(
+        Seam(id=p.seam_id, a=EdgeRange(piece=p.a.piece, start=f"v{p.a.start}", end=f"v{p.a.end}"),
+             b=EdgeRange(piece=p.b.piece, start=f"v{p.b.start}", end=f"v{p.b.end}"), reverse=True)
+        for p in proposals
+    )
+    return replace(pattern, pieces=pieces, seams=pattern.seams + seams)
