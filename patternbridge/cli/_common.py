@@ -39,14 +39,23 @@ def progress_printer(quiet: bool = False) -> Callable[[str, int, int], None]:
         if tty:
             bar = "#" * int(frac * 30)
             end = "\n" if done >= total else ""
-            print(f"\r[{stage}] {bar:<30} {done}/{total}", end=end, file=sys.stderr, flush=True)
+            print(
+                f"\r[{stage}] {bar:<30} {done}/{total}",
+                end=end,
+                file=sys.stderr,
+                flush=True,
+            )
             return
         step = int(frac * 10)
         key = stage
         if state.get(key) == step and done < total:
             return
         state[key] = step
-        print(f"[{stage}] {done}/{total} ({time.strftime('%H:%M:%S')})", file=sys.stderr, flush=True)
+        print(
+            f"[{stage}] {done}/{total} ({time.strftime('%H:%M:%S')})",
+            file=sys.stderr,
+            flush=True,
+        )
 
     return progress
 

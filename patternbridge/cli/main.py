@@ -50,7 +50,9 @@ def build_parser() -> argparse.ArgumentParser:
         description="Fit real tailoring patterns (DXF-AAMA/ASTM + RUL) to animation "
         "characters: import, measure, grade, drape, export.",
     )
-    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    parser.add_argument(
+        "--version", action="version", version=f"%(prog)s {__version__}"
+    )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
     for command, module_name in COMMANDS.items():
