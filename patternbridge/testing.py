@@ -80,7 +80,7 @@ class _Diff:
         if len(a) != len(b):
             self.out.append(f"{where}.{name}: {len(a)} items != {len(b)} items")
             return
-        for i, (x, y) in enumerate(zip(a, b)):
+        for i, (x, y) in enumerate(zip(a, b, strict=True)):
             item(f"{where}.{name}[{i}]", x, y)
 
     # -- elements -------------------------------------------------------------
@@ -109,7 +109,13 @@ class _Diff:
         self.close(where, "width_cm", a.width_cm, b.width_cm)
         self.angle(where, "angle", a.angle, b.angle)
         if not self.skip("source_angle_deg"):
-            self.close(where, "source_angle_deg", a.source_angle_deg, b.source_angle_deg, atol=1e-3)
+            self.close(
+                where,
+                "source_angle_deg",
+                a.source_angle_deg,
+                b.source_angle_deg,
+                atol=1e-3,
+            )
 
     def drill(self, where: str, a: DrillHole, b: DrillHole) -> None:
         self.close(where, "position", a.position, b.position)
@@ -125,8 +131,17 @@ class _Diff:
         self.eq(where, "layer", a.layer, b.layer)
 
     def piece(self, where: str, a: Piece, b: Piece) -> None:
-        for f in ("name", "size", "kinds", "rules", "quantity", "category", "annotation",
-                  "fabric", "placement"):
+        for f in (
+            "name",
+            "size",
+            "kinds",
+            "rules",
+            "quantity",
+            "category",
+            "annotation",
+            "fabric",
+            "placement",
+        ):
             self.eq(where, f, getattr(a, f), getattr(b, f), "piece")
         for f in ("marks", "landmarks", "extra_text"):
             self.eq(where, f, dict(getattr(a, f)), dict(getattr(b, f)))
@@ -158,8 +173,16 @@ class _Diff:
 
     def pattern(self, a: Pattern, b: Pattern) -> None:
         where = "pattern"
-        for f in ("style", "units", "sample_size", "sizes", "description", "provenance",
-                  "seams", "measurements"):
+        for f in (
+            "style",
+            "units",
+            "sample_size",
+            "sizes",
+            "description",
+            "provenance",
+            "seams",
+            "measurements",
+        ):
             self.eq(where, f, getattr(a, f), getattr(b, f))
         self.rules(where, a.rules, b.rules)
         if self.skip("pieces"):
@@ -222,16 +245,22 @@ def assert_patterns_equal(
     if out:
         shown = "\n  ".join(out[:40])
         more = f"\n  ... and {len(out) - 40} more" if len(out) > 40 else ""
-        raise AssertionError(f"patterns differ in {len(out)} place(s):\n  {shown}{more}")
+        raise AssertionError(
+            f"patterns differ in {len(out)} place(s):\n  {shown}{more}"
+        )
 
 
 def _bezier(a, c, b, n: int) -> np.ndarray:
     t = np.linspace(0.0, 1.0, n)[:, None]
-    return (1 - t) ** 2 * np.asarray(a, float) + 2 * t * (1 - t) * np.asarray(c, float) + t**2 * np.asarray(b, float)
+    return (
+        (1 - t) ** 2 * np.asarray(a, float)
+        + 2 * t * (1 - t) * np.asarray(c, float)
+        + t**2 * np.asarray(b, float)
+    )
 
 
 def example_pattern() -> Pattern:
-    """A small three-piece tee in size M of S–XL with every element the model has.
+    """A small three-piece tee in size M of S to XL with every element the model has.
 
     Front (curved armhole and neck, two notches, dart, sew line, drill hole),
     back (cut on fold, T notch) and sleeve (cap curve, cutout); grade rules on
@@ -251,50 +280,103 @@ def example_pattern() -> Pattern:
         Seam,
     )
 
-    front_pts = np.vstack([
-        [[0.0, 0.0], [25.0, 0.0]],
-        _bezier([26, 40], [18, 44], [18, 62], 8)[:-1],
-        [[18.0, 62.0]],
-        _bezier([8, 60], [8, 52], [0, 52], 7)[:-1],
-        [[0.0, 52.0]],
-    ])
+    front_pts = np.vstack(
+        [
+            [[0.0, 0.0], [25.0, 0.0]],
+            _bezier([26, 40], [18, 44], [18, 62], 8)[:-1],
+            [[18.0, 62.0]],
+            _bezier([8, 60], [8, 52], [0, 52], 7)[:-1],
+            [[0.0, 52.0]],
+        ]
+    )
     n = len(front_pts)
     turn = {0, 1, 2, 9, 10, n - 1}
     kinds = ["turn" if i in turn else "curve" for i in range(n)]
     rules = [str(i + 1) if i in turn else None for i in range(n)]
     f_angles = inward_angles(front_pts, [2, 5])
     front = Piece(
-        name="FRONT", size="M", outline=front_pts, kinds=kinds, rules=rules,
-        quantity=Quantity(right=1, left=1), category="SHELL", fabric="1",
+        name="FRONT",
+        size="M",
+        outline=front_pts,
+        kinds=kinds,
+        rules=rules,
+        quantity=Quantity(right=1, left=1),
+        category="SHELL",
+        fabric="1",
         notches=(
-            Notch(vertex=2, type="slit", depth_cm=0.6, angle=float(f_angles[0]), rule=rules[2]),
-            Notch(vertex=5, type="V", depth_cm=0.6, width_cm=0.4, angle=float(f_angles[1])),
+            Notch(
+                vertex=2,
+                type="slit",
+                depth_cm=0.6,
+                angle=float(f_angles[0]),
+                rule=rules[2],
+            ),
+            Notch(
+                vertex=5, type="V", depth_cm=0.6, width_cm=0.4, angle=float(f_angles[1])
+            ),
         ),
         grain_line=Line(points=[[10, 10], [10, 45]]),
-        internal_lines=(Polyline(points=[[6, 20], [9, 35], [12, 20]], kinds=["turn"] * 3, label="B"),),
+        internal_lines=(
+            Polyline(
+                points=[[6, 20], [9, 35], [12, 20]], kinds=["turn"] * 3, label="B"
+            ),
+        ),
         sew_lines=(Polyline(points=front_pts * 0.96 + 0.5, closed=True),),
         drill_holes=(DrillHole(position=[9, 33], diameter_cm=0.3, label="D"),),
         annotations=(Annotation(text="TEE FRONT", position=[4.0, 5.0], height_cm=1.0),),
-        marks={"hem_cf": 0, "hem_side": 1, "underarm": 2, "shoulder": 9, "neck_cf": n - 1},
+        marks={
+            "hem_cf": 0,
+            "hem_side": 1,
+            "underarm": 2,
+            "shoulder": 9,
+            "neck_cf": n - 1,
+        },
         landmarks={"waist_side_right": "hem_side"},
-        placement=Placement(body_part="torso", side="front", anchor="waist_side_right", anchor_mark="hem_side"),
+        placement=Placement(
+            body_part="torso",
+            side="front",
+            anchor="waist_side_right",
+            anchor_mark="hem_side",
+        ),
     )
     back_pts = np.array([[0, 0], [24, 0], [25, 40], [17, 60], [6, 62], [0, 61]], float)
     back = Piece(
-        name="BACK", size="M", outline=back_pts, kinds=["turn"] * 6,
-        rules=[str(i + 20) for i in range(6)], quantity=Quantity(right=1, left=0),
-        mirror_line=Line(points=[[0, 61], [0, 0]], rules=("25", "20")), grain_line=Line(points=[[8, 8], [8, 50]]),
-        notches=(Notch(vertex=2, type="T", depth_cm=0.5, width_cm=0.3,
-                       angle=float(inward_angles(back_pts, [2])[0]), rule="22"),),
+        name="BACK",
+        size="M",
+        outline=back_pts,
+        kinds=["turn"] * 6,
+        rules=[str(i + 20) for i in range(6)],
+        quantity=Quantity(right=1, left=0),
+        mirror_line=Line(points=[[0, 61], [0, 0]], rules=("25", "20")),
+        grain_line=Line(points=[[8, 8], [8, 50]]),
+        notches=(
+            Notch(
+                vertex=2,
+                type="T",
+                depth_cm=0.5,
+                width_cm=0.3,
+                angle=float(inward_angles(back_pts, [2])[0]),
+                rule="22",
+            ),
+        ),
         marks={"hem_cb": 0, "hem_side": 1, "underarm": 2},
     )
     cap = _bezier([34, 35], [17, 62], [0, 35], 12)[1:-1]
     sleeve_pts = np.vstack([[[4, 0], [30, 0], [34, 35]], cap, [[0, 35]]])
     sleeve = Piece(
-        name="SLEEVE", size="M", outline=sleeve_pts,
+        name="SLEEVE",
+        size="M",
+        outline=sleeve_pts,
         kinds=["turn", "turn", "turn"] + ["curve"] * len(cap) + ["turn"],
-        quantity=Quantity(right=1, left=1), grain_line=Line(points=[[17, 5], [17, 45]]),
-        cutouts=(Polyline(points=[[14, 15], [20, 15], [20, 18], [14, 18]], kinds=["turn"] * 4, closed=True),),
+        quantity=Quantity(right=1, left=1),
+        grain_line=Line(points=[[17, 5], [17, 45]]),
+        cutouts=(
+            Polyline(
+                points=[[14, 15], [20, 15], [20, 18], [14, 18]],
+                kinds=["turn"] * 4,
+                closed=True,
+            ),
+        ),
     )
     sizes = ("S", "M", "L", "XL")
     steps = np.array([-1.0, 0.0, 1.0, 2.0])[:, None]
@@ -305,11 +387,28 @@ def example_pattern() -> Pattern:
                 v = piece.outline[i]
                 deltas[rule] = steps * np.array([0.04 * v[0], 0.02 * v[1]])
     return Pattern(
-        style="EXAMPLE TEE", pieces=(front, back, sleeve), sample_size="M", sizes=sizes,
-        rules=GradeRuleTable(name="EXAMPLE", sizes=sizes, sample_size="M", deltas=deltas),
-        seams=(Seam(id="side", a=EdgeRange(piece="FRONT", start="hem_side", end="underarm"),
-                    b=EdgeRange(piece="BACK", start="hem_side", end="underarm")),),
-        measurements=(MeasurementLink(measurement="hip_girth", ease_cm=8.0,
-                                      legs=(Leg(piece="FRONT", start="hem_cf", end="hem_side", factor=2),
-                                            Leg(piece="BACK", start="hem_cb", end="hem_side", factor=2))),),
+        style="EXAMPLE TEE",
+        pieces=(front, back, sleeve),
+        sample_size="M",
+        sizes=sizes,
+        rules=GradeRuleTable(
+            name="EXAMPLE", sizes=sizes, sample_size="M", deltas=deltas
+        ),
+        seams=(
+            Seam(
+                id="side",
+                a=EdgeRange(piece="FRONT", start="hem_side", end="underarm"),
+                b=EdgeRange(piece="BACK", start="hem_side", end="underarm"),
+            ),
+        ),
+        measurements=(
+            MeasurementLink(
+                measurement="hip_girth",
+                ease_cm=8.0,
+                legs=(
+                    Leg(piece="FRONT", start="hem_cf", end="hem_side", factor=2),
+                    Leg(piece="BACK", start="hem_cb", end="hem_side", factor=2),
+                ),
+            ),
+        ),
     )

@@ -1,4 +1,4 @@
-"""``patternbridge export``: write a pattern as DXF-AAMA/ASTM (sample size + .RUL, or a graded nest)."""
+"""``patternbridge export``: a pattern as DXF-AAMA/ASTM (sample + .RUL, or a nest)."""
 
 from __future__ import annotations
 
@@ -12,22 +12,51 @@ __all__ = ["HELP", "add_arguments", "run"]
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("pattern", metavar="PATTERN", help="pattern: .json, .dxf or a library garment name")
-    parser.add_argument("-o", "--output", required=True, metavar="OUT.dxf", help="DXF file to write")
-    parser.add_argument("--flavor", "--flavour", choices=("aama", "astm"), default="aama", type=str.lower,
-                        help="DXF-AAMA (default) or DXF-ASTM D6673")
-    parser.add_argument("--sizes", default="sample", metavar="sample|all|S,M",
-                        help="'sample' (default): the sample size plus a .RUL; 'all' or a "
-                        "comma-separated list: a graded nest with one block per piece per size")
-    parser.add_argument("--rul", metavar="OUT.rul",
-                        help="where to write the grade-rule table (default with --sizes sample: "
-                        "OUT.rul beside the DXF when the pattern has grade rules)")
+    parser.add_argument(
+        "pattern",
+        metavar="PATTERN",
+        help="pattern: .json, .dxf or a library garment name",
+    )
+    parser.add_argument(
+        "-o", "--output", required=True, metavar="OUT.dxf", help="DXF file to write"
+    )
+    parser.add_argument(
+        "--flavor",
+        "--flavour",
+        choices=("aama", "astm"),
+        default="aama",
+        type=str.lower,
+        help="DXF-AAMA (default) or DXF-ASTM D6673",
+    )
+    parser.add_argument(
+        "--sizes",
+        default="sample",
+        metavar="sample|all|S,M",
+        help="'sample' (default): the sample size plus a .RUL; 'all' or a "
+        "comma-separated list: a graded nest with one block per piece per size",
+    )
+    parser.add_argument(
+        "--rul",
+        metavar="OUT.rul",
+        help="where to write the grade-rule table (default with --sizes sample: "
+        "OUT.rul beside the DXF when the pattern has grade rules)",
+    )
     parser.add_argument("--no-rul", action="store_true", help="do not write a .RUL")
-    parser.add_argument("--units", choices=("METRIC", "ENGLISH"), type=str.upper,
-                        help="units of the written file (default: the pattern's source units)")
-    parser.add_argument("--in-rul", metavar="FILE.rul", dest="in_rul",
-                        help="grade-rule table of a sample-size DXF given as PATTERN")
-    parser.add_argument("--strict", action="store_true", help="treat every warning as an error")
+    parser.add_argument(
+        "--units",
+        choices=("METRIC", "ENGLISH"),
+        type=str.upper,
+        help="units of the written file (default: the pattern's source units)",
+    )
+    parser.add_argument(
+        "--in-rul",
+        metavar="FILE.rul",
+        dest="in_rul",
+        help="grade-rule table of a sample-size DXF given as PATTERN",
+    )
+    parser.add_argument(
+        "--strict", action="store_true", help="treat every warning as an error"
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -46,25 +75,41 @@ def run(args: argparse.Namespace) -> int:
     rul = None
     if args.rul and not args.no_rul:
         if not sample_only:
-            raise InputError(f"{args.rul}: a .RUL goes with --sizes sample; a graded nest carries "
-                             "every size itself")
+            raise InputError(
+                f"{args.rul}: a .RUL goes with --sizes sample; a graded nest carries "
+                "every size itself"
+            )
         rul = Path(args.rul)
-    elif sample_only and not args.no_rul and pattern.rules.deltas and len(pattern.rules.sizes) > 1:
+    elif (
+        sample_only
+        and not args.no_rul
+        and pattern.rules.deltas
+        and len(pattern.rules.sizes) > 1
+    ):
         rul = out.with_suffix(".rul")
     written = Report()
     if args.strict:
         # dry run first: with --strict a finding must leave nothing behind
-        format_dxf(pattern, flavor=args.flavor, sizes=sizes, units=args.units, report=written)
+        format_dxf(
+            pattern, flavor=args.flavor, sizes=sizes, units=args.units, report=written
+        )
         report.extend(written)
         print_findings(report, strict=True)
         written = Report()
-    write_dxf(pattern, out, flavor=args.flavor, sizes=sizes, rul_path=rul, units=args.units,
-              report=written)
+    write_dxf(
+        pattern,
+        out,
+        flavor=args.flavor,
+        sizes=sizes,
+        rul_path=rul,
+        units=args.units,
+        report=written,
+    )
     if not args.strict:
         report.extend(written)
         print_findings(report)
     if args.quiet <= 0:
         what = "sample size" if sample_only else "graded nest"
         extra = f" + {rul}" if rul is not None else ""
-        print(f"wrote {out}{extra} ({args.flavor.upper()}, {what})", file=sys.stdout)
+        print(f"wrote {out}{extra} ({args.flavor.upper()}, {what})", file=sys.stdout)  # noqa: T201
     return 0

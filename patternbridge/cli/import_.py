@@ -1,4 +1,4 @@
-"""``patternbridge import``: read a DXF-AAMA/ASTM file (+ .RUL) into canonical pattern JSON."""
+"""``patternbridge import``: a DXF-AAMA/ASTM file (+ .RUL) into canonical pattern JSON."""
 
 from __future__ import annotations
 
@@ -12,26 +12,51 @@ __all__ = ["HELP", "add_arguments", "run"]
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("file", metavar="FILE.dxf", help="DXF-AAMA or DXF-ASTM pattern file")
-    parser.add_argument("-o", "--output", required=True, metavar="PATTERN.json",
-                        help="canonical pattern JSON to write")
-    parser.add_argument("--rul", metavar="FILE.rul",
-                        help="grade-rule table (default: a .rul with the DXF's name beside it)")
-    parser.add_argument("--units", choices=("METRIC", "ENGLISH"), type=str.upper,
-                        help="override the file's Units: text (METRIC = mm, ENGLISH = inch)")
-    parser.add_argument("--unfold", action="store_true",
-                        help="unfold half pieces about their mirror line into whole pieces")
-    parser.add_argument("--seams", metavar="FILE.seams.json",
-                        help="seam sidecar (marks, seams, landmarks, measurements, placement); "
-                        "default: <dxf stem>.seams.json beside the DXF when present")
-    parser.add_argument("--strict", action="store_true", help="treat every warning as an error")
+    parser.add_argument(
+        "file", metavar="FILE.dxf", help="DXF-AAMA or DXF-ASTM pattern file"
+    )
+    parser.add_argument(
+        "-o",
+        "--output",
+        required=True,
+        metavar="PATTERN.json",
+        help="canonical pattern JSON to write",
+    )
+    parser.add_argument(
+        "--rul",
+        metavar="FILE.rul",
+        help="grade-rule table (default: a .rul with the DXF's name beside it)",
+    )
+    parser.add_argument(
+        "--units",
+        choices=("METRIC", "ENGLISH"),
+        type=str.upper,
+        help="override the file's Units: text (METRIC = mm, ENGLISH = inch)",
+    )
+    parser.add_argument(
+        "--unfold",
+        action="store_true",
+        help="unfold half pieces about their mirror line into whole pieces",
+    )
+    parser.add_argument(
+        "--seams",
+        metavar="FILE.seams.json",
+        help="seam sidecar (marks, seams, landmarks, measurements, placement); "
+        "default: <dxf stem>.seams.json beside the DXF when present",
+    )
+    parser.add_argument(
+        "--strict", action="store_true", help="treat every warning as an error"
+    )
 
 
 def _sidecar(args: argparse.Namespace, dxf: Path) -> tuple[Path | None, bool]:
     """(sidecar path, given explicitly) or (None, False)."""
     if args.seams:
         return Path(args.seams), True
-    for candidate in (dxf.with_name(f"{dxf.stem}.seams.json"), dxf.with_name(f"{dxf.stem}.SEAMS.json")):
+    for candidate in (
+        dxf.with_name(f"{dxf.stem}.seams.json"),
+        dxf.with_name(f"{dxf.stem}.SEAMS.json"),
+    ):
         if candidate.is_file():
             return candidate, False
     return None, False
@@ -46,12 +71,15 @@ def run(args: argparse.Namespace) -> int:
     if not dxf.is_file():
         raise InputError(f"{dxf}: no such file")
     if dxf.suffix.lower() != ".dxf":
-        raise InputError(f"{dxf}: not a .dxf file; 'import' reads DXF-AAMA/ASTM (use 'info' or "
-                         "'export' for pattern JSON)")
+        raise InputError(
+            f"{dxf}: not a .dxf file; 'import' reads DXF-AAMA/ASTM (use 'info' or "
+            "'export' for pattern JSON)"
+        )
     from ..io.dxf_aama import read_dxf
 
-    pattern, report = read_dxf(dxf, rul=args.rul, units=args.units, unfold=args.unfold,
-                               strict=args.strict)
+    pattern, report = read_dxf(
+        dxf, rul=args.rul, units=args.units, unfold=args.unfold, strict=args.strict
+    )
     sidecar, explicit = _sidecar(args, dxf)
     applied = None
     if sidecar is not None:
@@ -59,13 +87,20 @@ def run(args: argparse.Namespace) -> int:
             from ..library.sidecar import apply_sidecar
         except ImportError:
             if explicit:
-                raise InputError(f"{sidecar}: seam sidecars cannot be read by this installation "
-                                 "(patternbridge.library.sidecar is missing)") from None
-            report.add("sidecar-skipped", "seam sidecar found but sidecar support is missing; ignored",
-                       where=str(sidecar))
+                raise InputError(
+                    f"{sidecar}: seam sidecars cannot be read by this installation "
+                    "(patternbridge.library.sidecar is missing)"
+                ) from None
+            report.add(
+                "sidecar-skipped",
+                "seam sidecar found but sidecar support is missing; ignored",
+                where=str(sidecar),
+            )
         else:
             if not sidecar.is_file():
-                raise InputError(f"{sidecar}: no such file; give an existing seam sidecar")
+                raise InputError(
+                    f"{sidecar}: no such file; give an existing seam sidecar"
+                )
             pattern = apply_sidecar(pattern, sidecar)
             applied = sidecar
     print_findings(report, strict=args.strict)
@@ -73,6 +108,9 @@ def run(args: argparse.Namespace) -> int:
     if args.quiet <= 0:
         sizes = ", ".join(pattern.sizes) if pattern.sizes else pattern.sample_size
         extra = f"; seams from {applied}" if applied is not None else ""
-        print(f"wrote {out}: {pattern.style}, {len(pattern.pieces)} pieces, sizes {sizes} "
-              f"(sample {pattern.sample_size}), {pattern.units}{extra}", file=sys.stdout)
+        print(  # noqa: T201
+            f"wrote {out}: {pattern.style}, {len(pattern.pieces)} pieces, sizes {sizes} "
+            f"(sample {pattern.sample_size}), {pattern.units}{extra}",
+            file=sys.stdout,
+        )
     return 0

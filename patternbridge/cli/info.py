@@ -1,4 +1,4 @@
-"""``patternbridge info``: what a pattern holds (style, units, sizes, pieces); ``--json`` is a contract.
+"""``patternbridge info``: what a pattern holds; ``--json`` is a documented contract.
 
 The JSON form is documented in ``formats/info.md`` and kept stable: an object
 with ``style``, ``units`` (the source file's, ``METRIC`` or ``ENGLISH``),
@@ -13,7 +13,9 @@ import argparse
 import sys
 from typing import Any
 
-HELP = "show a pattern's style, units, sizes and pieces (--json: the documented contract)"
+HELP = (
+    "show a pattern's style, units, sizes and pieces (--json: the documented contract)"
+)
 
 __all__ = ["HELP", "add_arguments", "pattern_info", "run"]
 
@@ -21,11 +23,21 @@ _DUPLICATE_CM = 1e-6  # consecutive vertices closer than this count once
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("file", metavar="FILE", help="pattern: .dxf, .json or a library garment name")
-    parser.add_argument("--json", action="store_true", help="print the info as JSON (formats/info.md)")
-    parser.add_argument("--rul", metavar="FILE.rul", help="grade-rule table for a sample-size DXF")
-    parser.add_argument("--units", choices=("METRIC", "ENGLISH"), type=str.upper,
-                        help="override a DXF's Units: text")
+    parser.add_argument(
+        "file", metavar="FILE", help="pattern: .dxf, .json or a library garment name"
+    )
+    parser.add_argument(
+        "--json", action="store_true", help="print the info as JSON (formats/info.md)"
+    )
+    parser.add_argument(
+        "--rul", metavar="FILE.rul", help="grade-rule table for a sample-size DXF"
+    )
+    parser.add_argument(
+        "--units",
+        choices=("METRIC", "ENGLISH"),
+        type=str.upper,
+        help="override a DXF's Units: text",
+    )
 
 
 def pattern_info(pattern) -> dict[str, Any]:
@@ -49,15 +61,17 @@ def pattern_info(pattern) -> dict[str, Any]:
         outline = np.asarray(piece.outline)
         step = np.linalg.norm(np.roll(outline, -1, axis=0) - outline, axis=1)
         vertices = int(np.count_nonzero(step > _DUPLICATE_CM)) or len(outline)
-        pieces.append({
-            "name": piece.name,
-            "quantity": piece.quantity.total,
-            "vertices": vertices,
-            "notches": len(piece.notches),
-            "grade_rules": sum(r is not None for r in piece.rules),
-            "area_cm2": round(float(area(outline)), 4),
-            "perimeter_cm": round(float(perimeter(outline)), 4),
-        })
+        pieces.append(
+            {
+                "name": piece.name,
+                "quantity": piece.quantity.total,
+                "vertices": vertices,
+                "notches": len(piece.notches),
+                "grade_rules": sum(r is not None for r in piece.rules),
+                "area_cm2": round(float(area(outline)), 4),
+                "perimeter_cm": round(float(perimeter(outline)), 4),
+            }
+        )
     return {
         "style": pattern.style,
         "units": str(pattern.units),
@@ -77,12 +91,23 @@ def _table(info: dict[str, Any]) -> str:
         "",
     ]
     head = ("piece", "qty", "vertices", "notches", "rules", "area cm2", "perimeter cm")
-    rows = [(p["name"], str(p["quantity"]), str(p["vertices"]), str(p["notches"]),
-             str(p["grade_rules"]), f"{p['area_cm2']:.1f}", f"{p['perimeter_cm']:.1f}")
-            for p in info["pieces"]]
+    rows = [
+        (
+            p["name"],
+            str(p["quantity"]),
+            str(p["vertices"]),
+            str(p["notches"]),
+            str(p["grade_rules"]),
+            f"{p['area_cm2']:.1f}",
+            f"{p['perimeter_cm']:.1f}",
+        )
+        for p in info["pieces"]
+    ]
     widths = [max(len(r[i]) for r in (head, *rows)) for i in range(len(head))]
     for r in (head, *rows):
-        cells = [r[0].ljust(widths[0])] + [c.rjust(w) for c, w in zip(r[1:], widths[1:])]
+        cells = [r[0].ljust(widths[0])] + [
+            c.rjust(w) for c, w in zip(r[1:], widths[1:], strict=True)
+        ]
         lines.append("  ".join(cells).rstrip())
     return "\n".join(lines)
 
@@ -97,5 +122,5 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print_json(info)
     else:
-        print(_table(info), file=sys.stdout)
+        print(_table(info), file=sys.stdout)  # noqa: T201
     return 0

@@ -1,4 +1,4 @@
-"""``patternbridge plot``: a picture of every piece (SVG or PNG), all sizes overlaid on request."""
+"""``patternbridge plot``: a picture of every piece (SVG/PNG), sizes overlaid on request."""
 
 from __future__ import annotations
 
@@ -11,15 +11,36 @@ __all__ = ["HELP", "add_arguments", "run"]
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("pattern", metavar="PATTERN", help="pattern: .json, .dxf or a library garment name")
-    parser.add_argument("-o", "--output", required=True, metavar="OUT.svg|OUT.png",
-                        help="picture to write; the suffix picks the format")
-    parser.add_argument("--sizes", default="sample", metavar="sample|all|S,M",
-                        help="sizes to overlay: 'sample' (default), 'all' or a comma-separated list")
-    parser.add_argument("--title", help="figure title (default: style, piece count and sizes)")
-    parser.add_argument("--rul", metavar="FILE.rul", help="grade-rule table of a sample-size DXF")
-    parser.add_argument("--units", choices=("METRIC", "ENGLISH"), type=str.upper,
-                        help="override a DXF's Units: text")
+    parser.add_argument(
+        "pattern",
+        metavar="PATTERN",
+        help="pattern: .json, .dxf or a library garment name",
+    )
+    parser.add_argument(
+        "-o",
+        "--output",
+        required=True,
+        metavar="OUT.svg|OUT.png",
+        help="picture to write; the suffix picks the format",
+    )
+    parser.add_argument(
+        "--sizes",
+        default="sample",
+        metavar="sample|all|S,M",
+        help="sizes to overlay: 'sample' (default), 'all' or a comma-separated list",
+    )
+    parser.add_argument(
+        "--title", help="figure title (default: style, piece count and sizes)"
+    )
+    parser.add_argument(
+        "--rul", metavar="FILE.rul", help="grade-rule table of a sample-size DXF"
+    )
+    parser.add_argument(
+        "--units",
+        choices=("METRIC", "ENGLISH"),
+        type=str.upper,
+        help="override a DXF's Units: text",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -29,16 +50,26 @@ def run(args: argparse.Namespace) -> int:
     from ._common import print_findings
 
     if not str(args.output).lower().endswith((".svg", ".png", ".pdf")):
-        raise InputError(f"{args.output}: unknown picture type; give a .svg or .png file name")
+        raise InputError(
+            f"{args.output}: unknown picture type; give a .svg or .png file name"
+        )
     pattern, report = load_pattern(args.pattern, rul=args.rul, units=args.units)
     print_findings(report)
     sizes = args.sizes.strip()
-    if sizes.lower() != "sample" and not pattern.rules.deltas and (pattern.sizes or ()) not in (
-        (), (pattern.sample_size,)
+    if (
+        sizes.lower() != "sample"
+        and not pattern.rules.deltas
+        and (pattern.sizes or ()) not in ((), (pattern.sample_size,))
     ):
-        raise InputError(f"{args.pattern}: the pattern has no grade rules to draw other sizes with")
-    out = plot_pattern(pattern, args.output, sizes=None if sizes.lower() == "sample" else sizes,
-                       title=args.title)
+        raise InputError(
+            f"{args.pattern}: the pattern has no grade rules to draw other sizes with"
+        )
+    out = plot_pattern(
+        pattern,
+        args.output,
+        sizes=None if sizes.lower() == "sample" else sizes,
+        title=args.title,
+    )
     if args.quiet <= 0:
-        print(f"wrote {out}", file=sys.stdout)
+        print(f"wrote {out}", file=sys.stdout)  # noqa: T201
     return 0

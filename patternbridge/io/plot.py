@@ -45,7 +45,9 @@ _MIN_TICK_CM = 0.6  # notches shallower than this are drawn this long to stay vi
 # ---------------------------------------------------------------------------
 
 
-def layout_offsets(boxes: np.ndarray, *, gap: float | None = None, aspect: float = 1.5) -> np.ndarray:
+def layout_offsets(
+    boxes: np.ndarray, *, gap: float | None = None, aspect: float = 1.5
+) -> np.ndarray:
     """Shelf-pack axis-aligned boxes; return the translation of each box.
 
     Parameters
@@ -168,7 +170,7 @@ def _label_point(outline: np.ndarray) -> np.ndarray:
     ring = poly.exterior
     room = [ring.distance(c) if poly.contains(c) else -1.0 for c in candidates]
     best = max(room)
-    pick = next(c for c, r in zip(candidates, room) if r >= 0.8 * best)
+    pick = next(c for c, r in zip(candidates, room, strict=True) if r >= 0.8 * best)
     return np.array([pick.x, pick.y])
 
 
@@ -179,83 +181,189 @@ def _quantity_text(piece: Piece) -> str:
     return f"cut {q.total}"
 
 
-def _draw_piece(ax, piece: Piece, offset: np.ndarray, style: _Style, *, cm_to_pt: float,
-                label: str | None) -> None:
+def _draw_piece(
+    ax,
+    piece: Piece,
+    offset: np.ndarray,
+    style: _Style,
+    *,
+    cm_to_pt: float,
+    label: str | None,
+) -> None:
     from matplotlib.patches import FancyArrowPatch, Polygon
 
     outline = np.asarray(piece.outline) + offset
-    ax.add_patch(Polygon(outline, closed=True, facecolor=style.fill or "none",
-                         edgecolor=style.colour, linewidth=style.width, alpha=style.alpha,
-                         zorder=style.zorder, joinstyle="round"))
+    ax.add_patch(
+        Polygon(
+            outline,
+            closed=True,
+            facecolor=style.fill or "none",
+            edgecolor=style.colour,
+            linewidth=style.width,
+            alpha=style.alpha,
+            zorder=style.zorder,
+            joinstyle="round",
+        )
+    )
     for poly in piece.sew_lines:
         pts = np.asarray(poly.points) + offset
         pts = _closed(pts) if poly.closed else pts
-        ax.plot(pts[:, 0], pts[:, 1], color=style.colour, linewidth=0.6 * style.width,
-                linestyle=(0, (4, 2)), alpha=style.alpha, zorder=style.zorder + 0.1)
+        ax.plot(
+            pts[:, 0],
+            pts[:, 1],
+            color=style.colour,
+            linewidth=0.6 * style.width,
+            linestyle=(0, (4, 2)),
+            alpha=style.alpha,
+            zorder=style.zorder + 0.1,
+        )
     if not style.details:
         return
     for poly in piece.internal_lines:
         pts = np.asarray(poly.points) + offset
         pts = _closed(pts) if poly.closed else pts
-        ax.plot(pts[:, 0], pts[:, 1], color=_INTERNAL, linewidth=0.7, zorder=style.zorder + 0.2)
+        ax.plot(
+            pts[:, 0],
+            pts[:, 1],
+            color=_INTERNAL,
+            linewidth=0.7,
+            zorder=style.zorder + 0.2,
+        )
         if poly.label:
-            ax.annotate(poly.label, pts[0], fontsize=6, color=_INTERNAL, zorder=style.zorder + 0.3,
-                        xytext=(2, 2), textcoords="offset points")
+            ax.annotate(
+                poly.label,
+                pts[0],
+                fontsize=6,
+                color=_INTERNAL,
+                zorder=style.zorder + 0.3,
+                xytext=(2, 2),
+                textcoords="offset points",
+            )
     for poly in piece.cutouts:
         pts = _closed(np.asarray(poly.points) + offset)
-        ax.fill(pts[:, 0], pts[:, 1], facecolor="white", edgecolor=style.colour,
-                linewidth=style.width * 0.8, zorder=style.zorder + 0.2)
+        ax.fill(
+            pts[:, 0],
+            pts[:, 1],
+            facecolor="white",
+            edgecolor=style.colour,
+            linewidth=style.width * 0.8,
+            zorder=style.zorder + 0.2,
+        )
     if piece.mirror_line is not None:
         pts = np.asarray(piece.mirror_line.points) + offset
-        ax.plot(pts[:, 0], pts[:, 1], color=_GRAIN, linewidth=0.9, linestyle="-.",
-                zorder=style.zorder + 0.3)
+        ax.plot(
+            pts[:, 0],
+            pts[:, 1],
+            color=_GRAIN,
+            linewidth=0.9,
+            linestyle="-.",
+            zorder=style.zorder + 0.3,
+        )
         mid = pts.mean(axis=0)
-        ax.annotate("FOLD", mid, fontsize=6, color=_GRAIN, ha="center", va="bottom",
-                    rotation=math.degrees(math.atan2(*(pts[1] - pts[0])[::-1])) % 180 - 0,
-                    rotation_mode="anchor", zorder=style.zorder + 0.4)
+        ax.annotate(
+            "FOLD",
+            mid,
+            fontsize=6,
+            color=_GRAIN,
+            ha="center",
+            va="bottom",
+            rotation=math.degrees(math.atan2(*(pts[1] - pts[0])[::-1])) % 180 - 0,
+            rotation_mode="anchor",
+            zorder=style.zorder + 0.4,
+        )
     if piece.grain_line is not None:
         pts = np.asarray(piece.grain_line.points) + offset
-        ax.add_patch(FancyArrowPatch(pts[0], pts[1], arrowstyle="-|>", mutation_scale=9,
-                                     color=_GRAIN, linewidth=1.0, zorder=style.zorder + 0.5,
-                                     shrinkA=0, shrinkB=0))
+        ax.add_patch(
+            FancyArrowPatch(
+                pts[0],
+                pts[1],
+                arrowstyle="-|>",
+                mutation_scale=9,
+                color=_GRAIN,
+                linewidth=1.0,
+                zorder=style.zorder + 0.5,
+                shrinkA=0,
+                shrinkB=0,
+            )
+        )
     # notches: a tick from the boundary into the piece
     if piece.notches:
         starts = outline[[n.vertex for n in piece.notches]]
         lengths = np.array([max(n.depth_cm, _MIN_TICK_CM) for n in piece.notches])
         angles = np.array([n.angle for n in piece.notches])
-        ends = starts + lengths[:, None] * np.column_stack([np.cos(angles), np.sin(angles)])
-        for notch, a, b in zip(piece.notches, starts, ends):
+        ends = starts + lengths[:, None] * np.column_stack(
+            [np.cos(angles), np.sin(angles)]
+        )
+        for notch, a, b in zip(piece.notches, starts, ends, strict=True):
             lw = 1.1 if notch.type in (NotchType.SLIT, NotchType.V) else 1.6
-            ax.plot([a[0], b[0]], [a[1], b[1]], color=_NOTCH, linewidth=lw,
-                    solid_capstyle="butt", zorder=style.zorder + 0.6)
+            ax.plot(
+                [a[0], b[0]],
+                [a[1], b[1]],
+                color=_NOTCH,
+                linewidth=lw,
+                solid_capstyle="butt",
+                zorder=style.zorder + 0.6,
+            )
             if notch.type is NotchType.T:
                 d = (b - a) / max(float(np.hypot(*(b - a))), 1e-12)
                 t = np.array([-d[1], d[0]]) * 0.3
-                ax.plot([b[0] - t[0], b[0] + t[0]], [b[1] - t[1], b[1] + t[1]], color=_NOTCH,
-                        linewidth=lw, zorder=style.zorder + 0.6)
+                ax.plot(
+                    [b[0] - t[0], b[0] + t[0]],
+                    [b[1] - t[1], b[1] + t[1]],
+                    color=_NOTCH,
+                    linewidth=lw,
+                    zorder=style.zorder + 0.6,
+                )
     for hole in piece.drill_holes:
         c = np.asarray(hole.position) + offset
         r = max(hole.diameter_cm / 2.0, 0.3)
-        ax.plot([c[0] - r, c[0] + r], [c[1], c[1]], color=style.colour, linewidth=0.8,
-                zorder=style.zorder + 0.6)
-        ax.plot([c[0], c[0]], [c[1] - r, c[1] + r], color=style.colour, linewidth=0.8,
-                zorder=style.zorder + 0.6)
+        ax.plot(
+            [c[0] - r, c[0] + r],
+            [c[1], c[1]],
+            color=style.colour,
+            linewidth=0.8,
+            zorder=style.zorder + 0.6,
+        )
+        ax.plot(
+            [c[0], c[0]],
+            [c[1] - r, c[1] + r],
+            color=style.colour,
+            linewidth=0.8,
+            zorder=style.zorder + 0.6,
+        )
         ax.add_patch(_circle(c, r * 0.6, style.colour, style.zorder + 0.6))
     if label:
         at = _label_point(outline)
         width_cm = float(np.ptp(outline[:, 0]))
         longest = max(len(s) for s in label.split("\n"))
-        size = float(np.clip(width_cm * cm_to_pt / max(longest, 1) / 0.62 * 0.8, 4.5, 11.0))
-        ax.text(at[0], at[1], label, fontsize=size, ha="center", va="center",
-                color=_SAMPLE_COLOUR, zorder=style.zorder + 1.0, linespacing=1.25,
-                bbox={"boxstyle": "round,pad=0.25", "facecolor": "white", "alpha": 0.75,
-                      "edgecolor": "none"})
+        size = float(
+            np.clip(width_cm * cm_to_pt / max(longest, 1) / 0.62 * 0.8, 4.5, 11.0)
+        )
+        ax.text(
+            at[0],
+            at[1],
+            label,
+            fontsize=size,
+            ha="center",
+            va="center",
+            color=_SAMPLE_COLOUR,
+            zorder=style.zorder + 1.0,
+            linespacing=1.25,
+            bbox={
+                "boxstyle": "round,pad=0.25",
+                "facecolor": "white",
+                "alpha": 0.75,
+                "edgecolor": "none",
+            },
+        )
 
 
 def _circle(centre, radius, colour, zorder):
     from matplotlib.patches import Circle
 
-    return Circle(centre, radius, facecolor="none", edgecolor=colour, linewidth=0.8, zorder=zorder)
+    return Circle(
+        centre, radius, facecolor="none", edgecolor=colour, linewidth=0.8, zorder=zorder
+    )
 
 
 # ---------------------------------------------------------------------------
@@ -266,7 +374,9 @@ def _circle(centre, radius, colour, zorder):
 def _format_for(path: Path) -> str:
     fmt = _FORMATS.get(path.suffix.lower())
     if fmt is None:
-        raise InputError(f"{path}: unknown picture type {path.suffix!r}; give a .svg or .png file name")
+        raise InputError(
+            f"{path}: unknown picture type {path.suffix!r}; give a .svg or .png file name"
+        )
     return fmt
 
 
@@ -277,7 +387,11 @@ def _figure(extent: np.ndarray, *, legend_rows: int = 0):
     w_cm = float(extent[2] - extent[0])
     h_cm = float(extent[3] - extent[1])
     width_in = 12.0
-    height_in = float(np.clip(width_in * h_cm / max(w_cm, 1e-9), 3.0, 30.0)) + 0.9 + 0.2 * legend_rows
+    height_in = (
+        float(np.clip(width_in * h_cm / max(w_cm, 1e-9), 3.0, 30.0))
+        + 0.9
+        + 0.2 * legend_rows
+    )
     fig = Figure(figsize=(width_in, height_in), layout="constrained")
     FigureCanvasAgg(fig)
     ax = fig.add_subplot()
@@ -298,8 +412,12 @@ def _save(fig, path: Path) -> Path:
 
     fmt = _format_for(path)
     # SVG keeps text as text: searchable and editable in a drawing program
-    with matplotlib.rc_context({"svg.fonttype": "none", "svg.hashsalt": "patternbridge"}), \
-            atomic_path(path) as tmp:
+    with (
+        matplotlib.rc_context(
+            {"svg.fonttype": "none", "svg.hashsalt": "patternbridge"}
+        ),
+        atomic_path(path) as tmp,
+    ):
         fig.savefig(tmp, format=fmt, dpi=150, metadata=_metadata(fmt))
     return path
 
@@ -335,11 +453,15 @@ def _resolve_sizes(pattern: Pattern, sizes) -> list[str]:
     wanted = [str(s) for s in sizes]
     unknown = [s for s in wanted if s not in size_list]
     if unknown:
-        raise InputError(f"{pattern.style}: sizes {unknown} are not in the size list {size_list}")
+        raise InputError(
+            f"{pattern.style}: sizes {unknown} are not in the size list {size_list}"
+        )
     return [s for s in size_list if s in set(wanted)]
 
 
-def _pieces_by_size(pattern: Pattern, sizes: Sequence[str]) -> dict[str, tuple[Piece, ...]]:
+def _pieces_by_size(
+    pattern: Pattern, sizes: Sequence[str]
+) -> dict[str, tuple[Piece, ...]]:
     out: dict[str, tuple[Piece, ...]] = {}
     for size in sizes:
         if size == pattern.sample_size:
@@ -352,7 +474,11 @@ def _pieces_by_size(pattern: Pattern, sizes: Sequence[str]) -> dict[str, tuple[P
 
 
 def _piece_label(piece: Piece, size: str) -> str:
-    return f"{piece.name}\n{size}  {_quantity_text(piece)}" if size else f"{piece.name}\n{_quantity_text(piece)}"
+    return (
+        f"{piece.name}\n{size}  {_quantity_text(piece)}"
+        if size
+        else f"{piece.name}\n{_quantity_text(piece)}"
+    )
 
 
 # ---------------------------------------------------------------------------
@@ -394,47 +520,92 @@ def plot_pattern(
     overlay = len(size_list) > 1 or size_list[0] != pattern.sample_size
 
     names = pattern.piece_names
-    boxes = np.array([
-        _bbox([next(p for p in by_size[s] if p.name == name) for s in size_list]) for name in names
-    ]).reshape(-1, 4)
+    boxes = np.array(
+        [
+            _bbox([next(p for p in by_size[s] if p.name == name) for s in size_list])
+            for name in names
+        ]
+    ).reshape(-1, 4)
     offsets = layout_offsets(boxes)
     moved = boxes + np.hstack([offsets, offsets])
     margin = 0.03 * float(max(np.ptp(moved[:, [0, 2]]), np.ptp(moved[:, [1, 3]]), 1.0))
-    extent = np.array([moved[:, 0].min() - margin, moved[:, 1].min() - margin,
-                       moved[:, 2].max() + margin, moved[:, 3].max() + margin])
+    extent = np.array(
+        [
+            moved[:, 0].min() - margin,
+            moved[:, 1].min() - margin,
+            moved[:, 2].max() + margin,
+            moved[:, 3].max() + margin,
+        ]
+    )
     fig, ax, cm_to_pt = _figure(extent, legend_rows=1 if overlay else 0)
-    colours = dict(zip(size_list, _size_colours(len(size_list))))
+    colours = dict(zip(size_list, _size_colours(len(size_list)), strict=True))
 
     for k, name in enumerate(names):
         for size in size_list:
             piece = next(p for p in by_size[size] if p.name == name)
             is_sample = size == pattern.sample_size
             if overlay and not is_sample:
-                style = _Style(colour=colours[size], width=0.9, fill=None, details=False, zorder=3.0)
+                style = _Style(
+                    colour=colours[size],
+                    width=0.9,
+                    fill=None,
+                    details=False,
+                    zorder=3.0,
+                )
                 label = None
             else:
-                style = _Style(colour=_SAMPLE_COLOUR, width=1.4, fill=_FILL, details=True,
-                               zorder=2.0 if overlay else 2.0)
-                label = _piece_label(piece, size if is_sample else size)
+                style = _Style(
+                    colour=_SAMPLE_COLOUR,
+                    width=1.4,
+                    fill=_FILL,
+                    details=True,
+                    zorder=2.0,
+                )
+                label = _piece_label(piece, size)
             _draw_piece(ax, piece, offsets[k], style, cm_to_pt=cm_to_pt, label=label)
         if overlay and pattern.sample_size not in size_list:
             first = next(p for p in by_size[size_list[0]] if p.name == name)
-            ax.text(*_label_point(np.asarray(first.outline) + offsets[k]), first.name,
-                    fontsize=8, ha="center", va="center")
+            ax.text(
+                *_label_point(np.asarray(first.outline) + offsets[k]),
+                first.name,
+                fontsize=8,
+                ha="center",
+                va="center",
+            )
 
     if overlay:
         from matplotlib.lines import Line2D
 
-        handles = [Line2D([], [], color=_SAMPLE_COLOUR if s == pattern.sample_size else colours[s],
-                          linewidth=1.4 if s == pattern.sample_size else 1.0,
-                          label=f"{s} (sample)" if s == pattern.sample_size else s)
-                   for s in size_list]
-        ax.figure.legend(handles=handles, loc="outside lower center", ncols=min(len(handles), 10),
-                  frameon=False, fontsize=8, title="sizes", title_fontsize=8)
+        handles = [
+            Line2D(
+                [],
+                [],
+                color=_SAMPLE_COLOUR if s == pattern.sample_size else colours[s],
+                linewidth=1.4 if s == pattern.sample_size else 1.0,
+                label=f"{s} (sample)" if s == pattern.sample_size else s,
+            )
+            for s in size_list
+        ]
+        ax.figure.legend(
+            handles=handles,
+            loc="outside lower center",
+            ncols=min(len(handles), 10),
+            frameon=False,
+            fontsize=8,
+            title="sizes",
+            title_fontsize=8,
+        )
     if title is None:
-        shown = ", ".join(size_list) if len(size_list) <= 6 else f"{size_list[0]}–{size_list[-1]}"
-        title = f"{pattern.style} — {len(names)} pieces, size {shown}" if not overlay else \
-            f"{pattern.style} — {len(names)} pieces, sizes {shown} (sample {pattern.sample_size})"
+        shown = (
+            ", ".join(size_list)
+            if len(size_list) <= 6
+            else f"{size_list[0]} to {size_list[-1]}"
+        )
+        title = (
+            f"{pattern.style} — {len(names)} pieces, size {shown}"
+            if not overlay
+            else f"{pattern.style} — {len(names)} pieces, sizes {shown} (sample {pattern.sample_size})"
+        )
     ax.set_title(title, fontsize=11, loc="left")
     return _save(fig, path)
 
@@ -471,30 +642,68 @@ def plot_overlay(
     original_pieces = tuple(original_pieces)
     graded_pieces = tuple(graded_pieces)
     if len(original_pieces) != len(graded_pieces):
-        raise ValueError(f"plot_overlay: {len(original_pieces)} original pieces but "
-                         f"{len(graded_pieces)} graded pieces")
+        raise ValueError(
+            f"plot_overlay: {len(original_pieces)} original pieces but "
+            f"{len(graded_pieces)} graded pieces"
+        )
     by_name = {p.name: p for p in graded_pieces}
-    pairs = [(a, by_name.get(a.name, b)) for a, b in zip(original_pieces, graded_pieces)]
+    pairs = [
+        (a, by_name.get(a.name, b))
+        for a, b in zip(original_pieces, graded_pieces, strict=True)
+    ]
     boxes = np.array([_bbox(pair) for pair in pairs]).reshape(-1, 4)
     offsets = layout_offsets(boxes)
     moved = boxes + np.hstack([offsets, offsets])
     margin = 0.03 * float(max(np.ptp(moved[:, [0, 2]]), np.ptp(moved[:, [1, 3]]), 1.0))
-    extent = np.array([moved[:, 0].min() - margin, moved[:, 1].min() - margin,
-                       moved[:, 2].max() + margin, moved[:, 3].max() + margin])
+    extent = np.array(
+        [
+            moved[:, 0].min() - margin,
+            moved[:, 1].min() - margin,
+            moved[:, 2].max() + margin,
+            moved[:, 3].max() + margin,
+        ]
+    )
     fig, ax, cm_to_pt = _figure(extent, legend_rows=1)
     colour = "#c0392b"
-    for (a, b), off in zip(pairs, offsets):
-        _draw_piece(ax, a, off, _Style(colour="#8c8c8c", width=1.0, fill="#ececec", details=False,
-                                       zorder=2.0), cm_to_pt=cm_to_pt, label=None)
+    for (a, b), off in zip(pairs, offsets, strict=True):
+        _draw_piece(
+            ax,
+            a,
+            off,
+            _Style(
+                colour="#8c8c8c", width=1.0, fill="#ececec", details=False, zorder=2.0
+            ),
+            cm_to_pt=cm_to_pt,
+            label=None,
+        )
         da = float(area(np.asarray(b.outline))) - float(area(np.asarray(a.outline)))
-        dp = float(perimeter(np.asarray(b.outline))) - float(perimeter(np.asarray(a.outline)))
+        dp = float(perimeter(np.asarray(b.outline))) - float(
+            perimeter(np.asarray(a.outline))
+        )
         text = f"{a.name}\nΔarea {da:+.1f} cm²\nΔperimeter {dp:+.1f} cm"
-        _draw_piece(ax, b, off, _Style(colour=colour, width=1.2, fill=None, details=True, zorder=3.0),
-                    cm_to_pt=cm_to_pt, label=text)
+        _draw_piece(
+            ax,
+            b,
+            off,
+            _Style(colour=colour, width=1.2, fill=None, details=True, zorder=3.0),
+            cm_to_pt=cm_to_pt,
+            label=text,
+        )
     from matplotlib.lines import Line2D
 
-    fig.legend(handles=[Line2D([], [], color="#8c8c8c", linewidth=1.0, label=labels[0]),
-                       Line2D([], [], color=colour, linewidth=1.2, label=labels[1])],
-              loc="outside lower center", ncols=2, frameon=False, fontsize=8)
-    ax.set_title(title or f"{labels[0]} vs {labels[1]} — {len(pairs)} pieces", fontsize=11, loc="left")
+    fig.legend(
+        handles=[
+            Line2D([], [], color="#8c8c8c", linewidth=1.0, label=labels[0]),
+            Line2D([], [], color=colour, linewidth=1.2, label=labels[1]),
+        ],
+        loc="outside lower center",
+        ncols=2,
+        frameon=False,
+        fontsize=8,
+    )
+    ax.set_title(
+        title or f"{labels[0]} vs {labels[1]} — {len(pairs)} pieces",
+        fontsize=11,
+        loc="left",
+    )
     return _save(fig, path)

@@ -1,4 +1,4 @@
-"""Inputs for the CLI tests: the example tee as JSON, DXF + RUL, and the real exports."""
+"""CLI test inputs: the example tee as JSON and as DXF + RUL, and the real exports."""
 
 from __future__ import annotations
 

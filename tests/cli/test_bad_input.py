@@ -1,5 +1,7 @@
-"""Issue §7: malformed input gives one line naming the file and exit 2 (or a warning when
-the file is still usable); nothing is written on error."""
+"""Malformed input (issue section 7): one line naming the file and exit 2.
+
+Or a warning when the file is still usable; nothing is written on error.
+"""
 
 from __future__ import annotations
 
@@ -32,7 +34,7 @@ def _write(tmp_path: Path, name: str, text: str | bytes) -> Path:
 
 
 def _assert_error(result, path: Path, out: Path, *needles: str) -> None:
-    code, stdout, err = result
+    code, _stdout, err = result
     assert code == 2, err
     lines = err.splitlines()
     assert len(lines) == 1, err
@@ -55,16 +57,35 @@ def _assert_warning(result, out: Path, *codes: str) -> None:
 
 def _dxf_mutants(good_dxf: str) -> dict[str, str | bytes]:
     back = good_dxf.index("BACK_M")
-    head = "POLYLINE" + CRLF + "  8" + CRLF + "1" + CRLF + " 66" + CRLF + "1" + CRLF + " 70" + CRLF
+    head = (
+        "POLYLINE"
+        + CRLF
+        + "  8"
+        + CRLF
+        + "1"
+        + CRLF
+        + " 66"
+        + CRLF
+        + "1"
+        + CRLF
+        + " 70"
+        + CRLF
+    )
     j = good_dxf.index(head + "1", back)
-    unclosed = good_dxf[:j] + head + "0" + good_dxf[j + len(head) + 1:]
+    unclosed = good_dxf[:j] + head + "0" + good_dxf[j + len(head) + 1 :]
 
     def swap(text: str, a: str, b: str) -> str:
         return text.replace(a, "@@").replace(b, a).replace("@@", b)
 
     corner = " 10" + CRLF + "{}" + CRLF + " 20" + CRLF + "{}"
-    body = swap(good_dxf[back:], corner.format("250.0000", "400.0000"), corner.format("170.0000", "600.0000"))
-    insert = (f"  0{CRLF}INSERT{CRLF}  8{CRLF}1{CRLF}  2{CRLF}GHOST_M{CRLF} 10{CRLF}0.0{CRLF} 20{CRLF}0.0{CRLF}")
+    body = swap(
+        good_dxf[back:],
+        corner.format("250.0000", "400.0000"),
+        corner.format("170.0000", "600.0000"),
+    )
+    insert = CRLF.join(
+        ["  0", "INSERT", "  8", "1", "  2", "GHOST_M", " 10", "0.0", " 20", "0.0", ""]
+    )
     end = f"  0{CRLF}ENDSEC{CRLF}  0{CRLF}EOF{CRLF}"
     return {
         "truncated": good_dxf[: len(good_dxf) // 2],
@@ -78,27 +99,35 @@ def _dxf_mutants(good_dxf: str) -> dict[str, str | bytes]:
     }
 
 
-@pytest.mark.parametrize("case, needles", [
-    ("truncated", ["truncated"]),
-    ("garbage", ["not a text DXF"]),
-    ("empty", ["no DXF entities"]),
-    ("units", ["units", "FURLONGS"]),
-])
+@pytest.mark.parametrize(
+    "case, needles",
+    [
+        ("truncated", ["truncated"]),
+        ("garbage", ["not a text DXF"]),
+        ("empty", ["no DXF entities"]),
+        ("units", ["units", "FURLONGS"]),
+    ],
+)
 @pytest.mark.parametrize("command", ["import", "info", "export", "plot"])
 def test_unusable_dxf_is_one_line_exit_2(cli, good, tmp_path, case, needles, command):
     bad = _write(tmp_path, f"{case}.dxf", _dxf_mutants(good[0])[case])
-    suffix = {"import": ".json", "info": ".json", "export": ".dxf", "plot": ".png"}[command]
+    suffix = {"import": ".json", "info": ".json", "export": ".dxf", "plot": ".png"}[
+        command
+    ]
     out = tmp_path / f"out{suffix}"
     argv = [command, bad] + ([] if command == "info" else ["-o", out])
     _assert_error(cli(*argv), bad, out, *needles)
 
 
-@pytest.mark.parametrize("case, codes", [
-    ("undefined_insert", ["insert-undefined-block"]),
-    ("unclosed", ["boundary-not-closed"]),
-    ("selfx", ["boundary-self-intersects"]),
-    ("no_units", ["units-assumed"]),
-])
+@pytest.mark.parametrize(
+    "case, codes",
+    [
+        ("undefined_insert", ["insert-undefined-block"]),
+        ("unclosed", ["boundary-not-closed"]),
+        ("selfx", ["boundary-self-intersects"]),
+        ("no_units", ["units-assumed"]),
+    ],
+)
 def test_usable_dxf_warns_and_strict_refuses(cli, good, tmp_path, case, codes):
     bad = _write(tmp_path, f"{case}.dxf", _dxf_mutants(good[0])[case])
     _write(tmp_path, f"{case}.rul", good[1])
@@ -109,26 +138,41 @@ def test_usable_dxf_warns_and_strict_refuses(cli, good, tmp_path, case, codes):
     assert code == 2 and "strict" in err.splitlines()[-1] and not out.exists()
 
 
-def _rul_with(good_rul: str, *, sample_dx: str | None = None, count: str | None = None,
-              sizes: str | None = None) -> str:
+def _rul_with(
+    good_rul: str,
+    *,
+    sample_dx: str | None = None,
+    count: str | None = None,
+    sizes: str | None = None,
+) -> str:
     lines = good_rul.split(CRLF)
     if sample_dx is not None:  # rule 2: the M column (2nd pair) made non-zero
         i = lines.index("RULE: DELTA 2") + 1
         nums = re.findall(r"-?\d+\.\d+", lines[i])
         nums[2] = sample_dx
-        lines[i] = "  ".join(f"{nums[k]}, {nums[k + 1]}" for k in range(0, len(nums), 2))
+        lines[i] = "  ".join(
+            f"{nums[k]}, {nums[k + 1]}" for k in range(0, len(nums), 2)
+        )
     if count is not None:
-        lines = [f"NUMBER OF SIZES: {count}" if ln.startswith("NUMBER OF SIZES") else ln for ln in lines]
+        lines = [
+            f"NUMBER OF SIZES: {count}" if ln.startswith("NUMBER OF SIZES") else ln
+            for ln in lines
+        ]
     if sizes is not None:
-        lines = [f"SIZE LIST: {sizes}" if ln.startswith("SIZE LIST") else ln for ln in lines]
+        lines = [
+            f"SIZE LIST: {sizes}" if ln.startswith("SIZE LIST") else ln for ln in lines
+        ]
     return CRLF.join(lines)
 
 
-@pytest.mark.parametrize("mutation, needles", [
-    ({"sample_dx": "5.0000"}, ["sample"]),
-    ({"count": "5"}, ["5"]),
-    ({"sizes": "S M L XL XXL", "count": "5"}, []),
-])
+@pytest.mark.parametrize(
+    "mutation, needles",
+    [
+        ({"sample_dx": "5.0000"}, ["sample"]),
+        ({"count": "5"}, ["5"]),
+        ({"sizes": "S M L XL XXL", "count": "5"}, []),
+    ],
+)
 def test_bad_rul_is_one_line_exit_2(cli, good, tmp_path, mutation, needles):
     dxf = _write(tmp_path, "tee.dxf", good[0])
     rul = _write(tmp_path, "bad.rul", _rul_with(good[1], **mutation))
@@ -147,8 +191,14 @@ def test_rul_sizes_must_hold_the_dxf_sample_size(cli, good, tmp_path):
 def test_missing_rul_and_missing_dxf(cli, good, tmp_path):
     dxf = _write(tmp_path, "tee.dxf", good[0])
     out = tmp_path / "out.json"
-    _assert_error(cli("import", dxf, "--rul", tmp_path / "nope.rul", "-o", out), Path("nope.rul"), out)
-    _assert_error(cli("import", tmp_path / "nope.dxf", "-o", out), Path("nope.dxf"), out)
+    _assert_error(
+        cli("import", dxf, "--rul", tmp_path / "nope.rul", "-o", out),
+        Path("nope.rul"),
+        out,
+    )
+    _assert_error(
+        cli("import", tmp_path / "nope.dxf", "-o", out), Path("nope.dxf"), out
+    )
 
 
 def test_existing_output_survives_an_error(cli, good, tmp_path):

@@ -1,4 +1,4 @@
-"""export, grade and plot: files written where asked, right content, nothing on error."""
+"""export, grade and plot: files where asked, right content, nothing on error."""
 
 from __future__ import annotations
 
@@ -13,8 +13,16 @@ from patternbridge.io.pattern_json import load_pattern_json
 from patternbridge.pattern.grading import grade
 from patternbridge.testing import assert_patterns_equal
 
-DXF_ONLY = ("provenance", "description", "seams", "measurements", "marks", "landmarks", "placement",
-            "source_angle_deg")
+DXF_ONLY = (
+    "provenance",
+    "description",
+    "seams",
+    "measurements",
+    "marks",
+    "landmarks",
+    "placement",
+    "source_angle_deg",
+)
 
 
 @pytest.mark.parametrize("flavor", ["aama", "astm"])
@@ -30,21 +38,37 @@ def test_export_sample_writes_rul_beside(cli, tee, tee_json, tmp_path, flavor):
 
 
 def test_export_explicit_rul_and_no_rul(cli, tee_json, tmp_path):
-    code, _, _ = cli("export", tee_json, "-o", tmp_path / "a.dxf", "--rul", tmp_path / "rules" / "t.rul")
-    assert code == 0 and (tmp_path / "rules" / "t.rul").is_file() and not (tmp_path / "a.rul").exists()
+    code, _, _ = cli(
+        "export",
+        tee_json,
+        "-o",
+        tmp_path / "a.dxf",
+        "--rul",
+        tmp_path / "rules" / "t.rul",
+    )
+    assert (
+        code == 0
+        and (tmp_path / "rules" / "t.rul").is_file()
+        and not (tmp_path / "a.rul").exists()
+    )
     code, _, _ = cli("export", tee_json, "-o", tmp_path / "b.dxf", "--no-rul")
     assert code == 0 and not (tmp_path / "b.rul").exists()
 
 
 def test_export_nest_of_listed_sizes(cli, tee, tee_json, tmp_path):
     out = tmp_path / "nest.dxf"
-    code, _, _ = cli("export", tee_json, "-o", out, "--sizes", "S,XL", "--flavor", "astm")
+    code, _, _ = cli(
+        "export", tee_json, "-o", out, "--sizes", "S,XL", "--flavor", "astm"
+    )
     assert code == 0 and not out.with_suffix(".rul").exists()
     back, _ = read_dxf(out)
     assert back.sizes == ("S", "M", "XL")
     for size in ("S", "XL"):
-        np.testing.assert_allclose(grade(back, size).piece("FRONT").outline,
-                                   grade(tee, size).piece("FRONT").outline, atol=1e-4)
+        np.testing.assert_allclose(
+            grade(back, size).piece("FRONT").outline,
+            grade(tee, size).piece("FRONT").outline,
+            atol=1e-4,
+        )
 
 
 def test_export_english_override(cli, tee_json, tmp_path):
@@ -59,7 +83,7 @@ def test_export_errors_write_nothing(cli, tee_json, tmp_path):
         (("--sizes", "XXL"), "XXL"),
         (("--sizes", "all", "--rul", tmp_path / "x.rul"), "graded nest"),
     ]:
-        code, out, err = cli("export", tee_json, "-o", tmp_path / "x.dxf", *argv)
+        code, _out, err = cli("export", tee_json, "-o", tmp_path / "x.dxf", *argv)
         assert code == 2 and needle in err and err.count("\n") == 1
     code, _, err = cli("export", tee_json, "-o", tmp_path / "x.svg")
     assert code == 2 and "x.svg" in err
@@ -77,7 +101,9 @@ def test_export_strict_refuses_lossy_output(cli, tee, tmp_path):
     assert code == 2 and "warning" in err and "--strict" in err
     assert not (tmp_path / "odd.dxf").exists() and not (tmp_path / "odd.rul").exists()
     code, _, err = cli("export", src, "-o", tmp_path / "odd.dxf")
-    assert code == 0 and "non-ascii-replaced" in err and (tmp_path / "odd.dxf").is_file()
+    assert (
+        code == 0 and "non-ascii-replaced" in err and (tmp_path / "odd.dxf").is_file()
+    )
 
 
 def test_grade_to_json_dxf_and_picture(cli, tee, tee_json, tmp_path):
@@ -86,12 +112,17 @@ def test_grade_to_json_dxf_and_picture(cli, tee, tee_json, tmp_path):
     assert code == 0 and "XL" in stdout
     graded = load_pattern_json(out)
     assert graded.sample_size == "XL" and graded.piece("FRONT").size == "XL"
-    np.testing.assert_allclose(graded.piece("BACK").outline, grade(tee, "XL").piece("BACK").outline)
+    np.testing.assert_allclose(
+        graded.piece("BACK").outline, grade(tee, "XL").piece("BACK").outline
+    )
     # grading the graded pattern back to M returns the original (exact at rule points)
     back = tmp_path / "m.json"
     assert cli("grade", out, "--size", "M", "-o", back)[0] == 0
-    np.testing.assert_allclose(load_pattern_json(back).piece("BACK").outline, tee.piece("BACK").outline,
-                               atol=1e-9)
+    np.testing.assert_allclose(
+        load_pattern_json(back).piece("BACK").outline,
+        tee.piece("BACK").outline,
+        atol=1e-9,
+    )
     assert cli("grade", tee_json, "--size", "L", "-o", tmp_path / "l.dxf")[0] == 0
     assert read_dxf(tmp_path / "l.dxf")[0].sample_size == "L"
     assert cli("grade", tee_json, "--size", "S", "-o", tmp_path / "s.png")[0] == 0
@@ -106,7 +137,9 @@ def test_grade_errors_write_nothing(cli, tee, tee_json, tmp_path):
     from patternbridge.io.pattern_json import save_pattern_json
     from patternbridge.pattern.model import GradeRuleTable
 
-    flat = save_pattern_json(replace(tee, rules=GradeRuleTable()), tmp_path / "flat.json")
+    flat = save_pattern_json(
+        replace(tee, rules=GradeRuleTable()), tmp_path / "flat.json"
+    )
     code, _, err = cli("grade", flat, "--size", "L", "-o", tmp_path / "x.json")
     assert code == 2 and "no grade rules" in err
     code, _, err = cli("grade", tee_json, "--size", "L", "-o", tmp_path / "x.txt")
@@ -118,7 +151,16 @@ def test_plot_png_and_svg_with_all_sizes(cli, tee_json, tmp_path):
     code, stdout, _ = cli("plot", tee_json, "-o", tmp_path / "t.png")
     assert code == 0 and "t.png" in stdout
     assert (tmp_path / "t.png").read_bytes()[:4] == b"\x89PNG"
-    code, _, _ = cli("plot", tee_json, "-o", tmp_path / "t.svg", "--sizes", "all", "--title", "Tee graded")
+    code, _, _ = cli(
+        "plot",
+        tee_json,
+        "-o",
+        tmp_path / "t.svg",
+        "--sizes",
+        "all",
+        "--title",
+        "Tee graded",
+    )
     svg = (tmp_path / "t.svg").read_text(encoding="utf-8")
     assert code == 0 and "Tee graded" in svg and "XL" in svg
 
@@ -136,7 +178,10 @@ def test_real_export_pipeline(cli, aama_file, tmp_path):
     src = aama_file("simple.DXF")
     js = tmp_path / "simple.json"
     assert cli("import", src, "-o", js)[0] == 0
-    assert cli("export", js, "-o", tmp_path / "simple_astm.dxf", "--flavor", "astm")[0] == 0
+    assert (
+        cli("export", js, "-o", tmp_path / "simple_astm.dxf", "--flavor", "astm")[0]
+        == 0
+    )
     code, out, _ = cli("info", tmp_path / "simple_astm.dxf", "--json")
     info = json.loads(out)
     assert code == 0 and info["units"] == "ENGLISH" and len(info["pieces"]) == 4

@@ -1,4 +1,4 @@
-"""``patternbridge import``: real exports, .RUL beside or given, unfold, sidecars, strict."""
+"""``patternbridge import``: real exports, .RUL beside or given, unfold, sidecar."""
 
 from __future__ import annotations
 
@@ -10,13 +10,21 @@ import pytest
 from patternbridge.io.pattern_json import load_pattern_json
 from patternbridge.testing import assert_patterns_equal
 
-DXF_ONLY = ("provenance", "description", "seams", "measurements", "marks", "landmarks", "placement",
-            "source_angle_deg")
+DXF_ONLY = (
+    "provenance",
+    "description",
+    "seams",
+    "measurements",
+    "marks",
+    "landmarks",
+    "placement",
+    "source_angle_deg",
+)
 
 
 def test_import_sample_dxf_with_rul_beside(cli, tee, tee_dxf, tmp_path):
     out = tmp_path / "t.json"
-    code, stdout, err = cli("import", tee_dxf, "-o", out)
+    code, stdout, _err = cli("import", tee_dxf, "-o", out)
     assert code == 0 and str(out) in stdout and "sizes S, M, L, XL" in stdout
     assert_patterns_equal(tee, load_pattern_json(out), ignore=DXF_ONLY)
 
@@ -29,13 +37,28 @@ def test_import_with_explicit_rul_and_units(cli, tee, tee_dxf, tmp_path):
     assert load_pattern_json(out).rules.sizes == ("S", "M", "L", "XL")
     # without the .RUL only the sample size is left, with a warning
     code, _, err = cli("import", tee_dxf, "-o", tmp_path / "bare.json")
-    assert code == 0 and "warning" in err and load_pattern_json(tmp_path / "bare.json").sizes == ("M",)
+    assert (
+        code == 0
+        and "warning" in err
+        and load_pattern_json(tmp_path / "bare.json").sizes == ("M",)
+    )
     # --units reinterprets the numbers: mm read as inches are 25.4 times larger
-    code, _, _ = cli("import", tee_dxf, "--rul", rul, "--units", "english", "-o", tmp_path / "in.json")
+    code, _, _ = cli(
+        "import",
+        tee_dxf,
+        "--rul",
+        rul,
+        "--units",
+        "english",
+        "-o",
+        tmp_path / "in.json",
+    )
     assert code == 0
     big = load_pattern_json(tmp_path / "in.json")
     assert big.units.value == "ENGLISH"
-    np.testing.assert_allclose(big.piece("BACK").outline, tee.piece("BACK").outline * 25.4, atol=1e-3)
+    np.testing.assert_allclose(
+        big.piece("BACK").outline, tee.piece("BACK").outline * 25.4, atol=1e-3
+    )
 
 
 def test_import_unfold_makes_whole_pieces(cli, tee, tee_dxf, tmp_path):
@@ -46,7 +69,9 @@ def test_import_unfold_makes_whole_pieces(cli, tee, tee_dxf, tmp_path):
     assert whole.mirror_line is None
     from patternbridge.pattern.geometry import area
 
-    assert float(area(whole.outline)) == pytest.approx(2 * float(area(half.outline)), rel=1e-6)
+    assert float(area(whole.outline)) == pytest.approx(
+        2 * float(area(half.outline)), rel=1e-6
+    )
 
 
 def test_import_applies_sidecar_beside_or_given(cli, tee, tee_dxf, tmp_path):
@@ -61,7 +86,14 @@ def test_import_applies_sidecar_beside_or_given(cli, tee, tee_dxf, tmp_path):
     assert got.piece("FRONT").placement == tee.piece("FRONT").placement
     other = write_sidecar(tee, tmp_path / "other.json")
     assert cli("import", tee_dxf, "--seams", other, "-o", tmp_path / "o.json")[0] == 0
-    code, _, err = cli("import", tee_dxf, "--seams", tmp_path / "missing.json", "-o", tmp_path / "m.json")
+    code, _, err = cli(
+        "import",
+        tee_dxf,
+        "--seams",
+        tmp_path / "missing.json",
+        "-o",
+        tmp_path / "m.json",
+    )
     assert code == 2 and "missing.json" in err and not (tmp_path / "m.json").exists()
 
 
@@ -82,7 +114,9 @@ def test_import_strict_turns_warnings_into_errors(cli, tee_dxf, tmp_path):
         ("clo-pattern.dxf", 9, 1, "M", "METRIC", 18),
     ],
 )
-def test_import_real_exports(cli, aama_file, tmp_path, name, pieces, sizes, sample, units, notches):
+def test_import_real_exports(
+    cli, aama_file, tmp_path, name, pieces, sizes, sample, units, notches
+):
     out = tmp_path / "p.json"
     code, _, _ = cli("import", aama_file(name), "-o", out)
     assert code == 0

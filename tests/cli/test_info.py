@@ -1,4 +1,4 @@
-"""``info --json``: the documented contract (formats/info.md) on hand-made and real files."""
+"""``info --json``: the contract of formats/info.md on hand-made and real files."""
 
 from __future__ import annotations
 
@@ -10,7 +10,15 @@ import pytest
 from patternbridge.pattern.geometry import area, perimeter
 
 KEYS = {"style", "units", "sample_size", "sizes", "pieces"}
-PIECE_KEYS = {"name", "quantity", "vertices", "notches", "grade_rules", "area_cm2", "perimeter_cm"}
+PIECE_KEYS = {
+    "name",
+    "quantity",
+    "vertices",
+    "notches",
+    "grade_rules",
+    "area_cm2",
+    "perimeter_cm",
+}
 
 
 def test_info_json_contract(cli, tee, tee_json):
@@ -21,26 +29,35 @@ def test_info_json_contract(cli, tee, tee_json):
     assert info["style"] == "EXAMPLE TEE" and info["units"] == "METRIC"
     assert info["sample_size"] == "M" and info["sizes"] == ["S", "M", "L", "XL"]
     assert [p["name"] for p in info["pieces"]] == ["FRONT", "BACK", "SLEEVE"]
-    for entry, piece in zip(info["pieces"], tee.pieces):
+    for entry, piece in zip(info["pieces"], tee.pieces, strict=True):
         assert set(entry) == PIECE_KEYS
         assert entry["quantity"] == piece.quantity.total
         assert entry["vertices"] == len(piece.outline)
         assert entry["notches"] == len(piece.notches)
         assert entry["grade_rules"] == sum(r is not None for r in piece.rules)
         assert entry["area_cm2"] == pytest.approx(float(area(piece.outline)), abs=1e-4)
-        assert entry["perimeter_cm"] == pytest.approx(float(perimeter(piece.outline)), abs=1e-4)
+        assert entry["perimeter_cm"] == pytest.approx(
+            float(perimeter(piece.outline)), abs=1e-4
+        )
     back = info["pieces"][1]
     # the back is a 6-corner polygon: area by hand (shoelace in cm)
     xy = np.array([[0, 0], [24, 0], [25, 40], [17, 60], [6, 62], [0, 61]], float)
-    assert back["area_cm2"] == pytest.approx(0.5 * abs(np.dot(xy[:, 0], np.roll(xy[:, 1], -1))
-                                                     - np.dot(np.roll(xy[:, 0], -1), xy[:, 1])))
+    assert back["area_cm2"] == pytest.approx(
+        0.5
+        * abs(
+            np.dot(xy[:, 0], np.roll(xy[:, 1], -1))
+            - np.dot(np.roll(xy[:, 0], -1), xy[:, 1])
+        )
+    )
 
 
 def test_info_reads_dxf_with_rul_beside(cli, tee_dxf):
     code, out, _ = cli("info", tee_dxf, "--json")
     assert code == 0
     info = json.loads(out)
-    assert info["sizes"] == ["S", "M", "L", "XL"] and info["pieces"][0]["grade_rules"] == 6
+    assert (
+        info["sizes"] == ["S", "M", "L", "XL"] and info["pieces"][0]["grade_rules"] == 6
+    )
 
 
 def test_info_table_for_people(cli, tee_json):
@@ -59,7 +76,9 @@ def test_info_table_for_people(cli, tee_json):
         ("clo-pattern.dxf", "METRIC", "M", 1, 9, 18),
     ],
 )
-def test_info_on_real_exports(cli, aama_file, name, units, sample, n_sizes, pieces, notches):
+def test_info_on_real_exports(
+    cli, aama_file, name, units, sample, n_sizes, pieces, notches
+):
     code, out, _ = cli("info", aama_file(name), "--json")
     assert code == 0
     info = json.loads(out)
@@ -67,10 +86,17 @@ def test_info_on_real_exports(cli, aama_file, name, units, sample, n_sizes, piec
     assert len(info["sizes"]) == n_sizes and sample in info["sizes"]
     assert len(info["pieces"]) == pieces
     assert sum(p["notches"] for p in info["pieces"]) == notches
-    assert all(p["area_cm2"] > 0 and p["perimeter_cm"] > 0 and p["vertices"] >= 3 for p in info["pieces"])
+    assert all(
+        p["area_cm2"] > 0 and p["perimeter_cm"] > 0 and p["vertices"] >= 3
+        for p in info["pieces"]
+    )
 
 
 def test_info_on_missing_file_is_one_line_exit_2(cli, tmp_path):
     code, out, err = cli("info", tmp_path / "nope.dxf")
     assert code == 2 and out == ""
-    assert err.count("\n") == 1 and "nope.dxf" in err and err.startswith("patternbridge: error: ")
+    assert (
+        err.count("\n") == 1
+        and "nope.dxf" in err
+        and err.startswith("patternbridge: error: ")
+    )

@@ -1,4 +1,4 @@
-"""Pattern pictures: files are real images, pieces do not overlap, labels and sizes show."""
+"""Pattern pictures: real images, pieces never overlap, labels and sizes shown."""
 
 from __future__ import annotations
 
@@ -34,22 +34,30 @@ def _overlaps(boxes: np.ndarray) -> bool:
 
 @settings(max_examples=60, deadline=None)
 @given(
-    sizes=st.lists(st.tuples(st.floats(0.5, 120), st.floats(0.5, 120)), min_size=1, max_size=25),
+    sizes=st.lists(
+        st.tuples(st.floats(0.5, 120), st.floats(0.5, 120)), min_size=1, max_size=25
+    ),
     origin=st.tuples(st.floats(-500, 500), st.floats(-500, 500)),
 )
 def test_layout_never_overlaps(sizes, origin):
     wh = np.array(sizes)
-    boxes = np.hstack([np.tile(origin, (len(wh), 1)), np.tile(origin, (len(wh), 1)) + wh])
+    boxes = np.hstack(
+        [np.tile(origin, (len(wh), 1)), np.tile(origin, (len(wh), 1)) + wh]
+    )
     moved = boxes + np.tile(layout_offsets(boxes), 2)
     assert not _overlaps(moved)
     np.testing.assert_allclose(moved[:, 2:] - moved[:, :2], wh)  # translation only
-    assert moved[:, 0].min() == pytest.approx(0, abs=1e-9) and moved[:, 1].min() == pytest.approx(0, abs=1e-9)
+    assert moved[:, 0].min() == pytest.approx(0, abs=1e-9) and moved[
+        :, 1
+    ].min() == pytest.approx(0, abs=1e-9)
 
 
 def test_layout_is_compact_for_equal_boxes():
     boxes = np.tile([0.0, 0.0, 10.0, 10.0], (9, 1))
     moved = boxes + np.tile(layout_offsets(boxes, gap=0.0, aspect=1.0), 2)
-    assert np.ptp(moved[:, [0, 2]]) == pytest.approx(30) and np.ptp(moved[:, [1, 3]]) == pytest.approx(30)
+    assert np.ptp(moved[:, [0, 2]]) == pytest.approx(30) and np.ptp(
+        moved[:, [1, 3]]
+    ) == pytest.approx(30)
 
 
 def test_png_is_an_image(pattern, tmp_path):
@@ -63,7 +71,9 @@ def test_png_is_an_image(pattern, tmp_path):
         pixels = np.asarray(img.convert("RGB"), dtype=float)
     # something is drawn: paper-coloured fill and dark outlines
     assert (pixels.std(axis=(0, 1)) > 10).all()
-    assert [p.name for p in tmp_path.iterdir()] == ["tee.png"]  # no temporary left behind
+    assert [p.name for p in tmp_path.iterdir()] == [
+        "tee.png"
+    ]  # no temporary left behind
 
 
 def test_svg_has_every_label_and_element(pattern, tmp_path):
@@ -79,11 +89,15 @@ def test_svg_has_every_label_and_element(pattern, tmp_path):
 
 def test_all_sizes_overlay_draws_each_size(pattern, tmp_path):
     one = plot_pattern(pattern, tmp_path / "one.svg").read_text(encoding="utf-8")
-    every = plot_pattern(pattern, tmp_path / "all.svg", sizes="all").read_text(encoding="utf-8")
+    every = plot_pattern(pattern, tmp_path / "all.svg", sizes="all").read_text(
+        encoding="utf-8"
+    )
     for size in ("S", "M (sample)", "L", "XL"):
         assert f">{size}<" in every or f"{size}" in re.sub(r"<[^>]+>", " ", every)
     assert every.count("<path") > one.count("<path") + 3 * len(pattern.pieces)
-    listed = plot_pattern(pattern, tmp_path / "sl.svg", sizes=["S", "L"]).read_text(encoding="utf-8")
+    listed = plot_pattern(pattern, tmp_path / "sl.svg", sizes=["S", "L"]).read_text(
+        encoding="utf-8"
+    )
     assert "sizes S, L" in listed
 
 
@@ -97,7 +111,9 @@ def test_bad_picture_requests_write_nothing(pattern, tmp_path):
 
 def test_overlay_labels_area_change(pattern, tmp_path):
     graded = grade(pattern, "XL").pieces
-    svg = plot_overlay(pattern.pieces, graded, tmp_path / "ov.svg", labels=("M", "XL")).read_text(encoding="utf-8")
+    svg = plot_overlay(
+        pattern.pieces, graded, tmp_path / "ov.svg", labels=("M", "XL")
+    ).read_text(encoding="utf-8")
     text = re.sub(r"<[^>]+>", " ", svg)
     assert "Δarea +0.0 cm²" in text  # the sleeve has no rules
     assert len(re.findall(r"Δarea \+\d+\.\d cm²", text)) == 3

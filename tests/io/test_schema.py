@@ -13,7 +13,14 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from patternbridge.pattern.json import pattern_from_dict, pattern_to_dict
-from patternbridge.pattern.model import GradeRuleTable, Notch, Pattern, Piece, Polyline, Quantity
+from patternbridge.pattern.model import (
+    GradeRuleTable,
+    Notch,
+    Pattern,
+    Piece,
+    Polyline,
+    Quantity,
+)
 from patternbridge.testing import example_pattern
 
 REPO = Path(__file__).resolve().parents[2]
@@ -46,28 +53,43 @@ def test_schema_names_every_field_the_writer_emits(validator):
     front = doc["pieces"][0]
     assert set(front) == set(schema["$defs"]["piece"]["properties"])
     notch = front["notches"][0]
-    assert set(notch) == set(schema["$defs"]["notch"]["properties"]) - {"source_angle_deg"}
+    assert set(notch) == set(schema["$defs"]["notch"]["properties"]) - {
+        "source_angle_deg"
+    }
     assert set(doc["seams"][0]) == set(schema["$defs"]["seam"]["properties"])
-    assert set(doc["measurements"][0]) == set(schema["$defs"]["measurement"]["properties"])
-    assert set(doc["provenance"]) == set(schema["properties"]["provenance"]["properties"])
+    assert set(doc["measurements"][0]) == set(
+        schema["$defs"]["measurement"]["properties"]
+    )
+    assert set(doc["provenance"]) == set(
+        schema["properties"]["provenance"]["properties"]
+    )
 
 
 @pytest.mark.parametrize(
     "mutate, message",
     [
         (lambda d: d.pop("pieces"), "'pieces' is a required property"),
-        (lambda d: d.update(format="something-else"), "'patternbridge.pattern' was expected"),
+        (
+            lambda d: d.update(format="something-else"),
+            "'patternbridge.pattern' was expected",
+        ),
         (lambda d: d.update(length_unit="mm"), "'cm' was expected"),
         (lambda d: d.update(units="IMPERIAL"), "is not one of"),
         (lambda d: d["pieces"][0].update(colour="red"), "Additional properties"),
         (lambda d: d["pieces"][0]["kinds"].__setitem__(0, "corner"), "is not one of"),
         (lambda d: d["pieces"][0]["notches"][0].update(type="W"), "is not one of"),
-        (lambda d: d["pieces"][0]["outline"].__setitem__(0, [1.0, 2.0, 3.0]), ("is expected to be empty", "at most 2 items", "is too long")),
+        (
+            lambda d: d["pieces"][0]["outline"].__setitem__(0, [1.0, 2.0, 3.0]),
+            ("is expected to be empty", "at most 2 items", "is too long"),
+        ),
         (lambda d: d["pieces"][0].update(outline=[[0, 0], [1, 0]]), "is too short"),
         (lambda d: d["pieces"][0]["quantity"].update(left=-1), "less than the minimum"),
         (lambda d: d["seams"][0]["a"].update(copy="twice"), "is not one of"),
         (lambda d: d["measurements"][0].update(legs=[]), "should be non-empty"),
-        (lambda d: d["pieces"][0]["placement"].update(body_part="tail"), "is not one of"),
+        (
+            lambda d: d["pieces"][0]["placement"].update(body_part="tail"),
+            "is not one of",
+        ),
         (lambda d: d["rules"]["deltas"].update({"1": [[0.0]]}), "is too short"),
     ],
 )
@@ -88,23 +110,54 @@ coord = st.floats(min_value=-300, max_value=300, allow_nan=False, allow_infinity
 def patterns(draw) -> Pattern:
     n = draw(st.integers(3, 10))
     outline = draw(st.lists(st.tuples(coord, coord), min_size=n, max_size=n))
-    kinds = draw(st.lists(st.sampled_from(["turn", "curve", "plain"]), min_size=n, max_size=n))
-    rules = [str(i) if k == "turn" else None for i, k in enumerate(kinds)]
-    sizes = tuple(draw(st.lists(st.sampled_from(["XS", "S", "M", "L", "XL", "38", "40"]),
-                                min_size=1, max_size=4, unique=True)))
-    piece = Piece(
-        name=draw(st.text(min_size=1, max_size=12)), size=sizes[0], outline=outline, kinds=kinds,
-        rules=rules, quantity=Quantity(right=draw(st.integers(0, 3)), left=draw(st.integers(0, 3))),
-        notches=tuple(Notch(vertex=v, type=draw(st.sampled_from(["slit", "V", "T", "castle", "check", "U"])),
-                            source_angle_deg=draw(st.none() | st.floats(-360, 360)))
-                      for v in draw(st.lists(st.integers(0, n - 1), max_size=3, unique=True))),
-        internal_lines=(Polyline(points=outline[:2], label=draw(st.none() | st.text(max_size=5))),),
+    kinds = draw(
+        st.lists(st.sampled_from(["turn", "curve", "plain"]), min_size=n, max_size=n)
     )
-    deltas = {r: draw(st.lists(st.tuples(coord, coord), min_size=len(sizes), max_size=len(sizes)))
-              for r in rules if r is not None}
-    return Pattern(style=draw(st.text(max_size=20)), pieces=(piece,), sample_size=sizes[0], sizes=sizes,
-                   rules=GradeRuleTable(sizes=sizes, sample_size=sizes[0], deltas=deltas),
-                   units=draw(st.sampled_from(["METRIC", "ENGLISH"])))
+    rules = [str(i) if k == "turn" else None for i, k in enumerate(kinds)]
+    sizes = tuple(
+        draw(
+            st.lists(
+                st.sampled_from(["XS", "S", "M", "L", "XL", "38", "40"]),
+                min_size=1,
+                max_size=4,
+                unique=True,
+            )
+        )
+    )
+    piece = Piece(
+        name=draw(st.text(min_size=1, max_size=12)),
+        size=sizes[0],
+        outline=outline,
+        kinds=kinds,
+        rules=rules,
+        quantity=Quantity(right=draw(st.integers(0, 3)), left=draw(st.integers(0, 3))),
+        notches=tuple(
+            Notch(
+                vertex=v,
+                type=draw(st.sampled_from(["slit", "V", "T", "castle", "check", "U"])),
+                source_angle_deg=draw(st.none() | st.floats(-360, 360)),
+            )
+            for v in draw(st.lists(st.integers(0, n - 1), max_size=3, unique=True))
+        ),
+        internal_lines=(
+            Polyline(points=outline[:2], label=draw(st.none() | st.text(max_size=5))),
+        ),
+    )
+    deltas = {
+        r: draw(
+            st.lists(st.tuples(coord, coord), min_size=len(sizes), max_size=len(sizes))
+        )
+        for r in rules
+        if r is not None
+    }
+    return Pattern(
+        style=draw(st.text(max_size=20)),
+        pieces=(piece,),
+        sample_size=sizes[0],
+        sizes=sizes,
+        rules=GradeRuleTable(sizes=sizes, sample_size=sizes[0], deltas=deltas),
+        units=draw(st.sampled_from(["METRIC", "ENGLISH"])),
+    )
 
 
 @settings(max_examples=40, deadline=None)
@@ -121,7 +174,9 @@ def test_any_pattern_json_is_valid_and_round_trips(pattern):
 
 
 @pytest.mark.shared
-@pytest.mark.parametrize("name", ["GLX4802S19_ASTM.DXF", "simple.DXF", "clo-pattern.dxf"])
+@pytest.mark.parametrize(
+    "name", ["GLX4802S19_ASTM.DXF", "simple.DXF", "clo-pattern.dxf"]
+)
 def test_imported_real_files_are_valid(validator, name):
     from patternbridge.io.dxf_aama import read_dxf
 

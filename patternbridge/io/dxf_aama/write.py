@@ -67,7 +67,9 @@ _ASTM_VERSION = "ASTM/D13Proposal 1 Version: D 6673-04"
 _TEXT_HEIGHT = {Units.METRIC: 2.5, Units.ENGLISH: 0.1}  # file units
 _CURVE_TOLERANCE = {Units.METRIC: ".152", Units.ENGLISH: ".006"}
 _MAX_NAME = 20  # Gerber truncates piece/style names beyond this
-_SAME_MOTION_CM = 1e-3  # two rules at one point agree when their deltas agree this well (0.01 mm)
+_SAME_MOTION_CM = (
+    1e-3  # two rules at one point agree when their deltas agree this well (0.01 mm)
+)
 
 
 # ---------------------------------------------------------------------------
@@ -127,7 +129,9 @@ class _Tags:
     def __init__(self, decimals: int = 4) -> None:
         self.lines: list[str] = []
         self.decimals = decimals
-        self.rules_seen: dict[tuple[str, str], str] = {}  # position -> rule text, per block
+        self.rules_seen: dict[
+            tuple[str, str], str
+        ] = {}  # position -> rule text, per block
 
     def rule(self, layer: int, at, value: str, height: float) -> str | None:
         """A ``# n`` rule text, once per position within a block.
@@ -157,7 +161,9 @@ class _Tags:
         self.num(code, point[0])
         self.num(code + 10, point[1])
 
-    def text(self, layer: int, at, value: str, height: float, angle_deg: float = 0.0) -> None:
+    def text(
+        self, layer: int, at, value: str, height: float, angle_deg: float = 0.0
+    ) -> None:
         self.tag(0, "TEXT")
         self.tag(8, layer)
         self.xy(at)
@@ -166,8 +172,15 @@ class _Tags:
         self.tag(1, value)
         self.tag(7, "STANDARD")
 
-    def point(self, layer: int, at, *, z: float | None = None, thickness: float | None = None,
-              angle_deg: float | None = None) -> None:
+    def point(
+        self,
+        layer: int,
+        at,
+        *,
+        z: float | None = None,
+        thickness: float | None = None,
+        angle_deg: float | None = None,
+    ) -> None:
         self.tag(0, "POINT")
         self.tag(8, layer)
         self.xy(at)
@@ -231,8 +244,16 @@ def _rule_text(rule: str) -> str:
     return f"# {rule}"
 
 
-def _put_rule(tags: _Tags, ctx: _Context, layer: int, at, rule: str, where: str, *,
-              check: bool = True) -> None:
+def _put_rule(
+    tags: _Tags,
+    ctx: _Context,
+    layer: int,
+    at,
+    rule: str,
+    where: str,
+    *,
+    check: bool = True,
+) -> None:
     """Write ``# rule`` at ``at`` unless another rule already sits there.
 
     Coincident points (a notch on a graded vertex, a grade reference line on
@@ -245,7 +266,12 @@ def _put_rule(tags: _Tags, ctx: _Context, layer: int, at, rule: str, where: str,
         return
     first = other[2:]
     a, b = ctx.table.get(first), ctx.table.get(rule)
-    if a is None or b is None or a.shape != b.shape or not np.allclose(a, b, atol=_SAME_MOTION_CM):
+    if (
+        a is None
+        or b is None
+        or a.shape != b.shape
+        or not np.allclose(a, b, atol=_SAME_MOTION_CM)
+    ):
         ctx.report.add(
             "rule-position-conflict",
             f"rule {rule} and rule {first} sit on the same point and grade differently; "
@@ -254,10 +280,17 @@ def _put_rule(tags: _Tags, ctx: _Context, layer: int, at, rule: str, where: str,
         )
 
 
-def _vertex_points(tags: _Tags, ctx: _Context, owner_layer: int, pts: np.ndarray,
-                   kinds: Sequence[VertexKind], rules: Sequence[str | None], where: str) -> None:
+def _vertex_points(
+    tags: _Tags,
+    ctx: _Context,
+    owner_layer: int,
+    pts: np.ndarray,
+    kinds: Sequence[VertexKind],
+    rules: Sequence[str | None],
+    where: str,
+) -> None:
     """Turn/curve POINTs on 2/3 and ``# n`` texts of one polyline's vertices."""
-    for p, kind, rule in zip(pts, kinds, rules):
+    for p, kind, rule in zip(pts, kinds, rules, strict=True):
         point_layer = {VertexKind.TURN: 2, VertexKind.CURVE: 3}.get(VertexKind(kind))
         if ctx.flavor is Flavor.ASTM:
             # ASTM: the rule text sits on the geometry's own layer, before the point
@@ -271,12 +304,20 @@ def _vertex_points(tags: _Tags, ctx: _Context, owner_layer: int, pts: np.ndarray
             if point_layer is not None:
                 tags.point(point_layer, p)
             if rule is not None:
-                _put_rule(tags, ctx, point_layer if point_layer is not None else owner_layer, p, rule,
-                          where)
+                _put_rule(
+                    tags,
+                    ctx,
+                    point_layer if point_layer is not None else owner_layer,
+                    p,
+                    rule,
+                    where,
+                )
 
 
-def _line_rules(tags: _Tags, ctx: _Context, layer: int, line: Line, pts: np.ndarray, where: str) -> None:
-    for p, rule in zip(pts, line.rules):
+def _line_rules(
+    tags: _Tags, ctx: _Context, layer: int, line: Line, pts: np.ndarray, where: str
+) -> None:
+    for p, rule in zip(pts, line.rules, strict=True):
         if rule is not None:
             _put_rule(tags, ctx, layer, p, rule, where)
 
@@ -287,7 +328,9 @@ def _label_anchor(piece_pts: np.ndarray) -> np.ndarray:
     return np.array([lo[0] + 0.25 * (hi[0] - lo[0]), lo[1] + 0.5 * (hi[1] - lo[1])])
 
 
-def _piece_text_lines(piece: Piece, size: str, ctx: _Context, full: bool, where: str) -> list[str]:
+def _piece_text_lines(
+    piece: Piece, size: str, ctx: _Context, full: bool, where: str
+) -> list[str]:
     name = _ascii(ctx, piece.name, where)
     lines = [f"Piece Name: {name}", f"Size: {_ascii(ctx, size, where)}"]
     if not full:
@@ -304,8 +347,11 @@ def _piece_text_lines(piece: Piece, size: str, ctx: _Context, full: bool, where:
                 "export as ASTM to keep the right/left split",
                 where=where,
             )
-    for key, value in (("Category", piece.category), ("Annotation", piece.annotation),
-                       ("Fabric", piece.fabric)):
+    for key, value in (
+        ("Category", piece.category),
+        ("Annotation", piece.annotation),
+        ("Fabric", piece.fabric),
+    ):
         if value:
             lines.append(f"{key}: {_ascii(ctx, value, where)}")
     known = {"piece name", "size", "quantity", "category", "annotation", "fabric"}
@@ -316,8 +362,15 @@ def _piece_text_lines(piece: Piece, size: str, ctx: _Context, full: bool, where:
     return lines
 
 
-def _write_polyline(tags: _Tags, ctx: _Context, layer: int, poly: Polyline, scale: float,
-                    full: bool, where: str) -> np.ndarray:
+def _write_polyline(
+    tags: _Tags,
+    ctx: _Context,
+    layer: int,
+    poly: Polyline,
+    scale: float,
+    full: bool,
+    where: str,
+) -> np.ndarray:
     pts = np.asarray(poly.points) * scale
     if len(pts) == 0:
         return pts
@@ -327,9 +380,17 @@ def _write_polyline(tags: _Tags, ctx: _Context, layer: int, poly: Polyline, scal
     return pts
 
 
-def _block(tags: _Tags, ctx: _Context, piece: Piece, size: str, block_name: str, *, full: bool,
-           validation: bool) -> None:
-    """Write one BLOCK ... ENDBLK; ``full`` = sample-size block with points and rules."""
+def _block(
+    tags: _Tags,
+    ctx: _Context,
+    piece: Piece,
+    size: str,
+    block_name: str,
+    *,
+    full: bool,
+    validation: bool,
+) -> None:
+    """Write one BLOCK ... ENDBLK; ``full``: the sample-size block (points, rules)."""
     s = ctx.scale
     where = f"{piece.name} ({size})"
     outline = np.asarray(piece.outline) * s
@@ -354,16 +415,33 @@ def _block(tags: _Tags, ctx: _Context, piece: Piece, size: str, block_name: str,
         for notch in piece.notches:
             layer = NOTCH_LAYER_BY_TYPE[NotchType(notch.type)]
             angle = math.degrees(notch.angle) % 360.0
-            tags.point(layer, outline[notch.vertex], z=abs(notch.depth_cm) * s,
-                       thickness=abs(notch.width_cm) * s, angle_deg=angle)
+            tags.point(
+                layer,
+                outline[notch.vertex],
+                z=abs(notch.depth_cm) * s,
+                thickness=abs(notch.width_cm) * s,
+                angle_deg=angle,
+            )
             if notch.rule is not None:
                 # a notch rides on its boundary vertex: that vertex's rule governs
-                _put_rule(tags, ctx, layer, outline[notch.vertex], notch.rule, where, check=False)
+                _put_rule(
+                    tags,
+                    ctx,
+                    layer,
+                    outline[notch.vertex],
+                    notch.rule,
+                    where,
+                    check=False,
+                )
     if validation:
         tags.polyline(_VALIDATION_LAYER[1], outline, closed=True)
 
     # grain (7), grade reference (5), mirror (6)
-    for layer, line in ((7, piece.grain_line), (5, piece.grade_reference), (6, piece.mirror_line)):
+    for layer, line in (
+        (7, piece.grain_line),
+        (5, piece.grade_reference),
+        (6, piece.mirror_line),
+    ):
         if line is None:
             continue
         pts = np.asarray(line.points) * s
@@ -372,7 +450,11 @@ def _block(tags: _Tags, ctx: _Context, piece: Piece, size: str, block_name: str,
             _line_rules(tags, ctx, layer, line, pts, where)
 
     # internal lines (8), cutouts (11), sew lines (14)
-    for layer, polys in ((8, piece.internal_lines), (11, piece.cutouts), (14, piece.sew_lines)):
+    for layer, polys in (
+        (8, piece.internal_lines),
+        (11, piece.cutouts),
+        (14, piece.sew_lines),
+    ):
         for poly in polys:
             pts = _write_polyline(tags, ctx, layer, poly, s, full, where)
             if len(pts) == 0:
@@ -394,8 +476,13 @@ def _block(tags: _Tags, ctx: _Context, piece: Piece, size: str, block_name: str,
     # annotations (15, or the layer they came from)
     if full:
         for note in piece.annotations:
-            tags.text(note.layer, np.asarray(note.position) * s, _ascii(ctx, note.text, where),
-                      note.height_cm * s, math.degrees(note.angle) % 360.0)
+            tags.text(
+                note.layer,
+                np.asarray(note.position) * s,
+                _ascii(ctx, note.text, where),
+                note.height_cm * s,
+                math.degrees(note.angle) % 360.0,
+            )
 
     tags.tag(0, "ENDBLK")
     tags.tag(8, 0)
@@ -406,13 +493,18 @@ def _block(tags: _Tags, ctx: _Context, piece: Piece, size: str, block_name: str,
 # ---------------------------------------------------------------------------
 
 
-def _style_text_lines(pattern: Pattern, ctx: _Context, validation: bool,
-                      now: _dt.datetime) -> list[str]:
+def _style_text_lines(
+    pattern: Pattern, ctx: _Context, validation: bool, now: _dt.datetime
+) -> list[str]:
     where = f"style {pattern.style}"
     style = _ascii(ctx, pattern.style, where)
     if len(style) > _MAX_NAME:
-        ctx.report.add("name-too-long", f"style name {style!r} is longer than {_MAX_NAME} characters; "
-                       "Gerber AccuMark truncates it", where=where)
+        ctx.report.add(
+            "name-too-long",
+            f"style name {style!r} is longer than {_MAX_NAME} characters; "
+            "Gerber AccuMark truncates it",
+            where=where,
+        )
     lines = [
         f"Style Name: {style}",
         f"Creation Date: {now:%d-%m-%Y}",
@@ -421,7 +513,11 @@ def _style_text_lines(pattern: Pattern, ctx: _Context, validation: bool,
     if ctx.flavor is Flavor.ASTM:
         lines.append(f"Author: {_VENDOR} ; {_PRODUCT} ; {__version__}")
     else:
-        lines += [f"Author: {_VENDOR}", f"PRODUCT: {_PRODUCT}", f"VERSION: {__version__}"]
+        lines += [
+            f"Author: {_VENDOR}",
+            f"PRODUCT: {_PRODUCT}",
+            f"VERSION: {__version__}",
+        ]
     lines += [
         f"Sample Size: {_ascii(ctx, pattern.sample_size, where)}",
         f"Grade Rule Table: {_ascii(ctx, pattern.rules.name, where)}".rstrip(),
@@ -503,16 +599,26 @@ def format_dxf(
     units = Units(str(units).upper()) if units is not None else pattern.units
     report = report if report is not None else Report()
     now = now or _dt.datetime.now()
-    ctx = _Context(flavor=flavor, units=units, scale=float(from_cm(1.0, str(units))),
-                   height=_TEXT_HEIGHT[units], report=report, table=pattern.rules.deltas)
+    ctx = _Context(
+        flavor=flavor,
+        units=units,
+        scale=float(from_cm(1.0, str(units))),
+        height=_TEXT_HEIGHT[units],
+        report=report,
+        table=pattern.rules.deltas,
+    )
     validation = flavor is Flavor.ASTM
     nest_sizes = _resolve_sizes(pattern, sizes, report)
 
     for piece in pattern.pieces:
         name, _ = to_ascii(piece.name)
         if len(name) > _MAX_NAME:
-            report.add("name-too-long", f"piece name {name!r} is longer than {_MAX_NAME} characters; "
-                       "Gerber AccuMark truncates it", where=piece.name)
+            report.add(
+                "name-too-long",
+                f"piece name {name!r} is longer than {_MAX_NAME} characters; "
+                "Gerber AccuMark truncates it",
+                where=piece.name,
+            )
 
     # (piece, size, full) in file order: per size, every piece
     entries: list[tuple[Piece, str, bool]] = []
@@ -532,7 +638,7 @@ def format_dxf(
     tags.tag(0, "ENDSEC")
     tags.tag(0, "SECTION")
     tags.tag(2, "BLOCKS")
-    for (piece, size, full), block_name in zip(entries, block_names):
+    for (piece, size, full), block_name in zip(entries, block_names, strict=True):
         _block(tags, ctx, piece, size, block_name, full=full, validation=validation)
     tags.tag(0, "ENDSEC")
     tags.tag(0, "SECTION")
@@ -575,7 +681,7 @@ def write_dxf(
         AAMA: ``Author``/``PRODUCT``/``VERSION`` style text, ``Quantity: N``
         totals, ``# n`` rule texts on layers 2/3. ASTM: the D 6673-04 version
         string, ``Author: vendor ; app ; release``, ``Quantity: R,L``, rule
-        texts on the geometry's layer and validation curves on 84–87.
+        texts on the geometry's layer and validation curves on 84 to 87.
     sizes : ``"sample"``, ``"all"``, a comma-separated string or a list of sizes
         ``"sample"`` writes the sample size only (grade with ``rul_path``);
         anything else writes a graded nest of those sizes (the sample size is
@@ -599,11 +705,15 @@ def write_dxf(
     """
     own_report = Report()
     units_ = Units(str(units).upper()) if units is not None else pattern.units
-    text = format_dxf(pattern, flavor=flavor, sizes=sizes, units=units_, report=own_report)
+    text = format_dxf(
+        pattern, flavor=flavor, sizes=sizes, units=units_, report=own_report
+    )
     rul_text = None
     if rul_path is not None:
         if not pattern.rules.deltas and not pattern.rules.sizes:
-            raise InputError(f"{rul_path}: pattern {pattern.style!r} has no grade-rule table to write")
+            raise InputError(
+                f"{rul_path}: pattern {pattern.style!r} has no grade-rule table to write"
+            )
         from ..rul import format_rul
 
         rul_text = format_rul(pattern.rules, units=units_)
@@ -617,6 +727,8 @@ def write_dxf(
         tmp.write_bytes(text.encode("ascii"))
         if rul_text is not None:
             with atomic_path(rul_path) as rul_tmp:
-                data = rul_text if "\r\n" in rul_text else rul_text.replace("\n", "\r\n")
+                data = (
+                    rul_text if "\r\n" in rul_text else rul_text.replace("\n", "\r\n")
+                )
                 rul_tmp.write_bytes(data.encode("ascii", errors="replace"))
     return path
