@@ -22,7 +22,7 @@ def measurement_picture(
     character: Character,
     result: Measurements,
     *,
-    size: tuple[int, int] = (700, 1100),
+    size: tuple[int, int] = (560, 900),
     show_landmarks: bool = True,
 ) -> np.ndarray:
     """(H, 3W, 3) uint8: the character front, back and side with the tapes.

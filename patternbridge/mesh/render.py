@@ -67,6 +67,8 @@ def _rasterise(p: np.ndarray, faces: np.ndarray, width: int, height: int):
     zbuf = np.full(n_pix, -np.inf)
     fbuf = np.full(n_pix, -1, dtype=np.int64)
     tri = p[faces]  # (F, 3, 3)
+    zmin = float(p[:, 2].min())
+    zscale = 0.999 / max(float(p[:, 2].max()) - zmin, 1e-12)
     lo = np.floor(tri[:, :, :2].min(axis=1) - 0.5).astype(np.int64) + 1
     hi = np.floor(tri[:, :, :2].max(axis=1) - 0.5).astype(np.int64)
     lo = np.maximum(lo, 0)
@@ -107,7 +109,9 @@ def _rasterise(p: np.ndarray, faces: np.ndarray, width: int, height: int):
             pix = py[rows, cols] * width + px[rows, cols]
             depth = z[rows, cols]
             face = f[rows]
-            order = np.lexsort((-depth, pix))
+            # one float key: pixel index, then nearer first (depth scaled into [0, 1))
+            dn = (depth - zmin) * zscale
+            order = np.argsort(pix - dn)
             pix, depth, face = pix[order], depth[order], face[order]
             first = np.ones(pix.size, dtype=bool)
             first[1:] = pix[1:] != pix[:-1]
