@@ -445,6 +445,7 @@ def rules_from_nest(
     nest: Mapping[str, Mapping[str, np.ndarray | Piece]],
     *,
     atol_cm: float = _SAME_RULE_CM,
+    every_vertex: bool = False,
 ) -> Pattern:
     """Derive grade rules from a graded nest and return the sample with them.
 
@@ -462,6 +463,9 @@ def rules_from_nest(
         differ); their points without a rule id get fresh ids.
     atol_cm : points sharing a rule id whose displacements differ by more
         than this get split into separate ids.
+    every_vertex : make every boundary vertex a rule point (fresh ids where
+        the sample has none), so grading reproduces the nest's own curves
+        instead of following them by arc length between the rule points.
 
     Returns
     -------
@@ -506,7 +510,9 @@ def rules_from_nest(
         d = local(stack, piece.outline)
         rules = list(piece.rules)
         has_rule = [r is not None for r in rules]
-        if not any(has_rule):
+        if every_vertex:
+            has_rule = [True] * piece.n_vertices
+        elif not any(has_rule):
             turn = [k == VertexKind.TURN for k in piece.kinds]
             has_rule = turn if any(turn) else [True] * piece.n_vertices
             rules = [None] * piece.n_vertices
@@ -580,6 +586,7 @@ def derive_rules(
     nest: Mapping[str, Mapping[str, np.ndarray | Piece]],
     *,
     atol_cm: float = _SAME_RULE_CM,
+    every_vertex: bool = False,
 ) -> GradeRuleTable:
     """The grade-rule table of a graded nest (see :func:`rules_from_nest`).
 
@@ -587,7 +594,7 @@ def derive_rules(
     in the nest, the table holds split-off ids the sample does not reference;
     use :func:`rules_from_nest` to get the re-labelled pattern with the table.
     """
-    return rules_from_nest(sample, nest, atol_cm=atol_cm).rules
+    return rules_from_nest(sample, nest, atol_cm=atol_cm, every_vertex=every_vertex).rules
 
 
 # --------------------------------------------------------------------------- a new size

@@ -569,3 +569,21 @@ def test_truncated_corrupted_and_empty_files(tmp_path):
         read_dxf(binary)
     with pytest.raises(DXFFormatError, match="cannot read"):
         read_dxf(tmp_path / "absent.dxf")
+
+
+@pytest.mark.shared
+def test_exact_nest_reproduces_every_vertex_of_every_size():
+    path = real("GLX4802S19_AAMA.DXF")
+    default, report = read_dxf(path)
+    exact, exact_report = read_dxf(path, exact_nest=True)
+    assert "nest-curve-deviation" in report.codes() and "nest-curve-deviation" not in exact_report.codes()
+    assert all(r is not None for p in exact.pieces for r in p.rules)
+    blocks = raw_blocks(path)
+    for size in ("26", "52"):
+        graded = grade(exact, size)
+        for piece in graded.pieces:
+            ents = next(e for e in blocks.values()
+                        if block_text(e).get("PIECE NAME") == piece.name and block_text(e).get("SIZE") == size)
+            raw = vertices(ents, "1") * 0.1
+            dist = np.min(np.linalg.norm(raw[None, :, :] - piece.outline[:, None, :], axis=-1), axis=1)
+            assert dist.max() <= 0.001
