@@ -51,9 +51,9 @@ def _camera(view: str, up: int) -> np.ndarray:
 def _vertex_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     tri = vertices[faces]
     fn = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    vn = np.zeros_like(vertices)
-    for k in range(3):
-        np.add.at(vn, faces[:, k], fn)
+    idx = faces.ravel()
+    w = np.repeat(fn, 3, axis=0)
+    vn = np.column_stack([np.bincount(idx, weights=w[:, k], minlength=len(vertices)) for k in range(3)])
     norm = np.linalg.norm(vn, axis=1, keepdims=True)
     return vn / np.where(norm > 0, norm, 1.0)
 
