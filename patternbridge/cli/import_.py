@@ -45,6 +45,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "default: <dxf stem>.seams.json beside the DXF when present",
     )
     parser.add_argument(
+        "--exact-nest",
+        action="store_true",
+        help="graded nest: make every boundary vertex a rule point so each size's own "
+        "curves are reproduced exactly (default: only the file's '# n' points)",
+    )
+    parser.add_argument(
         "--strict", action="store_true", help="treat every warning as an error"
     )
 
@@ -78,7 +84,12 @@ def run(args: argparse.Namespace) -> int:
     from ..io.dxf_aama import read_dxf
 
     pattern, report = read_dxf(
-        dxf, rul=args.rul, units=args.units, unfold=args.unfold, strict=args.strict
+        dxf,
+        rul=args.rul,
+        units=args.units,
+        unfold=args.unfold,
+        strict=args.strict,
+        exact_nest=args.exact_nest,
     )
     sidecar, explicit = _sidecar(args, dxf)
     applied = None

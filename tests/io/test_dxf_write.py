@@ -609,3 +609,36 @@ def test_hypothesis_dxf_round_trip(pattern, flavor, tmp_path):
     back, _ = read_dxf(dxf)
     atol = 3e-4 if pattern.units is Units.ENGLISH else 1e-4
     assert_patterns_equal(pattern, back, atol_cm=atol, atol_rad=1e-3, ignore=DXF_ONLY)
+
+
+def test_rule_conflicts_reported_for_sample_exports_only(pattern):
+    """Two rules that grade differently on one point: the first stays, a finding says so."""
+    back = pattern.piece("BACK")
+    clash = Line(points=[back.outline[1], back.outline[2]], rules=("99", "22"))
+    deltas = dict(pattern.rules.deltas)
+    deltas["99"] = (
+        deltas["21"] + 1.0
+    )  # moves differently from rule 21 at the same point
+    p = dataclasses.replace(
+        pattern,
+        pieces=(dataclasses.replace(back, grade_reference=clash),),
+        rules=dataclasses.replace(pattern.rules, deltas=deltas),
+    )
+    report = Report()
+    ents = blocks(format_dxf(p, report=report, now=FIXED))["BACK_M"]
+    assert report.codes() == ["rule-position-conflict"]
+    assert "rule 99" in report.findings[0].message
+    at = [xy(g) for k, g in ents if k == "TEXT" and g[1] == ["# 21"]]
+    assert len(at) == 1 and not any(g[1] == ["# 99"] for k, g in ents if k == "TEXT")
+    # the same rule twice on a point is written once, silently
+    same = dataclasses.replace(clash, rules=("21", "22"))
+    q = dataclasses.replace(
+        p, pieces=(dataclasses.replace(back, grade_reference=same),)
+    )
+    report = Report()
+    format_dxf(q, report=report)
+    assert not report
+    # a nest carries every size itself: no finding
+    report = Report()
+    format_dxf(p, sizes="all", report=report)
+    assert "rule-position-conflict" not in report.codes()

@@ -226,6 +226,7 @@ class _Context:
     height: float  # text height in file units
     report: Report
     table: Mapping[str, np.ndarray]  # rule id -> deltas (cm), for conflict checks
+    nest: bool = False  # a graded nest carries every size: rule texts only label points
 
 
 def _ascii(ctx: _Context, value: str, where: str) -> str:
@@ -262,7 +263,7 @@ def _put_rule(
     """
     text = _ascii(ctx, _rule_text(rule), where)
     other = tags.rule(layer, at, text, ctx.height)
-    if other is None or not check:
+    if other is None or not check or ctx.nest:
         return
     first = other[2:]
     a, b = ctx.table.get(first), ctx.table.get(rule)
@@ -599,6 +600,7 @@ def format_dxf(
     units = Units(str(units).upper()) if units is not None else pattern.units
     report = report if report is not None else Report()
     now = now or _dt.datetime.now()
+    nest_sizes = _resolve_sizes(pattern, sizes, report)
     ctx = _Context(
         flavor=flavor,
         units=units,
@@ -606,9 +608,9 @@ def format_dxf(
         height=_TEXT_HEIGHT[units],
         report=report,
         table=pattern.rules.deltas,
+        nest=nest_sizes is not None,
     )
     validation = flavor is Flavor.ASTM
-    nest_sizes = _resolve_sizes(pattern, sizes, report)
 
     for piece in pattern.pieces:
         name, _ = to_ascii(piece.name)
@@ -716,7 +718,13 @@ def write_dxf(
             )
         from ..rul import format_rul
 
-        rul_text = format_rul(pattern.rules, units=units_)
+        try:
+            rul_text = format_rul(pattern.rules, units=units_)
+        except ValueError as exc:
+            raise InputError(
+                f"{rul_path}: cannot write the grade-rule table ({exc}); "
+                "fix the pattern's rules or export a graded nest"
+            ) from None
     if report is not None:
         report.extend(own_report)
     else:
