@@ -520,6 +520,13 @@ def piece_pose(data: ObjectiveData, points: np.ndarray) -> tuple[np.ndarray, np.
     return np.arctan2(cs, ds), centre - data.centre0[None]
 
 
+def _slack(r: np.ndarray, slack: float) -> np.ndarray:
+    """Residual with a dead zone: 0 within ``±slack``, linear beyond it."""
+    if slack <= 0:
+        return r
+    return np.sign(r) * np.maximum(np.abs(r) - slack, 0.0)
+
+
 def residuals(
     data: ObjectiveData,
     points: np.ndarray,
@@ -534,10 +541,14 @@ def residuals(
     w_rotation: float = 3.0,
     w_shift: float = 0.05,
     w_proportion: float = 0.5,
+    measure_slack_cm: float = 0.0,
+    seam_slack_cm: float = 0.0,
 ) -> np.ndarray:
     """Weighted residual vector of every individual, ``(n_pop, n_res)``.
 
-    The least-squares form of the three objectives used by the repair step
+    ``measure_slack_cm`` and ``seam_slack_cm`` are dead zones: errors within
+    them cost nothing, so the shape terms may use the tolerance the fit
+    allows. The least-squares form of the three objectives used by the repair step
     (:func:`patternbridge.grade.run.repair`): measurement residuals (cm), seam
     length mismatches and notch offsets (cm, weighted up so they close to well
     under 1 mm), stitch-interval differences (cm), turning-angle disagreement
@@ -549,10 +560,12 @@ def residuals(
     """
     points = np.asarray(points, dtype=np.float64)
     achieved, _ = measurement_error(data, points)
-    parts = [w_measure * (achieved - data.target_cm)]
+    parts = [w_measure * _slack(achieved - data.target_cm, measure_slack_cm)]
     if data.n_seams:
         edges = _edge_lengths(data, points)
         mismatch, edge_dev, ang_dev, notch, _ = _seam_terms(data, points, edges)
+        mismatch = _slack(mismatch, seam_slack_cm)
+        notch = _slack(notch, seam_slack_cm)
         parts += [w_seam * mismatch, w_interval * edge_dev, w_notch * notch, w_turn * ang_dev]
     d = _angles(points, data.prv, data.nxt) - data.angle0
     d = (d + np.pi) % (2 * np.pi) - np.pi

@@ -138,8 +138,7 @@ class FitResult:
 def _is_simple(pattern: Pattern) -> bool:
     import shapely
 
-    rings = shapely.linearrings([p.outline for p in pattern.pieces]) if pattern.pieces else []
-    return bool(np.all(shapely.is_simple(rings))) if len(pattern.pieces) else True
+    return all(bool(shapely.is_simple(shapely.linearrings(p.outline))) for p in pattern.pieces)
 
 
 def score_points(data: ObjectiveData, points: np.ndarray, *, fold_margin: float, pattern: Pattern) -> Scores:

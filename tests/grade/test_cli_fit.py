@@ -1,0 +1,69 @@
+"""``patternbridge fit`` on a measurements JSON and a pattern JSON: outputs and bad input."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+from conftest import BODY, skirt_pattern
+
+from patternbridge.cli.main import main
+from patternbridge.io.pattern_json import load_pattern_json, save_pattern_json
+
+
+@pytest.fixture
+def inputs(tmp_path):
+    pattern_path = tmp_path / "skirt.json"
+    save_pattern_json(skirt_pattern(), pattern_path)
+    body_path = tmp_path / "hero.json"
+    body_path.write_text(json.dumps(BODY))
+    return pattern_path, body_path
+
+
+def test_fit_writes_every_output(inputs, tmp_path, capsys):
+    pattern_path, body_path = inputs
+    out = tmp_path / "out"
+    code = main(["fit", str(body_path), "--garment", str(pattern_path), "-o", str(out),
+                 "--seed", "1", "--pop-size", "20", "--generations", "10"])
+    assert code == 0
+    names = {p.name for p in out.iterdir()}
+    assert {"measurements.json", "fit_report.json", "pattern.png", "pareto.png",
+            "skirt_aama.dxf", "skirt_aama.rul", "skirt_astm.dxf", "skirt_astm.rul", "skirt_hero.json"} <= names
+    assert not [n for n in names if n.startswith(".")]  # no temporary leftovers
+    rep = json.loads((out / "fit_report.json").read_text())
+    assert rep["mean_error_cm"] <= 0.5 and rep["max_seam_mm"] <= 1.0
+    assert "baseline" in rep and "seconds" in rep and "shape_error" in rep
+    graded = load_pattern_json(out / "skirt_hero.json")
+    assert graded.sample_size == "hero" and [p.name for p in graded.pieces] == ["front", "back"]
+    # the RUL carries the original size plus the character
+    rul = (out / "skirt_aama.rul").read_text(errors="replace")
+    assert "hero" in rul
+    err = capsys.readouterr()
+    assert "[grade]" in err.err and "wrote" in err.out
+
+
+def test_fit_pattern_without_links_exits_2(inputs, tmp_path, capsys):
+    _, body_path = inputs
+    bare = tmp_path / "bare.json"
+    save_pattern_json(skirt_pattern(links=False), bare)
+    code = main(["fit", str(body_path), "--garment", str(bare), "-o", str(tmp_path / "o")])
+    assert code == 2
+    assert "seams infer" in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
+
+
+def test_fit_lists_missing_measurements(inputs, tmp_path, capsys):
+    pattern_path, _ = inputs
+    body = tmp_path / "thin.json"
+    body.write_text(json.dumps({"waist_girth": 70.0}))
+    code = main(["fit", str(body), "--garment", str(pattern_path), "-o", str(tmp_path / "o")])
+    assert code == 2
+    err = capsys.readouterr().err
+    assert "hip_girth" in err and "waist_to_knee" in err
+
+
+def test_fit_missing_character_file(inputs, tmp_path, capsys):
+    pattern_path, _ = inputs
+    code = main(["fit", str(tmp_path / "nobody.obj"), "--garment", str(pattern_path), "-o", str(tmp_path / "o")])
+    assert code == 2
+    assert "no such character file" in capsys.readouterr().err
