@@ -317,6 +317,28 @@ class OutlineBuilder:
         self.polyline(bezier(*rest, counts[-1]), mark, allowance_cm=allowance_cm, notch=notch,
                       end_kind=end_kind)
 
+    def darted_line(self, p, mark: str | None, darts: Sequence[tuple[float, float, float, str]], *,
+                    allowance_cm: float = 1.0) -> None:
+        """Straight edge to ``p`` with V darts cut into it.
+
+        darts : ``(centre_cm, width_cm, length_cm, prefix)`` — dart centre as a
+            distance along the edge from the current vertex, its width at the
+            edge and its length into the piece (square to the edge). Marks
+            ``<prefix>_a`` (first dart top walked), ``<prefix>_apex`` and
+            ``<prefix>_b`` are set, with notches on the tops.
+        """
+        p0 = self._pts[-1].copy()
+        p1 = np.asarray(p, dtype=np.float64)
+        d = p1 - p0
+        u = d / np.hypot(*d)
+        inward = np.array([-u[1], u[0]])  # the piece lies left of a CCW walk
+        for centre, width, length, prefix in sorted(darts, key=lambda t: t[0]):
+            c = p0 + u * centre
+            self.line(c - u * width / 2, f"{prefix}_a", allowance_cm=allowance_cm, notch=True)
+            self.line(c + inward * length, f"{prefix}_apex", allowance_cm=allowance_cm, dart_apex=True)
+            self.line(c + u * width / 2, f"{prefix}_b", allowance_cm=allowance_cm, notch=True)
+        self.line(p1, mark, allowance_cm=allowance_cm)
+
     def close(self, *, allowance_cm: float = 1.0) -> NetOutline:
         """Close the walk (last vertex back to the first) and return the net outline.
 

@@ -36,7 +36,7 @@ from ..pattern.model import (
 from .draft import NetOutline, offset_outline
 from .sizes import SizeChart
 
-__all__ = ["PieceDraft", "build_pattern", "leg", "link", "seam"]
+__all__ = ["PieceDraft", "band_draft", "build_pattern", "leg", "link", "seam"]
 
 NOTCH_DEPTH_CM = 0.6
 
@@ -211,3 +211,61 @@ def build_pattern(
             ease = round(float(achieved[ml.id][k_sample]) - body[m], 1)
         measurements.append(MeasurementLink(measurement=m, legs=legs_, ease_cm=float(ease), id=ml.id))
     return replace(pattern, measurements=tuple(measurements))
+
+
+def band_draft(
+    name: str,
+    parts: Sequence[tuple[PieceDraft, str, str, str, str | None]],
+    height_cm: float,
+    *,
+    placement: Placement,
+    landmarks: dict[str, str] | None = None,
+    ends: tuple[str, str] = ("end_start", "end_finish"),
+    annotation: str = "",
+    category: str = "",
+    part_ease_cm: float = 0.0,
+) -> tuple[PieceDraft, list[Seam]]:
+    """A straight band (waistband, neckband) sewn to a chain of piece edges.
+
+    parts : ``(piece draft, copy, start mark, end mark, band mark)`` in the
+        order the band's lower edge meets them (left to right); each range is
+        given in its piece's outline order and runs *against* the band (the
+        library convention), ``band mark`` names the band point at the end of
+        that part (``None``: an automatic ``j<k>`` name). Darts between parts
+        close to a single band point.
+    height_cm : band height
+    part_ease_cm : how much longer each piece edge is than its band part
+        (stretch rib bands: the band is ``part_ease_cm`` shorter per part,
+        the same in every size, declared as the seams' ease)
+
+    Returns
+    -------
+    The band's draft and one seam per part (``band_<k>`` ids are replaced by
+    ``<name>_<piece>_<start>`` ids).
+    """
+    from .draft import OutlineBuilder
+
+    lengths = [p.net.length(s, e) - part_ease_cm for p, _c, s, e, _m in parts]
+    x = np.concatenate([[0.0], np.cumsum(lengths)])
+    o = OutlineBuilder()
+    o.start((0.0, 0.0), ends[0])
+    names = [ends[0]]
+    for k, (_p, _c, _s, _e, mark) in enumerate(parts):
+        nm = mark or f"j{k + 1}"
+        if k == len(parts) - 1:
+            nm = ends[1]
+        o.line((x[k + 1], 0.0), nm, notch=k < len(parts) - 1)
+        names.append(nm)
+    o.line((x[-1], height_cm), f"top_{ends[1]}")
+    o.line((0.0, height_cm), f"top_{ends[0]}")
+    net = o.close()
+    band = PieceDraft(name=name, net=net, quantity=Quantity(right=1, left=0),
+                      grain=((x[-1] * 0.3, height_cm / 2), (x[-1] * 0.7, height_cm / 2)),
+                      placement=placement, landmarks=landmarks or {}, annotation=annotation,
+                      category=category or name.upper())
+    seams = []
+    for k, (p, copy, s, e, _m) in enumerate(parts):
+        sid = f"{name}_{p.name}_{s}" + ("_left" if copy == "mirror" else "")
+        seams.append(seam(sid, (name, names[k], names[k + 1]), (p.name, s, e, copy), ease_cm=part_ease_cm))
+    seams.append(seam(f"{name}_closure", (name, f"top_{ends[0]}", ends[0]), (name, ends[1], f"top_{ends[1]}")))
+    return band, seams
