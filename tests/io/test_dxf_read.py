@@ -555,6 +555,13 @@ def test_truncated_corrupted_and_empty_files(tmp_path):
     num.write_text(good.replace(" 10\n0.0000\n", " 10\nabc\n", 1))
     with pytest.raises(DXFFormatError, match="not a number"):
         read_dxf(num)
+    no_entities = tmp_path / "no_entities.dxf"
+    no_entities.write_text(good[: good.index("  0\nSECTION\n  2\nENTITIES")])
+    with pytest.raises(DXFFormatError, match="no ENTITIES section"):
+        read_dxf(no_entities)
+    no_eof = tmp_path / "no_eof.dxf"
+    no_eof.write_text(good[: good.rindex("  0\nEOF")])
+    assert "no-eof" in read_dxf(no_eof)[1].codes()
     empty = tmp_path / "empty.dxf"
     empty.write_text("")
     with pytest.raises(DXFFormatError):

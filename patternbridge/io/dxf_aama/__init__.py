@@ -8,9 +8,9 @@ graded nest); ``write_dxf`` writes one back in either flavour.
 from __future__ import annotations
 
 from .layers import LAYERS, Layer, LayerInfo
-from .read import read_dxf
+from .read import INFO_FINDINGS, read_dxf
 
-__all__ = ["LAYERS", "Layer", "LayerInfo", "read_dxf"]
+__all__ = ["INFO_FINDINGS", "LAYERS", "Layer", "LayerInfo", "read_dxf"]
 
 try:  # the writer lives in its own module
     from .write import write_dxf  # noqa: F401

@@ -61,13 +61,13 @@ from .layers import NOTCH_LAYERS, VALIDATION_LAYERS, Layer, layer_number
 from .notches import locate_on_boundary, notch_type
 from .text import ASTM_MARKER, decode, parse_author, parse_quantity, parse_rule_text, parse_units, split_key
 
-__all__ = ["read_dxf"]
+__all__ = ["INFO_FINDINGS", "read_dxf"]
 
 log = logging.getLogger(__name__)
 
 _MATCH_TOL = 1e-3  # file units: a text or POINT "sits on" a vertex within this
 _NOTCH_SNAP_MM = 0.5  # a notch this close to an edge is on it (no finding)
-_INFO_CODES = frozenset(
+INFO_FINDINGS = frozenset(
     {
         "validation-curves-dropped",
         "duplicate-vertices-removed",
@@ -78,6 +78,7 @@ _INFO_CODES = frozenset(
         "attdef-ignored",
     }
 )
+"""Finding codes that only inform (what was dropped or repaired as expected); ``strict`` ignores them."""
 _SIZE_KEYS = ("SIZE", "SIZE NAME", "SAMPLE SIZE")
 _PIECE_KEYS = {"PIECE NAME", "QUANTITY", "ANNOTATION", "CATEGORY", "FABRIC", "MATERIAL", *_SIZE_KEYS}
 _KNOWN_LAYERS = {int(x) for x in Layer} | {0}
@@ -239,7 +240,9 @@ def _parse(path: Path, data: bytes, report: Report) -> tuple[list[_Block], list[
         what = f"section {section}" if section else "a BLOCK"
         raise DXFFormatError(f"{path}: truncated DXF ({what} not closed, no EOF); export the file again")
     if not saw_eof:
-        report.add("no-eof", "no EOF marker at the end of the file (sections are complete)", str(path))
+        if "ENTITIES" not in sections_seen:
+            raise DXFFormatError(f"{path}: truncated DXF (no ENTITIES section and no EOF); export the file again")
+        report.add("no-eof", "no EOF marker at the end of the file (sections are complete)", str(path.name))
     if "BLOCKS" not in sections_seen and "ENTITIES" not in sections_seen:
         raise DXFFormatError(f"{path}: no BLOCKS or ENTITIES section (empty or not a DXF-AAMA/ASTM file)")
     return blocks, entities
@@ -1088,7 +1091,7 @@ def _build(path, blocks, entities, report, *, rul, units, unfold, strict, exact_
     if unfold:
         pattern = _unfold_pattern(pattern, report)
     if strict:
-        bad = [f for f in report if f.code not in _INFO_CODES]
+        bad = [f for f in report if f.code not in INFO_FINDINGS]
         if bad:
             raise DXFFormatError(f"{path}: {bad[0].message} [{bad[0].code}] (strict mode, "
                                  f"{len(bad)} finding(s)); fix the file or read without strict")
