@@ -529,6 +529,11 @@ def test_real_files_round_trip(name, flavor, tmp_path):
     # graded nest: the same sample piece and every size reproduced
     nest = tmp_path / "n.dxf"
     write_dxf(original, nest, flavor=flavor, sizes="all")
+    from ezdxf import recover
+
+    for written in (dxf, nest):
+        doc, auditor = recover.readfile(written)
+        assert not auditor.has_errors and not doc.audit().has_errors
     back, _ = read_dxf(nest)
     assert_patterns_equal(
         original, back, atol_cm=atol, atol_rad=1e-3, ignore=DXF_ONLY + ALL_IDS
