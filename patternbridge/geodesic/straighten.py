@@ -95,12 +95,21 @@ class _Local:
         return m
 
     def across(self, v: int, x: int, f: int) -> int | None:
-        """The face across edge (v, x) from face ``f``; None on a boundary or
-        non-manifold edge."""
+        """The face across edge (v, x) from face ``f``; None on a boundary.
+
+        Across a non-manifold edge the walk continues into the face whose plane
+        is closest to that of ``f`` (the surface that carries on, not a fin).
+        """
         fs = self.around(v).get(x, ())
-        if len(fs) != 2:
+        if len(fs) == 2:
+            return fs[1] if fs[0] == f else fs[0]
+        if len(fs) < 2 or f not in fs:
             return None
-        return fs[1] if fs[0] == f else fs[0]
+        # non-manifold edge: continue into the face closest to the same plane
+        fn = self.mesh.face_normals
+        others = [g for g in fs if g != f]
+        dots = np.abs(fn[others] @ fn[f])
+        return int(others[int(np.argmax(dots))])
 
     def walk(self, v: int, f: int, x: int, stop, limit: int = 64) -> list[int] | None:
         """Faces met turning around ``v`` from ``f`` across edge (v, x) until
@@ -465,6 +474,17 @@ def _assemble(loc: _Local, strip, portals, apexes, s: Endpoint, e: Endpoint,
     pts.append(e.xyz)
     fcs.append(e.face if e.face is not None else strip[-1])
     eds.append((-1, -1))
+    # drop repeated points (a crossing exactly at a vertex the path runs through)
+    keep = [0]
+    for i in range(1, len(pts)):
+        if math.dist(pts[i], pts[keep[-1]]) > 1e-12:
+            keep.append(i)
+        elif i == len(pts) - 1:
+            keep[-1] = i
+    if len(keep) < len(pts):
+        pts = [pts[i] for i in keep]
+        fcs = [fcs[i] for i in keep]
+        eds = [eds[i] for i in keep]
     return StraightPath(points=np.array(pts, dtype=np.float64),
                         faces=np.array(fcs, dtype=np.int64),
                         edges=np.array(eds, dtype=np.int64), length=float(length),

@@ -1,10 +1,11 @@
 """Tape correction: a real tape bridges concave stretches instead of following them.
 
-A point of a surface path is concave when its curve normal (the second
-difference ``p_{i-1} - 2 p_i + p_{i+1}``) agrees with the outward surface
+A point of a surface path is concave when its curve normal (the turn of the
+unit tangent between ``p_{i-1} -> p_i`` and ``p_i -> p_{i+1}``) agrees with the outward surface
 normal: the skin curves away under the tape there. Such points are moved onto
-the line through their neighbours, alternately on even and odd indices, until
-none is left. Points of an exempt section (a bent elbow, say) stay on the skin.
+the line through their neighbours until none is left; a run of consecutive
+concave points goes at once onto the chord between the points around it (kept
+in arc-length order), which reaches the taut state in a few sweeps. Points of an exempt section (a bent elbow, say) stay on the skin.
 """
 
 from __future__ import annotations
@@ -59,7 +60,7 @@ def tape_correct(points, normals, exempt=None, *, tol_cm: float = 1e-6,
         of sections that stay on the skin
     tol_cm : a point is concave when its curve normal has more than this
         component along the surface normal
-    max_sweeps : cap on the even/odd sweeps (default ``4 k``)
+    max_sweeps : cap on the sweeps (default ``4 k``)
 
     Returns
     -------
@@ -79,35 +80,43 @@ def tape_correct(points, normals, exempt=None, *, tol_cm: float = 1e-6,
     if p.ndim != 2 or p.shape[1] != 3 or n.shape != p.shape:
         raise MeshError(f"tape: points {p.shape} and normals {n.shape} must both be "
                         "(k, 3); pass one normal per point")
+    fixed = exempt_mask(p, exempt)
+    step = np.ones(len(p), dtype=bool)
+    step[1:] = np.linalg.norm(np.diff(p, axis=0), axis=1) > 0
+    step[-1] = True
+    p, n, fixed = p[step], n[step], fixed[step]
     k = len(p)
     if k < 3:
         return p
-    fixed = exempt_mask(p, exempt)
     fixed[[0, -1]] = True
     sweeps = max_sweeps or 4 * k
-    idx = np.arange(1, k - 1)
-    groups = (idx[idx % 2 == 1], idx[idx % 2 == 0])
     moved = np.zeros(k, dtype=bool)
     for _ in range(sweeps):
-        changed = False
-        for g in groups:
-            g = g[~fixed[g]]
-            if len(g) == 0:
-                continue
-            a, b = p[g - 1], p[g + 1]
-            c = a - 2 * p[g] + b
-            concave = np.einsum("ij,ij->i", c, n[g]) > tol_cm
-            if not concave.any():
-                continue
-            g, a, b = g[concave], a[concave], b[concave]
-            d = b - a
-            dd = np.einsum("ij,ij->i", d, d)
-            t = np.where(dd > 0, np.einsum("ij,ij->i", p[g] - a, d) / np.where(dd > 0, dd, 1), 0.0)
-            p[g] = a + np.clip(t, 0.0, 1.0)[:, None] * d
-            moved[g] = True
-            changed = True
-        if not changed:
+        # turning of the unit tangents: the curve normal, free of the spacing
+        d = np.diff(p, axis=0)
+        ln = np.linalg.norm(d, axis=1)
+        u = d / np.where(ln > 0, ln, 1.0)[:, None]
+        c = np.zeros_like(p)
+        c[1:-1] = (u[1:] - u[:-1]) * np.minimum(ln[1:], ln[:-1])[:, None]
+        concave = (np.einsum("ij,ij->i", c, n) > tol_cm) & ~fixed
+        if not concave.any():
             break
+        # each run of concave points becomes the chord between the points around it
+        # grow runs over points already on a straight span, so that a span is
+        # re-straightened as a whole when its ends turn concave
+        flat = moved & (np.linalg.norm(c, axis=1) <= tol_cm) & ~fixed
+        grow = concave | flat
+        edge = np.diff(np.r_[0, grow.astype(np.int8), 0])
+        starts, stops = np.flatnonzero(edge == 1), np.flatnonzero(edge == -1)
+        for i, j in zip(starts.tolist(), stops.tolist()):
+            if not concave[i:j].any():
+                continue
+            a, b = p[i - 1], p[j]
+            s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p[i - 1:j + 1], axis=0),
+                                                                 axis=1))])
+            t = s[1:-1] / s[-1] if s[-1] > 0 else np.zeros(j - i)
+            p[i:j] = a + t[:, None] * (b - a)
+            moved[i:j] = True
     # drop moved points lying on the straight span between their neighbours
     keep = np.ones(k, dtype=bool)
     i = 1

@@ -1,0 +1,210 @@
+"""Point-to-point paths against analytic geodesics, and robustness cases."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from patternbridge.errors import MeshError
+from patternbridge.geodesic import (
+    SurfaceMesh,
+    SurfacePoint,
+    geodesic_path,
+    geodesic_paths,
+)
+
+EXACT_METHODS = ("lsq", "euler", "exact")
+
+
+def _check_on_surface(mesh, path):
+    """Every point lies in its face; edge points lie on their edge."""
+    v, f = mesh.vertices, mesh.faces
+    for p, face, (a, b) in zip(path.points, path.faces, path.edges):
+        tri = v[f[face]]
+        n = np.cross(tri[1] - tri[0], tri[2] - tri[0])
+        n /= np.linalg.norm(n)
+        assert abs((p - tri[0]) @ n) < 1e-7
+        if a >= 0:
+            d = v[b] - v[a]
+            t = (p - v[a]) @ d / (d @ d)
+            assert -1e-9 <= t <= 1 + 1e-9
+            assert np.linalg.norm(v[a] + t * d - p) < 1e-7
+
+
+@pytest.mark.parametrize("method", EXACT_METHODS)
+def test_plane_paths_are_straight_lines(shapes, method):
+    v, f, idx = shapes.grid(21, jitter=0.3, seed=1)
+    mesh = SurfaceMesh(v, f)
+    rng = np.random.default_rng(2)
+    for _ in range(6):
+        a, b = (int(x) for x in rng.integers(0, len(v), 2))
+        path = geodesic_path(mesh, a, b, method=method)
+        assert path.length == pytest.approx(np.linalg.norm(v[a] - v[b]), rel=1e-9, abs=1e-9)
+        np.testing.assert_allclose(path.points[[0, -1]], v[[a, b]])
+        _check_on_surface(mesh, path)
+
+
+def test_face_point_ends_on_plane(shapes):
+    v, f, _ = shapes.grid(21, jitter=0.3, seed=3)
+    mesh = SurfaceMesh(v, f)
+    a = SurfacePoint(face=5, bary=(0.2, 0.3, 0.5))
+    b = SurfacePoint(face=700, bary=(0.6, 0.3, 0.1))
+    pa = np.array(a.bary) @ v[f[5]]
+    pb = np.array(b.bary) @ v[f[700]]
+    path = geodesic_path(mesh, a, b)
+    assert path.length == pytest.approx(np.linalg.norm(pa - pb), rel=1e-9)
+    np.testing.assert_allclose(path.points[0], pa)
+    np.testing.assert_allclose(path.points[-1], pb)
+    assert path.faces[0] == 5 and path.faces[-1] == 700
+
+
+def test_cylinder_unrolls_to_straight_lines(shapes):
+    r, n_around = 5.0, 48
+    v, f, idx = shapes.cylinder(radius=r, height=20.0, n_around=n_around, n_up=25)
+    mesh = SurfaceMesh(v, f)
+    chord = 2 * r * np.sin(np.pi / n_around)
+    for (i0, j0), (i1, j1) in [((0, 0), (24, 10)), ((3, 5), (20, 20)), ((12, 40), (12, 2))]:
+        k = min((j1 - j0) % n_around, (j0 - j1) % n_around)
+        dz = abs(v[idx[i1, j1], 2] - v[idx[i0, j0], 2])
+        want = np.hypot(k * chord, dz)
+        path = geodesic_path(mesh, int(idx[i0, j0]), int(idx[i1, j1]))
+        assert path.length == pytest.approx(want, rel=1e-9)
+
+
+def test_sphere_great_circles(sphere):
+    v, f = sphere
+    mesh = SurfaceMesh(v, f)
+    rng = np.random.default_rng(4)
+    errs = []
+    for _ in range(8):
+        a, b = (int(x) for x in rng.integers(0, len(v), 2))
+        gc = 10.0 * np.arccos(np.clip(v[a] @ v[b] / 100.0, -1, 1))
+        if gc < 1.0 or gc > 30.0:
+            continue
+        errs.append((geodesic_path(mesh, a, b).length - gc) / gc)
+    errs = np.abs(errs)
+    assert len(errs) >= 5
+    assert errs.max() < 3e-3  # the inscribed mesh is slightly shorter than the sphere
+
+
+def test_methods_rank_as_expected(sphere):
+    v, f = sphere
+    mesh = SurfaceMesh(v, f)
+    exact = geodesic_path(mesh, 0, 1500, method="exact").length
+    assert geodesic_path(mesh, 0, 1500, method="dijkstra").length > exact * 1.01
+    assert geodesic_path(mesh, 0, 1500, method="flow").length == pytest.approx(exact, rel=0.02)
+    assert geodesic_path(mesh, 0, 1500, method="euler").length == pytest.approx(exact, rel=1e-6)
+
+
+def test_unknown_method_and_mesh_type(shapes):
+    v, f, _ = shapes.grid(5)
+    mesh = SurfaceMesh(v, f)
+    with pytest.raises(MeshError, match="unknown method"):
+        geodesic_path(mesh, 0, 3, method="bogus")
+    with pytest.raises(MeshError, match="SurfaceMesh"):
+        geodesic_path((v, f), 0, 3)
+
+
+def test_same_point_has_zero_length(shapes):
+    v, f, _ = shapes.grid(5)
+    path = geodesic_path(SurfaceMesh(v, f), 7, 7)
+    assert path.length == 0.0
+
+
+def test_hole_is_walked_around(shapes):
+    v, f, idx = shapes.grid(21)  # spacing 1 cm
+    c = v[f].mean(axis=1)
+    inside = (c[:, 0] > 7) & (c[:, 0] < 13) & (c[:, 1] > 7) & (c[:, 1] < 13)
+    mesh = SurfaceMesh(v, f[~inside])
+    a, b = int(idx[10, 2]), int(idx[10, 18])  # (2, 10) -> (18, 10)
+    path = geodesic_path(mesh, a, b)
+    want = 2 * np.hypot(5.0, 3.0) + 6.0  # around a corner pair of the square hole
+    assert path.length == pytest.approx(want, rel=1e-9)
+
+
+def test_non_manifold_fin_is_crossed(shapes):
+    v, f, idx = shapes.grid(21)
+    # a vertical fin standing on the line y = 10, sharing its edges with the plane
+    row = idx[10]
+    top = np.c_[v[row, 0], v[row, 1], np.full(len(row), 4.0)]
+    tv = np.arange(len(v), len(v) + len(row))
+    fin = np.r_[np.c_[row[:-1], row[1:], tv[1:]], np.c_[row[:-1], tv[1:], tv[:-1]]]
+    mesh = SurfaceMesh(np.r_[v, top], np.r_[f, fin])
+    a, b = int(idx[2, 3]), int(idx[18, 15])
+    path = geodesic_path(mesh, a, b)
+    assert path.length == pytest.approx(np.linalg.norm(v[a] - v[b]), rel=1e-9)
+    assert np.all(np.abs(path.points[:, 2]) < 1e-12)  # never climbs the fin
+
+
+def test_two_components_raise_clear_error(shapes):
+    v, f, _ = shapes.grid(5)
+    v2 = np.r_[v, v + [0.0, 0.0, 10.0]]
+    f2 = np.r_[f, f + len(v)]
+    mesh = SurfaceMesh(v2, f2)
+    with pytest.raises(MeshError, match="not connected"):
+        geodesic_path(mesh, 0, len(v) + 3)
+
+
+def test_zero_area_faces_are_ignored(shapes):
+    v, f, idx = shapes.grid(21, jitter=0.2, seed=5)
+    row = idx[:, 10]
+    # collinear triples along a straight column and a face with a repeated vertex
+    w = v.copy()
+    w[row, 0] = 10.0
+    extra = np.r_[np.c_[row[:-2], row[1:-1], row[2:]], [[idx[3, 3], idx[3, 3], idx[4, 4]]]]
+    mesh = SurfaceMesh(w, np.r_[f, extra])
+    assert mesh.degenerate.sum() == len(extra)
+    a, b = int(idx[2, 1]), int(idx[19, 17])
+    path = geodesic_path(mesh, a, b)
+    assert path.length == pytest.approx(np.linalg.norm(w[a] - w[b]), rel=1e-9)
+
+
+def test_duplicate_vertices_are_welded(shapes):
+    v, f, idx = shapes.grid(21)
+    seam = idx[:, 10]
+    copies = np.arange(len(v), len(v) + len(seam))
+    remap = np.arange(len(v))
+    remap[seam] = copies
+    right = v[f].mean(axis=1)[:, 0] > 10.0
+    f2 = f.copy()
+    f2[right] = remap[f[right]]
+    v2 = np.r_[v, v[seam]]
+    a, b = int(idx[3, 2]), int(idx[16, 18])
+    path = geodesic_path(SurfaceMesh(v2, f2), a, b)
+    assert path.length == pytest.approx(np.linalg.norm(v[a] - v[b]), rel=1e-9)
+    with pytest.raises(MeshError, match="not connected"):
+        geodesic_path(SurfaceMesh(v2, f2, weld=False), a, b)
+
+
+def test_batch_matches_single_paths(sphere):
+    v, f = sphere
+    mesh = SurfaceMesh(v, f)
+    pairs = [(0, 100), (5, 2000), (SurfacePoint(face=10, bary=(0.3, 0.3, 0.4)), 700)]
+    seen = []
+    batch = geodesic_paths(mesh, pairs, progress=lambda s, d, t: seen.append((s, d, t)))
+    for (a, b), p in zip(pairs, batch):
+        assert p.length == pytest.approx(geodesic_path(mesh, a, b).length, rel=1e-12)
+    assert seen[-1] == ("geodesic", 3, 3)
+
+
+def test_tape_bridges_a_valley(shapes):
+    v, f, idx = shapes.grid(21)
+    w = v.copy()
+    w[:, 2] = np.abs(w[:, 0] - 10.0) * 0.5  # a V-shaped valley along x = 10
+    mesh = SurfaceMesh(w, f)
+    a, b = int(idx[10, 2]), int(idx[10, 18])
+    skin = geodesic_path(mesh, a, b)
+    tape = geodesic_path(mesh, a, b, tape=True)
+    assert skin.length == pytest.approx(16 * np.hypot(1.0, 0.5), rel=1e-9)
+    assert tape.length == pytest.approx(np.linalg.norm(w[a] - w[b]), rel=1e-9)
+    assert tape.surface_length == pytest.approx(skin.length)
+    kept = geodesic_path(mesh, a, b, tape=True, exempt=[(0.0, 1.0)])
+    assert kept.length == pytest.approx(skin.length, rel=1e-9)
+    assert len(tape.points) == len(tape.faces) == len(tape.edges)
+
+
+def test_path_arrays_are_read_only(shapes):
+    v, f, _ = shapes.grid(5)
+    path = geodesic_path(SurfaceMesh(v, f), 0, 24)
+    with pytest.raises(ValueError):
+        path.points[0, 0] = 1.0

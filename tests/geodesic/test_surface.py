@@ -1,0 +1,92 @@
+"""SurfaceMesh validation, welding, tangent planes and surface points."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from patternbridge.errors import MeshError
+from patternbridge.geodesic import SurfaceMesh, SurfacePoint
+
+
+def test_rejects_bad_shapes_and_values(shapes):
+    v, f, _ = shapes.grid(5)
+    with pytest.raises(MeshError, match="vertices must be"):
+        SurfaceMesh(v[:, :2], f)
+    with pytest.raises(MeshError, match="faces must be"):
+        SurfaceMesh(v, f[:, :2])
+    bad = v.copy()
+    bad[3, 1] = np.nan
+    with pytest.raises(MeshError, match="NaN"):
+        SurfaceMesh(bad, f)
+    with pytest.raises(MeshError, match="out of range"):
+        SurfaceMesh(v, np.r_[f, [[0, 1, 999]]])
+    with pytest.raises(MeshError, match="not numeric"):
+        SurfaceMesh([["a", "b", "c"]] * 3, f)
+
+
+def test_rejects_mesh_of_only_zero_area_faces():
+    v = np.array([[0.0, 0, 0], [1, 0, 0], [2, 0, 0], [3, 0, 0]])
+    with pytest.raises(MeshError, match="zero area"):
+        SurfaceMesh(v, [[0, 1, 2], [1, 2, 3]])
+
+
+def test_surface_point_validation():
+    with pytest.raises(MeshError, match="neither a vertex"):
+        SurfacePoint()
+    with pytest.raises(MeshError, match="barycentric"):
+        SurfacePoint(face=0, bary=(0.0, 0.0, 0.0))
+    p = SurfacePoint(face=2, bary=(2.0, 1.0, 1.0))
+    assert p.bary == (0.5, 0.25, 0.25)
+    assert SurfacePoint.vertex(7).vertex_id == 7
+
+
+def test_check_point_errors_and_snapping(shapes):
+    v, f, _ = shapes.grid(5)
+    m = SurfaceMesh(v, f)
+    with pytest.raises(MeshError, match="vertex 99 out of range"):
+        m.check_point(99, "from")
+    with pytest.raises(MeshError, match="face 999 out of range"):
+        m.check_point(SurfacePoint(face=999, bary=(1, 0, 0)), "to")
+    with pytest.raises(MeshError, match="negative"):
+        m.check_point(SurfacePoint(face=0, bary=(1.5, -0.5, 0.0)), "to")
+    with pytest.raises(MeshError, match="expected a vertex id"):
+        m.check_point("x", "to")
+    snapped = m.check_point(SurfacePoint(face=0, bary=(0.0, 1.0, 0.0)), "a")
+    assert snapped.vertex_id == f[0, 1]
+
+
+def test_weld_merges_exact_duplicates_only(shapes):
+    v, f, idx = shapes.grid(5)
+    # split the grid along x = 10: right half uses copies of the seam vertices
+    seam = idx[:, 2]
+    copies = np.arange(len(v), len(v) + len(seam))
+    v2 = np.r_[v, v[seam]]
+    f2 = f.copy()
+    right = v[f].mean(axis=1)[:, 0] > 10.0
+    remap = np.arange(len(v))
+    remap[seam] = copies
+    f2[right] = remap[f[right]]
+    m = SurfaceMesh(v2, f2)
+    assert np.array_equal(m.rep[copies], seam)
+    assert m.faces.max() < len(v)
+    unwelded = SurfaceMesh(v2, f2, weld=False)
+    assert unwelded.faces.max() >= len(v)
+
+
+def test_graph_is_symmetric_edge_lengths(shapes):
+    v, f, _ = shapes.grid(6, size=5.0)
+    g = SurfaceMesh(v, f).graph
+    assert (abs(g - g.T)).max() < 1e-12
+    assert g.nnz == 2 * (2 * 5 * 6 + 25)  # horizontal + vertical + diagonal edges
+    np.testing.assert_allclose(sorted(set(np.round(g.data, 9))), [1.0, np.sqrt(2.0)])
+
+
+def test_vertex_normals_by_pca(sphere):
+    v, f = sphere
+    m = SurfaceMesh(v, f)
+    ids = np.arange(0, len(v), 37)
+    n = m.vertex_normals(ids)
+    radial = v[ids] / np.linalg.norm(v[ids], axis=1)[:, None]
+    assert np.all(np.einsum("ij,ij->i", n, radial) > 0.999)
+    np.testing.assert_allclose(np.linalg.norm(n, axis=1), 1.0)
