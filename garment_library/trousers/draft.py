@@ -46,7 +46,7 @@ def _geometry(b: dict[str, float]) -> dict[str, float]:
     return g
 
 
-def front(b, g) -> PieceDraft:
+def front(b, g, knee: str = "knee", style: str = "TROUSER") -> PieceDraft:
     x_c = (-g["hf"] + g["ef"]) / 2
     side_knee = np.array([x_c - g["kf"] / 2, g["y_knee"]])
     side_hip = np.array([-g["hf"], g["y_hip"]])
@@ -56,26 +56,26 @@ def front(b, g) -> PieceDraft:
     o.line((-g["hf"] + 2.0, g["y_waist"]), "side_waist")
     o.polyline(hermite(o.current, (-0.3, -1.0), side_hip, (0.0, -1.0), 8), "side_hip", notch=True)
     o.line(side_crotch, "side_crotch")
-    o.line(side_knee, "side_knee", notch=True)
+    o.line(side_knee, f"side_{knee}", notch=True)
     o.line((x_c - g["hemf"] / 2, g["y_hem"]), "side_hem", allowance_cm=SEAM_ALLOWANCE)
     o.line((x_c, g["y_hem"]), "hem_crease", allowance_cm=HEM_ALLOWANCE)
     o.line((x_c + g["hemf"] / 2, g["y_hem"]), "inside_hem", allowance_cm=HEM_ALLOWANCE)
-    o.line((x_c + g["kf"] / 2, g["y_knee"]), "inside_knee", notch=True)
+    o.line((x_c + g["kf"] / 2, g["y_knee"]), f"inside_{knee}", notch=True)
     o.line((g["ef"], 0.0), "crotch_point")
     ef, yh = g["ef"], g["y_hip"]
     o.curve((ef * 0.45, -0.05), (0.0, yh * 0.3), (0.0, yh), "cf_hip", n=12, notch=True)
     net = o.close(allowance_cm=SEAM_ALLOWANCE)
     return PieceDraft(
         name="front", net=net, quantity=Quantity(right=1, left=1),
-        grain=((x_c, g["y_knee"] - 15.0), (x_c, g["y_hip"])),
+        grain=((x_c, max(g["y_knee"] - 15.0, g["y_hem"] + 3.0)), (x_c, g["y_hip"])),
         placement=Placement(body_part="right_leg", side="front", anchor="waist_side_right", anchor_mark="side_waist"),
         landmarks={"waist_front": "cf_waist", "waist_side_right": "side_waist", "hip_side_right": "side_hip",
                    "crotch_point": "crotch_point"},
-        category="FRONT", annotation="TROUSER FRONT",
+        category="FRONT", annotation=f"{style} FRONT",
     )
 
 
-def back(b, g) -> PieceDraft:
+def back(b, g, knee: str = "knee", style: str = "TROUSER") -> PieceDraft:
     # side seam mirrors the front's: same heights, same horizontal travel
     x_cf = (-g["hf"] + g["ef"]) / 2
     travel_knee = (x_cf - g["kf"] / 2) + g["hf"]
@@ -110,11 +110,11 @@ def back(b, g) -> PieceDraft:
     yc = crotch[1]
     o.curve((cb_hip[0] - slope * (cb_hip[1] - yc) * 0.55, yc + (cb_hip[1] - yc) * 0.35),
             (crotch[0] + g["eb"] * 0.5, yc - 0.3), crotch, "crotch_point", n=12)
-    o.line(inside_knee, "inside_knee", notch=True)
+    o.line(inside_knee, f"inside_{knee}", notch=True)
     o.line((x_c - g["hemb"] / 2, g["y_hem"]), "inside_hem")
     o.line((x_c, g["y_hem"]), "hem_crease", allowance_cm=HEM_ALLOWANCE)
     o.line((x_c + g["hemb"] / 2, g["y_hem"]), "side_hem", allowance_cm=HEM_ALLOWANCE)
-    o.line(side_knee, "side_knee", notch=True)
+    o.line(side_knee, f"side_{knee}", notch=True)
     o.line(side_crotch, "side_crotch")
     o.line(side_hip, "side_hip", notch=True)
     o.polyline(hermite(side_hip, (0.0, 1.0), side_waist, (-0.3, 1.0), 8), "side_waist")
@@ -124,11 +124,11 @@ def back(b, g) -> PieceDraft:
     net = o.close(allowance_cm=SEAM_ALLOWANCE)
     return PieceDraft(
         name="back", net=net, quantity=Quantity(right=1, left=1),
-        grain=((x_c, g["y_knee"] - 15.0), (x_c, g["y_hip"])),
+        grain=((x_c, max(g["y_knee"] - 15.0, g["y_hem"] + 3.0)), (x_c, g["y_hip"])),
         placement=Placement(body_part="right_leg", side="back", anchor="waist_side_right", anchor_mark="side_waist"),
         landmarks={"waist_back": "cb_waist", "waist_side_right": "side_waist", "hip_side_right": "side_hip",
                    "crotch_point": "crotch_point"},
-        category="BACK", annotation="TROUSER BACK",
+        category="BACK", annotation=f"{style} BACK",
     )
 
 
