@@ -11,6 +11,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import shapely
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from patternbridge.errors import DXFFormatError, RULFormatError, UnitsError
 from patternbridge.io.dxf_aama import read_dxf
@@ -594,3 +597,73 @@ def test_exact_nest_reproduces_every_vertex_of_every_size():
             raw = vertices(ents, "1") * 0.1
             dist = np.min(np.linalg.norm(raw[None, :, :] - piece.outline[:, None, :], axis=-1), axis=1)
             assert dist.max() <= 0.001
+
+
+@st.composite
+def star_pieces(draw):
+    """A star-shaped simple polygon (mm), how a producer might write it, and notch positions on edges."""
+    n = draw(st.integers(4, 14))
+    radii = draw(st.lists(st.floats(60, 200), min_size=n, max_size=n))
+    jitter = draw(st.lists(st.floats(-0.3, 0.3), min_size=n, max_size=n))
+    ang = (np.arange(n) + np.array(jitter)) * 2 * np.pi / n
+    pts = np.round(np.stack([np.cos(ang) * radii, np.sin(ang) * radii], axis=1), 4)
+    clockwise = draw(st.booleans())
+    cuts = sorted(draw(st.sets(st.integers(1, n - 1), max_size=4)))
+    dupes = draw(st.sets(st.integers(0, n - 1), max_size=3))
+    notch_edges = draw(st.sets(st.integers(0, n - 1), max_size=3))
+    notch_t = draw(st.floats(0.2, 0.8))
+    return pts, clockwise, cuts, dupes, sorted(notch_edges), notch_t
+
+
+@settings(max_examples=40, deadline=None)
+@given(star_pieces(), st.sampled_from(["\n", "\r\n"]))
+def test_hypothesis_any_way_of_writing_a_boundary_reads_the_same(tmp_path_factory, case, eol):
+    pts, clockwise, cuts, dupes, notch_edges, notch_t = case
+    n = len(pts)
+    written = pts[::-1] if clockwise else pts
+    rows = []
+    for i, p in enumerate(written):
+        rows.append(p)
+        if i in dupes:
+            rows.append(p)  # a repeated vertex, as AccuMark writes under notches
+    rows = np.array(rows)
+    if cuts:  # open segments sharing their end points, closed back to the start
+        bounds = [0, *[c + sum(d < c for d in dupes) for c in cuts], len(rows)]
+        segs = [poly(1, rows[a:b + 1]) for a, b in zip(bounds[:-1], bounds[1:-1])]
+        segs.append(poly(1, np.vstack([rows[bounds[-2]:], rows[:1]])))
+        boundary = [t for s in segs for t in s]
+    else:
+        boundary = poly(1, rows, closed=True)
+    notch_pts = [pts[e] + notch_t * (pts[(e + 1) % n] - pts[e]) for e in notch_edges]
+    d = Dxf()
+    d.style = STYLE
+    d.block("P_M", piece_text("P", "M"), boundary, *[pt(4, x, y, z=5) for x, y in notch_pts])
+    path = d.write(tmp_path_factory.mktemp("h") / "h.dxf", eol=eol)
+    pattern, _ = read_dxf(path)
+    piece = pattern.pieces[0]
+    assert is_ccw(piece.outline)
+    assert piece.n_vertices == n + len(notch_pts)
+    assert float(area(piece.outline)) == pytest.approx(shoelace(pts) / 100, rel=1e-9)
+    got = np.array([piece.outline[k.vertex] * 10 for k in piece.notches]).reshape(-1, 2)
+    for p in notch_pts:  # written with 4 decimals: on the edge to 1e-4 mm
+        assert np.min(np.linalg.norm(got - p, axis=1)) < 1e-3
+    for k in piece.notches:  # each notch points into the piece
+        probe = piece.outline[k.vertex] + 0.05 * np.array([np.cos(k.angle), np.sin(k.angle)])
+        assert shapely.contains_xy(shapely.Polygon(piece.outline), *probe)
+
+
+def test_rul_with_a_nest_is_checked_against_the_nest(tmp_path):
+    d = Dxf()
+    d.style = STYLE
+    for size, w in (("S", 90), ("M", 100), ("L", 110)):
+        texts = [pt(2, w, 50), txt(2, w, 50, "# 1")] if size == "M" else []
+        d.block(f"A_{size}", piece_text("A", size), poly(1, [(0, 0), (w, 0), (w, 50), (0, 50)], closed=True),
+                *texts)
+    path = d.write(tmp_path / "n.dxf")
+    rul = tmp_path / "n.rul"
+    rul.write_text("UNITS: METRIC\nSIZE LIST: S M L\nSAMPLE SIZE: M\nRULE: DELTA 1\n-10,0 0,0 10,0\nEND\n")
+    _, report = read_dxf(path, rul=rul)
+    assert "rul-nest-mismatch" not in report.codes()
+    rul.write_text("UNITS: METRIC\nSIZE LIST: S M L\nSAMPLE SIZE: M\nRULE: DELTA 1\n-10,0 0,0 12,0\nEND\n")
+    _, report = read_dxf(path, rul=rul)
+    assert "rul-nest-mismatch" in report.codes()

@@ -1075,6 +1075,11 @@ def _build(path, blocks, entities, report, *, rul, units, unfold, strict, exact_
         if not table.name:
             table = dataclasses.replace(table, name=pattern.rules.name)
         pattern = dataclasses.replace(pattern, sizes=table.sizes, rules=table)
+        if is_nest:
+            dev = _nest_deviation(pattern, nest, rule_points_only=True)
+            if dev > 1e-3:
+                report.add("rul-nest-mismatch", f"the .RUL grades the sample up to {dev * 10:.3f} mm away from "
+                           "the nest's own sizes at rule points; the .RUL is used", where)
     elif is_nest:
         pattern = rules_from_nest(pattern, nest, every_vertex=exact_nest)
         report.add("rules-derived-from-nest", f"grade rules derived from the graded nest "
@@ -1100,14 +1105,21 @@ def _build(path, blocks, entities, report, *, rul, units, unfold, strict, exact_
     return pattern, report
 
 
-def _nest_deviation(pattern: Pattern, nest: dict[str, dict[str, Piece]]) -> float:
+def _nest_deviation(pattern: Pattern, nest: dict[str, dict[str, Piece]], rule_points_only: bool = False) -> float:
+    """Largest distance (cm) between the graded boundaries and the nest's own."""
     graded = graded_outlines(pattern)
     dev = 0.0
     for size, pieces in nest.items():
         for name, piece in pieces.items():
             g = graded.get(size, {}).get(name)
-            if g is not None and g.shape == piece.outline.shape:
-                dev = max(dev, float(np.max(np.linalg.norm(g - piece.outline, axis=1))))
+            if g is None or g.shape != piece.outline.shape:
+                continue
+            err = np.linalg.norm(g - piece.outline, axis=1)
+            if rule_points_only:
+                ruled = [r is not None and r in pattern.rules.deltas for r in pattern.piece(name).rules]
+                err = err[np.array(ruled, dtype=bool)]
+            if len(err):
+                dev = max(dev, float(np.max(err)))
     return dev
 
 
