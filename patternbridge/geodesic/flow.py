@@ -109,8 +109,9 @@ def lsq_step(points: np.ndarray, normals: np.ndarray, pbar: np.ndarray,
     NNw = _block_nn(normals * np.sqrt(inner)[:, None]) * plane_weight
     A = sp.vstack([A1, NNw], format="csr")
     rhs = np.concatenate([rhs1, NNw @ pbar.ravel()])
-    x = spsolve((A.T @ A).tocsc(), A.T @ rhs)
-    return x.reshape(m, 3)
+    x = spsolve((A.T @ A).tocsc(), A.T @ rhs).reshape(m, 3)
+    x[[0, -1]] = points[[0, -1]]  # exactly, not up to round-off
+    return x
 
 
 def euler_step(points: np.ndarray, normals: np.ndarray, pbar: np.ndarray,
@@ -131,7 +132,9 @@ def euler_step(points: np.ndarray, normals: np.ndarray, pbar: np.ndarray,
             A.rows[3 * r + c] = [3 * r + c]
             A.data[3 * r + c] = [1.0]
             rhs[3 * r + c] = points[r, c]
-    return spsolve(A.tocsc(), rhs).reshape(m, 3)
+    x = spsolve(A.tocsc(), rhs).reshape(m, 3)
+    x[[0, -1]] = points[[0, -1]]
+    return x
 
 
 def _resample(points: np.ndarray, max_seg: float) -> np.ndarray:

@@ -30,7 +30,7 @@ __all__ = ["geodesic_distances", "solve_windows"]
 log = logging.getLogger(__name__)
 
 _FIX_WEIGHT = 1e4
-_NEAR = 0.5
+_NEAR = 0.05  # candidate parents: distance estimate within this many edge lengths of the best
 
 
 def _tangent_bases(normals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -101,7 +101,7 @@ def _neighbours(indptr, indices, verts):
 
 
 def geodesic_distances(mesh: SurfaceMesh, source, *, r_max: float | None = None,
-                       window: int | None = 8,
+                       window: int | None = 12,
                        progress: Callable[[str, int, int], None] | None = None
                        ) -> np.ndarray:
     """Geodesic distance from one source vertex to every vertex.
