@@ -1,0 +1,135 @@
+"""Segment a character into body parts: torso, head, arms and legs.
+
+A rigged character is split by its skin weights: every bone belongs to the
+part of the first limb root above it in the hierarchy (upper arm, upper leg,
+neck), the others to the torso, and each vertex goes to the part that holds
+most of its weight. Without a rig, cut planes at the landmarks do the same
+job: below the crotch is a leg, beyond the armpit an arm, above the neck
+points the head.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import LandmarkError
+from ..mesh.character import Character
+
+__all__ = ["PARTS", "BodyParts", "segment_body"]
+
+log = logging.getLogger(__name__)
+
+#: part names in label order; the names match :class:`~patternbridge.pattern.model.BodyPart`
+PARTS: tuple[str, ...] = ("torso", "head", "left_arm", "right_arm", "left_leg", "right_leg")
+_INDEX = {name: i for i, name in enumerate(PARTS)}
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class BodyParts:
+    """Per-vertex body-part labels.
+
+    labels : (V,) int64 index into :data:`PARTS`
+    source : ``"skin"`` (from the skin weights) or ``"landmarks"`` (cut planes)
+    """
+
+    labels: np.ndarray
+    source: str
+
+    def mask(self, part: str) -> np.ndarray:
+        """(V,) bool: the vertices of ``part`` (``"neck"`` counts as ``"head"``)."""
+        part = "head" if part == "neck" else part
+        return self.labels == _INDEX[part]
+
+
+def _bone_parts(character: Character) -> np.ndarray:
+    from ..mesh.skinning import find_bone
+
+    skel = character.skeleton
+    n = len(skel.names)
+    roots: dict[int, int] = {}
+    for role, side, part in (
+        ("upperarm", "left", "left_arm"),
+        ("upperarm", "right", "right_arm"),
+        ("upperleg", "left", "left_leg"),
+        ("upperleg", "right", "right_leg"),
+        ("neck", None, "head"),
+    ):
+        try:
+            roots[find_bone(skel, role, side)] = _INDEX[part]
+        except Exception:  # a rig without that bone: the part falls back to the torso
+            continue
+    out = np.zeros(n, dtype=np.int64)
+    for b in range(n):
+        k = b
+        while k >= 0:
+            if k in roots:
+                out[b] = roots[k]
+                break
+            k = int(skel.parents[k])
+    return out
+
+
+def _from_skin(character: Character) -> np.ndarray:
+    bone_part = _bone_parts(character)
+    idx = character.skin.bone_indices
+    w = np.where(idx >= 0, character.skin.weights, 0.0)
+    part = bone_part[np.maximum(idx, 0)]
+    acc = np.zeros((len(idx), len(PARTS)))
+    np.add.at(acc, (np.repeat(np.arange(len(idx)), idx.shape[1]), part.ravel()), w.ravel())
+    return np.argmax(acc, axis=1).astype(np.int64)
+
+
+def _from_landmarks(character: Character, vertices: np.ndarray) -> np.ndarray:
+    lm = {name: vertices[l.vertex] if l.vertex is not None else l.position for name, l in character.landmarks.items()}
+    need = ("crotch_point", "armpit_point_left", "armpit_point_right", "front_neck_point", "back_neck_point")
+    missing = [n for n in need if n not in lm]
+    if missing:
+        raise LandmarkError(
+            f"{character.name}: cannot segment the body without a rig ({', '.join(missing)} missing); "
+            "give these landmarks with --landmarks FILE or load a rigged character"
+        )
+    x, y = vertices[:, 0], vertices[:, 1]
+    labels = np.full(len(vertices), _INDEX["torso"], dtype=np.int64)
+    crotch_y = lm["crotch_point"][1]
+    legs = y < crotch_y
+    labels[legs & (x >= 0)] = _INDEX["left_leg"]
+    labels[legs & (x < 0)] = _INDEX["right_leg"]
+    ax_l, ax_r = lm["armpit_point_left"], lm["armpit_point_right"]
+    arms_l = (x > ax_l[0]) & ~legs
+    arms_r = (x < ax_r[0]) & ~legs
+    labels[arms_l] = _INDEX["left_arm"]
+    labels[arms_r] = _INDEX["right_arm"]
+    neck_y = 0.5 * (lm["front_neck_point"][1] + lm["back_neck_point"][1])
+    head = (y > neck_y) & ~arms_l & ~arms_r
+    labels[head] = _INDEX["head"]
+    return labels
+
+
+def segment_body(character: Character, *, vertices: np.ndarray | None = None) -> BodyParts:
+    """Label every body vertex with its part.
+
+    Parameters
+    ----------
+    character : the character (rigged or with landmarks)
+    vertices : (V, 3) float64, cm, optional posed positions for the landmark
+        cut planes; the skin-weight split does not depend on the pose.
+
+    Returns
+    -------
+    :class:`BodyParts`
+
+    Raises
+    ------
+    LandmarkError
+        The character has no rig and lacks the crotch, armpit or neck landmarks.
+    """
+    v = character.vertices if vertices is None else np.asarray(vertices, dtype=np.float64)
+    if character.skeleton is not None and character.skin is not None:
+        labels = _from_skin(character)
+        if np.all(np.bincount(labels, minlength=len(PARTS))[2:] > 0):
+            return BodyParts(labels=labels, source="skin")
+        log.warning("%s: skin weights do not name four limbs; cutting at the landmarks", character.name)
+    return BodyParts(labels=_from_landmarks(character, v), source="landmarks")

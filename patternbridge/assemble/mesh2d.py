@@ -1,0 +1,326 @@
+"""Triangulate pattern pieces with matched seam vertices and pattern UVs.
+
+Every piece boundary is cut at its corners and at the marks, and the cuts are
+carried across every seam (a cut at 40 % of one side of a seam makes a cut at
+40 % of the other side), so both sides of a seam are made of the same number
+of boundary segments. Sewn segments get one common vertex count, chosen from
+the longer side and the target edge length, and are resampled at equal arc
+length; vertex ``k`` of one side then faces vertex ``k`` of the other (or
+``n - k`` for a reversed seam). The interior is meshed by the triangle
+library (quality mesh, no Steiner points on the boundary), and the 2D pattern
+coordinates of each vertex are kept as its UV.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+from ..pattern.model import Copy, Pattern, Piece
+
+__all__ = ["Instance", "PatternMesh", "PieceMesh", "SeamPairs", "mesh_pattern"]
+
+log = logging.getLogger(__name__)
+
+_CORNER_ANGLE = np.deg2rad(30.0)  # turning angle above which a boundary vertex is a corner
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class PieceMesh:
+    """A triangulated piece in its own pattern frame.
+
+    points : (n, 2) float64, cm — pattern coordinates (the UVs); the first
+        ``n_boundary`` points are the boundary, counter-clockwise
+    faces : (F, 3) int64, counter-clockwise in the pattern plane
+    marks : mark name -> vertex index (boundary)
+    """
+
+    name: str
+    points: np.ndarray
+    faces: np.ndarray
+    n_boundary: int
+    marks: dict[str, int] = field(default_factory=dict)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Instance:
+    """One cut copy of a piece in the garment (``copy`` primary or mirror)."""
+
+    piece: str
+    copy: Copy
+
+    @property
+    def key(self) -> str:
+        return self.piece if self.copy is Copy.PRIMARY else f"{self.piece}~mirror"
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class SeamPairs:
+    """Matched vertices of one seam: ``a[k]`` is sewn to ``b[k]`` (local vertex ids)."""
+
+    seam: str
+    a: Instance
+    b: Instance
+    a_vertices: np.ndarray
+    b_vertices: np.ndarray
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class PatternMesh:
+    """The meshed pattern: one mesh per piece, the cut copies and the sewn vertex pairs."""
+
+    pieces: dict[str, PieceMesh]
+    instances: tuple[Instance, ...]
+    seams: tuple[SeamPairs, ...]
+    max_edge_cm: float
+
+
+# --------------------------------------------------------------------------- arc parameters
+def _arc(outline: np.ndarray) -> tuple[np.ndarray, float]:
+    seg = np.linalg.norm(np.roll(outline, -1, axis=0) - outline, axis=1)
+    s = np.concatenate([[0.0], np.cumsum(seg)])
+    return s[:-1], float(s[-1])
+
+
+def _point_at(outline: np.ndarray, s: np.ndarray, t: np.ndarray, total: float) -> np.ndarray:
+    """Points at arc parameters ``t`` along the closed outline."""
+    t = np.mod(t, total)
+    i = np.clip(np.searchsorted(s, t, side="right") - 1, 0, len(s) - 1)
+    nxt = np.roll(outline, -1, axis=0)
+    seg = np.linalg.norm(nxt - outline, axis=1)
+    u = np.where(seg[i] > 0, (t - s[i]) / np.where(seg[i] > 0, seg[i], 1.0), 0.0)
+    return outline[i] + u[:, None] * (nxt[i] - outline[i])
+
+
+def _corners(piece: Piece) -> np.ndarray:
+    o = piece.outline
+    d0 = o - np.roll(o, 1, axis=0)
+    d1 = np.roll(o, -1, axis=0) - o
+    a0 = np.arctan2(d0[:, 1], d0[:, 0])
+    a1 = np.arctan2(d1[:, 1], d1[:, 0])
+    turn = np.abs(np.angle(np.exp(1j * (a1 - a0))))
+    kinds = np.array([str(k) == "turn" for k in piece.kinds])
+    return np.flatnonzero((turn > _CORNER_ANGLE) | kinds)
+
+
+class _Breaks:
+    """Sorted arc-parameter cut positions of one piece boundary."""
+
+    def __init__(self, total: float) -> None:
+        self.total = total
+        self.values: list[float] = []
+
+    def add(self, t: float) -> bool:
+        t = float(np.mod(t, self.total))
+        tol = 1e-6 * max(self.total, 1.0)
+        for v in self.values:
+            d = abs(v - t)
+            if min(d, self.total - d) < tol:
+                return False
+        self.values.append(t)
+        self.values.sort()
+        return True
+
+    def index(self, t: float) -> int:
+        t = float(np.mod(t, self.total))
+        d = np.abs(np.array(self.values) - t)
+        d = np.minimum(d, self.total - d)
+        return int(np.argmin(d))
+
+
+def _instances(pattern: Pattern) -> tuple[Instance, ...]:
+    out: list[Instance] = []
+    for p in pattern.pieces:
+        if p.quantity.right > 0 or p.quantity.left == 0:
+            out.append(Instance(piece=p.name, copy=Copy.PRIMARY))
+        if p.quantity.left > 0:
+            out.append(Instance(piece=p.name, copy=Copy.MIRROR))
+    have = {(i.piece, i.copy) for i in out}
+    for seam in pattern.seams:
+        for r in (seam.a, seam.b):
+            if (r.piece, r.copy) not in have:
+                log.warning("seam %s uses the %s copy of %s, which the quantity does not cut; adding it", seam.id, r.copy, r.piece)
+                out.append(Instance(piece=r.piece, copy=r.copy))
+                have.add((r.piece, r.copy))
+    return tuple(out)
+
+
+def _check_seams(pattern: Pattern) -> None:
+    names = set(pattern.piece_names)
+    for seam in pattern.seams:
+        for r in (seam.a, seam.b):
+            if r.piece not in names:
+                raise InputError(
+                    f"{pattern.style}: seam {seam.id!r} names piece {r.piece!r}, which the pattern lacks "
+                    f"(pieces: {sorted(names)}); fix the seam table"
+                )
+            piece = pattern.piece(r.piece)
+            for m in (r.start, r.end):
+                if m not in piece.marks:
+                    raise InputError(
+                        f"{pattern.style}: seam {seam.id!r} names mark {m!r} on piece {r.piece!r}, which has "
+                        f"only {sorted(piece.marks)}; fix the seam table or the marks"
+                    )
+
+
+def mesh_pattern(pattern: Pattern, *, max_edge_cm: float = 2.0) -> PatternMesh:
+    """Triangulate every piece so that sewn boundaries have matching vertices.
+
+    Parameters
+    ----------
+    pattern : a pattern with seams (bridge data)
+    max_edge_cm : target edge length of the triangles, cm
+
+    Returns
+    -------
+    :class:`PatternMesh`
+
+    Raises
+    ------
+    InputError
+        A seam names an unknown piece or mark, or a piece cannot be triangulated.
+    """
+    import triangle
+
+    if max_edge_cm <= 0:
+        raise ValueError(f"max_edge_cm must be positive, got {max_edge_cm}")
+    _check_seams(pattern)
+    pieces = {p.name: p for p in pattern.pieces}
+    arcs = {n: _arc(p.outline) for n, p in pieces.items()}
+    breaks = {n: _Breaks(arcs[n][1]) for n in pieces}
+    for n, p in pieces.items():
+        s, _ = arcs[n]
+        for v in sorted(set(p.marks.values()) | set(_corners(p).tolist())):
+            breaks[n].add(s[v])
+        if not breaks[n].values:
+            breaks[n].add(0.0)
+
+    def rng(r):
+        s, total = arcs[r.piece]
+        p = pieces[r.piece]
+        s0, s1 = s[p.marks[r.start]], s[p.marks[r.end]]
+        length = float(np.mod(s1 - s0, total)) or total
+        return s0, length, total
+
+    # carry the cuts across the seams until both sides are cut alike
+    for _ in range(20):
+        changed = False
+        for seam in pattern.seams:
+            for x, y in ((seam.a, seam.b), (seam.b, seam.a)):
+                s0x, lx, tx = rng(x)
+                s0y, ly, ty = rng(y)
+                for t in list(breaks[x.piece].values):
+                    f = np.mod(t - s0x, tx) / lx
+                    if 1e-6 < f < 1 - 1e-6:
+                        g = 1.0 - f if seam.reverse else f
+                        changed |= breaks[y.piece].add(s0y + g * ly)
+        if not changed:
+            break
+
+    # segments and their vertex counts (one count per group of sewn segments)
+    seg_keys: dict[tuple[str, int], int] = {}
+    seg_len: list[float] = []
+    for n in pieces:
+        b = breaks[n].values
+        total = breaks[n].total
+        for j in range(len(b)):
+            seg_keys[(n, j)] = len(seg_len)
+            seg_len.append(float(np.mod(b[(j + 1) % len(b)] - b[j], total)) or total)
+    parent = list(range(len(seg_len)))
+
+    def find(i: int) -> int:
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    def range_segments(r) -> list[int]:
+        s0, length, total = rng(r)
+        br = breaks[r.piece]
+        j0 = br.index(s0)
+        j1 = br.index(s0 + length)
+        k = len(br.values)
+        out, j = [], j0
+        while True:
+            out.append(j)
+            j = (j + 1) % k
+            if j == j1:
+                break
+        return out
+
+    seam_segments = []
+    for seam in pattern.seams:
+        sa, sb = range_segments(seam.a), range_segments(seam.b)
+        if len(sa) != len(sb):
+            raise InputError(
+                f"{pattern.style}: seam {seam.id!r} sides could not be matched ({len(sa)} against {len(sb)} "
+                "boundary segments); check that its marks bound the same stretch on both pieces"
+            )
+        sb_ordered = sb[::-1] if seam.reverse else sb
+        for x, y in zip(sa, sb_ordered):
+            parent[find(seg_keys[(seam.a.piece, x)])] = find(seg_keys[(seam.b.piece, y)])
+        seam_segments.append((sa, sb))
+    counts_group: dict[int, int] = {}
+    for i, length in enumerate(seg_len):
+        g = find(i)
+        counts_group[g] = max(counts_group.get(g, 1), int(np.ceil(length / max_edge_cm - 1e-9)))
+
+    # resample boundaries and triangulate
+    meshes: dict[str, PieceMesh] = {}
+    seg_start: dict[tuple[str, int], int] = {}
+    area = 0.5 * np.sqrt(3.0) / 2.0 * max_edge_cm**2
+    for n, p in pieces.items():
+        s, total = arcs[n]
+        b = breaks[n].values
+        ts: list[float] = []
+        for j in range(len(b)):
+            c = counts_group[find(seg_keys[(n, j)])]
+            seg_start[(n, j)] = len(ts)
+            ts.extend((b[j] + seg_len[seg_keys[(n, j)]] * np.arange(c) / c).tolist())
+        boundary = _point_at(p.outline, s, np.array(ts), total)
+        m = len(boundary)
+        segs = np.stack([np.arange(m), (np.arange(m) + 1) % m], axis=1)
+        try:
+            tri = triangle.triangulate({"vertices": boundary, "segments": segs}, f"pq28a{area:.6f}YQ")
+        except Exception as exc:  # triangle raises plain RuntimeError on bad input
+            raise InputError(
+                f"{pattern.style}: piece {n!r} could not be triangulated ({exc}); check that its outline is simple"
+            ) from exc
+        pts = np.asarray(tri["vertices"], dtype=np.float64)
+        faces = np.asarray(tri["triangles"], dtype=np.int64)
+        if len(pts) < m or not np.allclose(pts[:m], boundary):
+            raise InputError(
+                f"{pattern.style}: piece {n!r} boundary changed while meshing (self-touching outline?); "
+                "check that the outline is simple"
+            )
+        a2 = np.cross(pts[faces[:, 1]] - pts[faces[:, 0]], pts[faces[:, 2]] - pts[faces[:, 0]])
+        faces = np.where((a2 < 0)[:, None], faces[:, ::-1], faces)
+        marks = {name: seg_start[(n, breaks[n].index(s[v]))] for name, v in p.marks.items()}
+        meshes[n] = PieceMesh(name=n, points=pts, faces=faces, n_boundary=m, marks=marks)
+
+    def range_vertices(r, segs: list[int]) -> np.ndarray:
+        n = r.piece
+        m = meshes[n].n_boundary
+        first = seg_start[(n, segs[0])]
+        count = sum(counts_group[find(seg_keys[(n, j)])] for j in segs)
+        return (first + np.arange(count + 1)) % m
+
+    pairs = []
+    for seam, (sa, sb) in zip(pattern.seams, seam_segments):
+        va = range_vertices(seam.a, sa)
+        vb = range_vertices(seam.b, sb)
+        if seam.reverse:
+            vb = vb[::-1]
+        pairs.append(
+            SeamPairs(
+                seam=seam.id,
+                a=Instance(piece=seam.a.piece, copy=seam.a.copy),
+                b=Instance(piece=seam.b.piece, copy=seam.b.copy),
+                a_vertices=va,
+                b_vertices=vb,
+            )
+        )
+    return PatternMesh(pieces=meshes, instances=_instances(pattern), seams=tuple(pairs), max_edge_cm=float(max_edge_cm))

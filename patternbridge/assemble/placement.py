@@ -1,0 +1,251 @@
+"""Bounding cylinders per body part, and the pieces wrapped onto them.
+
+Each body part gets a cylinder: the torso and the head stand on the vertical
+axis, the limbs on the principal axis of their vertices (PCA), pointing
+toward the body. Its radius is a little above the part's largest radius, or
+the summed width of the pieces it carries divided by 2π when that is larger
+(the pieces then lie side by side around it, as in the source method). A
+piece is laid on the unrolled cylinder with its anchor mark on the anchor
+landmark: pattern +x runs around the cylinder (to the right as seen from
+outside), pattern +y along the axis toward the body (up for the torso and
+legs, toward the shoulder for a sleeve), then it is wrapped. Points that
+would still fall inside the body are moved out along their radius.
+
+Frame of a cylinder: ``axis`` (proximal direction), ``e0`` (angle 0, the
+front), ``e1 = axis × e0`` (angle +π/2, the right as seen from outside).
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+from ..pattern.model import Copy, Pattern
+from ..report import Report
+from .bodyparts import PARTS, BodyParts
+from .mesh2d import Instance, PatternMesh
+
+__all__ = ["Cylinder", "bounding_cylinders", "mirror_name", "place_instances"]
+
+log = logging.getLogger(__name__)
+
+MARGIN_CM = 1.5  # cylinder radius above the part's largest radius
+CLEARANCE_CM = 1.0  # distance kept from the skin when a wrapped point is moved out
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class Cylinder:
+    """A bounding cylinder.
+
+    center : (3,) cm ; axis, e0, e1 : (3,) unit vectors ; radius_cm : cm ;
+    body_radius_cm : the part's largest distance from the axis ; height range
+    of the part along the axis: ``h_min``, ``h_max`` (cm from ``center``).
+    """
+
+    part: str
+    center: np.ndarray
+    axis: np.ndarray
+    e0: np.ndarray
+    e1: np.ndarray
+    radius_cm: float
+    body_radius_cm: float
+    h_min: float
+    h_max: float
+
+    def coordinates(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(theta rad, h cm, r cm) of ``points`` (n, 3)."""
+        d = np.asarray(points, dtype=np.float64) - self.center
+        h = d @ self.axis
+        radial = d - h[:, None] * self.axis
+        return np.arctan2(radial @ self.e1, radial @ self.e0), h, np.linalg.norm(radial, axis=1)
+
+    def points(self, theta: np.ndarray, h: np.ndarray, r: np.ndarray | float | None = None) -> np.ndarray:
+        """(n, 3) positions at angle ``theta``, height ``h`` and radius ``r`` (default: the cylinder's)."""
+        r = self.radius_cm if r is None else r
+        r = np.broadcast_to(np.asarray(r, dtype=np.float64), np.shape(theta))
+        return (
+            self.center
+            + h[:, None] * self.axis
+            + (r * np.cos(theta))[:, None] * self.e0
+            + (r * np.sin(theta))[:, None] * self.e1
+        )
+
+
+def mirror_name(name: str) -> str:
+    """Swap left and right in a landmark or body-part name (``x_left`` ↔ ``x_right``)."""
+    for a, b in (("left", "right"), ("right", "left")):
+        if a in name:
+            return name.replace(a, b)
+    return name
+
+
+def _frame(axis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    front = np.array([0.0, 0.0, 1.0])
+    e0 = front - (front @ axis) * axis
+    if np.linalg.norm(e0) < 0.3:
+        up = np.array([0.0, 1.0, 0.0])
+        e0 = up - (up @ axis) * axis
+    e0 /= np.linalg.norm(e0)
+    return e0, np.cross(axis, e0)
+
+
+def bounding_cylinders(
+    vertices: np.ndarray, parts: BodyParts, widths_cm: dict[str, float] | None = None
+) -> dict[str, Cylinder]:
+    """One bounding cylinder per body part.
+
+    Parameters
+    ----------
+    vertices : (V, 3) float64, cm — the body in the pose used for dressing
+    parts : body-part labels of those vertices
+    widths_cm : part -> summed width of the pieces it carries (cm); the radius
+        is at least width / 2π
+
+    Returns
+    -------
+    dict part name -> :class:`Cylinder`
+    """
+    v = np.asarray(vertices, dtype=np.float64)
+    widths_cm = widths_cm or {}
+    torso = v[parts.mask("torso")]
+    torso_c = 0.5 * (torso.min(axis=0) + torso.max(axis=0))
+    out = {}
+    for part in PARTS:
+        pv = v[parts.mask(part)]
+        if len(pv) < 10:
+            continue
+        if part in ("torso", "head"):
+            axis = np.array([0.0, 1.0, 0.0])
+            c = 0.5 * (pv.min(axis=0) + pv.max(axis=0))
+        else:
+            c = pv.mean(axis=0)
+            _, _, vt = np.linalg.svd(pv - c, full_matrices=False)
+            axis = vt[0] / np.linalg.norm(vt[0])
+            if axis @ (torso_c - c) < 0:
+                axis = -axis
+        e0, e1 = _frame(axis)
+        d = pv - c
+        h = d @ axis
+        r = np.linalg.norm(d - h[:, None] * axis, axis=1)
+        body_r = float(np.max(r))
+        radius = max(body_r + MARGIN_CM, widths_cm.get(part, 0.0) / (2 * np.pi))
+        out[part] = Cylinder(
+            part=part, center=c, axis=axis, e0=e0, e1=e1, radius_cm=radius, body_radius_cm=body_r,
+            h_min=float(h.min()), h_max=float(h.max()),
+        )
+    return out
+
+
+def instance_part(pattern: Pattern, inst: Instance) -> str:
+    """Body part the instance wraps (the mirror copy goes on the mirrored part)."""
+    pl = pattern.piece(inst.piece).placement
+    part = "head" if str(pl.body_part) == "neck" else str(pl.body_part)
+    return mirror_name(part) if inst.copy is Copy.MIRROR else part
+
+
+def instance_points2d(pmesh: PatternMesh, inst: Instance) -> np.ndarray:
+    """(n, 2) pattern coordinates of a cut copy (the mirror copy flipped in x)."""
+    pts = pmesh.pieces[inst.piece].points
+    return pts * np.array([-1.0, 1.0]) if inst.copy is Copy.MIRROR else pts.copy()
+
+
+def _landmark(character, vertices: np.ndarray, name: str, mirrored: bool) -> np.ndarray | None:
+    lm = character.landmarks
+    if mirrored:
+        mname = mirror_name(name)
+        if mname != name and mname in lm:
+            name = mname
+        elif name in lm:
+            p = _landmark(character, vertices, name, False)
+            return None if p is None else p * np.array([-1.0, 1.0, 1.0])
+    if name not in lm:
+        return None
+    l = lm[name]
+    return vertices[l.vertex] if l.vertex is not None else np.asarray(l.position)
+
+
+def place_instances(
+    character,
+    vertices: np.ndarray,
+    pattern: Pattern,
+    pmesh: PatternMesh,
+    cylinders: dict[str, Cylinder],
+    report: Report,
+    *,
+    scene=None,
+) -> dict[str, np.ndarray]:
+    """Wrap every cut copy onto its body part's cylinder.
+
+    Parameters
+    ----------
+    character : the character (landmarks)
+    vertices : (V, 3) float64, cm — the body in the dressing pose
+    scene : a :class:`~patternbridge.assemble.collision.BodyCollider` of that
+        body; when given, wrapped points inside the body move out along their
+        radius
+
+    Returns
+    -------
+    dict instance key -> (n, 3) float64 positions, cm
+
+    Raises
+    ------
+    InputError
+        A piece has no placement hint, or its body part has no vertices.
+    """
+    out: dict[str, np.ndarray] = {}
+    for inst in pmesh.instances:
+        piece = pattern.piece(inst.piece)
+        pl = piece.placement
+        part = instance_part(pattern, inst)
+        if part not in cylinders:
+            raise InputError(
+                f"{pattern.style}: piece {inst.piece!r} goes on the {part}, which the character lacks; "
+                "check the placement hint or the character's rig"
+            )
+        cyl = cylinders[part]
+        mirrored = inst.copy is Copy.MIRROR
+        p2 = instance_points2d(pmesh, inst)
+        marks = pmesh.pieces[inst.piece].marks
+        R = cyl.radius_cm
+        anchor = _landmark(character, vertices, pl.anchor, mirrored)
+        if anchor is not None and pl.anchor_mark in marks:
+            th_a, h_a, _ = cyl.coordinates(anchor[None])
+            th_a, h_a = float(th_a[0]), float(h_a[0])
+            a2 = p2[marks[pl.anchor_mark]]
+        else:
+            report.add(
+                "anchor-missing",
+                f"anchor {pl.anchor!r}/{pl.anchor_mark!r} not found; piece centred on the {pl.side} of the {part}",
+                where=inst.key,
+            )
+            th_a = {"front": 0.0, "back": np.pi}.get(str(pl.side), np.pi / 2)
+            h_a = 0.5 * (cyl.h_min + cyl.h_max)
+            a2 = 0.5 * (p2.min(axis=0) + p2.max(axis=0))
+        # orientation: pattern +x runs to the right as seen from outside; other
+        # landmarks of the piece may say it runs the other way
+        sigma = 1.0
+        checks = []
+        for lname, mname in piece.landmarks.items():
+            if lname == pl.anchor or mname not in marks:
+                continue
+            q = _landmark(character, vertices, lname, mirrored)
+            if q is not None:
+                checks.append((cyl.coordinates(q[None])[0][0], p2[marks[mname]][0] - a2[0]))
+        if checks:
+            err = {
+                s: sum(abs(np.angle(np.exp(1j * (th_a + s * dx / R - th)))) for th, dx in checks) for s in (1.0, -1.0)
+            }
+            sigma = min(err, key=err.get)
+            if sigma < 0:
+                report.add("piece-flipped", "landmarks say the piece runs the other way round", where=inst.key)
+        theta = th_a + sigma * (p2[:, 0] - a2[0]) / R
+        h = h_a + (p2[:, 1] - a2[1])
+        r = np.full(len(p2), R)
+        if scene is not None:
+            r = scene.radial_clearance(cyl, theta, h, r, CLEARANCE_CM)
+        out[inst.key] = cyl.points(theta, h, r)
+    return out
