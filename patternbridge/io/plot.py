@@ -37,7 +37,7 @@ _FILL = "#f3ead8"  # paper
 _GRAIN = "#b03a2e"
 _INTERNAL = "#2e6da4"
 _NOTCH = "#1f1f1f"
-_MIN_TICK_CM = 0.6  # notches shallower than this are drawn this long to stay visible
+_MIN_TICK_PT = 5.0  # notch ticks are drawn at least this long (points) to stay visible
 
 
 # ---------------------------------------------------------------------------
@@ -289,7 +289,8 @@ def _draw_piece(
     # notches: a tick from the boundary into the piece
     if piece.notches:
         starts = outline[[n.vertex for n in piece.notches]]
-        lengths = np.array([max(n.depth_cm, _MIN_TICK_CM) for n in piece.notches])
+        shortest = _MIN_TICK_PT / cm_to_pt
+        lengths = np.array([max(n.depth_cm, shortest) for n in piece.notches])
         angles = np.array([n.angle for n in piece.notches])
         ends = starts + lengths[:, None] * np.column_stack(
             [np.cos(angles), np.sin(angles)]
@@ -335,14 +336,24 @@ def _draw_piece(
     if label:
         at = _label_point(outline)
         width_cm = float(np.ptp(outline[:, 0]))
-        longest = max(len(s) for s in label.split("\n"))
-        size = float(
-            np.clip(width_cm * cm_to_pt / max(longest, 1) / 0.62 * 0.8, 4.5, 11.0)
+        height_cm = float(np.ptp(outline[:, 1]))
+        # tall narrow pieces (waistbands, plackets) read their label upwards
+        upright = height_cm > 2.0 * width_cm
+        room_cm = height_cm if upright else width_cm
+        lines = label.split("\n")
+        longest = max(len(s) for s in lines)
+        across_cm = width_cm if upright else height_cm
+        fit = min(
+            room_cm * cm_to_pt / max(longest, 1) / 0.62 * 0.8,
+            across_cm * cm_to_pt / (1.3 * len(lines)),
         )
+        size = float(np.clip(fit, 4.5, 11.0))
         ax.text(
             at[0],
             at[1],
             label,
+            rotation=90 if upright else 0,
+            rotation_mode="anchor",
             fontsize=size,
             ha="center",
             va="center",
