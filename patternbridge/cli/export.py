@@ -94,7 +94,15 @@ def run(args: argparse.Namespace) -> int:
             pattern, flavor=args.flavor, sizes=sizes, units=args.units, report=written
         )
         report.extend(written)
-        print_findings(report, strict=True)
+        print_findings(report)
+        from ..io.dxf_aama.read import INFO_FINDINGS
+
+        blocking = [f for f in report if f.code not in INFO_FINDINGS]
+        if blocking:
+            raise InputError(
+                f"{out}: {len(blocking)} warning(s) and --strict was given "
+                f"(first: {blocking[0].code}); nothing written"
+            )
         written = Report()
     write_dxf(
         pattern,

@@ -114,7 +114,10 @@ def run(args: argparse.Namespace) -> int:
                 )
             pattern = apply_sidecar(pattern, sidecar)
             applied = sidecar
-    print_findings(report, strict=args.strict)
+    # the reader applied --strict itself (informational findings pass)
+    print_findings(report)
+    if args.strict and "sidecar-skipped" in report.codes():
+        raise InputError(f"{sidecar}: sidecar not applied and --strict was given")
     out = save_pattern_json(pattern, args.output)
     if args.quiet <= 0:
         sizes = ", ".join(pattern.sizes) if pattern.sizes else pattern.sample_size

@@ -188,3 +188,10 @@ def test_real_export_pipeline(cli, aama_file, tmp_path):
     assert sum(p["notches"] for p in info["pieces"]) == 7
     assert cli("plot", js, "-o", tmp_path / "simple.png", "--sizes", "all")[0] == 0
     assert Path(tmp_path / "simple.png").stat().st_size > 10_000
+
+
+def test_export_strict_passes_a_clean_pattern(cli, tee_dxf, tmp_path):
+    # reading tee.dxf reports its .rul beside it: informational, not a reason to refuse
+    out = tmp_path / "clean.dxf"
+    code, _, err = cli("export", tee_dxf, "-o", out, "--flavor", "astm", "--strict")
+    assert code == 0 and out.is_file(), err

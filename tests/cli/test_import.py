@@ -97,6 +97,12 @@ def test_import_applies_sidecar_beside_or_given(cli, tee, tee_dxf, tmp_path):
     assert code == 2 and "missing.json" in err and not (tmp_path / "m.json").exists()
 
 
+def test_import_strict_accepts_a_clean_file(cli, tee_dxf, tmp_path):
+    out = tmp_path / "t.json"
+    code, _, err = cli("import", tee_dxf, "--strict", "-o", out)
+    assert code == 0 and out.is_file(), err  # finding the .rul beside is only informational
+
+
 def test_import_strict_turns_warnings_into_errors(cli, tee_dxf, tmp_path):
     tee_dxf.with_suffix(".rul").unlink()
     out = tmp_path / "t.json"
