@@ -356,6 +356,7 @@ def repair(
         return ((rp - base[None, :]) / h[:, None]).T
 
     sol = least_squares(fun, x_start, jac=jac, method="trf", x_scale=scale, max_nfev=max_nfev,
+                        tr_solver="lsmr",
                         ftol=1e-10, xtol=1e-10, gtol=1e-10)
     if progress is not None:
         progress("repair", max_nfev, max_nfev)
