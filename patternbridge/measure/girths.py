@@ -76,6 +76,7 @@ class BodyFrame:
         self.stature = float(top[1] - self.floor)
         self.step = max(self.stature / 400.0, 0.05)
         self.slabs = SlabIndex(vertices, faces, axis=1, slab_cm=max(self.stature / 200.0, 0.1))
+        self._extent: dict = {}
 
     def mark(self, name: str) -> np.ndarray:
         try:
@@ -90,11 +91,22 @@ class BodyFrame:
 
     def near_segment(self, a: np.ndarray, b: np.ndarray, radius: float) -> np.ndarray:
         """Ids of the faces with a vertex within ``radius`` of the segment ab."""
+        lo = np.minimum(a, b) - radius
+        hi = np.maximum(a, b) + radius
+        # cheap box test on the height slabs first, then the exact distance
+        box = self.slabs.faces_between(lo[1], hi[1])
+        fv = self.f[box]
+        used = np.zeros(len(self.v), dtype=bool)
+        used[fv.ravel()] = True
+        cand = np.flatnonzero(used)
+        p = self.v[cand]
+        inbox = np.all((p >= lo) & (p <= hi), axis=1)
+        cand, p = cand[inbox], p[inbox]
         ab = b - a
-        t = np.clip((self.v - a) @ ab / max(float(ab @ ab), 1e-12), 0.0, 1.0)
-        d2 = np.sum((self.v - (a + t[:, None] * ab)) ** 2, axis=1)
-        near = d2 <= radius * radius
-        return np.flatnonzero(near[self.f].any(axis=1))
+        t = np.clip((p - a) @ ab / max(float(ab @ ab), 1e-12), 0.0, 1.0)
+        near = np.zeros(len(self.v), dtype=bool)
+        near[cand[np.sum((p - (a + t[:, None] * ab)) ** 2, axis=1) <= radius * radius]] = True
+        return box[near[fv].any(axis=1)]
 
     @staticmethod
     def part_loops(section: Section, ref: np.ndarray):
@@ -127,8 +139,19 @@ class BodyFrame:
         g, ring = hull_girth(sec, loops)
         return _Cut(value_cm=g, polyline=ring, origin=sec.origin, normal=sec.normal)
 
+    def crossing(self, candidates: np.ndarray, origin: np.ndarray, normal: np.ndarray) -> np.ndarray:
+        """The candidate faces that straddle the plane (cached per normal)."""
+        key = (id(candidates), tuple(np.round(normal, 12)))
+        if key not in self._extent:
+            h = self.v[self.f[candidates]] @ (normal / np.linalg.norm(normal))
+            self._extent.clear()
+            self._extent[key] = (h.min(axis=1), h.max(axis=1))
+        hmin, hmax = self._extent[key]
+        level = float(origin @ (normal / np.linalg.norm(normal)))
+        return candidates[(hmin <= level) & (hmax >= level)]
+
     def part_cut(self, origin: np.ndarray, normal: np.ndarray, ref: np.ndarray, candidates: np.ndarray) -> _Cut:
-        sec = plane_loops(self.v, self.f, origin, normal, candidates=candidates)
+        sec = plane_loops(self.v, self.f, origin, normal, candidates=self.crossing(candidates, origin, normal))
         loops = self.part_loops(sec, ref)
         if not loops:
             return _Cut(value_cm=0.0, polyline=np.zeros((0, 3)), origin=sec.origin, normal=sec.normal)
@@ -142,10 +165,12 @@ class BodyFrame:
         centres = []
         for t in fractions:
             q = p0 + t * d
-            sec = plane_loops(self.v, self.f, q, d, candidates=candidates)
+            sec = plane_loops(self.v, self.f, q, d, candidates=self.crossing(candidates, q, d))
             loops = self.part_loops(sec, q)
             if not loops:
                 raise GirthError("no limb section found between the datum points")
+            if not all(lp.closed for lp in loops):  # merged with the torso: keep the datum axis
+                return p0 + fractions[0] * d, d / np.linalg.norm(d)
             centres.append(self.loop_centre(sec, loops))
         c0, c1 = centres
         axis = c1 - c0
@@ -280,9 +305,9 @@ def _arm_girths(body: BodyFrame, side: str) -> dict[str, Measurement]:
     el = body.mark(f"elbow_point_{side}")
     wr = body.mark(f"wrist_point_{side}")
     reach = np.linalg.norm(el - sh) + np.linalg.norm(wr - el)
-    cands = body.near_segment(sh, el, 0.45 * reach)
-    cands = np.union1d(cands, body.near_segment(el, wr, 0.35 * reach))
-    c_up, u_up = body.refine_axis(sh, el, cands)
+    cands = body.near_segment(sh, el, 0.25 * reach)
+    cands = np.union1d(cands, body.near_segment(el, wr, 0.2 * reach))
+    c_up, u_up = body.refine_axis(sh, el, cands, fractions=(0.55, 0.85))
     c_lo, u_lo = body.refine_axis(el, wr, cands, fractions=(0.3, 0.7))
     out = {}
     cuts = []

@@ -104,7 +104,18 @@ class SlabIndex:
         self.face_ids = face_ids[order]
         slab = slab[order]
         self.n_slabs = int(last.max()) + 1
+        self.n_faces = len(faces)
         self.starts = np.searchsorted(slab, np.arange(self.n_slabs + 1))
+
+    def faces_between(self, lo: float, hi: float) -> np.ndarray:
+        """Ids of the faces in the slabs covering heights lo..hi (unique)."""
+        k0 = max(int(np.floor((lo - self.lo) / self.slab_cm)), 0)
+        k1 = min(int(np.floor((hi - self.lo) / self.slab_cm)), self.n_slabs - 1)
+        if k1 < k0:
+            return np.zeros(0, dtype=np.int64)
+        mark = np.zeros(self.n_faces, dtype=bool)
+        mark[self.face_ids[self.starts[k0] : self.starts[k1 + 1]]] = True
+        return np.flatnonzero(mark)
 
     def faces_at(self, level: float) -> np.ndarray:
         k = int(np.floor((level - self.lo) / self.slab_cm))
