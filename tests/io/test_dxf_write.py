@@ -647,3 +647,22 @@ def test_rule_conflicts_reported_for_sample_exports_only(pattern):
     report = Report()
     format_dxf(p, sizes="all", report=report)
     assert "rule-position-conflict" not in report.codes()
+
+
+def test_astm_nest_links_notches_in_every_size(pattern):
+    text = format_dxf(pattern, flavor="astm", sizes="all", now=FIXED)
+    for size in pattern.sizes:
+        graded = grade(pattern, size).piece("FRONT")
+        ents = blocks(text)[f"FRONT_{size}"]
+        links = [g for k, g in ents if k == "ATTDEF"]
+        assert [g[1][0] for g in links] == ["Link:4", "Link:4"]
+        for g, notch in zip(links, graded.notches, strict=True):
+            assert g[2] == ["Dependency"] and g[70] == ["2"] and g[72] == ["3"]
+            np.testing.assert_allclose(
+                xy(g, 11), graded.outline[notch.vertex] * 10, atol=5e-5
+            )
+            np.testing.assert_allclose(
+                xy(g), graded.outline[notch.vertex - 1] * 10, atol=5e-5
+            )
+    assert "ATTDEF" not in format_dxf(pattern, flavor="aama", sizes="all")
+    assert "ATTDEF" not in format_dxf(pattern, flavor="astm")

@@ -191,6 +191,21 @@ class _Tags:
         if angle_deg is not None:
             self.num(50, angle_deg)
 
+    def attdef_link(
+        self, layer: int, anchor, at, notch_layer: int, height: float
+    ) -> None:
+        """AccuMark's ``Link:<layer>`` ATTDEF locating a notch in a nest size."""
+        self.tag(0, "ATTDEF")
+        self.tag(8, layer)
+        self.xy(anchor)
+        self.xy(at, 11)
+        self.num(40, height)
+        self.tag(1, f"Link:{notch_layer}")
+        self.tag(2, "Dependency")
+        self.tag(3, "")
+        self.tag(70, 2)
+        self.tag(72, 3)
+
     def line(self, layer: int, start, end) -> None:
         self.tag(0, "LINE")
         self.tag(8, layer)
@@ -434,6 +449,14 @@ def _block(
                     where,
                     check=False,
                 )
+    if ctx.nest and ctx.flavor is Flavor.ASTM:
+        # AccuMark's notch dependency: where each notch sits in every size,
+        # anchored on the boundary vertex before it
+        for notch in piece.notches:
+            layer = NOTCH_LAYER_BY_TYPE[NotchType(notch.type)]
+            tags.attdef_link(
+                1, outline[notch.vertex - 1], outline[notch.vertex], layer, ctx.height
+            )
     if validation:
         tags.polyline(_VALIDATION_LAYER[1], outline, closed=True)
 
