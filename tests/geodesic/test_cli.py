@@ -45,6 +45,7 @@ def test_unknown_landmark_and_bad_vertex_exit_2(characters_dir, capsys):
     assert "out of range" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_landmarks_file_for_the_hires_mesh(characters_dir, tmp_path, capsys):
     """The hi-res PLY shares the landmark ids of E (its first 13380 vertices)."""
     side = json.loads((characters_dir / "E_average_male.json").read_text())
