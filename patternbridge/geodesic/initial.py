@@ -51,11 +51,6 @@ def edge_path(mesh: SurfaceMesh, a: int, b: int) -> tuple[np.ndarray, float]:
     a, b = int(a), int(b)
     if a == b:
         return np.array([a], dtype=np.int64), 0.0
-    comp = mesh.components
-    if comp[a] != comp[b]:
-        raise MeshError(
-            f"mesh: vertices {a} and {b} are not connected (components {comp[a]} "
-            f"and {comp[b]} of {comp.max() + 1}); pick points on the same piece of surface")
     g = mesh.graph
     emax = mesh.edge_max
     chord = float(np.linalg.norm(mesh.vertices[a] - mesh.vertices[b]))
@@ -70,8 +65,14 @@ def edge_path(mesh: SurfaceMesh, a: int, b: int) -> tuple[np.ndarray, float]:
         if np.isfinite(best) and best <= 2.0 * (r - emax):
             break
         reached = int(np.isfinite(dist[0]).sum())
-        if reached == reached_before and np.isfinite(best):  # component exhausted
-            break
+        if reached == reached_before:  # a's component is exhausted
+            if np.isfinite(best):
+                break
+            comp = mesh.components
+            raise MeshError(
+                f"mesh: vertices {a} and {b} are not connected (components {comp[a]} "
+                f"and {comp[b]} of {comp.max() + 1}); pick points on the same piece "
+                "of surface")
         reached_before = reached
         r *= 1.6
     left = _trace(pred[0], m)[::-1]

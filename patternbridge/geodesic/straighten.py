@@ -211,50 +211,83 @@ def _clean(strip: list[int]) -> list[int]:
     return out
 
 
-def _unfold(loc: _Local, strip, s: Endpoint, e: Endpoint):
-    """Unfold the strip; return portals, 2D ends and per-face 2D corners."""
-    f0 = strip[0]
-    a, b, c = loc.face(f0)
-    pa, pb, pc = loc.pos(a), loc.pos(b), loc.pos(c)
-    lab = math.dist(pa, pb)
-    lac = math.dist(pa, pc)
-    lbc = math.dist(pb, pc)
-    x = (lac * lac - lbc * lbc + lab * lab) / (2 * lab)
-    y = math.sqrt(max(lac * lac - x * x, 0.0))
-    coords = {a: (0.0, 0.0), b: (lab, 0.0), c: (x, y)}
-    face_xy = [coords]
-    portals = []  # (left_id, right_id, left_xy, right_xy)
-    for k in range(1, len(strip)):
-        prev = loc.face(strip[k - 1])
-        cur = loc.face(strip[k])
-        shared = [v for v in cur if v in coords]
-        if len(shared) != 2:
+def _unfold(loc: _Local, strip, s: Endpoint, e: Endpoint, cache: dict | None = None):
+    """Unfold the strip; return portals, 2D ends and per-face 2D corners.
+
+    With ``cache`` (a dict kept between calls), the unfolding of the longest
+    unchanged prefix of the previous strip is reused.
+    """
+    dist = math.dist
+    sqrt = math.sqrt
+    pos = loc.pos
+    face = loc.face
+    k0 = 0
+    if cache and cache.get("strip"):
+        old = cache["strip"]
+        m = min(len(old), len(strip))
+        k0 = m
+        for i in range(m):
+            if old[i] != strip[i]:
+                k0 = i
+                break
+    if k0 >= 1:
+        face_xy = cache["face_xy"][:k0]
+        portals = cache["portals"][:k0 - 1]
+        coords = face_xy[-1]
+    else:
+        f0 = strip[0]
+        a, b, c = face(f0)
+        pa, pb, pc = pos(a), pos(b), pos(c)
+        lab = dist(pa, pb)
+        lac = dist(pa, pc)
+        lbc = dist(pb, pc)
+        x = (lac * lac - lbc * lbc + lab * lab) / (2 * lab)
+        y = sqrt(max(lac * lac - x * x, 0.0))
+        coords = {a: (0.0, 0.0), b: (lab, 0.0), c: (x, y)}
+        face_xy = [coords]
+        portals = []  # (left_id, right_id, left_xy, right_xy)
+        k0 = 1
+    prev = face(strip[k0 - 1])
+    for k in range(k0, len(strip)):
+        cur = face(strip[k])
+        c0, c1, c2 = cur
+        if c0 in coords:
+            if c1 in coords:
+                p, q, d = c0, c1, c2
+            else:
+                p, q, d = c0, c2, c1
+        else:
+            p, q, d = c1, c2, c0
+        if p not in coords or q not in coords or d in coords:
             raise _StripError(f"faces {strip[k - 1]} and {strip[k]} share no edge")
-        p, q = shared
-        cprev = _third(prev, p, q)
-        d = _third(cur, p, q)
+        p0, p1, p2 = prev
+        cprev = p0 if p0 != p and p0 != q else (p1 if p1 != p and p1 != q else p2)
         P, Q, C = coords[p], coords[q], coords[cprev]
         ex, ey = Q[0] - P[0], Q[1] - P[1]
-        lpq = math.hypot(ex, ey)
+        lpq = sqrt(ex * ex + ey * ey)
         if lpq == 0.0:
             raise _StripError(f"edge ({p}, {q}) has zero length")
         ux, uy = ex / lpq, ey / lpq
-        side = ux * (C[1] - P[1]) - uy * (C[0] - P[0])
-        pd = loc.pos(d)
-        lpd = math.dist(loc.pos(p), pd)
-        lqd = math.dist(loc.pos(q), pd)
+        pd = pos(d)
+        lpd = dist(pos(p), pd)
+        lqd = dist(pos(q), pd)
         t = (lpd * lpd - lqd * lqd + lpq * lpq) / (2 * lpq)
-        h = math.sqrt(max(lpd * lpd - t * t, 0.0))
-        if side > 0:
+        h = sqrt(max(lpd * lpd - t * t, 0.0))
+        cr = (P[0] - C[0]) * (Q[1] - C[1]) - (P[1] - C[1]) * (Q[0] - C[0])
+        if ux * (C[1] - P[1]) - uy * (C[0] - P[0]) > 0:
             h = -h
         D = (P[0] + ux * t - uy * h, P[1] + uy * t + ux * h)
-        cr = (P[0] - C[0]) * (Q[1] - C[1]) - (P[1] - C[1]) * (Q[0] - C[0])
         if cr > 0:
             portals.append((q, p, Q, P))
         else:
             portals.append((p, q, P, Q))
         coords = {p: P, q: Q, d: D}
         face_xy.append(coords)
+        prev = cur
+    if cache is not None:
+        cache["strip"] = list(strip)
+        cache["face_xy"] = face_xy
+        cache["portals"] = portals
     s2 = _end_xy(loc, strip[0], face_xy[0], s)
     e2 = _end_xy(loc, strip[-1], face_xy[-1], e)
     return portals, s2, e2, face_xy
@@ -421,9 +454,10 @@ def straighten(mesh: SurfaceMesh, strip, s: Endpoint, e: Endpoint, *,
     loc = local or _Local(mesh)
     strip = _clean([int(f) for f in strip])
     n_swings = 0
+    cache: dict = {}
     for _ in range(max_rounds):
         try:
-            portals, s2, e2, face_xy = _unfold(loc, strip, s, e)
+            portals, s2, e2, face_xy = _unfold(loc, strip, s, e, cache)
         except _StripError as exc:
             raise ValueError(str(exc)) from None
         apexes = _funnel(portals, s2, e2)

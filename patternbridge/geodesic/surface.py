@@ -131,7 +131,10 @@ class SurfaceMesh:
         self.faces = fw
         e1 = v[fw[:, 1]] - v[fw[:, 0]]
         e2 = v[fw[:, 2]] - v[fw[:, 0]]
-        cr = np.cross(e1, e2)
+        cr = np.zeros_like(e1)  # np.cross is several times slower on (F, 3)
+        cr[:, 0] = e1[:, 1] * e2[:, 2] - e1[:, 2] * e2[:, 1]
+        cr[:, 1] = e1[:, 2] * e2[:, 0] - e1[:, 0] * e2[:, 2]
+        cr[:, 2] = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
         dbl_area = np.sqrt(np.einsum("ij,ij->i", cr, cr))
         scale = float(np.mean(np.einsum("ij,ij->i", e1, e1))) or 1.0
         degenerate = (dbl_area <= _AREA_EPS * scale) | (fw[:, 0] == fw[:, 1]) | (
