@@ -221,7 +221,6 @@ LINKS = [
     link("front_length", None, leg("bodice_front", "centre_neck", "cf_waist")),
     link("shoulder_length_right", None, leg("bodice_front", "neck_side_right", "shoulder_point_right")),
     link("waist_to_hip", None, leg("skirt_front", "side_waist_right", "side_hip_right", "boundary")),
-    link("waist_to_knee", None, leg("skirt_back", "cb_waist", "cb_hem", "boundary")),
 ]
 
 DESCRIPTION = "Fitted sleeveless sheath dress (stretch, no ease): darted bodice and skirt joined at the waist, centre-back zip"

@@ -141,7 +141,6 @@ LINKS = [
     link("waist_girth", WAIST_EASE, *_waist_legs()),
     link("hip_girth", HIP_EASE, leg("front", "side_hip_right", "side_hip_left"), leg("back", "cb_hip", "side_hip", factor=2)),
     link("waist_to_hip", None, leg("front", "side_waist_right", "side_hip_right", "boundary")),
-    link("waist_to_knee", None, leg("back", "cb_waist", "cb_hem", "boundary")),
 ]
 
 DESCRIPTION = "Straight skirt: front cut on the fold, back pair with centre-back zip, two darts a side, waistband"

@@ -29,6 +29,10 @@ __all__ = ["SeamProposal", "Stretch", "infer_seams", "stretches", "with_proposal
 CORNER_DEG = 30.0
 LENGTH_TOL_CM = 0.3
 MIN_STRETCH_CM = 2.0
+#: longest run of consecutive stretches tried as one seam side
+MAX_RUN = 5
+#: a corner this sharp between two neighbouring stretches is a dart's point
+DART_DEG = 40.0
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -38,6 +42,8 @@ class Stretch:
     start, end : vertex indices (outline order, wrapping)
     length_cm : sew-line length (sample size)
     graded_cm : the same length in every graded size
+    parts : ids of the elementary stretches it spans (a run of up to ``MAX_RUN``)
+    notch_fracs : where the notches inside it sit, as fractions of its length
     bend : total absolute turning along the stretch, radians
     straightness : chord / length (1 for a straight edge)
     """
@@ -49,6 +55,9 @@ class Stretch:
     bend: float
     straightness: float
     graded_cm: tuple[float, ...] = ()
+    parts: tuple[int, ...] = ()
+    notch_fracs: tuple[float, ...] = ()
+    ends_xy: tuple[tuple[float, float], tuple[float, float]] = ((0.0, 0.0), (0.0, 0.0))
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -79,33 +88,49 @@ def _breaks(piece) -> np.ndarray:
     return np.nonzero(brk)[0]
 
 
-def stretches(pattern: Pattern) -> list[Stretch]:
-    """All stretches of every piece (between consecutive break vertices)."""
+def stretches(pattern: Pattern, *, max_run: int = MAX_RUN) -> list[Stretch]:
+    """Stretches of every piece: runs of 1..``max_run`` consecutive break-to-break stretches."""
     from .seams import graded_sew_lines
 
     lines = graded_sew_lines(pattern)
     out = []
+    uid = 0
     for piece in pattern.pieces:
         pts, _ = sew_line(piece)
         n = len(pts)
         brk = _breaks(piece)
         if len(brk) < 2:
             continue
-        for i, s in enumerate(brk):
-            e = brk[(i + 1) % len(brk)]
-            idx = np.arange(s, e + 1) if e > s else np.r_[s:n, 0 : e + 1]
-            seg = pts[idx]
-            d = np.diff(seg, axis=0)
-            length = float(np.linalg.norm(d, axis=1).sum())
-            if length < MIN_STRETCH_CM:
-                continue
-            heading = np.unwrap(np.arctan2(d[:, 1], d[:, 0]))
-            bend = float(np.abs(np.diff(heading)).sum()) if len(heading) > 1 else 0.0
-            chord = float(np.hypot(*(seg[-1] - seg[0])))
-            graded = np.linalg.norm(np.diff(lines[piece.name][:, idx], axis=1), axis=-1).sum(axis=-1)
-            out.append(Stretch(piece=piece.name, start=int(s), end=int(e), length_cm=length,
-                               bend=bend, straightness=chord / length,
-                               graded_cm=tuple(float(x) for x in graded)))
+        notch_vertices = {nt.vertex for nt in piece.notches}
+        corner_angles = interior_angles(pts)
+        base_ids = list(range(uid, uid + len(brk)))
+        uid += len(brk)
+        for i in range(len(brk)):
+            for run in range(1, min(max_run, len(brk) - 1) + 1):
+                s, e = brk[i], brk[(i + run) % len(brk)]
+                idx = np.arange(s, e + 1) if e > s else np.r_[s:n, 0 : e + 1]
+                seg = pts[idx]
+                d = np.diff(seg, axis=0)
+                cum = np.concatenate([[0.0], np.cumsum(np.linalg.norm(d, axis=1))])
+                length = float(cum[-1])
+                if length < MIN_STRETCH_CM:
+                    continue
+                heading = np.unwrap(np.arctan2(d[:, 1], d[:, 0]))
+                bend = float(np.abs(np.diff(heading)).sum()) if len(heading) > 1 else 0.0
+                chord = float(np.hypot(*(seg[-1] - seg[0])))
+                graded = np.linalg.norm(np.diff(lines[piece.name][:, idx], axis=1), axis=-1).sum(axis=-1)
+                fracs = tuple(float(cum[k] / length) for k in range(1, len(idx) - 1) if int(idx[k]) in notch_vertices)
+                if run > 1:
+                    # a seam does not turn a corner: reject runs through a sharp inner break
+                    inner = [brk[(i + k) % len(brk)] for k in range(1, run)]
+                    if np.any(np.abs(np.pi - corner_angles[inner]) > np.radians(CORNER_DEG)):
+                        continue
+                out.append(Stretch(piece=piece.name, start=int(s), end=int(e), length_cm=length,
+                                   bend=bend, straightness=chord / length,
+                                   graded_cm=tuple(float(x) for x in graded),
+                                   parts=tuple(base_ids[(i + k) % len(brk)] for k in range(run)),
+                                   notch_fracs=fracs,
+                                   ends_xy=(tuple(map(float, seg[0])), tuple(map(float, seg[-1])))))
     return out
 
 
@@ -119,10 +144,18 @@ def _score(a: Stretch, b: Stretch) -> float:
     if dl > tol:
         return 0.0
     length_term = np.exp(-((dl / (0.35 * tol)) ** 2))
-    shape_term = np.exp(-abs(a.straightness - b.straightness) / 0.02) * np.exp(-abs(a.bend - b.bend) / 0.6)
+    shape_term = np.exp(-abs(a.straightness - b.straightness) / 0.05) * np.exp(-abs(a.bend - b.bend) / 1.0)
     # long matching stretches are less likely to be coincidences
     size_term = 1.0 - np.exp(-min(a.length_cm, b.length_cm) / 8.0)
-    return float(length_term * shape_term * size_term)
+    # notches inside the two sides must line up (b runs backwards along a)
+    if len(a.notch_fracs) != len(b.notch_fracs):
+        notch_term = 0.3
+    elif a.notch_fracs:
+        err = np.max(np.abs(np.asarray(a.notch_fracs) - (1.0 - np.asarray(b.notch_fracs[::-1]))))
+        notch_term = 1.0 if err < 0.02 else 0.3
+    else:
+        notch_term = 0.9
+    return float(length_term * shape_term * size_term * notch_term)
 
 
 def _twins(pattern: Pattern) -> set[frozenset[str]]:
@@ -143,6 +176,13 @@ def _twins(pattern: Pattern) -> set[frozenset[str]]:
 TWIN_FACTOR = 0.5
 
 
+def _mirrored(a: Stretch, b: Stretch, cx: float, tol_cm: float = 0.3) -> bool:
+    """True when ``b`` is ``a`` reflected across the vertical line ``x = cx`` (a symmetric piece's halves)."""
+    (ax0, ay0), (ax1, ay1) = a.ends_xy
+    (bx0, by0), (bx1, by1) = b.ends_xy
+    return bool(np.hypot(2 * cx - ax0 - bx1, ay0 - by1) < tol_cm and np.hypot(2 * cx - ax1 - bx0, ay1 - by0) < tol_cm)
+
+
 def infer_seams(pattern: Pattern, *, min_confidence: float = 0.2) -> list[SeamProposal]:
     """Propose seam pairs between stretches of equal length and compatible shape.
 
@@ -157,25 +197,41 @@ def infer_seams(pattern: Pattern, *, min_confidence: float = 0.2) -> list[SeamPr
     """
     items = stretches(pattern)
     twins = _twins(pattern)
+    centre_x = {p.name: float(np.mean(sew_line(p)[0][:, 0][[np.argmin(sew_line(p)[0][:, 0]),
+                                                             np.argmax(sew_line(p)[0][:, 0])]]))
+                for p in pattern.pieces}
+    sharp: dict[tuple[str, int], bool] = {}
+    for piece in pattern.pieces:
+        ang = interior_angles(sew_line(piece)[0])
+        for v in range(piece.n_vertices):
+            sharp[(piece.name, v)] = bool(ang[v] > np.radians(360.0 - DART_DEG))
     cands = []
     for i in range(len(items)):
         for j in range(i + 1, len(items)):
             a, b = items[i], items[j]
-            if a.piece == b.piece and (a.end == b.start or b.end == a.start):
-                continue  # neighbours on one piece (e.g. the two halves of a hem)
+            if set(a.parts) & set(b.parts):
+                continue
+            if a.piece == b.piece:
+                shared = {a.end} & {b.start} or {b.end} & {a.start}
+                # neighbours on one piece only sew together at a dart point
+                if shared and not sharp.get((a.piece, shared.pop()), False):
+                    continue
             c = _score(a, b)
-            if frozenset((a.piece, b.piece)) in twins:
+            if frozenset((a.piece, b.piece)) in twins or (a.piece == b.piece and _mirrored(a, b, centre_x[a.piece])):
                 c *= TWIN_FACTOR
             if c >= min_confidence:
-                cands.append((c, i, j))
+                rank = c * (1.0 + 0.15 * (len(a.parts) + len(b.parts) - 2))
+                cands.append((rank, c, i, j))
     cands.sort(key=lambda t: -t[0])
     used: set[int] = set()
     out = []
-    for c, i, j in cands:
-        if i in used or j in used:
+    for _rank, c, i, j in cands:
+        parts = set(items[i].parts) | set(items[j].parts)
+        if parts & used:
             continue
-        used.update((i, j))
+        used |= parts
         out.append(SeamProposal(a=items[i], b=items[j], confidence=round(c, 3)))
+    out.sort(key=lambda p: -p.confidence)
     return out
 
 

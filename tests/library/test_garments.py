@@ -21,7 +21,7 @@ MEASUREMENT_IDS = {
     "chest_girth", "bust_girth", "waist_girth", "hip_girth", "neck_girth", "upper_arm_girth_right",
     "wrist_girth_right", "thigh_girth_right", "knee_girth_right", "ankle_girth_right", "back_length",
     "front_length", "shoulder_width", "shoulder_length_right", "arm_length_right", "crotch_length",
-    "outside_leg_right", "inside_leg_right", "waist_to_hip", "back_width", "waist_to_knee",
+    "outside_leg_right", "inside_leg_right", "waist_to_hip", "back_width",
 }
 
 
