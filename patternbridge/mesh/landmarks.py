@@ -285,6 +285,9 @@ def detect_landmarks(vertices: np.ndarray, faces: np.ndarray) -> dict[str, Landm
         if not len(jump):
             continue
         k = int(jump[0])
+        # a T-pose armpit flares gradually: step back while the contour stays steeper than ~60 deg
+        while k > 0 and e[k] - e[k - 1] > 0.006 * S:
+            k -= 1
         y0 = ys[k]
         lo_x, hi_x = e[k] - 0.01 * S, gap[s][k] + 0.01 * S
         rel = sg * (v[:, 0] - xm)

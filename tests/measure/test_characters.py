@@ -203,3 +203,15 @@ def test_cli(characters_dir, tmp_path, capsys):
     assert not (tmp_path / "x.json").exists()
     code = main(["measure", str(tmp_path / "missing.obj"), "-o", str(tmp_path / "x.json")])
     assert code == 2
+
+
+def test_detection_in_t_pose(characters):
+    """Arms raised by skinning: the detected points still land near the moved reference vertices."""
+    from patternbridge.mesh.skinning import a_to_t_pose_rotations
+
+    c = _posed(characters["E"], a_to_t_pose_rotations(characters["E"].skeleton))
+    found = detect_landmarks(c.vertices, c.faces)
+    err = landmark_errors(found, c.landmarks)
+    assert len(err) == len(LANDMARK_NAMES)
+    assert np.median(list(err.values())) < 3.0 and max(err.values()) < 12.0
+    assert err["armpit_point_left"] < 4.0 and err["wrist_point_left"] < 5.0
