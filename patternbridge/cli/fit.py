@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import re
 import shutil
 import sys
@@ -25,20 +26,44 @@ __all__ = ["HELP", "add_arguments", "run"]
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("character", metavar="CHARACTER",
-                        help="character mesh (OBJ/PLY/STL/glTF, with its .json sidecar if any) "
-                        "or a measurements JSON written by `patternbridge measure`")
-    parser.add_argument("--garment", required=True, metavar="NAME|pattern.json",
-                        help="library garment name, canonical pattern JSON or DXF with bridge data")
-    parser.add_argument("--landmarks", metavar="FILE", help="landmarks JSON for the character")
-    parser.add_argument("--units", help="character mesh units when the file does not say (cm, mm, m, in)")
+    parser.add_argument(
+        "character",
+        metavar="CHARACTER",
+        help="character mesh (OBJ/PLY/STL/glTF, with its .json sidecar if any) "
+        "or a measurements JSON written by `patternbridge measure`",
+    )
+    parser.add_argument(
+        "--garment",
+        required=True,
+        metavar="NAME|pattern.json",
+        help="library garment name, canonical pattern JSON or DXF with bridge data",
+    )
+    parser.add_argument(
+        "--landmarks", metavar="FILE", help="landmarks JSON for the character"
+    )
+    parser.add_argument(
+        "--units",
+        help="character mesh units when the file does not say (cm, mm, m, in)",
+    )
     parser.add_argument("--up", help="character up axis when not +Y (e.g. +Z)")
-    parser.add_argument("--seed", type=int, default=0, help="random seed (same seed, same result)")
-    parser.add_argument("--pop-size", type=int, default=None, help="NSGA-II population size")
-    parser.add_argument("--generations", type=int, default=None, help="NSGA-II generations")
-    parser.add_argument("--no-repair", action="store_true", help="skip the least-squares repair step")
-    parser.add_argument("--no-drape", action="store_true", help="do not assemble/drape the garment")
-    parser.add_argument("-o", "--output", required=True, metavar="OUT/", help="output folder")
+    parser.add_argument(
+        "--seed", type=int, default=0, help="random seed (same seed, same result)"
+    )
+    parser.add_argument(
+        "--pop-size", type=int, default=None, help="NSGA-II population size"
+    )
+    parser.add_argument(
+        "--generations", type=int, default=None, help="NSGA-II generations"
+    )
+    parser.add_argument(
+        "--no-repair", action="store_true", help="skip the least-squares repair step"
+    )
+    parser.add_argument(
+        "--no-drape", action="store_true", help="do not assemble/drape the garment"
+    )
+    parser.add_argument(
+        "-o", "--output", required=True, metavar="OUT/", help="output folder"
+    )
 
 
 def _safe_name(text: str) -> str:
@@ -54,7 +79,9 @@ def _is_measurements_json(path: Path) -> bool:
         return False
     if not isinstance(data, dict):
         return False
-    return "measurements" in data or (bool(data) and all(isinstance(v, (int, float)) for v in data.values()))
+    return "measurements" in data or (
+        bool(data) and all(isinstance(v, (int, float)) for v in data.values())
+    )
 
 
 def _standalone(pattern, size: str):
@@ -65,20 +92,40 @@ def _standalone(pattern, size: str):
 
     pieces = []
     for p in pattern.pieces:
-        pieces.append(dataclasses.replace(
-            p, size=size, rules=None,
-            notches=tuple(dataclasses.replace(n, rule=None) for n in p.notches),
-            internal_lines=tuple(dataclasses.replace(pl, rules=None) for pl in p.internal_lines),
-            cutouts=tuple(dataclasses.replace(pl, rules=None) for pl in p.cutouts),
-            sew_lines=tuple(dataclasses.replace(pl, rules=None) for pl in p.sew_lines),
-            grain_line=None if p.grain_line is None else dataclasses.replace(p.grain_line, rules=(None, None)),
-            grade_reference=None if p.grade_reference is None
-            else dataclasses.replace(p.grade_reference, rules=(None, None)),
-            mirror_line=None if p.mirror_line is None else dataclasses.replace(p.mirror_line, rules=(None, None)),
-            drill_holes=tuple(dataclasses.replace(h, rule=None) for h in p.drill_holes),
-        ))
-    return dataclasses.replace(pattern, pieces=tuple(pieces), sample_size=size, sizes=(size,),
-                               rules=GradeRuleTable(sizes=(size,), sample_size=size))
+        pieces.append(
+            dataclasses.replace(
+                p,
+                size=size,
+                rules=None,
+                notches=tuple(dataclasses.replace(n, rule=None) for n in p.notches),
+                internal_lines=tuple(
+                    dataclasses.replace(pl, rules=None) for pl in p.internal_lines
+                ),
+                cutouts=tuple(dataclasses.replace(pl, rules=None) for pl in p.cutouts),
+                sew_lines=tuple(
+                    dataclasses.replace(pl, rules=None) for pl in p.sew_lines
+                ),
+                grain_line=None
+                if p.grain_line is None
+                else dataclasses.replace(p.grain_line, rules=(None, None)),
+                grade_reference=None
+                if p.grade_reference is None
+                else dataclasses.replace(p.grade_reference, rules=(None, None)),
+                mirror_line=None
+                if p.mirror_line is None
+                else dataclasses.replace(p.mirror_line, rules=(None, None)),
+                drill_holes=tuple(
+                    dataclasses.replace(h, rule=None) for h in p.drill_holes
+                ),
+            )
+        )
+    return dataclasses.replace(
+        pattern,
+        pieces=tuple(pieces),
+        sample_size=size,
+        sizes=(size,),
+        rules=GradeRuleTable(sizes=(size,), sample_size=size),
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -116,16 +163,24 @@ def run(args: argparse.Namespace) -> int:
     if _is_measurements_json(char_path):
         stage(f"reading measurements {char_path}")
         meas = load_measurements(char_path)
-        char_name = meas.character if meas.character and meas.character != "character" else char_path.stem
+        char_name = (
+            meas.character
+            if meas.character and meas.character != "character"
+            else char_path.stem
+        )
     else:
         if not char_path.is_file():
-            raise InputError(f"{char_path}: no such character file; give a mesh (OBJ/PLY/STL/glTF) "
-                             "or a measurements JSON")
+            raise InputError(
+                f"{char_path}: no such character file; give a mesh (OBJ/PLY/STL/glTF) "
+                "or a measurements JSON"
+            )
         from ..measure.run import measure
         from ..mesh.load import load_character
 
         stage(f"loading character {char_path}")
-        character, creport = load_character(char_path, units=args.units, up=args.up, landmarks=args.landmarks)
+        character, creport = load_character(
+            char_path, units=args.units, up=args.up, landmarks=args.landmarks
+        )
         print_findings(creport)
         stage("measuring")
         meas = measure(character, progress=progress, partial=True)
@@ -135,9 +190,13 @@ def run(args: argparse.Namespace) -> int:
     lacking = [m for m in needed if m not in values]
     if lacking:
         reasons = getattr(meas, "missing", {}) or {}
-        detail = ", ".join(f"{m} ({reasons[m]})" if m in reasons else m for m in lacking)
-        raise InputError(f"{args.character}: the character lacks measurements {garment!r} needs: {detail}; "
-                         "add the landmarks they need (--landmarks) or give them in a measurements JSON")
+        detail = ", ".join(
+            f"{m} ({reasons[m]})" if m in reasons else m for m in lacking
+        )
+        raise InputError(
+            f"{args.character}: the character lacks measurements {garment!r} needs: {detail}; "
+            "add the landmarks they need (--landmarks) or give them in a measurements JSON"
+        )
     size = _safe_name(char_name)
     if size in pattern.sizes:
         size = f"{size}_fit"
@@ -151,16 +210,40 @@ def run(args: argparse.Namespace) -> int:
         kwargs["pop_size"] = int(args.pop_size)
     if args.generations:
         kwargs["n_gen"] = int(args.generations)
-    stage(f"grading {garment} to {char_name} ({len(pattern.pieces)} pieces, "
-          f"{len(pattern.measurements)} measurements, {len(pattern.seams)} seams)")
-    result = fit_pattern(pattern, values, seed=args.seed, size=size, source=str(args.garment),
-                         do_repair=not args.no_repair, progress=progress, **kwargs)
+    stage(
+        f"grading {garment} to {char_name} ({len(pattern.pieces)} pieces, "
+        f"{len(pattern.measurements)} measurements, {len(pattern.seams)} seams)"
+    )
+    result = fit_pattern(
+        pattern,
+        values,
+        seed=args.seed,
+        size=size,
+        source=str(args.garment),
+        do_repair=not args.no_repair,
+        progress=progress,
+        **kwargs,
+    )
     rep = fit_report(result, character=char_name, garment=garment)
 
     out_dir.mkdir(parents=True, exist_ok=True)
     tmp_dir = Path(tempfile.mkdtemp(prefix=".fit-", dir=out_dir))
+    umask = os.umask(0)
+    os.umask(umask)
     try:
-        written = _write_outputs(tmp_dir, args, pattern, result, rep, meas, character, size, garment, progress, stage)
+        written = _write_outputs(
+            tmp_dir,
+            args,
+            pattern,
+            result,
+            rep,
+            meas,
+            character,
+            size,
+            garment,
+            progress,
+            stage,
+        )
         final = []
         for name in written:
             src = tmp_dir / name
@@ -171,21 +254,36 @@ def run(args: argparse.Namespace) -> int:
                 src.replace(dst)
             else:
                 src.replace(dst)
+                os.chmod(dst, 0o666 & ~umask)  # temporary files are created private
             final.append(dst)
     finally:
         shutil.rmtree(tmp_dir, ignore_errors=True)
 
     if not quiet:
-        print(f"[fit] measurement error mean {rep['mean_error_cm']:.2f} cm, max {rep['max_error_cm']:.2f} cm; "
-              f"worst seam {rep['max_seam_mm']:.2f} mm; shape error {rep['shape_error']:.4f} "
-              f"(proportional scaling: {rep['baseline']['mean_error_cm']:.2f} cm, "
-              f"{rep['baseline']['max_seam_mm']:.1f} mm, {rep['baseline']['shape_error']:.4f})",
-              file=sys.stderr)
+        print(
+            f"[fit] measurement error mean {rep['mean_error_cm']:.2f} cm, max {rep['max_error_cm']:.2f} cm; "
+            f"worst seam {rep['max_seam_mm']:.2f} mm; shape error {rep['shape_error']:.4f} "
+            f"(proportional scaling: {rep['baseline']['mean_error_cm']:.2f} cm, "
+            f"{rep['baseline']['max_seam_mm']:.1f} mm, {rep['baseline']['shape_error']:.4f})",
+            file=sys.stderr,
+        )
     print(f"wrote {len(final)} files to {out_dir}: " + ", ".join(p.name for p in final))
     return 0
 
 
-def _write_outputs(tmp: Path, args, pattern, result, rep, meas, character, size, garment, progress, stage) -> list[str]:
+def _write_outputs(
+    tmp: Path,
+    args,
+    pattern,
+    result,
+    rep,
+    meas,
+    character,
+    size,
+    garment,
+    progress,
+    stage,
+) -> list[str]:
     """Write every output into ``tmp``; return the names written (in order)."""
     from ..io.pattern_json import save_pattern_json
     from ..io.plot_fit import plot_fit_overlay, plot_pareto
@@ -219,7 +317,14 @@ def _write_outputs(tmp: Path, args, pattern, result, rep, meas, character, size,
     for flavor in ("aama", "astm"):
         dxf = f"{stem}_{flavor}.dxf"
         rul = f"{stem}_{flavor}.rul"
-        write_dxf(combined, tmp / dxf, flavor=flavor, sizes="sample", rul_path=tmp / rul, report=dxf_report)
+        write_dxf(
+            combined,
+            tmp / dxf,
+            flavor=flavor,
+            sizes="sample",
+            rul_path=tmp / rul,
+            report=dxf_report,
+        )
         names += [dxf, rul]
     print_findings(dxf_report)
 
@@ -234,7 +339,9 @@ def _write_outputs(tmp: Path, args, pattern, result, rep, meas, character, size,
             drape_dir = tmp / "drape"
             drape_dir.mkdir()
             before = set()
-            drape_dict = dress(character, result.pattern, drape_dir, seed=args.seed, progress=progress)
+            drape_dict = dress(
+                character, result.pattern, drape_dir, seed=args.seed, progress=progress
+            )
             for f in sorted(drape_dir.iterdir()):
                 if f.name not in before and not f.name.startswith("."):
                     f.replace(tmp / f.name)
@@ -246,19 +353,29 @@ def _write_outputs(tmp: Path, args, pattern, result, rep, meas, character, size,
         rep["drape"] = drape_dict
 
     stage("drawing pattern.png and pareto.png")
-    plot_fit_overlay(pattern.pieces, result.pattern.pieces, tmp / "pattern.png",
-                     labels=(pattern.sample_size or "original", size),
-                     title=f"{garment}: original vs graded for {size}")
+    plot_fit_overlay(
+        pattern.pieces,
+        result.pattern.pieces,
+        tmp / "pattern.png",
+        labels=(pattern.sample_size or "original", size),
+        title=f"{garment}: original vs graded for {size}",
+    )
     names.append("pattern.png")
-    plot_pareto(result.front_F, tmp / "pareto.png", chosen=result.ga_choice.scores.F,
-                final=result.chosen.scores.F,
-                baselines={n: s.scores.F for n, s in result.baselines.items()},
-                title=f"{garment} on {size}: final Pareto front")
+    plot_pareto(
+        result.front_F,
+        tmp / "pareto.png",
+        chosen=result.ga_choice.scores.F,
+        final=result.chosen.scores.F,
+        baselines={n: s.scores.F for n, s in result.baselines.items()},
+        title=f"{garment} on {size}: final Pareto front",
+    )
     names.append("pareto.png")
 
     from ..atomic import write_text
 
-    write_text(tmp / "fit_report.json", json.dumps(rep, indent=1, default=_json_default) + "\n")
+    write_text(
+        tmp / "fit_report.json", json.dumps(rep, indent=1, default=_json_default) + "\n"
+    )
     names.append("fit_report.json")
     return names
 

@@ -110,6 +110,8 @@ class ObjectiveData:
     span_edges: np.ndarray  # (N, B) 0/1: outline edges of each span between consecutive critical points
     span_piece: np.ndarray  # (B,) piece of each span
     span_len0: np.ndarray  # (B,) original span lengths
+    span_a: np.ndarray  # (B,) first critical point of each span (global index)
+    span_b: np.ndarray  # (B,) last critical point of each span
     # normalisers
     n_seams: int
 
@@ -337,7 +339,7 @@ def objective_data(
     notch_bl = np.stack(nb_len_cols, axis=1) if M else np.zeros((n, 0))
 
     crit = np.concatenate([grid.point_offsets[k] + g.critical for k, g in enumerate(grid.pieces)])
-    spans, span_piece = [], []
+    spans, span_piece, span_a, span_b = [], [], [], []
     for k, g in enumerate(grid.pieces):
         crit_k = np.asarray(g.critical)
         n_k = len(g.outline_weights)
@@ -346,12 +348,15 @@ def objective_data(
             col[grid.point_offsets[k] + boundary_indices(n_k, int(a), int(b))[:-1]] = 1.0
             spans.append(col)
             span_piece.append(k)
+            span_a.append(grid.point_offsets[k] + int(a))
+            span_b.append(grid.point_offsets[k] + int(b))
     span_edges = np.stack(spans, axis=1)
     edge_len0 = np.linalg.norm(points0[nxt] - points0, axis=1)
     data = ObjectiveData(
         nxt=nxt, prv=prv,
         span_edges=span_edges, span_piece=np.array(span_piece, dtype=np.int64),
         span_len0=edge_len0 @ span_edges,
+        span_a=np.array(span_a, dtype=np.int64), span_b=np.array(span_b, dtype=np.int64),
         link_ids=tuple(lk.id for lk in pattern.measurements),
         link_measurements=tuple(lk.measurement for lk in pattern.measurements),
         target_cm=target, link_edges=link_edges, chord_a=chord_a, chord_b=chord_b,
@@ -541,6 +546,7 @@ def residuals(
     w_rotation: float = 3.0,
     w_shift: float = 0.05,
     w_proportion: float = 0.5,
+    w_direction: float = 4.0,
     measure_slack_cm: float = 0.0,
     seam_slack_cm: float = 0.0,
 ) -> np.ndarray:
@@ -555,7 +561,9 @@ def residuals(
     along seams (rad), and inner-angle changes at critical points and at all
     vertices (rad, scaled by the piece count so the shape term does not grow
     with resolution), the change of proportions between the spans joining
-    consecutive critical points (weak), each piece's rotation (a graded piece keeps its
+    consecutive critical points (weak), the change of direction of those
+    spans relative to the piece (keeps straight edges such as the centre
+    front where they were), each piece's rotation (a graded piece keeps its
     orientation to the grain) and, weakly, its centroid shift.
     """
     points = np.asarray(points, dtype=np.float64)
@@ -583,6 +591,14 @@ def residuals(
     mean /= counts
     parts.append(w_proportion * (ratio - mean[:, data.span_piece]) / np.sqrt(max(ratio.shape[1], 1) / 10.0))
     rotation, shift = piece_pose(data, points)
+    # direction of each span's chord, relative to the piece's rotation: keeps
+    # straight lines (centre front, hems, grain-parallel edges) where they were
+    c0 = data.points0[data.span_b] - data.points0[data.span_a]
+    c = points[:, data.span_b, :] - points[:, data.span_a, :]
+    turn = np.arctan2(c0[None, :, 0] * c[..., 1] - c0[None, :, 1] * c[..., 0],
+                      c0[None, :, 0] * c[..., 0] + c0[None, :, 1] * c[..., 1])
+    turn = (turn - rotation[:, data.span_piece] + np.pi) % (2 * np.pi) - np.pi
+    parts.append(w_direction * turn / np.sqrt(max(turn.shape[1], 1) / 10.0))
     parts.append(w_rotation * rotation)
     parts.append(w_shift * (shift / data.extent_cm[None, :, None]).reshape(len(points), -1))
     return np.concatenate(parts, axis=1)
