@@ -24,7 +24,7 @@ from scipy.spatial import cKDTree
 
 from .surface import SurfaceMesh
 
-__all__ = ["corridor", "flow_path", "lsq_step", "euler_step", "tangent_planes"]
+__all__ = ["corridor", "euler_step", "flow_path", "lsq_step", "tangent_planes", "tangent_step"]
 
 log = logging.getLogger(__name__)
 
@@ -114,6 +114,53 @@ def lsq_step(points: np.ndarray, normals: np.ndarray, pbar: np.ndarray,
     return x
 
 
+def tangent_step(points: np.ndarray, normals: np.ndarray, pbar: np.ndarray) -> np.ndarray:
+    """The least-squares step solved exactly in tangent coordinates (fast path).
+
+    The stacked system of :func:`lsq_step` is consistent: three independent rows
+    per inner point. Writing each inner point as ``pbar_i + T_i u_i`` (``T_i`` an
+    orthonormal basis of its tangent plane) satisfies the plane rows and leaves
+    ``T_i^T (p_{i-1} - 2 p_i + p_{i+1}) = 0``: a block-tridiagonal (2m, 2m)
+    system, solved as a banded matrix in O(m). Same result as :func:`lsq_step`.
+    """
+    from scipy.linalg import solve_banded
+
+    from .propagate import _tangent_bases
+
+    m = len(points)
+    if m < 3:
+        return points.copy()
+    t1, t2 = _tangent_bases(normals[1:-1])
+    T = np.stack([t1, t2], axis=-1)  # (k, 3, 2), k = m - 2 inner points
+    k = m - 2
+    base = pbar.copy()
+    base[[0, -1]] = points[[0, -1]]
+    lap = base[:-2] - 2.0 * base[1:-1] + base[2:]
+    rhs = -np.einsum("kci,kc->ki", T, lap).ravel()
+    n = 2 * k
+    ab = np.zeros((7, n))  # (l, u) = (3, 3)
+
+    def put(rows, cols, vals):
+        ab[3 + rows - cols, cols] = vals
+
+    blk = np.arange(k)
+    for i_ in range(2):
+        for j_ in range(2):
+            put(2 * blk + i_, 2 * blk + j_, -2.0 * (i_ == j_))
+    if k > 1:
+        lo = np.einsum("kci,kcj->kij", T[1:], T[:-1])  # T_i^T T_{i-1}
+        up = np.einsum("kci,kcj->kij", T[:-1], T[1:])  # T_i^T T_{i+1}
+        b = np.arange(1, k)
+        for i_ in range(2):
+            for j_ in range(2):
+                put(2 * b + i_, 2 * (b - 1) + j_, lo[:, i_, j_])
+                put(2 * (b - 1) + i_, 2 * b + j_, up[:, i_, j_])
+    u = solve_banded((3, 3), ab, rhs).reshape(k, 2)
+    out = base.copy()
+    out[1:-1] += np.einsum("kcj,kj->kc", T, u)
+    return out
+
+
 def euler_step(points: np.ndarray, normals: np.ndarray, pbar: np.ndarray,
                mu: float) -> np.ndarray:
     """One implicit-Euler step ``(I + mu (nn^T - K + nn^T K)) P' = P + mu nn^T Pbar``.
@@ -151,7 +198,7 @@ def _resample(points: np.ndarray, max_seg: float) -> np.ndarray:
 
 def flow_path(mesh: SurfaceMesh, vpath, start, end, *, scheme: str = "lsq",
               n_outer: int = 4, mu: float = 4.0,
-              omega: float = 1.0, rings: int = 8) -> np.ndarray:
+              omega: float = 1.0, rings: int = 8, fast: bool = True) -> np.ndarray:
     """Run the curvature flow from an edge path.
 
     Parameters
@@ -162,6 +209,9 @@ def flow_path(mesh: SurfaceMesh, vpath, start, end, *, scheme: str = "lsq",
     scheme : ``"lsq"`` or ``"euler"``
     n_outer : outer iterations (tangent planes re-estimated each time)
     mu : implicit-Euler step
+    omega : relaxation of each outer step (1: plain)
+    rings : width of the vertex corridor searched for closest vertices
+    fast : solve the least-squares step in tangent coordinates (same result)
 
     Returns
     -------
@@ -180,7 +230,10 @@ def flow_path(mesh: SurfaceMesh, vpath, start, end, *, scheme: str = "lsq",
     max_seg = 1.5 * mesh.edge_mean
     for it in range(n_outer):
         _, n, pbar = tangent_planes(mesh, pts, tree, verts)
-        new = lsq_step(pts, n, pbar) if scheme == "lsq" else euler_step(pts, n, pbar, mu)
+        if scheme == "lsq":
+            new = tangent_step(pts, n, pbar) if fast else lsq_step(pts, n, pbar)
+        else:
+            new = euler_step(pts, n, pbar, mu)
         pts = pts + omega * (new - pts) if it > 0 else new
         pts = _resample(pts, max_seg)
     return pts

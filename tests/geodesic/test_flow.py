@@ -63,3 +63,14 @@ def test_flow_and_walk_on_a_sphere(sphere):
     fv = mesh.faces[walk.strip]
     shared = [len(set(x) & set(y)) for x, y in zip(fv[:-1].tolist(), fv[1:].tolist())]
     assert min(shared) >= 2
+
+
+def test_tangent_step_equals_the_stacked_least_squares():
+    from patternbridge.geodesic.flow import tangent_step
+
+    rng = np.random.default_rng(11)
+    p = np.cumsum(rng.normal(size=(30, 3)), axis=0)
+    n = rng.normal(size=(30, 3))
+    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    pbar = p + rng.normal(scale=0.1, size=p.shape)
+    np.testing.assert_allclose(tangent_step(p, n, pbar), lsq_step(p, n, pbar), atol=1e-7)
