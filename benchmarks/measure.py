@@ -45,14 +45,20 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
 
     print(f"# measure benchmark  {time.strftime('%Y-%m-%d %H:%M:%S')}")
-    print(f"# python {platform.python_version()}  numpy {np.__version__}  scipy {scipy.__version__}  "
-          f"trimesh {trimesh.__version__}  patternbridge {patternbridge.__version__}")
-    print(f"# machine {platform.machine()}  {platform.system()}  cpus {len(__import__('os').sched_getaffinity(0))}")
+    print(
+        f"# python {platform.python_version()}  numpy {np.__version__}  scipy {scipy.__version__}  "
+        f"trimesh {trimesh.__version__}  patternbridge {patternbridge.__version__}"
+    )
+    print(
+        f"# machine {platform.machine()}  {platform.system()}  cpus {len(__import__('os').sched_getaffinity(0))}"
+    )
     t0 = time.perf_counter()
     character, _ = load_character(args.character, landmarks=args.landmarks)
     t_load = time.perf_counter() - t0
-    print(f"# {Path(args.character).name}: {len(character.vertices)} vertices, {len(character.faces)} triangles, "
-          f"{len(character.landmarks)} landmarks; load {t_load:.2f} s")
+    print(
+        f"# {Path(args.character).name}: {len(character.vertices)} vertices, {len(character.faces)} triangles, "
+        f"{len(character.landmarks)} landmarks; load {t_load:.2f} s"
+    )
 
     times, girth_t, length_t = [], [], []
     result = None
@@ -70,12 +76,24 @@ def main(argv=None) -> int:
     print()
     print(f"| {'case':34s} | {'n':>7s} | {'best s':>7s} | {'median s':>8s} |")
     print(f"|{'-' * 36}|{'-' * 9}|{'-' * 9}|{'-' * 10}|")
-    for name, ts, n in (("measure (all, from loaded mesh)", times, len(result.measurements)),
-                        ("  girths (hull sections)", girth_t, sum(m.kind == 'girth' for m in result.measurements.values())),
-                        ("  lengths (geodesic + heights)", length_t, sum(m.kind == 'length' for m in result.measurements.values()))):
+    for name, ts, n in (
+        ("measure (all, from loaded mesh)", times, len(result.measurements)),
+        (
+            "  girths (hull sections)",
+            girth_t,
+            sum(m.kind == "girth" for m in result.measurements.values()),
+        ),
+        (
+            "  lengths (geodesic + heights)",
+            length_t,
+            sum(m.kind == "length" for m in result.measurements.values()),
+        ),
+    ):
         print(f"| {name:34s} | {n:7d} | {min(ts):7.2f} | {float(np.median(ts)):8.2f} |")
-    print(f"\npeak RSS {peak_rss_mb():.0f} MB; target {args.target_s:.1f} s: "
-          f"{'met' if min(times) <= args.target_s else 'NOT met'} (best {min(times):.2f} s)\n")
+    print(
+        f"\npeak RSS {peak_rss_mb():.0f} MB; target {args.target_s:.1f} s: "
+        f"{'met' if min(times) <= args.target_s else 'NOT met'} (best {min(times):.2f} s)\n"
+    )
     print(f"| {'measurement':24s} | {'kind':6s} | {'value cm':>9s} |")
     print(f"|{'-' * 26}|{'-' * 8}|{'-' * 11}|")
     for mid, m in result.measurements.items():

@@ -67,7 +67,9 @@ class BodyFrame:
     marks : landmark name -> (3,) position, cm
     """
 
-    def __init__(self, vertices: np.ndarray, faces: np.ndarray, marks: Mapping[str, np.ndarray]) -> None:
+    def __init__(
+        self, vertices: np.ndarray, faces: np.ndarray, marks: Mapping[str, np.ndarray]
+    ) -> None:
         self.v = vertices
         self.f = faces
         self.marks = marks
@@ -75,7 +77,9 @@ class BodyFrame:
         top = self.mark("top_of_head")
         self.stature = float(top[1] - self.floor)
         self.step = max(self.stature / 400.0, 0.05)
-        self.slabs = SlabIndex(vertices, faces, axis=1, slab_cm=max(self.stature / 200.0, 0.1))
+        self.slabs = SlabIndex(
+            vertices, faces, axis=1, slab_cm=max(self.stature / 200.0, 0.1)
+        )
         self._extent: dict = {}
 
     def mark(self, name: str) -> np.ndarray:
@@ -86,8 +90,13 @@ class BodyFrame:
 
     # -- cutting
     def horizontal(self, y: float) -> Section:
-        return plane_loops(self.v, self.f, np.array([0.0, y, 0.0]), np.array([0.0, 1.0, 0.0]),
-                           candidates=self.slabs.faces_at(y))
+        return plane_loops(
+            self.v,
+            self.f,
+            np.array([0.0, y, 0.0]),
+            np.array([0.0, 1.0, 0.0]),
+            candidates=self.slabs.faces_at(y),
+        )
 
     def near_segment(self, a: np.ndarray, b: np.ndarray, radius: float) -> np.ndarray:
         """Ids of the faces with a vertex within ``radius`` of the segment ab."""
@@ -105,7 +114,9 @@ class BodyFrame:
         ab = b - a
         t = np.clip((p - a) @ ab / max(float(ab @ ab), 1e-12), 0.0, 1.0)
         near = np.zeros(len(self.v), dtype=bool)
-        near[cand[np.sum((p - (a + t[:, None] * ab)) ** 2, axis=1) <= radius * radius]] = True
+        near[
+            cand[np.sum((p - (a + t[:, None] * ab)) ** 2, axis=1) <= radius * radius]
+        ] = True
         return box[near[fv].any(axis=1)]
 
     @staticmethod
@@ -129,17 +140,28 @@ class BodyFrame:
         left, right = self.mark("armpit_point_left"), self.mark("armpit_point_right")
         mid = 0.5 * (left[0] + right[0])
         half = 0.5 * abs(left[0] - right[0])
-        return tuple(lp for lp in section.loops if abs(section.to_xyz(lp.centroid_uv)[0] - mid) < half)
+        return tuple(
+            lp
+            for lp in section.loops
+            if abs(section.to_xyz(lp.centroid_uv)[0] - mid) < half
+        )
 
     def torso_cut(self, y: float) -> _Cut:
         sec = self.horizontal(y)
         loops = self.torso_loops(sec)
         if not loops:
-            return _Cut(value_cm=0.0, polyline=np.zeros((0, 3)), origin=sec.origin, normal=sec.normal)
+            return _Cut(
+                value_cm=0.0,
+                polyline=np.zeros((0, 3)),
+                origin=sec.origin,
+                normal=sec.normal,
+            )
         g, ring = hull_girth(sec, loops)
         return _Cut(value_cm=g, polyline=ring, origin=sec.origin, normal=sec.normal)
 
-    def crossing(self, candidates: np.ndarray, origin: np.ndarray, normal: np.ndarray) -> np.ndarray:
+    def crossing(
+        self, candidates: np.ndarray, origin: np.ndarray, normal: np.ndarray
+    ) -> np.ndarray:
         """The candidate faces that straddle the plane (cached per normal)."""
         key = (id(candidates), tuple(np.round(normal, 12)))
         if key not in self._extent:
@@ -150,26 +172,52 @@ class BodyFrame:
         level = float(origin @ (normal / np.linalg.norm(normal)))
         return candidates[(hmin <= level) & (hmax >= level)]
 
-    def part_cut(self, origin: np.ndarray, normal: np.ndarray, ref: np.ndarray, candidates: np.ndarray) -> _Cut:
-        sec = plane_loops(self.v, self.f, origin, normal, candidates=self.crossing(candidates, origin, normal))
+    def part_cut(
+        self,
+        origin: np.ndarray,
+        normal: np.ndarray,
+        ref: np.ndarray,
+        candidates: np.ndarray,
+    ) -> _Cut:
+        sec = plane_loops(
+            self.v,
+            self.f,
+            origin,
+            normal,
+            candidates=self.crossing(candidates, origin, normal),
+        )
         loops = self.part_loops(sec, ref)
         if not loops:
-            return _Cut(value_cm=0.0, polyline=np.zeros((0, 3)), origin=sec.origin, normal=sec.normal)
+            return _Cut(
+                value_cm=0.0,
+                polyline=np.zeros((0, 3)),
+                origin=sec.origin,
+                normal=sec.normal,
+            )
         g, ring = hull_girth(sec, loops)
         return _Cut(value_cm=g, polyline=ring, origin=sec.origin, normal=sec.normal)
 
-    def refine_axis(self, p0: np.ndarray, p1: np.ndarray, candidates: np.ndarray,
-                    fractions=(0.35, 0.7)) -> tuple[np.ndarray, np.ndarray]:
+    def refine_axis(
+        self,
+        p0: np.ndarray,
+        p1: np.ndarray,
+        candidates: np.ndarray,
+        fractions=(0.35, 0.7),
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Axis line of a limb: through the centres of two perpendicular sections."""
         d = p1 - p0
         centres = []
         for t in fractions:
             q = p0 + t * d
-            sec = plane_loops(self.v, self.f, q, d, candidates=self.crossing(candidates, q, d))
+            sec = plane_loops(
+                self.v, self.f, q, d, candidates=self.crossing(candidates, q, d)
+            )
             loops = self.part_loops(sec, q)
             if not loops:
                 raise GirthError("no limb section found between the datum points")
-            if not all(lp.closed for lp in loops):  # merged with the torso: keep the datum axis
+            if not all(
+                lp.closed for lp in loops
+            ):  # merged with the torso: keep the datum axis
                 return p0 + fractions[0] * d, d / np.linalg.norm(d)
             centres.append(self.loop_centre(sec, loops))
         c0, c1 = centres
@@ -199,7 +247,9 @@ def torso_levels(body: BodyFrame) -> dict[str, tuple[float, _Cut]]:
     name -> (level y in cm, the cut at that level)
     """
     y_crotch = float(body.mark("crotch_point")[1])
-    y_arm = float(min(body.mark("armpit_point_left")[1], body.mark("armpit_point_right")[1]))
+    y_arm = float(
+        min(body.mark("armpit_point_left")[1], body.mark("armpit_point_right")[1])
+    )
     if y_arm <= y_crotch:
         raise GirthError("the armpit points lie below the crotch point")
     h = y_arm - y_crotch
@@ -214,7 +264,11 @@ def torso_levels(body: BodyFrame) -> dict[str, tuple[float, _Cut]]:
         top = min(top, y_b + 0.02 * body.stature)
     ys = _scan(y_waist + 0.5 * (top - y_waist), top, body.step)
     out["chest"] = _best([(y, body.torso_cut(y)) for y in ys], max)
-    ys = _scan(y_crotch + 0.2 * (y_waist - y_crotch), y_waist - 0.2 * (y_waist - y_crotch), body.step)
+    ys = _scan(
+        y_crotch + 0.2 * (y_waist - y_crotch),
+        y_waist - 0.2 * (y_waist - y_crotch),
+        body.step,
+    )
     out["hip"] = _best([(y, body.torso_cut(y)) for y in ys], max)
     y_high = 0.5 * (y_waist + out["hip"][0])
     out["high_hip"] = (y_high, body.torso_cut(y_high))
@@ -233,8 +287,14 @@ def torso_levels(body: BodyFrame) -> dict[str, tuple[float, _Cut]]:
         front = []
         for y in ys:
             sec = body.horizontal(y)
-            pts = np.concatenate([lp.points for lp in body.torso_loops(sec)] or [np.zeros((0, 3))])
-            strip = pts[np.abs(np.abs(pts[:, 0]) - bx) < max(1.5, 0.01 * body.stature)] if len(pts) else pts
+            pts = np.concatenate(
+                [lp.points for lp in body.torso_loops(sec)] or [np.zeros((0, 3))]
+            )
+            strip = (
+                pts[np.abs(np.abs(pts[:, 0]) - bx) < max(1.5, 0.01 * body.stature)]
+                if len(pts)
+                else pts
+            )
             front.append(strip[:, 2].max() if len(strip) else np.nan)
         front = np.asarray(front)
         if np.isfinite(front).all() and len(front) > 2:
@@ -251,16 +311,26 @@ def torso_levels(body: BodyFrame) -> dict[str, tuple[float, _Cut]]:
 
 def _girth(mid: str, cut: _Cut, landmarks: tuple[str, ...], **details) -> Measurement:
     return Measurement(
-        id=mid, value_cm=cut.value_cm, kind="girth", method="hull", polyline=cut.polyline,
-        landmarks=landmarks, details={"plane_origin": cut.origin, "plane_normal": cut.normal, **details},
+        id=mid,
+        value_cm=cut.value_cm,
+        kind="girth",
+        method="hull",
+        polyline=cut.polyline,
+        landmarks=landmarks,
+        details={"plane_origin": cut.origin, "plane_normal": cut.normal, **details},
     )
 
 
 def _torso_girths(body: BodyFrame) -> dict[str, Measurement]:
     levels = torso_levels(body)
     used = ("armpit_point_left", "armpit_point_right", "crotch_point")
-    names = {"chest": "chest_girth", "underbust": "underbust_girth", "waist": "waist_girth",
-             "high_hip": "high_hip_girth", "hip": "hip_girth"}
+    names = {
+        "chest": "chest_girth",
+        "underbust": "underbust_girth",
+        "waist": "waist_girth",
+        "high_hip": "high_hip_girth",
+        "hip": "hip_girth",
+    }
     out = {}
     for key, mid in names.items():
         y, cut = levels[key]
@@ -272,7 +342,12 @@ def _torso_girths(body: BodyFrame) -> dict[str, Measurement]:
 
 
 def _neck_girth(body: BodyFrame) -> Measurement:
-    names = ("front_neck_point", "back_neck_point", "neck_shoulder_point_left", "neck_shoulder_point_right")
+    names = (
+        "front_neck_point",
+        "back_neck_point",
+        "neck_shoulder_point_left",
+        "neck_shoulder_point_right",
+    )
     pts = np.stack([body.mark(n) for n in names])
     centre = pts.mean(axis=0)
     _, _, vt = np.linalg.svd(pts - centre)
@@ -295,7 +370,14 @@ def _head_girth(body: BodyFrame) -> Measurement:
         loops = body.part_loops(sec, np.array([top[0], y, top[2]]))
         if loops:
             g, ring = hull_girth(sec, loops)
-            cuts.append((y, _Cut(value_cm=g, polyline=ring, origin=sec.origin, normal=sec.normal)))
+            cuts.append(
+                (
+                    y,
+                    _Cut(
+                        value_cm=g, polyline=ring, origin=sec.origin, normal=sec.normal
+                    ),
+                )
+            )
     y, cut = _best(cuts, max)
     return _girth("head_girth", cut, ("top_of_head", "front_neck_point"), level_y_cm=y)
 
@@ -316,17 +398,26 @@ def _arm_girths(body: BodyFrame, side: str) -> dict[str, Measurement]:
         q = c_up + ((q - c_up) @ u_up) * u_up
         cuts.append((float(t), body.part_cut(q, u_up, q, cands)))
     t, cut = _best(cuts, max)
-    out[f"upper_arm_girth_{side}"] = _girth(f"upper_arm_girth_{side}", cut,
-                                           (f"shoulder_point_{side}", f"elbow_point_{side}"), axis_fraction=t)
+    out[f"upper_arm_girth_{side}"] = _girth(
+        f"upper_arm_girth_{side}",
+        cut,
+        (f"shoulder_point_{side}", f"elbow_point_{side}"),
+        axis_fraction=t,
+    )
     bis = u_up + u_lo
     bis /= np.linalg.norm(bis)
     ref = c_up + ((el - c_up) @ u_up) * u_up
     cut = body.part_cut(el, bis, ref, cands)
-    out[f"elbow_girth_{side}"] = _girth(f"elbow_girth_{side}", cut,
-                                       (f"shoulder_point_{side}", f"elbow_point_{side}", f"wrist_point_{side}"))
+    out[f"elbow_girth_{side}"] = _girth(
+        f"elbow_girth_{side}",
+        cut,
+        (f"shoulder_point_{side}", f"elbow_point_{side}", f"wrist_point_{side}"),
+    )
     ref = c_lo + ((wr - c_lo) @ u_lo) * u_lo
     cut = body.part_cut(wr, u_lo, ref, cands)
-    out[f"wrist_girth_{side}"] = _girth(f"wrist_girth_{side}", cut, (f"elbow_point_{side}", f"wrist_point_{side}"))
+    out[f"wrist_girth_{side}"] = _girth(
+        f"wrist_girth_{side}", cut, (f"elbow_point_{side}", f"wrist_point_{side}")
+    )
     for mid, m in out.items():
         if m.value_cm <= 0:
             raise GirthError(f"{mid}: no arm section found")
@@ -355,7 +446,9 @@ def _leg_girths(body: BodyFrame, side: str) -> dict[str, Measurement]:
     knee_c = body.loop_centre(sec, (loop,))
     u_th = (knee_c - hip_c) / np.linalg.norm(knee_c - hip_c)
     u_sh = (ankle - knee_c) / np.linalg.norm(ankle - knee_c)
-    cands = body.near_segment(hip_c + u_th * (crotch[1] - hip_c[1]) / max(-u_th[1], 1e-6), ankle, 0.12 * s)
+    cands = body.near_segment(
+        hip_c + u_th * (crotch[1] - hip_c[1]) / max(-u_th[1], 1e-6), ankle, 0.12 * s
+    )
     out = {}
 
     def at_height(y: float) -> np.ndarray:  # point of the thigh axis at height y
@@ -366,13 +459,25 @@ def _leg_girths(body: BodyFrame, side: str) -> dict[str, Measurement]:
         q = at_height(crotch[1] - frac * s)
         cuts.append((float(frac), body.part_cut(q, u_th, q, cands)))
     frac, cut = _best(cuts, max)
-    out[f"thigh_girth_{side}"] = _girth(f"thigh_girth_{side}", cut, ("crotch_point", f"knee_point_{side}"),
-                                       below_crotch_cm=frac * s)
+    out[f"thigh_girth_{side}"] = _girth(
+        f"thigh_girth_{side}",
+        cut,
+        ("crotch_point", f"knee_point_{side}"),
+        below_crotch_cm=frac * s,
+    )
     bis = u_th + u_sh
     bis /= np.linalg.norm(bis)
     cut = body.part_cut(knee, bis, knee_c, cands)
-    out[f"knee_girth_{side}"] = _girth(f"knee_girth_{side}", cut,
-                                      ("crotch_point", f"knee_point_{side}", f"ankle_inside_{side}", f"ankle_outside_{side}"))
+    out[f"knee_girth_{side}"] = _girth(
+        f"knee_girth_{side}",
+        cut,
+        (
+            "crotch_point",
+            f"knee_point_{side}",
+            f"ankle_inside_{side}",
+            f"ankle_outside_{side}",
+        ),
+    )
     length = float(np.linalg.norm(ankle - knee_c))
     cuts = []
     for t in np.linspace(0.15, 0.60, 10):
@@ -387,7 +492,9 @@ def _leg_girths(body: BodyFrame, side: str) -> dict[str, Measurement]:
         q = knee_c + t * length * u_sh
         cuts.append((float(t), body.part_cut(q, u_sh, q, cands)))
     t, cut = _best(cuts, min)
-    out[f"ankle_girth_{side}"] = _girth(f"ankle_girth_{side}", cut, used, axis_fraction=t)
+    out[f"ankle_girth_{side}"] = _girth(
+        f"ankle_girth_{side}", cut, used, axis_fraction=t
+    )
     for mid, m in out.items():
         if m.value_cm <= 0:
             raise GirthError(f"{mid}: no leg section found")
@@ -395,24 +502,41 @@ def _leg_girths(body: BodyFrame, side: str) -> dict[str, Measurement]:
 
 
 #: girth groups: the ids each computes, and the function
-GROUPS: dict[str, tuple[tuple[str, ...], Callable[[BodyFrame], dict[str, Measurement]]]] = {
-    "torso": (("chest_girth", "underbust_girth", "waist_girth", "high_hip_girth", "hip_girth"), _torso_girths),
+GROUPS: dict[
+    str, tuple[tuple[str, ...], Callable[[BodyFrame], dict[str, Measurement]]]
+] = {
+    "torso": (
+        (
+            "chest_girth",
+            "underbust_girth",
+            "waist_girth",
+            "high_hip_girth",
+            "hip_girth",
+        ),
+        _torso_girths,
+    ),
     "neck": (("neck_girth",), lambda b: {"neck_girth": _neck_girth(b)}),
     "head": (("head_girth",), lambda b: {"head_girth": _head_girth(b)}),
     **{
-        f"arm_{s}": (tuple(f"{k}_girth_{s}" for k in ("upper_arm", "elbow", "wrist")),
-                     (lambda side: lambda b: _arm_girths(b, side))(s))
+        f"arm_{s}": (
+            tuple(f"{k}_girth_{s}" for k in ("upper_arm", "elbow", "wrist")),
+            (lambda side: lambda b: _arm_girths(b, side))(s),
+        )
         for s in ("left", "right")
     },
     **{
-        f"leg_{s}": (tuple(f"{k}_girth_{s}" for k in ("thigh", "knee", "calf", "ankle")),
-                     (lambda side: lambda b: _leg_girths(b, side))(s))
+        f"leg_{s}": (
+            tuple(f"{k}_girth_{s}" for k in ("thigh", "knee", "calf", "ankle")),
+            (lambda side: lambda b: _leg_girths(b, side))(s),
+        )
         for s in ("left", "right")
     },
 }
 
 
-def measure_girths(body: BodyFrame, *, progress=None, errors: dict[str, str] | None = None) -> dict[str, Measurement]:
+def measure_girths(
+    body: BodyFrame, *, progress=None, errors: dict[str, str] | None = None
+) -> dict[str, Measurement]:
     """Every girth; failures go to ``errors`` (id -> reason) when it is given, else raise."""
     out: dict[str, Measurement] = {}
     for i, (_, (ids, fn)) in enumerate(GROUPS.items()):

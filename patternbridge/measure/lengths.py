@@ -28,10 +28,15 @@ log = logging.getLogger(__name__)
 PATHS: dict[str, tuple[tuple[str, ...], ...]] = {
     "back_length": (("back_neck_point", "waist_back"),),
     "front_length": (("front_neck_point", "waist_front"),),
-    "shoulder_width": (("shoulder_point_left", "back_neck_point", "shoulder_point_right"),),
+    "shoulder_width": (
+        ("shoulder_point_left", "back_neck_point", "shoulder_point_right"),
+    ),
     "back_width": (("axilla_back_left", "axilla_back_right"),),
     "front_width": (("axilla_front_left", "axilla_front_right"),),
-    "waist_to_hip": (("waist_side_left", "hip_side_left"), ("waist_side_right", "hip_side_right")),
+    "waist_to_hip": (
+        ("waist_side_left", "hip_side_left"),
+        ("waist_side_right", "hip_side_right"),
+    ),
     "crotch_length": (("waist_front", "crotch_point", "waist_back"),),
     **{
         f"{base}_{s}": (tuple(n.format(s=s) for n in chain),)
@@ -40,7 +45,12 @@ PATHS: dict[str, tuple[tuple[str, ...], ...]] = {
             "shoulder_length": ("neck_shoulder_point_{s}", "shoulder_point_{s}"),
             "armhole": ("axilla_front_{s}", "shoulder_point_{s}", "axilla_back_{s}"),
             "arm_length": ("shoulder_point_{s}", "elbow_point_{s}", "wrist_point_{s}"),
-            "neck_to_wrist": ("back_neck_point", "shoulder_point_{s}", "elbow_point_{s}", "wrist_point_{s}"),
+            "neck_to_wrist": (
+                "back_neck_point",
+                "shoulder_point_{s}",
+                "elbow_point_{s}",
+                "wrist_point_{s}",
+            ),
             "inside_leg": ("crotch_point", "ankle_inside_{s}"),
             "outside_leg": ("waist_side_{s}", "ankle_outside_{s}"),
         }.items()
@@ -106,8 +116,15 @@ def measure_lengths(
             continue
         p = landmarks[name].position
         poly = np.array([p, [p[0], floor, p[2]]])
-        out[mid] = Measurement(id=mid, value_cm=float(p[1] - floor), kind="length", method="vertical",
-                               polyline=poly, landmarks=(name,), details={"floor_y_cm": floor})
+        out[mid] = Measurement(
+            id=mid,
+            value_cm=float(p[1] - floor),
+            kind="length",
+            method="vertical",
+            polyline=poly,
+            landmarks=(name,),
+            details={"floor_y_cm": floor},
+        )
     todo = [m for m in ids if m in PATHS]
     if not todo:
         return out
@@ -118,7 +135,9 @@ def measure_lengths(
         import importlib.util
 
         if importlib.util.find_spec("patternbridge.geodesic.tape") is None:
-            log.warning("tape correction is not available in this build; lengths follow the skin")
+            log.warning(
+                "tape correction is not available in this build; lengths follow the skin"
+            )
             tape = False
     cache: dict[tuple[int, int], object] = {}
 
@@ -130,7 +149,10 @@ def measure_lengths(
                 cache[key] = (p[0][::-1], p[1])
             else:
                 path = geodesic_path(mesh, a, b, tape=tape)
-                cache[key] = (np.asarray(path.points, dtype=np.float64), float(path.length))
+                cache[key] = (
+                    np.asarray(path.points, dtype=np.float64),
+                    float(path.length),
+                )
         return cache[key]
 
     for i, mid in enumerate(todo):
@@ -145,7 +167,7 @@ def measure_lengths(
             for chain in chains:
                 vids = [_vertex_of(landmarks[n], mesh) for n in chain]
                 total, pts = 0.0, []
-                for a, b in zip(vids[:-1], vids[1:]):
+                for a, b in zip(vids[:-1], vids[1:], strict=True):
                     if a == b:
                         continue
                     p, length = leg(a, b)
@@ -153,7 +175,9 @@ def measure_lengths(
                     legs.append(length)
                     pts.append(p if not pts else p[1:])
                 values.append(total)
-                polylines.append(np.concatenate(pts) if pts else landmarks[chain[0]].position[None])
+                polylines.append(
+                    np.concatenate(pts) if pts else landmarks[chain[0]].position[None]
+                )
         except InputError as exc:
             fail(mid, exc)
             continue

@@ -53,7 +53,9 @@ class Measurement:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "value_cm", float(self.value_cm))
-        object.__setattr__(self, "polyline", frozen(as_float_array(self.polyline, (None, 3), self.id)))
+        object.__setattr__(
+            self, "polyline", frozen(as_float_array(self.polyline, (None, 3), self.id))
+        )
         object.__setattr__(self, "landmarks", tuple(self.landmarks))
         object.__setattr__(self, "details", MappingProxyType(dict(self.details)))
 
@@ -139,7 +141,9 @@ def measurements_to_dict(result: Measurements) -> dict[str, Any]:
     }
 
 
-def measurements_from_dict(data: Mapping[str, Any], where: str = "measurements") -> Measurements:
+def measurements_from_dict(
+    data: Mapping[str, Any], where: str = "measurements"
+) -> Measurements:
     """Inverse of :func:`measurements_to_dict`.
 
     Raises
@@ -147,10 +151,16 @@ def measurements_from_dict(data: Mapping[str, Any], where: str = "measurements")
     InputError
         The object is not a measurements document or has wrong fields.
     """
-    if not isinstance(data, Mapping) or not isinstance(data.get("measurements"), Mapping):
-        raise InputError(f"{where}: not a measurements file (no 'measurements' object); run patternbridge measure")
+    if not isinstance(data, Mapping) or not isinstance(
+        data.get("measurements"), Mapping
+    ):
+        raise InputError(
+            f"{where}: not a measurements file (no 'measurements' object); run patternbridge measure"
+        )
     if data.get("units", "cm") != "cm":
-        raise InputError(f"{where}: units {data.get('units')!r} are not 'cm'; write values in centimetres")
+        raise InputError(
+            f"{where}: units {data.get('units')!r} are not 'cm'; write values in centimetres"
+        )
     out = {}
     try:
         for mid, m in data["measurements"].items():
@@ -159,16 +169,25 @@ def measurements_from_dict(data: Mapping[str, Any], where: str = "measurements")
                 value_cm=float(m["value_cm"]),
                 kind=str(m.get("kind", "length")),
                 method=str(m.get("method", "")),
-                polyline=np.asarray(m.get("polyline", []), dtype=np.float64).reshape(-1, 3),
+                polyline=np.asarray(m.get("polyline", []), dtype=np.float64).reshape(
+                    -1, 3
+                ),
                 landmarks=tuple(m.get("landmarks", ())),
                 details=m.get("details", {}),
             )
         marks = {
-            name: Landmark(name=name, position=lm["position"], vertex=lm.get("vertex"), source=lm.get("source", "file"))
+            name: Landmark(
+                name=name,
+                position=lm["position"],
+                vertex=lm.get("vertex"),
+                source=lm.get("source", "file"),
+            )
             for name, lm in data.get("landmarks", {}).items()
         }
     except (KeyError, TypeError, ValueError) as exc:
-        raise InputError(f"{where}: malformed measurement entry ({type(exc).__name__}: {exc}); regenerate the file") from None
+        raise InputError(
+            f"{where}: malformed measurement entry ({type(exc).__name__}: {exc}); regenerate the file"
+        ) from None
     return Measurements(
         character=str(data.get("character", "character")),
         measurements=out,
@@ -192,11 +211,18 @@ def load_measurements(path: str | os.PathLike) -> Measurements:
     try:
         data = json.loads(path.read_text(encoding="utf-8"))
     except FileNotFoundError:
-        raise InputError(f"{path}: no such measurements file; run patternbridge measure first") from None
+        raise InputError(
+            f"{path}: no such measurements file; run patternbridge measure first"
+        ) from None
     except (OSError, ValueError) as exc:
-        raise InputError(f"{path}: not valid JSON ({exc}); regenerate it with patternbridge measure") from None
-    if isinstance(data, dict) and "measurements" not in data and data and all(
-        isinstance(v, (int, float)) for v in data.values()
+        raise InputError(
+            f"{path}: not valid JSON ({exc}); regenerate it with patternbridge measure"
+        ) from None
+    if (
+        isinstance(data, dict)
+        and "measurements" not in data
+        and data
+        and all(isinstance(v, (int, float)) for v in data.values())
     ):
         data = {"measurements": {k: {"value_cm": v} for k, v in data.items()}}
     return measurements_from_dict(data, str(path))

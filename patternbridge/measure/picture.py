@@ -15,7 +15,12 @@ _HEIGHT = (40, 140, 60)
 
 
 def _short(mid: str) -> str:
-    return mid.replace("_girth", "").replace("_left", " L").replace("_right", " R").replace("_", " ")
+    return (
+        mid.replace("_girth", "")
+        .replace("_left", " L")
+        .replace("_right", " R")
+        .replace("_", " ")
+    )
 
 
 def measurement_picture(
@@ -39,7 +44,11 @@ def measurement_picture(
             continue
         polylines.append(m.polyline)
         labels.append(f"{_short(mid)} {m.value_cm:.1f}")
-        colors.append(_GIRTH if m.kind == "girth" else (_HEIGHT if m.method == "vertical" else _LENGTH))
+        colors.append(
+            _GIRTH
+            if m.kind == "girth"
+            else (_HEIGHT if m.method == "vertical" else _LENGTH)
+        )
     if show_landmarks:
         r = 0.004 * character.stature_cm
         for lm in result.landmarks.values():
@@ -49,6 +58,12 @@ def measurement_picture(
                 labels.append("")
                 colors.append((0, 0, 0))
     return render_views(
-        character.vertices, character.faces, polylines=polylines, labels=labels,
-        polyline_colors=colors, size=size, title=character.name, line_width_px=1.6,
+        character.vertices,
+        character.faces,
+        polylines=polylines,
+        labels=labels,
+        polyline_colors=colors,
+        size=size,
+        title=character.name,
+        line_width_px=1.6,
     )

@@ -68,11 +68,21 @@ def measure(
         positions["top_of_head"] = top
     body = BodyFrame(character.vertices, character.faces, positions)
     girths = measure_girths(body, progress=progress, errors=errors)
-    lengths = measure_lengths(character.vertices, character.faces, marks, tape=tape,
-                              progress=progress, errors=errors)
+    lengths = measure_lengths(
+        character.vertices,
+        character.faces,
+        marks,
+        tape=tape,
+        progress=progress,
+        errors=errors,
+    )
     found = {**girths, **lengths}
     ordered = {mid: found[mid] for mid in MEASUREMENT_IDS if mid in found}
-    missing = {mid: errors.get(mid, "not measured") for mid in MEASUREMENT_IDS if mid not in found}
+    missing = {
+        mid: errors.get(mid, "not measured")
+        for mid in MEASUREMENT_IDS
+        if mid not in found
+    }
     if missing and not partial:
         first = next(iter(missing.items()))
         raise LandmarkError(

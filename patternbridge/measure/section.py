@@ -91,7 +91,13 @@ class SlabIndex:
     slab_cm : slab thickness
     """
 
-    def __init__(self, vertices: np.ndarray, faces: np.ndarray, axis: int = 1, slab_cm: float = 1.0) -> None:
+    def __init__(
+        self,
+        vertices: np.ndarray,
+        faces: np.ndarray,
+        axis: int = 1,
+        slab_cm: float = 1.0,
+    ) -> None:
         h = vertices[faces, axis]
         self.lo = float(h.min())
         self.slab_cm = slab_cm
@@ -99,7 +105,9 @@ class SlabIndex:
         last = np.floor((h.max(axis=1) - self.lo) / slab_cm).astype(np.int64)
         count = last - first + 1
         face_ids = np.repeat(np.arange(len(faces)), count)
-        slab = np.repeat(first, count) + (np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count))
+        slab = np.repeat(first, count) + (
+            np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
+        )
         order = np.argsort(slab, kind="stable")
         self.face_ids = face_ids[order]
         slab = slab[order]

@@ -22,13 +22,30 @@ from ..errors import MeshError
 
 __all__ = ["read_gltf"]
 
-_DTYPES = {5120: np.int8, 5121: np.uint8, 5122: np.int16, 5123: np.uint16, 5125: np.uint32, 5126: np.float32}
-_WIDTH = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
+_DTYPES = {
+    5120: np.int8,
+    5121: np.uint8,
+    5122: np.int16,
+    5123: np.uint16,
+    5125: np.uint32,
+    5126: np.float32,
+}
+_WIDTH = {
+    "SCALAR": 1,
+    "VEC2": 2,
+    "VEC3": 3,
+    "VEC4": 4,
+    "MAT2": 4,
+    "MAT3": 9,
+    "MAT4": 16,
+}
 
 
 def _split_glb(data: bytes, path: Path) -> tuple[dict, bytes]:
     if len(data) < 20 or data[:4] != b"glTF":
-        raise MeshError(f"{path}: not a GLB file (bad magic {data[:4]!r}); export binary glTF 2.0")
+        raise MeshError(
+            f"{path}: not a GLB file (bad magic {data[:4]!r}); export binary glTF 2.0"
+        )
     offset = 12
     doc, binary = None, b""
     while offset + 8 <= len(data):
@@ -55,7 +72,9 @@ def _buffers(doc: dict, binary: bytes, path: Path) -> list[bytes]:
         else:
             file = path.parent / uri
             if not file.is_file():
-                raise MeshError(f"{path}: buffer {i} file {uri!r} is missing; keep it beside the .gltf")
+                raise MeshError(
+                    f"{path}: buffer {i} file {uri!r} is missing; keep it beside the .gltf"
+                )
             out.append(file.read_bytes())
     return out
 
@@ -63,7 +82,9 @@ def _buffers(doc: dict, binary: bytes, path: Path) -> list[bytes]:
 def _accessor(doc: dict, buffers: list[bytes], index: int, path: Path) -> np.ndarray:
     acc = doc["accessors"][index]
     if "sparse" in acc:
-        raise MeshError(f"{path}: sparse accessor {index} is not supported; export without sparse data")
+        raise MeshError(
+            f"{path}: sparse accessor {index} is not supported; export without sparse data"
+        )
     dtype = np.dtype(_DTYPES[acc["componentType"]])
     width = _WIDTH[acc["type"]]
     count = acc["count"]
@@ -74,10 +95,22 @@ def _accessor(doc: dict, buffers: list[bytes], index: int, path: Path) -> np.nda
     start = view.get("byteOffset", 0) + acc.get("byteOffset", 0)
     stride = view.get("byteStride") or dtype.itemsize * width
     if stride == dtype.itemsize * width:
-        arr = np.frombuffer(data, dtype=dtype, count=count * width, offset=start).reshape(count, width)
+        arr = np.frombuffer(
+            data, dtype=dtype, count=count * width, offset=start
+        ).reshape(count, width)
     else:
-        rows = np.frombuffer(data, dtype=np.uint8, count=stride * (count - 1) + dtype.itemsize * width, offset=start)
-        arr = np.stack([rows[i * stride : i * stride + dtype.itemsize * width].view(dtype) for i in range(count)])
+        rows = np.frombuffer(
+            data,
+            dtype=np.uint8,
+            count=stride * (count - 1) + dtype.itemsize * width,
+            offset=start,
+        )
+        arr = np.stack(
+            [
+                rows[i * stride : i * stride + dtype.itemsize * width].view(dtype)
+                for i in range(count)
+            ]
+        )
     arr = arr.astype(np.float64)
     if acc.get("normalized") and dtype.kind in "iu":
         arr = arr / np.iinfo(dtype).max
@@ -90,11 +123,13 @@ def _local_matrix(node: dict) -> np.ndarray:
     t = np.array(node.get("translation", [0, 0, 0]), dtype=np.float64)
     x, y, z, w = node.get("rotation", [0, 0, 0, 1])
     s = np.array(node.get("scale", [1, 1, 1]), dtype=np.float64)
-    r = np.array([
-        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
-    ])
+    r = np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
     m = np.eye(4)
     m[:3, :3] = r * s
     m[:3, 3] = t
@@ -124,7 +159,9 @@ def read_gltf(path: str | os.PathLike) -> dict[str, Any]:
         else:
             doc, binary = json.loads(raw.decode("utf-8")), b""
     except (OSError, ValueError, UnicodeDecodeError) as exc:
-        raise MeshError(f"{path}: cannot read glTF ({exc}); re-export as glTF 2.0") from None
+        raise MeshError(
+            f"{path}: cannot read glTF ({exc}); re-export as glTF 2.0"
+        ) from None
     required = set(doc.get("extensionsRequired", []))
     if required:
         raise MeshError(
@@ -167,7 +204,11 @@ def read_gltf(path: str | os.PathLike) -> dict[str, Any]:
         if skinned:
             skin = doc["skins"][node["skin"]]
             if "inverseBindMatrices" in skin:
-                ibm = _accessor(doc, buffers, skin["inverseBindMatrices"], path)[0].reshape(4, 4).T
+                ibm = (
+                    _accessor(doc, buffers, skin["inverseBindMatrices"], path)[0]
+                    .reshape(4, 4)
+                    .T
+                )
                 matrix = world(skin["joints"][0]) @ ibm
         for prim in doc["meshes"][node["mesh"]].get("primitives", []):
             if prim.get("mode", 4) != 4 or "POSITION" not in prim.get("attributes", {}):
@@ -175,11 +216,20 @@ def read_gltf(path: str | os.PathLike) -> dict[str, Any]:
             pos = _accessor(doc, buffers, prim["attributes"]["POSITION"], path)
             pos = pos @ matrix[:3, :3].T + matrix[:3, 3]
             if "indices" in prim:
-                idx = _accessor(doc, buffers, prim["indices"], path).astype(np.int64).reshape(-1, 3)
+                idx = (
+                    _accessor(doc, buffers, prim["indices"], path)
+                    .astype(np.int64)
+                    .reshape(-1, 3)
+                )
             else:
                 idx = np.arange(len(pos), dtype=np.int64).reshape(-1, 3)
             attrs = prim["attributes"]
-            if skinned and node["skin"] == skin_index and "JOINTS_0" in attrs and "WEIGHTS_0" in attrs:
+            if (
+                skinned
+                and node["skin"] == skin_index
+                and "JOINTS_0" in attrs
+                and "WEIGHTS_0" in attrs
+            ):
                 j = _accessor(doc, buffers, attrs["JOINTS_0"], path).astype(np.int64)
                 w = _accessor(doc, buffers, attrs["WEIGHTS_0"], path)
                 j = np.where(w > 0, j, -1)
@@ -192,8 +242,13 @@ def read_gltf(path: str | os.PathLike) -> dict[str, Any]:
             weights.append(w)
             offset += len(pos)
     if not faces:
-        raise MeshError(f"{path}: the glTF holds no triangle primitives; export the body as a mesh")
-    out: dict[str, Any] = {"vertices": np.concatenate(vertices), "faces": np.concatenate(faces)}
+        raise MeshError(
+            f"{path}: the glTF holds no triangle primitives; export the body as a mesh"
+        )
+    out: dict[str, Any] = {
+        "vertices": np.concatenate(vertices),
+        "faces": np.concatenate(faces),
+    }
     if skin_index is not None:
         skin = doc["skins"][skin_index]
         jn = list(skin["joints"])
@@ -216,6 +271,14 @@ def read_gltf(path: str | os.PathLike) -> dict[str, Any]:
             else:
                 tails[k] = heads[k] + np.array([0.0, 0.1, 0.0])
         names = [nodes[n].get("name", f"joint{k}") for k, n in enumerate(jn)]
-        out["skeleton"] = {"names": names, "parents": parents, "heads": heads, "tails": tails}
-        out["skin"] = {"indices": np.concatenate(joints), "weights": np.concatenate(weights)}
+        out["skeleton"] = {
+            "names": names,
+            "parents": parents,
+            "heads": heads,
+            "tails": tails,
+        }
+        out["skin"] = {
+            "indices": np.concatenate(joints),
+            "weights": np.concatenate(weights),
+        }
     return out

@@ -51,7 +51,13 @@ import numpy as np
 from ..errors import InputError, LandmarkError
 from .character import Character, Landmark
 
-__all__ = ["LANDMARK_NAMES", "SKELETON_RULES", "detect_landmarks", "resolve_landmarks", "skeleton_landmarks"]
+__all__ = [
+    "LANDMARK_NAMES",
+    "SKELETON_RULES",
+    "detect_landmarks",
+    "resolve_landmarks",
+    "skeleton_landmarks",
+]
 
 log = logging.getLogger(__name__)
 
@@ -102,7 +108,9 @@ def _nearest_vertex(vertices: np.ndarray, p: np.ndarray) -> int:
     return int(np.argmin(np.sum((vertices - p) ** 2, axis=1)))
 
 
-def _ray_hit(vertices: np.ndarray, origin: np.ndarray, direction: np.ndarray, radius: float) -> int | None:
+def _ray_hit(
+    vertices: np.ndarray, origin: np.ndarray, direction: np.ndarray, radius: float
+) -> int | None:
     """The first vertex met by a thick ray: nearest along it among those within ``radius``."""
     d = direction / np.linalg.norm(direction)
     rel = vertices - origin
@@ -115,7 +123,9 @@ def _ray_hit(vertices: np.ndarray, origin: np.ndarray, direction: np.ndarray, ra
     return int(idx[np.argmin(t[idx])])
 
 
-def _faces_near(vertices: np.ndarray, faces: np.ndarray, a: np.ndarray, b: np.ndarray, radius: float) -> np.ndarray:
+def _faces_near(
+    vertices: np.ndarray, faces: np.ndarray, a: np.ndarray, b: np.ndarray, radius: float
+) -> np.ndarray:
     ab = b - a
     t = np.clip((vertices - a) @ ab / max(float(ab @ ab), 1e-12), 0.0, 1.0)
     near = np.sum((vertices - (a + t[:, None] * ab)) ** 2, axis=1) <= radius * radius
@@ -125,17 +135,46 @@ def _faces_near(vertices: np.ndarray, faces: np.ndarray, a: np.ndarray, b: np.nd
 # --------------------------------------------------------------------------- skeleton
 #: landmark -> (bone role, side or None, "head"/"tail", projection direction in the rest frame)
 SKELETON_RULES: dict[str, tuple[str, str | None, str, tuple[float, float, float]]] = {
-    **{f"shoulder_point_{s}": ("upperarm", s, "head", (0.0, 1.0, 0.0)) for s in ("left", "right")},
-    **{f"armpit_point_{s}": ("upperarm", s, "head", (0.0, -1.0, 0.0)) for s in ("left", "right")},
-    **{f"elbow_point_{s}": ("lowerarm", s, "head", (0.0, 0.0, -1.0)) for s in ("left", "right")},
-    **{f"wrist_point_{s}": ("wrist", s, "head", (0.0, 0.0, -1.0)) for s in ("left", "right")},
-    **{f"knee_point_{s}": ("lowerleg", s, "head", (0.0, 0.0, 1.0)) for s in ("left", "right")},
-    **{f"ankle_inside_{s}": ("foot", s, "head", (-_SIGN[s], 0.0, 0.0)) for s in ("left", "right")},
-    **{f"ankle_outside_{s}": ("foot", s, "head", (_SIGN[s], 0.0, 0.0)) for s in ("left", "right")},
-    **{f"heel_point_{s}": ("foot", s, "head", (0.0, -0.5, -1.0)) for s in ("left", "right")},
+    **{
+        f"shoulder_point_{s}": ("upperarm", s, "head", (0.0, 1.0, 0.0))
+        for s in ("left", "right")
+    },
+    **{
+        f"armpit_point_{s}": ("upperarm", s, "head", (0.0, -1.0, 0.0))
+        for s in ("left", "right")
+    },
+    **{
+        f"elbow_point_{s}": ("lowerarm", s, "head", (0.0, 0.0, -1.0))
+        for s in ("left", "right")
+    },
+    **{
+        f"wrist_point_{s}": ("wrist", s, "head", (0.0, 0.0, -1.0))
+        for s in ("left", "right")
+    },
+    **{
+        f"knee_point_{s}": ("lowerleg", s, "head", (0.0, 0.0, 1.0))
+        for s in ("left", "right")
+    },
+    **{
+        f"ankle_inside_{s}": ("foot", s, "head", (-_SIGN[s], 0.0, 0.0))
+        for s in ("left", "right")
+    },
+    **{
+        f"ankle_outside_{s}": ("foot", s, "head", (_SIGN[s], 0.0, 0.0))
+        for s in ("left", "right")
+    },
+    **{
+        f"heel_point_{s}": ("foot", s, "head", (0.0, -0.5, -1.0))
+        for s in ("left", "right")
+    },
     "back_neck_point": ("neck", None, "head", (0.0, 0.0, -1.0)),
     "front_neck_point": ("neck", None, "head", (0.0, -0.45, 1.0)),
-    "crotch_point": ("pelvis", None, "head", (0.0, -1.0, 0.0)),  # from between the hip joints
+    "crotch_point": (
+        "pelvis",
+        None,
+        "head",
+        (0.0, -1.0, 0.0),
+    ),  # from between the hip joints
 }
 
 
@@ -163,7 +202,10 @@ def skeleton_landmarks(character: Character) -> dict[str, Landmark]:
         d = np.asarray(direction, dtype=np.float64)
         if name == "crotch_point":  # between the hip joints, not at the pelvis root
             try:
-                joint = 0.5 * (sk.heads[find_bone(sk, "upperleg", "left")] + sk.heads[find_bone(sk, "upperleg", "right")])
+                joint = 0.5 * (
+                    sk.heads[find_bone(sk, "upperleg", "left")]
+                    + sk.heads[find_bone(sk, "upperleg", "right")]
+                )
             except InputError:
                 pass
         if name.startswith("elbow_point"):
@@ -179,7 +221,9 @@ def skeleton_landmarks(character: Character) -> dict[str, Landmark]:
                 pass
         hit = _ray_hit(v, joint, d, radius)
         if hit is not None:
-            out[name] = Landmark(name=name, position=v[hit], vertex=hit, source="skeleton")
+            out[name] = Landmark(
+                name=name, position=v[hit], vertex=hit, source="skeleton"
+            )
     return out
 
 
@@ -194,15 +238,22 @@ class _Scan:
         self.floor = float(vertices[:, 1].min())
         self.top = float(vertices[:, 1].max())
         self.S = self.top - self.floor
-        self.slabs = SlabIndex(vertices, faces, axis=1, slab_cm=max(self.S / 200.0, 0.1))
+        self.slabs = SlabIndex(
+            vertices, faces, axis=1, slab_cm=max(self.S / 200.0, 0.1)
+        )
         lo, hi = vertices[:, 0].min(), vertices[:, 0].max()
         self.x_mid = float(0.5 * (lo + hi))
 
     def loops(self, y: float):
         from ..measure.section import plane_loops
 
-        sec = plane_loops(self.v, self.f, np.array([0.0, y, 0.0]), np.array([0.0, 1.0, 0.0]),
-                          candidates=self.slabs.faces_at(y))
+        sec = plane_loops(
+            self.v,
+            self.f,
+            np.array([0.0, y, 0.0]),
+            np.array([0.0, 1.0, 0.0]),
+            candidates=self.slabs.faces_at(y),
+        )
         return [lp.points for lp in sec.loops if len(lp.points) >= 3]
 
 
@@ -212,7 +263,11 @@ def _torso_loop(loops, x_mid: float):
         return None
     spanning = [p for p in loops if p[:, 0].min() <= x_mid <= p[:, 0].max()]
     pool = spanning or loops
-    return max(pool, key=len) if spanning else min(pool, key=lambda p: abs(p[:, 0].mean() - x_mid))
+    return (
+        max(pool, key=len)
+        if spanning
+        else min(pool, key=lambda p: abs(p[:, 0].mean() - x_mid))
+    )
 
 
 def detect_landmarks(vertices: np.ndarray, faces: np.ndarray) -> dict[str, Landmark]:
@@ -248,11 +303,17 @@ def detect_landmarks(vertices: np.ndarray, faces: np.ndarray) -> dict[str, Landm
         loops = [p for p in sc.loops(y) if abs(p[:, 0].mean() - xm) < 0.12 * S]
         left = [p for p in loops if p[:, 0].min() > xm]
         right = [p for p in loops if p[:, 0].max() < xm]
-        if left and right and not any(p[:, 0].min() <= xm <= p[:, 0].max() for p in loops):
+        if (
+            left
+            and right
+            and not any(p[:, 0].min() <= xm <= p[:, 0].max() for p in loops)
+        ):
             y_crotch = y
             break
     if y_crotch is None:
-        raise LandmarkError("geometry: no crotch found (the legs never separate); give landmarks with --landmarks")
+        raise LandmarkError(
+            "geometry: no crotch found (the legs never separate); give landmarks with --landmarks"
+        )
     mid = np.abs(v[:, 0] - xm) < max(0.004 * S, 0.3)
     band = mid & (v[:, 1] > y_crotch) & (v[:, 1] < y_crotch + 0.06 * S)
     if band.any():
@@ -277,8 +338,15 @@ def detect_landmarks(vertices: np.ndarray, faces: np.ndarray) -> dict[str, Landm
         for s, sg in _SIGN.items():
             reach = float(np.max(sg * (t[:, 0] - xm)))
             ext[s].append(reach)
-            others = [p for p in loops if p is not t and np.mean(sg * (p[:, 0] - xm)) > reach]
-            gap[s].append(min((float(np.min(sg * (p[:, 0] - xm))) for p in others), default=reach + 0.05 * S))
+            others = [
+                p for p in loops if p is not t and np.mean(sg * (p[:, 0] - xm)) > reach
+            ]
+            gap[s].append(
+                min(
+                    (float(np.min(sg * (p[:, 0] - xm))) for p in others),
+                    default=reach + 0.05 * S,
+                )
+            )
     for s, sg in _SIGN.items():
         e = np.asarray(ext[s])
         jump = np.flatnonzero(np.diff(e) > 0.035 * S)
@@ -298,11 +366,19 @@ def detect_landmarks(vertices: np.ndarray, faces: np.ndarray) -> dict[str, Landm
         # stay at the depth of the arm (or of the torso for a T-pose)
         loops0 = sc.loops(y0)
         t = _torso_loop(loops0, xm)
-        arms0 = [p for p in loops0 if p is not t and np.mean(sg * (p[:, 0] - xm)) > e[k]]
+        arms0 = [
+            p for p in loops0 if p is not t and np.mean(sg * (p[:, 0] - xm)) > e[k]
+        ]
         if arms0:
-            zc = float(np.mean(min(arms0, key=lambda p: np.min(sg * (p[:, 0] - xm)))[:, 2]))
+            zc = float(
+                np.mean(min(arms0, key=lambda p: np.min(sg * (p[:, 0] - xm)))[:, 2])
+            )
         else:
-            zc = float(np.mean(t[:, 2])) if t is not None else float(np.median(v[idx, 2]))
+            zc = (
+                float(np.mean(t[:, 2]))
+                if t is not None
+                else float(np.median(v[idx, 2]))
+            )
         close = np.abs(v[idx, 2] - zc) < 0.015 * S
         idx = idx[close] if close.any() else idx
         arm = v[idx[np.argmin(v[idx, 1])]]
@@ -319,7 +395,11 @@ def detect_landmarks(vertices: np.ndarray, faces: np.ndarray) -> dict[str, Landm
                 put(f"axilla_back_{s}", near[np.argmin(near[:, 2])])
         # shoulder point: highest vertex 1.2 % of stature outside the armpit
         xs = arm[0] + sg * 0.012 * S
-        colm = (np.abs(v[:, 0] - xs) < max(0.004 * S, 0.3)) & (np.abs(v[:, 2] - zc) < 0.06 * S) & (v[:, 1] > arm[1])
+        colm = (
+            (np.abs(v[:, 0] - xs) < max(0.004 * S, 0.3))
+            & (np.abs(v[:, 2] - zc) < 0.06 * S)
+            & (v[:, 1] > arm[1])
+        )
         if colm.any():
             idx = np.flatnonzero(colm)
             put(f"shoulder_point_{s}", v[idx[np.argmax(v[idx, 1])]])
@@ -353,7 +433,9 @@ def detect_landmarks(vertices: np.ndarray, faces: np.ndarray) -> dict[str, Landm
                 p = v[prof]
                 a, b = p[0], p[-1]
                 ab = (b - a)[[1, 2]]
-                n2 = np.array([ab[1], -ab[0]]) / np.linalg.norm(ab)  # points backward for a rising chord
+                n2 = np.array([ab[1], -ab[0]]) / np.linalg.norm(
+                    ab
+                )  # points backward for a rising chord
                 depth = (p[:, [1, 2]] - a[[1, 2]]) @ n2
                 put("front_neck_point", p[int(np.argmax(depth))])
             # neck base: the section girth grows by 30 % going down from the neck
@@ -364,7 +446,11 @@ def detect_landmarks(vertices: np.ndarray, faces: np.ndarray) -> dict[str, Landm
                 if t is not None and np.ptp(t[:, 0]) > 1.3 * w_neck:
                     y_base = y
                     break
-            back = midv & (np.abs(v[:, 1] - (y_base + 0.01 * S)) < 2 * step) & (v[:, 2] < zc)
+            back = (
+                midv
+                & (np.abs(v[:, 1] - (y_base + 0.01 * S)) < 2 * step)
+                & (v[:, 2] < zc)
+            )
             if back.any():
                 i = np.flatnonzero(back)
                 put("back_neck_point", v[i[np.argmin(v[i, 2])]])
@@ -378,8 +464,12 @@ def detect_landmarks(vertices: np.ndarray, faces: np.ndarray) -> dict[str, Landm
                 xs_ = np.linspace(x_n, spt[0], 24)
                 prof = []
                 for x in xs_:
-                    sel = (np.abs(v[:, 0] - x) < max(0.004 * S, 0.3)) & (np.abs(v[:, 2] - zc) < 0.03 * S) & (
-                        v[:, 1] < y_neck + 0.02 * S) & (v[:, 1] > spt[1] - 0.02 * S)
+                    sel = (
+                        (np.abs(v[:, 0] - x) < max(0.004 * S, 0.3))
+                        & (np.abs(v[:, 2] - zc) < 0.03 * S)
+                        & (v[:, 1] < y_neck + 0.02 * S)
+                        & (v[:, 1] > spt[1] - 0.02 * S)
+                    )
                     if sel.any():
                         i = np.flatnonzero(sel)
                         prof.append(i[np.argmax(v[i, 1])])
@@ -405,7 +495,11 @@ def detect_landmarks(vertices: np.ndarray, faces: np.ndarray) -> dict[str, Landm
             near = ring[np.abs(ring[:, 0] - xm) < 0.03 * S] if len(ring) else ring
             y = levels[key][0]
             if len(ring):
-                loops = [p for p in sc.loops(y) if abs(p[:, 0].mean() - xm) < 0.5 * np.ptp(ring[:, 0])]
+                loops = [
+                    p
+                    for p in sc.loops(y)
+                    if abs(p[:, 0].mean() - xm) < 0.5 * np.ptp(ring[:, 0])
+                ]
                 allp = np.concatenate(loops) if loops else ring
                 midp = allp[np.abs(allp[:, 0] - xm) < max(0.006 * S, 0.5)]
                 if len(midp):
@@ -442,7 +536,9 @@ def detect_landmarks(vertices: np.ndarray, faces: np.ndarray) -> dict[str, Landm
         spt = pts[key]
         x_arm = pts[f"armpit_point_{s}"][0]
         # the arm leaves the shoulder sideways: within ~63 degrees of horizontal
-        region = (sg * (v[:, 0] - x_arm) > 0) & (sg * (v[:, 0] - spt[0]) > 0.5 * np.abs(v[:, 1] - spt[1]))
+        region = (sg * (v[:, 0] - x_arm) > 0) & (
+            sg * (v[:, 0] - spt[0]) > 0.5 * np.abs(v[:, 1] - spt[1])
+        )
         if not region.any():
             continue
         idx = np.flatnonzero(region)
@@ -463,7 +559,10 @@ def detect_landmarks(vertices: np.ndarray, faces: np.ndarray) -> dict[str, Landm
                 girths.append(np.inf)
                 continue
             qq = sec.to_uv(q)
-            lp = min(sec.loops, key=lambda lp: lp.distance_uv(qq) if not lp.contains_uv(qq) else -1.0)
+            lp = min(
+                sec.loops,
+                key=lambda lp: lp.distance_uv(qq) if not lp.contains_uv(qq) else -1.0,
+            )
             cents.append(sec.to_xyz(lp.centroid_uv))
             girths.append(float(np.sum(np.ptp(lp.uv, axis=0))))
         cents = np.asarray(cents)
@@ -476,7 +575,10 @@ def detect_landmarks(vertices: np.ndarray, faces: np.ndarray) -> dict[str, Landm
         sec = plane_loops(v, faces, q, u, candidates=arm_faces)
         if sec.loops:
             qq = sec.to_uv(q)
-            lp = min(sec.loops, key=lambda lp: lp.distance_uv(qq) if not lp.contains_uv(qq) else -1.0)
+            lp = min(
+                sec.loops,
+                key=lambda lp: lp.distance_uv(qq) if not lp.contains_uv(qq) else -1.0,
+            )
             put(f"wrist_point_{s}", lp.points[np.argmin(lp.points[:, 2])])
         # elbow: the centre line's farthest point from the chord shoulder-wrist
         a, b = cents[first], cents[k_w]
@@ -489,7 +591,9 @@ def detect_landmarks(vertices: np.ndarray, faces: np.ndarray) -> dict[str, Landm
             cand = np.flatnonzero(band)
             k_e = int(cand[np.argmax(dist[cand])])
             if dist[k_e] < 0.01 * S:
-                k_e = int(cand[np.argmin(np.abs(ts[cand] - 0.5 * (ts[first] + ts[k_w])))])
+                k_e = int(
+                    cand[np.argmin(np.abs(ts[cand] - 0.5 * (ts[first] + ts[k_w])))]
+                )
             c_e = cents[k_e]
             up_dir = c_e - a
             fo_dir = b - c_e
@@ -505,7 +609,12 @@ def detect_landmarks(vertices: np.ndarray, faces: np.ndarray) -> dict[str, Landm
         y_ank = None
         base = None
         for y in np.arange(floor + 0.012 * S, floor + 0.15 * S, step):
-            loops = [p for p in sc.loops(y) if sg * (p[:, 0].mean() - xm) > 0 and abs(p[:, 0].mean() - xm) < 0.15 * S]
+            loops = [
+                p
+                for p in sc.loops(y)
+                if sg * (p[:, 0].mean() - xm) > 0
+                and abs(p[:, 0].mean() - xm) < 0.15 * S
+            ]
             if not loops:
                 continue
             p = max(loops, key=len)
@@ -516,19 +625,30 @@ def detect_landmarks(vertices: np.ndarray, faces: np.ndarray) -> dict[str, Landm
                 break
         if y_ank is None:
             continue
-        loops = [p for p in sc.loops(y_ank) if sg * (p[:, 0].mean() - xm) > 0 and abs(p[:, 0].mean() - xm) < 0.15 * S]
+        loops = [
+            p
+            for p in sc.loops(y_ank)
+            if sg * (p[:, 0].mean() - xm) > 0 and abs(p[:, 0].mean() - xm) < 0.15 * S
+        ]
         if not loops:
             continue
         p = max(loops, key=len)
         put(f"ankle_inside_{s}", p[np.argmin(sg * (p[:, 0] - xm))])
         put(f"ankle_outside_{s}", p[np.argmax(sg * (p[:, 0] - xm))])
-        foot = (sg * (v[:, 0] - xm) > 0) & (v[:, 1] < y_ank) & (np.abs(v[:, 0] - p[:, 0].mean()) < 0.05 * S)
+        foot = (
+            (sg * (v[:, 0] - xm) > 0)
+            & (v[:, 1] < y_ank)
+            & (np.abs(v[:, 0] - p[:, 0].mean()) < 0.05 * S)
+        )
         if foot.any():
             i = np.flatnonzero(foot)
             put(f"heel_point_{s}", v[i[np.argmin(v[i, 2])]])
         y_knee = y_ank + 0.6 * (y_crotch - y_ank)
-        leg = (sg * (v[:, 0] - xm) > 0) & (np.abs(v[:, 1] - y_knee) < 0.011 * S) & (
-            np.abs(v[:, 0] - p[:, 0].mean()) < 0.08 * S)
+        leg = (
+            (sg * (v[:, 0] - xm) > 0)
+            & (np.abs(v[:, 1] - y_knee) < 0.011 * S)
+            & (np.abs(v[:, 0] - p[:, 0].mean()) < 0.08 * S)
+        )
         if leg.any():
             i = np.flatnonzero(leg)
             put(f"knee_point_{s}", v[i[np.argmax(v[i, 2])]])
@@ -540,7 +660,9 @@ def detect_landmarks(vertices: np.ndarray, faces: np.ndarray) -> dict[str, Landm
     return out
 
 
-def resolve_landmarks(character: Character, *, detect: bool = True) -> dict[str, Landmark]:
+def resolve_landmarks(
+    character: Character, *, detect: bool = True
+) -> dict[str, Landmark]:
     """The character's landmarks, completed from the skeleton and then the geometry.
 
     Returns
@@ -562,7 +684,9 @@ def resolve_landmarks(character: Character, *, detect: bool = True) -> dict[str,
     return marks
 
 
-def landmark_errors(found: Mapping[str, Landmark], reference: Mapping[str, Landmark]) -> dict[str, float]:
+def landmark_errors(
+    found: Mapping[str, Landmark], reference: Mapping[str, Landmark]
+) -> dict[str, float]:
     """Distance (cm) from each found landmark to the reference one of the same name."""
     return {
         n: float(np.linalg.norm(found[n].position - reference[n].position))

@@ -72,7 +72,9 @@ def read_mesh_arrays(path: str | os.PathLike) -> dict[str, Any]:
     path = Path(path)
     suffix = path.suffix.lower()
     if not path.is_file():
-        raise MeshError(f"{path}: no such file; give the path of an OBJ, PLY, STL, GLB or glTF mesh")
+        raise MeshError(
+            f"{path}: no such file; give the path of an OBJ, PLY, STL, GLB or glTF mesh"
+        )
     if suffix not in MESH_SUFFIXES:
         raise MeshError(
             f"{path}: unsupported mesh format {suffix or '(no suffix)'!r} "
@@ -110,9 +112,13 @@ def _read_sidecar(path: Path) -> dict[str, Any] | None:
     try:
         data = json.loads(sidecar.read_text(encoding="utf-8"))
     except (OSError, ValueError) as exc:
-        raise MeshError(f"{sidecar}: the sidecar is not valid JSON ({exc}); fix or remove it") from None
+        raise MeshError(
+            f"{sidecar}: the sidecar is not valid JSON ({exc}); fix or remove it"
+        ) from None
     if not isinstance(data, dict):
-        raise MeshError(f"{sidecar}: the sidecar is not a JSON object; fix or remove it")
+        raise MeshError(
+            f"{sidecar}: the sidecar is not a JSON object; fix or remove it"
+        )
     data["_path"] = str(sidecar)
     return data
 
@@ -138,7 +144,11 @@ def mesh_defects(faces: np.ndarray) -> dict[str, int]:
     faces = np.asarray(faces, dtype=np.int64)
     edges = np.sort(faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
     _, counts = np.unique(edges, axis=0, return_counts=True)
-    degenerate = (faces[:, 0] == faces[:, 1]) | (faces[:, 1] == faces[:, 2]) | (faces[:, 0] == faces[:, 2])
+    degenerate = (
+        (faces[:, 0] == faces[:, 1])
+        | (faces[:, 1] == faces[:, 2])
+        | (faces[:, 0] == faces[:, 2])
+    )
     return {
         "boundary_edges": int(np.count_nonzero(counts == 1)),
         "nonmanifold_edges": int(np.count_nonzero(counts > 2)),
@@ -153,7 +163,9 @@ def _components(n_vertices: int, faces: np.ndarray) -> np.ndarray:
 
     a = faces[:, [0, 1, 2]].ravel()
     b = faces[:, [1, 2, 0]].ravel()
-    graph = coo_matrix((np.ones(a.size, dtype=np.int8), (a, b)), shape=(n_vertices, n_vertices))
+    graph = coo_matrix(
+        (np.ones(a.size, dtype=np.int8), (a, b)), shape=(n_vertices, n_vertices)
+    )
     _, labels = connected_components(graph, directed=False)
     used = np.zeros(n_vertices, dtype=bool)
     used[faces.ravel()] = True
@@ -164,7 +176,9 @@ def _components(n_vertices: int, faces: np.ndarray) -> np.ndarray:
 
 def _face_areas(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     tri = vertices[faces]
-    return 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+    return 0.5 * np.linalg.norm(
+        np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1
+    )
 
 
 # --------------------------------------------------------------------------- frame
@@ -206,7 +220,9 @@ def _detect_up(vertices: np.ndarray, skeleton: dict | None) -> tuple[str, str]:
     return "+Y", f"extents (y {ext[1]:.4g} >= z {ext[2]:.4g})"
 
 
-def _detect_units(height: float, preferred: str | None, path: Path, report: Report) -> str:
+def _detect_units(
+    height: float, preferred: str | None, path: Path, report: Report
+) -> str:
     lo, hi = STATURE_RANGE_CM
     order = list(_UNIT_ORDER)
     if preferred in order:
@@ -214,7 +230,9 @@ def _detect_units(height: float, preferred: str | None, path: Path, report: Repo
         order.insert(0, preferred)
     fits = [u for u in order if lo <= height * unit_factor(u) <= hi]
     if not fits:
-        tried = ", ".join(f"{height * unit_factor(u):.4g} cm as {u}" for u in _UNIT_ORDER)
+        tried = ", ".join(
+            f"{height * unit_factor(u):.4g} cm as {u}" for u in _UNIT_ORDER
+        )
         raise UnitsError(
             f"{path}: no unit gives a stature between {lo:g} and {hi:g} cm (height {height:.4g} "
             f"file units: {tried}); pass --units or check the mesh is one standing character"
@@ -244,9 +262,13 @@ def load_landmark_file(path: str | os.PathLike) -> dict[str, dict[str, Any]]:
     try:
         data = json.loads(path.read_text(encoding="utf-8"))
     except FileNotFoundError:
-        raise LandmarkError(f"{path}: no such landmark file; give a JSON file with a 'landmarks' object") from None
+        raise LandmarkError(
+            f"{path}: no such landmark file; give a JSON file with a 'landmarks' object"
+        ) from None
     except (OSError, ValueError) as exc:
-        raise LandmarkError(f"{path}: the landmark file is not valid JSON ({exc}); fix it") from None
+        raise LandmarkError(
+            f"{path}: the landmark file is not valid JSON ({exc}); fix it"
+        ) from None
     table = data.get("landmarks") if isinstance(data, dict) else None
     if not isinstance(table, dict):
         raise LandmarkError(
@@ -256,7 +278,9 @@ def load_landmark_file(path: str | os.PathLike) -> dict[str, dict[str, Any]]:
     return _check_landmark_table(table, str(path))
 
 
-def _check_landmark_table(table: Mapping[str, Any], where: str) -> dict[str, dict[str, Any]]:
+def _check_landmark_table(
+    table: Mapping[str, Any], where: str
+) -> dict[str, dict[str, Any]]:
     from .landmarks import LANDMARK_NAMES
 
     out: dict[str, dict[str, Any]] = {}
@@ -265,7 +289,9 @@ def _check_landmark_table(table: Mapping[str, Any], where: str) -> dict[str, dic
             raise LandmarkError(
                 f"{where}: unknown landmark {name!r} (known: {', '.join(LANDMARK_NAMES)}); rename or remove it"
             )
-        if not isinstance(entry, dict) or ("vertex" not in entry and "position" not in entry):
+        if not isinstance(entry, dict) or (
+            "vertex" not in entry and "position" not in entry
+        ):
             raise LandmarkError(
                 f"{where}: landmark {name!r} has neither 'vertex' nor 'position' ({entry!r}); "
                 'give {"vertex": id} or {"position": [x, y, z]}'
@@ -301,7 +327,9 @@ def _place_landmarks(
                     f"{where}: landmark {name!r} vertex {vid} is not on the body component; "
                     "use ids of the body or pass --landmarks with positions"
                 )
-            out[name] = Landmark(name=name, position=vertices[new], vertex=new, source=source)
+            out[name] = Landmark(
+                name=name, position=vertices[new], vertex=new, source=source
+            )
         else:
             p = np.asarray(entry["position"], dtype=np.float64)
             if p.shape != (3,) or not np.all(np.isfinite(p)):
@@ -312,12 +340,14 @@ def _place_landmarks(
             snap_points.append(transform(p[None])[0])
     if snap_names:
         pts, vids = snap_to_surface(vertices, faces, np.array(snap_points))
-        for name, p, v in zip(snap_names, pts, vids):
+        for name, p, v in zip(snap_names, pts, vids, strict=True):
             out[name] = Landmark(name=name, position=p, vertex=int(v), source=source)
     return out
 
 
-def closest_point_on_triangles(p: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
+def closest_point_on_triangles(
+    p: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray
+) -> np.ndarray:
     """Closest points of triangles (a, b, c) to points p, all (n, 3); vectorised region test."""
     ab, ac, ap = b - a, c - a, p - a
     d1, d2 = np.einsum("ij,ij->i", ab, ap), np.einsum("ij,ij->i", ac, ap)
@@ -383,9 +413,13 @@ def snap_to_surface(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray)
     positions = np.zeros_like(points)
     vids = np.zeros(len(points), dtype=np.int64)
     for i, p in enumerate(points):
-        cand = np.unique(np.concatenate([vf_face[starts[v]:starts[v + 1]] for v in near[i]]))
+        cand = np.unique(
+            np.concatenate([vf_face[starts[v] : starts[v + 1]] for v in near[i]])
+        )
         tri = vertices[faces[cand]]
-        q = closest_point_on_triangles(np.broadcast_to(p, (len(cand), 3)).copy(), tri[:, 0], tri[:, 1], tri[:, 2])
+        q = closest_point_on_triangles(
+            np.broadcast_to(p, (len(cand), 3)).copy(), tri[:, 0], tri[:, 1], tri[:, 2]
+        )
         j = int(np.argmin(np.sum((q - p) ** 2, axis=1)))
         positions[i] = q[j]
         corners = faces[cand[j]]
@@ -435,13 +469,17 @@ def load_character(
     vertices = raw["vertices"]
     faces = raw["faces"]
     if not np.all(np.isfinite(vertices)):
-        raise MeshError(f"{path}: vertex coordinates contain NaN or infinity; repair the mesh")
+        raise MeshError(
+            f"{path}: vertex coordinates contain NaN or infinity; repair the mesh"
+        )
     if faces.min() < 0 or faces.max() >= len(vertices):
         raise MeshError(
             f"{path}: face indices out of range (0..{len(vertices) - 1} expected, got {faces.min()}..{faces.max()}); repair the mesh"
         )
     sidecar = _read_sidecar(path)
-    if sidecar is not None and int(sidecar.get("vertex_count", len(vertices))) != len(vertices):
+    if sidecar is not None and int(sidecar.get("vertex_count", len(vertices))) != len(
+        vertices
+    ):
         report.add(
             "sidecar-mismatch",
             f"sidecar {sidecar['_path']} is for {sidecar.get('vertex_count')} vertices, the mesh has "
@@ -459,21 +497,32 @@ def load_character(
         index = {n: i for i, n in enumerate(names)}
         skel_raw = {
             "names": names,
-            "parents": [index.get(b.get("parent"), -1) if b.get("parent") else -1 for b in bones],
+            "parents": [
+                index.get(b.get("parent"), -1) if b.get("parent") else -1 for b in bones
+            ],
             "heads": [b["head"] for b in bones],
             "tails": [b["tail"] for b in bones],
         }
         if "skinning" in sidecar:
             s = sidecar["skinning"]
-            remap = np.array([index.get(n, -1) for n in s["bone_names"]] + [-1], dtype=np.int64)
+            remap = np.array(
+                [index.get(n, -1) for n in s["bone_names"]] + [-1], dtype=np.int64
+            )
             idx = np.asarray(s["indices"], dtype=np.int64)
-            skin_raw = {"indices": remap[idx], "weights": np.asarray(s["weights"], dtype=np.float64)}
+            skin_raw = {
+                "indices": remap[idx],
+                "weights": np.asarray(s["weights"], dtype=np.float64),
+            }
 
     # -- frame: up axis, then units
     if up is not None:
         up_key = _normalise_up(up, path)
         up_why = "given"
-    elif sidecar is not None and isinstance(sidecar.get("axes"), dict) and sidecar["axes"].get("up"):
+    elif (
+        sidecar is not None
+        and isinstance(sidecar.get("axes"), dict)
+        and sidecar["axes"].get("up")
+    ):
         up_key = _normalise_up(str(sidecar["axes"]["up"]), path)
         up_why = "sidecar"
     else:
@@ -501,7 +550,11 @@ def load_character(
         factor = unit_factor(unit)
         units_why = "detected from stature"
     if units_why == "detected from stature":
-        report.add("units-assumed", f"units assumed {unit} from the stature ({height * factor:.4g} cm)", where=where)
+        report.add(
+            "units-assumed",
+            f"units assumed {unit} from the stature ({height * factor:.4g} cm)",
+            where=where,
+        )
 
     def transform(p: np.ndarray) -> np.ndarray:
         return (np.asarray(p, dtype=np.float64) @ rot.T) * factor
@@ -512,7 +565,9 @@ def load_character(
     labels = _components(len(v_all), faces)
     n_comp = int(labels.max()) + 1
     if n_comp > 1:
-        areas = np.bincount(labels[faces[:, 0]], weights=_face_areas(v_all, faces), minlength=n_comp)
+        areas = np.bincount(
+            labels[faces[:, 0]], weights=_face_areas(v_all, faces), minlength=n_comp
+        )
         body = int(np.argmax(areas))
         counts = np.bincount(labels[labels >= 0], minlength=n_comp)
         component = f"{body} of {n_comp} (largest by area, {counts[body]} vertices, {areas[body]:.4g} cm²)"
@@ -532,9 +587,15 @@ def load_character(
     new_faces = old_to_new[faces[kept_faces_mask]]
     new_vertices = v_all[keep]
     if len(new_faces) < 4:
-        raise MeshError(f"{path}: the body component has only {len(new_faces)} triangles; give a body mesh")
+        raise MeshError(
+            f"{path}: the body component has only {len(new_faces)} triangles; give a body mesh"
+        )
     if n_comp == 1 and not np.all(keep):
-        report.add("unused-vertices", f"{int(np.count_nonzero(~keep))} vertices belong to no face and were dropped", where=where)
+        report.add(
+            "unused-vertices",
+            f"{int(np.count_nonzero(~keep))} vertices belong to no face and were dropped",
+            where=where,
+        )
 
     # -- floor at y = 0
     floor = float(new_vertices[:, 1].min())
@@ -542,7 +603,12 @@ def load_character(
     if abs(floor) > 0.5:
         shift[1] = -floor
         new_vertices = new_vertices + shift
-        report.add("floor-moved", f"moved the body by {-floor:+.4g} cm in y to stand on y = 0", where=where, fixed=True)
+        report.add(
+            "floor-moved",
+            f"moved the body by {-floor:+.4g} cm in y to stand on y = 0",
+            where=where,
+            fixed=True,
+        )
 
     # -- checks
     defects = mesh_defects(new_faces)
@@ -566,7 +632,11 @@ def load_character(
             where=where,
         )
     if defects["degenerate_faces"]:
-        report.add("mesh-degenerate", f"{defects['degenerate_faces']} degenerate triangles", where=where)
+        report.add(
+            "mesh-degenerate",
+            f"{defects['degenerate_faces']} degenerate triangles",
+            where=where,
+        )
 
     # -- skeleton & skin in the internal frame
     skeleton = skin = None
@@ -587,26 +657,50 @@ def load_character(
                 w = np.divide(w, total, out=np.zeros_like(w), where=total > 0)
                 skin = Skin(bone_indices=idx, weights=w)
             else:
-                report.add("skin-mismatch", "skin weights do not match the vertex count and were ignored", where=where)
+                report.add(
+                    "skin-mismatch",
+                    "skin weights do not match the vertex count and were ignored",
+                    where=where,
+                )
 
     # -- landmarks: sidecar first, then the given file (overrides by name)
     marks: dict[str, Landmark] = {}
     if sidecar is not None and isinstance(sidecar.get("landmarks"), dict):
         table = _check_landmark_table(sidecar["landmarks"], sidecar["_path"])
-        marks.update(_place_landmarks(table, new_vertices, new_faces, old_to_new,
-                                      lambda p: transform(p) + shift, sidecar["_path"], "file"))
+        marks.update(
+            _place_landmarks(
+                table,
+                new_vertices,
+                new_faces,
+                old_to_new,
+                lambda p: transform(p) + shift,
+                sidecar["_path"],
+                "file",
+            )
+        )
     if landmarks is not None:
         if isinstance(landmarks, Mapping):
             lm_where = "landmarks"
             table = landmarks.get("landmarks", landmarks)
             if not isinstance(table, Mapping):
-                raise LandmarkError("landmarks: no 'landmarks' object; give {name: {'vertex': id}}")
+                raise LandmarkError(
+                    "landmarks: no 'landmarks' object; give {name: {'vertex': id}}"
+                )
             table = _check_landmark_table(table, lm_where)
         else:
             lm_where = str(landmarks)
             table = load_landmark_file(landmarks)
-        marks.update(_place_landmarks(table, new_vertices, new_faces, old_to_new,
-                                      lambda p: transform(p) + shift, lm_where, "file"))
+        marks.update(
+            _place_landmarks(
+                table,
+                new_vertices,
+                new_faces,
+                old_to_new,
+                lambda p: transform(p) + shift,
+                lm_where,
+                "file",
+            )
+        )
 
     assumed = {
         "source": path.name,
@@ -614,7 +708,9 @@ def load_character(
         "up": f"{up_key} ({up_why})",
         "component": component,
         "floor": f"y = 0 (moved {-floor:+.4g} cm)" if shift[1] else "y = 0",
-        "rig": "sidecar" if sidecar is not None and skeleton is not None else ("gltf skin" if skeleton is not None else "none"),
+        "rig": "sidecar"
+        if sidecar is not None and skeleton is not None
+        else ("gltf skin" if skeleton is not None else "none"),
     }
     character = Character(
         vertices=new_vertices,
@@ -625,5 +721,11 @@ def load_character(
         landmarks=marks,
         assumed=assumed,
     )
-    log.info("loaded %s: %d vertices, %d faces, %s", path.name, len(new_vertices), len(new_faces), assumed)
+    log.info(
+        "loaded %s: %d vertices, %d faces, %s",
+        path.name,
+        len(new_vertices),
+        len(new_faces),
+        assumed,
+    )
     return character, report

@@ -29,8 +29,16 @@ VIEWS: dict[str, tuple[tuple[float, float, float], ...]] = {
 
 _PALETTE = np.array(
     [
-        (214, 39, 40), (31, 119, 180), (44, 160, 44), (255, 127, 14), (148, 103, 189),
-        (140, 86, 75), (227, 119, 194), (23, 190, 207), (188, 189, 34), (127, 127, 127),
+        (214, 39, 40),
+        (31, 119, 180),
+        (44, 160, 44),
+        (255, 127, 14),
+        (148, 103, 189),
+        (140, 86, 75),
+        (227, 119, 194),
+        (23, 190, 207),
+        (188, 189, 34),
+        (127, 127, 127),
     ],
     dtype=np.uint8,
 )
@@ -53,7 +61,9 @@ def _vertex_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     fn = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     idx = faces.ravel()
     w = np.repeat(fn, 3, axis=0)
-    vn = np.column_stack([np.bincount(idx, weights=w[:, k], minlength=len(vertices)) for k in range(3)])
+    vn = np.column_stack(
+        [np.bincount(idx, weights=w[:, k], minlength=len(vertices)) for k in range(3)]
+    )
     norm = np.linalg.norm(vn, axis=1, keepdims=True)
     return vn / np.where(norm > 0, norm, 1.0)
 
@@ -98,13 +108,29 @@ def _rasterise(p: np.ndarray, faces: np.ndarray, width: int, height: int):
             py = lo[f, 1][:, None] + oy[None]
             cx, cy = px + 0.5, py + 0.5
             a = area[f][:, None]
-            w0 = ((x1[f][:, None] - cx) * (y2[f][:, None] - cy) - (x2[f][:, None] - cx) * (y1[f][:, None] - cy)) / a
-            w1 = ((x2[f][:, None] - cx) * (y0[f][:, None] - cy) - (x0[f][:, None] - cx) * (y2[f][:, None] - cy)) / a
+            w0 = (
+                (x1[f][:, None] - cx) * (y2[f][:, None] - cy)
+                - (x2[f][:, None] - cx) * (y1[f][:, None] - cy)
+            ) / a
+            w1 = (
+                (x2[f][:, None] - cx) * (y0[f][:, None] - cy)
+                - (x0[f][:, None] - cx) * (y2[f][:, None] - cy)
+            ) / a
             w2 = 1.0 - w0 - w1
-            inside = (w0 >= -1e-9) & (w1 >= -1e-9) & (w2 >= -1e-9) & (px <= hi[f, 0][:, None]) & (py <= hi[f, 1][:, None])
+            inside = (
+                (w0 >= -1e-9)
+                & (w1 >= -1e-9)
+                & (w2 >= -1e-9)
+                & (px <= hi[f, 0][:, None])
+                & (py <= hi[f, 1][:, None])
+            )
             if not inside.any():
                 continue
-            z = w0 * tri[f, 0, 2][:, None] + w1 * tri[f, 1, 2][:, None] + w2 * tri[f, 2, 2][:, None]
+            z = (
+                w0 * tri[f, 0, 2][:, None]
+                + w1 * tri[f, 1, 2][:, None]
+                + w2 * tri[f, 2, 2][:, None]
+            )
             rows, cols = np.nonzero(inside)
             pix = py[rows, cols] * width + px[rows, cols]
             depth = z[rows, cols]
@@ -178,12 +204,20 @@ def render(
     width, height = int(size[0]), int(size[1])
     W, H = width * ss, height * ss
     basis = _camera(view, up)
-    cam = v @ basis.T  # (V, 3): right, up, toward viewer
     if bounds is None:
-        pts = [v] + [np.asarray(pl, dtype=np.float64).reshape(-1, 3) for pl in polylines]
+        pts = [v] + [
+            np.asarray(pl, dtype=np.float64).reshape(-1, 3) for pl in polylines
+        ]
         allp = np.concatenate(pts)
         bounds = np.array([allp.min(axis=0), allp.max(axis=0)])
-    corners = np.array([[bounds[i][0], bounds[j][1], bounds[k][2]] for i in (0, 1) for j in (0, 1) for k in (0, 1)])
+    corners = np.array(
+        [
+            [bounds[i][0], bounds[j][1], bounds[k][2]]
+            for i in (0, 1)
+            for j in (0, 1)
+            for k in (0, 1)
+        ]
+    )
     cc = corners @ basis.T
     lo2, hi2 = cc[:, :2].min(axis=0), cc[:, :2].max(axis=0)
     span = np.maximum(hi2 - lo2, 1e-9)
@@ -193,11 +227,13 @@ def render(
 
     def to_screen(q: np.ndarray) -> np.ndarray:
         c = q @ basis.T
-        return np.column_stack([
-            W / 2 + (c[:, 0] - centre[0]) * scale,
-            H / 2 - (c[:, 1] - centre[1]) * scale,
-            c[:, 2],
-        ])
+        return np.column_stack(
+            [
+                W / 2 + (c[:, 0] - centre[0]) * scale,
+                H / 2 - (c[:, 1] - centre[1]) * scale,
+                c[:, 2],
+            ]
+        )
 
     screen = to_screen(v)
     fbuf, zbuf = _rasterise(screen, f, W, H)
@@ -218,11 +254,17 @@ def render(
         w1 = ((x2 - cx) * (y0 - cy) - (x0 - cx) * (y2 - cy)) / a
         w2 = 1.0 - w0 - w1
         vn = _vertex_normals(v, f) @ basis.T
-        n = w0[:, None] * vn[f[fid, 0]] + w1[:, None] * vn[f[fid, 1]] + w2[:, None] * vn[f[fid, 2]]
+        n = (
+            w0[:, None] * vn[f[fid, 0]]
+            + w1[:, None] * vn[f[fid, 1]]
+            + w2[:, None] * vn[f[fid, 2]]
+        )
         fn = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
         n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-12)
         # face the viewer (two-sided lighting)
-        n *= np.where(np.sum(n * np.array([0, 0, 1.0]), axis=1, keepdims=True) < 0, -1.0, 1.0)
+        n *= np.where(
+            np.sum(n * np.array([0, 0, 1.0]), axis=1, keepdims=True) < 0, -1.0, 1.0
+        )
         del fn
         light = np.array([-0.35, 0.45, 1.0])
         light /= np.linalg.norm(light)
@@ -260,9 +302,18 @@ def render(
         best = np.full(len(sp), -np.inf)
         for dy in (-2, 0, 2):
             for dx in (-2, 0, 2):
-                best = np.maximum(best, zimg[np.clip(iy + dy, 0, H - 1), np.clip(ix + dx, 0, W - 1)])
+                best = np.maximum(
+                    best, zimg[np.clip(iy + dy, 0, H - 1), np.clip(ix + dx, 0, W - 1)]
+                )
         visible = sp[:, 2] >= best - occlusion_tolerance_cm
-        color = tuple(int(c) for c in (polyline_colors[i] if polyline_colors is not None else _PALETTE[i % len(_PALETTE)]))
+        color = tuple(
+            int(c)
+            for c in (
+                polyline_colors[i]
+                if polyline_colors is not None
+                else _PALETTE[i % len(_PALETTE)]
+            )
+        )
         lw = max(1, round(line_width_px * ss))
         run: list[tuple[float, float]] = []
         for k in range(len(sp)):
@@ -274,7 +325,11 @@ def render(
                 run = []
         if i < len(labels) and labels[i] and visible.any():
             vis = sp[visible]
-            anchor = vis[np.argmax(vis[:, 0])] if view != "back" else vis[np.argmin(vis[:, 0])]
+            anchor = (
+                vis[np.argmax(vis[:, 0])]
+                if view != "back"
+                else vis[np.argmin(vis[:, 0])]
+            )
             text = str(labels[i])
             bbox = draw.textbbox((0, 0), text, font=font)
             tw, th = bbox[2] - bbox[0], bbox[3] - bbox[1]
@@ -283,7 +338,10 @@ def render(
             if x + tw > W - 2:
                 x = float(anchor[0]) - tw - 4 * ss
             for _ in range(12):  # nudge down until the label does not overlap another
-                if not any(x < b[2] and x + tw > b[0] and y < b[3] and y + th > b[1] for b in label_boxes):
+                if not any(
+                    x < b[2] and x + tw > b[0] and y < b[3] and y + th > b[1]
+                    for b in label_boxes
+                ):
                     break
                 y += th + 2 * ss
             box = (x - 2 * ss, y - 1 * ss, x + tw + 2 * ss, y + th + 2 * ss)
@@ -319,7 +377,14 @@ def render_views(
     kwargs.setdefault("bounds", np.array([c - half, c + half]))
     title = kwargs.pop("title", None)
     panels = [
-        render(v, faces, view=view, size=size, title=f"{title} - {view}" if title else view, **kwargs)
+        render(
+            v,
+            faces,
+            view=view,
+            size=size,
+            title=f"{title} - {view}" if title else view,
+            **kwargs,
+        )
         for view in views
     ]
     return np.concatenate(panels, axis=1)

@@ -6,7 +6,7 @@ A rotation given for a bone is a (3, 3) matrix in the **rest-pose frame** (the
 character's axes: +X left, +Y up, +Z forward), applied about the bone's rest
 head. It is composed down the hierarchy: a child bone is carried by every
 rotation of its ancestors, then turned by its own. With ``G_b`` the resulting
-4×4 world transform of bone ``b`` (identity at rest), a vertex moves to
+4x4 world transform of bone ``b`` (identity at rest), a vertex moves to
 ``v' = Σ_k w_k G_{b_k} v`` (its four weights sum to 1).
 
 Helpers build the rotations for the two pose changes the project needs: the
@@ -35,13 +35,46 @@ __all__ = [
 
 # candidate names per role, in order (MakeHuman default rig, Mixamo, Rigify/Blender)
 _ROLES: dict[str, tuple[str, ...]] = {
-    "upperarm": ("upperarm01{s}", "upper_arm{s}", "UpperArm{s}", "mixamorig:{side}Arm", "{side}Arm", "upperarm{s}"),
-    "lowerarm": ("lowerarm01{s}", "forearm{s}", "lower_arm{s}", "LowerArm{s}", "mixamorig:{side}ForeArm", "{side}ForeArm", "lowerarm{s}"),
+    "upperarm": (
+        "upperarm01{s}",
+        "upper_arm{s}",
+        "UpperArm{s}",
+        "mixamorig:{side}Arm",
+        "{side}Arm",
+        "upperarm{s}",
+    ),
+    "lowerarm": (
+        "lowerarm01{s}",
+        "forearm{s}",
+        "lower_arm{s}",
+        "LowerArm{s}",
+        "mixamorig:{side}ForeArm",
+        "{side}ForeArm",
+        "lowerarm{s}",
+    ),
     "wrist": ("wrist{s}", "hand{s}", "Hand{s}", "mixamorig:{side}Hand", "{side}Hand"),
-    "upperleg": ("upperleg01{s}", "thigh{s}", "UpperLeg{s}", "mixamorig:{side}UpLeg", "{side}UpLeg"),
-    "lowerleg": ("lowerleg01{s}", "shin{s}", "LowerLeg{s}", "mixamorig:{side}Leg", "{side}Leg"),
+    "upperleg": (
+        "upperleg01{s}",
+        "thigh{s}",
+        "UpperLeg{s}",
+        "mixamorig:{side}UpLeg",
+        "{side}UpLeg",
+    ),
+    "lowerleg": (
+        "lowerleg01{s}",
+        "shin{s}",
+        "LowerLeg{s}",
+        "mixamorig:{side}Leg",
+        "{side}Leg",
+    ),
     "foot": ("foot{s}", "Foot{s}", "mixamorig:{side}Foot", "{side}Foot"),
-    "shoulder": ("shoulder01{s}", "clavicle{s}", "Shoulder{s}", "mixamorig:{side}Shoulder", "{side}Shoulder"),
+    "shoulder": (
+        "shoulder01{s}",
+        "clavicle{s}",
+        "Shoulder{s}",
+        "mixamorig:{side}Shoulder",
+        "{side}Shoulder",
+    ),
     "neck": ("neck01", "neck", "Neck", "mixamorig:Neck"),
     "head": ("head", "Head", "mixamorig:Head"),
     "pelvis": ("root", "pelvis", "Hips", "mixamorig:Hips", "hips"),
@@ -59,7 +92,11 @@ def find_bone(skeleton: Skeleton, role: str, side: str | None = None) -> int:
     InputError
         No bone of the skeleton matches.
     """
-    suffixes = {"left": (".L", "_L", ".l", "_l", "Left"), "right": (".R", "_R", ".r", "_r", "Right"), None: ("",)}[side]
+    suffixes = {
+        "left": (".L", "_L", ".l", "_l", "Left"),
+        "right": (".R", "_R", ".r", "_r", "Right"),
+        None: ("",),
+    }[side]
     word = {"left": "Left", "right": "Right", None: ""}[side]
     index = {n: i for i, n in enumerate(skeleton.names)}
     for pattern in _ROLES[role]:
@@ -112,7 +149,9 @@ def _order(parents: np.ndarray) -> list[int]:
     return list(np.argsort(depth, kind="stable"))
 
 
-def bone_transforms(skeleton: Skeleton, rotations: Mapping[str, np.ndarray]) -> np.ndarray:
+def bone_transforms(
+    skeleton: Skeleton, rotations: Mapping[str, np.ndarray]
+) -> np.ndarray:
     """World transforms of every bone for the given local rotations.
 
     Parameters
@@ -133,10 +172,14 @@ def bone_transforms(skeleton: Skeleton, rotations: Mapping[str, np.ndarray]) -> 
     local = np.tile(np.eye(4), (len(index), 1, 1))
     for name, rot in rotations.items():
         if name not in index:
-            raise InputError(f"skeleton: unknown bone {name!r} in the pose; use one of the skeleton's bone names")
+            raise InputError(
+                f"skeleton: unknown bone {name!r} in the pose; use one of the skeleton's bone names"
+            )
         r = np.asarray(rot, dtype=np.float64)
         if r.shape != (3, 3) or not np.allclose(r @ r.T, np.eye(3), atol=1e-6):
-            raise InputError(f"skeleton: the rotation of {name!r} is not a 3x3 rotation matrix; fix the pose")
+            raise InputError(
+                f"skeleton: the rotation of {name!r} is not a 3x3 rotation matrix; fix the pose"
+            )
         h = skeleton.heads[index[name]]
         m = np.eye(4)
         m[:3, :3] = r
@@ -155,7 +198,9 @@ def pose_skeleton(skeleton: Skeleton, rotations: Mapping[str, np.ndarray]) -> Sk
     g = bone_transforms(skeleton, rotations)
     heads = np.einsum("bij,bj->bi", g[:, :3, :3], skeleton.heads) + g[:, :3, 3]
     tails = np.einsum("bij,bj->bi", g[:, :3, :3], skeleton.tails) + g[:, :3, 3]
-    return Skeleton(names=skeleton.names, parents=skeleton.parents, heads=heads, tails=tails)
+    return Skeleton(
+        names=skeleton.names, parents=skeleton.parents, heads=heads, tails=tails
+    )
 
 
 def pose_vertices(
@@ -189,7 +234,11 @@ def pose_vertices(
             "(GLB with a skin, or an OBJ with its JSON sidecar)"
         )
     skin = skin or character.skin
-    v = character.vertices if vertices is None else np.asarray(vertices, dtype=np.float64)
+    v = (
+        character.vertices
+        if vertices is None
+        else np.asarray(vertices, dtype=np.float64)
+    )
     g = bone_transforms(character.skeleton, rotations)[:, :3, :]  # (B, 3, 4)
     idx = skin.bone_indices
     w = np.where(idx >= 0, skin.weights, 0.0)
@@ -201,7 +250,9 @@ def _sides(sides: str | Iterable[str]) -> tuple[str, ...]:
     return (sides,) if isinstance(sides, str) else tuple(sides)
 
 
-def a_to_t_pose_rotations(skeleton: Skeleton, sides: str | Iterable[str] = ("left", "right")) -> dict[str, np.ndarray]:
+def a_to_t_pose_rotations(
+    skeleton: Skeleton, sides: str | Iterable[str] = ("left", "right")
+) -> dict[str, np.ndarray]:
     """Rotations raising each upper arm to horizontal, pointing sideways (T-pose).
 
     The upper arm direction (shoulder joint to elbow joint) is turned by the
@@ -212,7 +263,9 @@ def a_to_t_pose_rotations(skeleton: Skeleton, sides: str | Iterable[str] = ("lef
         ua = find_bone(skeleton, "upperarm", side)
         la = find_bone(skeleton, "lowerarm", side)
         d = skeleton.heads[la] - skeleton.heads[ua]
-        target = np.array([np.sign(d[0]) or (1.0 if side == "left" else -1.0), 0.0, 0.0])
+        target = np.array(
+            [np.sign(d[0]) or (1.0 if side == "left" else -1.0), 0.0, 0.0]
+        )
         out[skeleton.names[ua]] = rotation_between(d, target)
     return out
 

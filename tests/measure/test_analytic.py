@@ -22,7 +22,9 @@ def _ring(n: int) -> float:
 
 def test_cylinder_girth_is_two_pi_r():
     m = _cylinder(12.0, 80.0)
-    sec = plane_loops(np.asarray(m.vertices), np.asarray(m.faces), [0, 0, 5.0], [0, 0, 1.0])
+    sec = plane_loops(
+        np.asarray(m.vertices), np.asarray(m.faces), [0, 0, 5.0], [0, 0, 1.0]
+    )
     assert len(sec.loops) == 1 and sec.loops[0].closed
     g, ring = hull_girth(sec, sec.loops)
     assert g == pytest.approx(2 * np.pi * 12.0, rel=5e-3)
@@ -49,7 +51,9 @@ def test_ellipsoid_girth():
     g, _ = hull_girth(sec, sec.loops)
     a, b = 15.0, 10.0
     h = ((a - b) / (a + b)) ** 2
-    assert g == pytest.approx(np.pi * (a + b) * (1 + 3 * h / (10 + np.sqrt(4 - 3 * h))), rel=5e-3)
+    assert g == pytest.approx(
+        np.pi * (a + b) * (1 + 3 * h / (10 + np.sqrt(4 - 3 * h))), rel=5e-3
+    )
 
 
 def test_tape_bridges_hollows():
@@ -61,7 +65,9 @@ def test_tape_bridges_hollows():
     from shapely.geometry import Polygon
 
     m = trimesh.creation.extrude_polygon(Polygon(poly), 20.0)
-    sec = plane_loops(np.asarray(m.vertices), np.asarray(m.faces), [0, 0, 10.0], [0, 0, 1])
+    sec = plane_loops(
+        np.asarray(m.vertices), np.asarray(m.faces), [0, 0, 10.0], [0, 0, 1]
+    )
     g, _ = hull_girth(sec, sec.loops)
     outline = np.linalg.norm(np.diff(np.vstack([poly, poly[:1]]), axis=0), axis=1).sum()
     hull = 2 * n * 10.0 * np.sin(np.pi / (2 * n)) * 2 / 2  # decagon through the tips
@@ -74,7 +80,9 @@ def test_loops_are_separated_and_selected():
     """Two legs: a horizontal cut gives two loops; the part loop is the one around the axis point."""
     a = _cylinder(6.0, 50.0, 256)
     b = _cylinder(4.0, 50.0, 256)
-    v = np.vstack([np.asarray(a.vertices) + [-10, 0, 0], np.asarray(b.vertices) + [10, 0, 0]])
+    v = np.vstack(
+        [np.asarray(a.vertices) + [-10, 0, 0], np.asarray(b.vertices) + [10, 0, 0]]
+    )
     f = np.vstack([np.asarray(a.faces), np.asarray(b.faces) + len(a.vertices)])
     sec = plane_loops(v, f, [0, 0, 0], [0, 0, 1])
     assert len(sec.loops) == 2
@@ -90,8 +98,9 @@ def test_inclined_capsule_arm_girth_follows_the_axis():
     r = 5.0
     cap = trimesh.creation.capsule(height=60.0, radius=r, count=[128, 64])
     v = np.asarray(cap.vertices)  # axis along z, centred
-    rot = trimesh.transformations.rotation_matrix(np.radians(-135.0), [0, 0, 1]) @ \
-        trimesh.transformations.rotation_matrix(np.radians(90.0), [0, 1, 0])
+    rot = trimesh.transformations.rotation_matrix(
+        np.radians(-135.0), [0, 0, 1]
+    ) @ trimesh.transformations.rotation_matrix(np.radians(90.0), [0, 1, 0])
     v = v @ rot[:3, :3].T + [40.0, 120.0, 0.0]
     axis = rot[:3, :3] @ [0, 0, 1.0]
     axis = axis if axis[0] > 0 else -axis
@@ -140,7 +149,9 @@ def test_cylinder_geodesic_lengths():
         "waist_front": Landmark(name="waist_front", position=v[c], vertex=c),
     }
     out = measure_lengths(v, f, marks, ids=["back_length", "front_length"], tape=False)
-    assert out["back_length"].value_cm == pytest.approx(np.linalg.norm(v[b] - v[a]), rel=5e-3)
+    assert out["back_length"].value_cm == pytest.approx(
+        np.linalg.norm(v[b] - v[a]), rel=5e-3
+    )
     dz = v[c, 2] - v[a, 2]
     arc = r * np.arctan2(v[c, 1], v[c, 0])
     assert out["front_length"].value_cm == pytest.approx(np.hypot(arc, dz), rel=5e-3)

@@ -18,12 +18,23 @@ from patternbridge.measure import (
     write_measurements,
 )
 from patternbridge.mesh.character import Landmark
-from patternbridge.mesh.landmarks import LANDMARK_NAMES, detect_landmarks, landmark_errors
+from patternbridge.mesh.landmarks import (
+    LANDMARK_NAMES,
+    detect_landmarks,
+    landmark_errors,
+)
 from patternbridge.mesh.load import load_character
 
 pytestmark = pytest.mark.shared
 
-NAMES = ("A_superhero", "B_slim_female", "C_heavy_male", "D_cartoon_child", "E_average_male", "F_tall_thin_elder")
+NAMES = (
+    "A_superhero",
+    "B_slim_female",
+    "C_heavy_male",
+    "D_cartoon_child",
+    "E_average_male",
+    "F_tall_thin_elder",
+)
 
 
 @pytest.fixture(scope="module")
@@ -64,9 +75,15 @@ def test_values_follow_the_shapes(results):
     assert v["A"]["upper_arm_girth_left"] > 1.3 * v["E"]["upper_arm_girth_left"]
     assert v["A"]["waist_girth"] < v["E"]["waist_girth"]  # V shape
     assert v["B"]["hip_girth"] > v["B"]["chest_girth"] > v["B"]["waist_girth"]
-    assert v["D"]["head_girth"] > 0.95 * v["E"]["head_girth"]  # enlarged head on a child
+    assert (
+        v["D"]["head_girth"] > 0.95 * v["E"]["head_girth"]
+    )  # enlarged head on a child
     for r in v.values():  # plausible order of magnitude everywhere
-        assert r["wrist_girth_left"] < r["elbow_girth_left"] + 3 < r["upper_arm_girth_left"] + 6
+        assert (
+            r["wrist_girth_left"]
+            < r["elbow_girth_left"] + 3
+            < r["upper_arm_girth_left"] + 6
+        )
         assert r["ankle_girth_left"] < r["calf_girth_left"] < r["thigh_girth_left"]
         assert r["inside_leg_left"] < r["outside_leg_left"] < r["stature"]
         assert r["arm_length_left"] < r["neck_to_wrist_left"]
@@ -86,9 +103,13 @@ def test_json_round_trip(results, tmp_path):
     # a closed hull: first point repeated, girth = polyline length
     poly = np.array(m["polyline"])
     np.testing.assert_allclose(poly[0], poly[-1])
-    assert np.linalg.norm(np.diff(poly, axis=0), axis=1).sum() == pytest.approx(m["value_cm"], abs=0.01)
+    assert np.linalg.norm(np.diff(poly, axis=0), axis=1).sum() == pytest.approx(
+        m["value_cm"], abs=0.01
+    )
     (tmp_path / "plain.json").write_text(json.dumps({"waist_girth": 80.5}))
-    assert load_measurements(tmp_path / "plain.json").values_cm() == {"waist_girth": 80.5}
+    assert load_measurements(tmp_path / "plain.json").values_cm() == {
+        "waist_girth": 80.5
+    }
 
 
 def test_bad_measurement_files(tmp_path):
@@ -99,7 +120,9 @@ def test_bad_measurement_files(tmp_path):
     (tmp_path / "bad.json").write_text("[1, 2")
     with pytest.raises(InputError, match="not valid JSON"):
         load_measurements(tmp_path / "bad.json")
-    (tmp_path / "other.json").write_text(json.dumps({"measurements": {"x": {"kind": "girth"}}}))
+    (tmp_path / "other.json").write_text(
+        json.dumps({"measurements": {"x": {"kind": "girth"}}})
+    )
     with pytest.raises(InputError, match="malformed"):
         load_measurements(tmp_path / "other.json")
     (tmp_path / "inch.json").write_text(json.dumps({"units": "in", "measurements": {}}))
@@ -111,8 +134,10 @@ def _posed(c, rotations):
     from patternbridge.mesh.skinning import pose_vertices
 
     v = pose_vertices(c, rotations)
-    marks = {k: Landmark(name=k, position=v[lm.vertex], vertex=lm.vertex, source=lm.source)
-             for k, lm in c.landmarks.items()}
+    marks = {
+        k: Landmark(name=k, position=v[lm.vertex], vertex=lm.vertex, source=lm.source)
+        for k, lm in c.landmarks.items()
+    }
     return dataclasses.replace(c, vertices=v, landmarks=marks)
 
 
@@ -122,14 +147,29 @@ def test_pose_invariance(characters, results):
 
     c = characters["E"]
     t = a_to_t_pose_rotations(c.skeleton)
-    bent = {**t, **bend_elbow_rotations(c.skeleton, "left"), **bend_elbow_rotations(c.skeleton, "right")}
+    bent = {
+        **t,
+        **bend_elbow_rotations(c.skeleton, "left"),
+        **bend_elbow_rotations(c.skeleton, "right"),
+    }
     poses = [results["E"], measure(_posed(c, t)), measure(_posed(c, bent))]
     for side in ("left", "right"):
         arm = np.array([r[f"arm_length_{side}"].value_cm for r in poses])
-        straight = np.array([r[f"arm_length_{side}"].details["straight_cm"] for r in poses])
+        straight = np.array(
+            [r[f"arm_length_{side}"].details["straight_cm"] for r in poses]
+        )
         assert np.ptp(arm) / arm.min() <= 0.05
-        assert np.ptp(straight) / straight.max() >= 0.15  # the shoulder-wrist chord changes a lot
-    for mid in ("waist_girth", "hip_girth", "high_hip_girth", "thigh_girth_left", "calf_girth_left", "head_girth"):
+        assert (
+            np.ptp(straight) / straight.max() >= 0.15
+        )  # the shoulder-wrist chord changes a lot
+    for mid in (
+        "waist_girth",
+        "hip_girth",
+        "high_hip_girth",
+        "thigh_girth_left",
+        "calf_girth_left",
+        "head_girth",
+    ):
         vals = np.array([r[mid].value_cm for r in poses])
         assert np.ptp(vals) / vals.min() <= 0.01, mid
 
@@ -155,7 +195,13 @@ def test_measure_with_detected_landmarks_only(characters):
     assert {lm.source for lm in res.landmarks.values()} == {"detected"}
     ref = measure(characters["E"]).values_cm()
     got = res.values_cm()
-    for mid in ("stature", "waist_girth", "hip_girth", "chest_girth", "thigh_girth_left"):
+    for mid in (
+        "stature",
+        "waist_girth",
+        "hip_girth",
+        "chest_girth",
+        "thigh_girth_left",
+    ):
         assert got[mid] == pytest.approx(ref[mid], rel=0.05), mid
 
 
@@ -164,7 +210,12 @@ def test_skeleton_landmarks(characters):
 
     c = characters["B"]
     found = skeleton_landmarks(c)
-    assert {"elbow_point_left", "wrist_point_left", "knee_point_left", "crotch_point"} <= set(found)
+    assert {
+        "elbow_point_left",
+        "wrist_point_left",
+        "knee_point_left",
+        "crotch_point",
+    } <= set(found)
     assert all(lm.source == "skeleton" for lm in found.values())
     err = landmark_errors(found, c.landmarks)
     assert max(err.values()) < 8.0 and np.median(list(err.values())) < 4.0
@@ -175,9 +226,16 @@ def test_missing_landmarks(characters):
     with pytest.raises(LandmarkError, match="are missing") as info:
         measure(c, detect=False)
     assert "\n" not in str(info.value) and "--partial" in str(info.value)
-    keep = {k: v for k, v in characters["E"].landmarks.items() if not k.startswith("elbow_point")}
-    res = measure(dataclasses.replace(characters["E"], landmarks=keep, skeleton=None, skin=None),
-                  detect=False, partial=True)
+    keep = {
+        k: v
+        for k, v in characters["E"].landmarks.items()
+        if not k.startswith("elbow_point")
+    }
+    res = measure(
+        dataclasses.replace(characters["E"], landmarks=keep, skeleton=None, skin=None),
+        detect=False,
+        partial=True,
+    )
     assert "arm_length_left" in res.missing and "elbow_girth_right" in res.missing
     assert "waist_girth" in res.values_cm() and "arm_length_left" not in res.values_cm()
 
@@ -185,10 +243,21 @@ def test_missing_landmarks(characters):
 def test_cli(characters_dir, tmp_path, capsys):
     out = tmp_path / "E.json"
     png = tmp_path / "E.png"
-    code = main(["measure", str(characters_dir / "E_average_male.obj"), "-o", str(out), "--png", str(png)])
+    code = main(
+        [
+            "measure",
+            str(characters_dir / "E_average_male.obj"),
+            "-o",
+            str(out),
+            "--png",
+            str(png),
+        ]
+    )
     assert code == 0
     data = json.loads(out.read_text())
-    assert data["measurements"]["stature"]["value_cm"] == pytest.approx(177.79, abs=0.05)
+    assert data["measurements"]["stature"]["value_cm"] == pytest.approx(
+        177.79, abs=0.05
+    )
     from PIL import Image
 
     assert Image.open(png).size[0] > Image.open(png).size[1]
@@ -196,12 +265,22 @@ def test_cli(characters_dir, tmp_path, capsys):
     bad = tmp_path / "lm.json"
     bad.write_text(json.dumps({"landmarks": {"nose": {"vertex": 1}}}))
     capsys.readouterr()
-    code = main(["measure", str(characters_dir / "E_average_male.obj"), "--landmarks", str(bad),
-                 "-o", str(tmp_path / "x.json")])
+    code = main(
+        [
+            "measure",
+            str(characters_dir / "E_average_male.obj"),
+            "--landmarks",
+            str(bad),
+            "-o",
+            str(tmp_path / "x.json"),
+        ]
+    )
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(err) == 1 and "unknown landmark 'nose'" in err[0]
     assert not (tmp_path / "x.json").exists()
-    code = main(["measure", str(tmp_path / "missing.obj"), "-o", str(tmp_path / "x.json")])
+    code = main(
+        ["measure", str(tmp_path / "missing.obj"), "-o", str(tmp_path / "x.json")]
+    )
     assert code == 2
 
 

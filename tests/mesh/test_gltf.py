@@ -22,8 +22,20 @@ def _write_skinned_glb(path, vertices, faces, joints, weights, joint_nodes):
         data = np.ascontiguousarray(arr).tobytes()
         offset = sum(len(b) for b in blobs)
         blobs.append(data + b"\0" * (-len(data) % 4))
-        views.append({"buffer": 0, "byteOffset": offset, "byteLength": len(data), **({"target": target} if target else {})})
-        acc = {"bufferView": len(views) - 1, "componentType": ctype, "count": len(arr), "type": kind}
+        views.append(
+            {
+                "buffer": 0,
+                "byteOffset": offset,
+                "byteLength": len(data),
+                **({"target": target} if target else {}),
+            }
+        )
+        acc = {
+            "bufferView": len(views) - 1,
+            "componentType": ctype,
+            "count": len(arr),
+            "type": kind,
+        }
         if kind == "VEC3" and ctype == 5126:
             acc["min"] = arr.min(axis=0).tolist()
             acc["max"] = arr.max(axis=0).tolist()
@@ -45,7 +57,20 @@ def _write_skinned_glb(path, vertices, faces, joints, weights, joint_nodes):
         "scene": 0,
         "scenes": [{"nodes": [0, 1]}],
         "nodes": nodes,
-        "meshes": [{"primitives": [{"attributes": {"POSITION": pos, "JOINTS_0": jnt, "WEIGHTS_0": wgt}, "indices": idx}]}],
+        "meshes": [
+            {
+                "primitives": [
+                    {
+                        "attributes": {
+                            "POSITION": pos,
+                            "JOINTS_0": jnt,
+                            "WEIGHTS_0": wgt,
+                        },
+                        "indices": idx,
+                    }
+                ]
+            }
+        ],
         "skins": [{"joints": list(range(1, len(joint_nodes) + 1))}],
         "accessors": accessors,
         "bufferViews": views,
@@ -55,8 +80,13 @@ def _write_skinned_glb(path, vertices, faces, joints, weights, joint_nodes):
     js += b" " * (-len(js) % 4)
     binary = b"".join(blobs)
     total = 12 + 8 + len(js) + 8 + len(binary)
-    path.write_bytes(struct.pack("<4sII", b"glTF", 2, total) + struct.pack("<I4s", len(js), b"JSON") + js
-                     + struct.pack("<I4s", len(binary), b"BIN\0") + binary)
+    path.write_bytes(
+        struct.pack("<4sII", b"glTF", 2, total)
+        + struct.pack("<I4s", len(js), b"JSON")
+        + js
+        + struct.pack("<I4s", len(binary), b"BIN\0")
+        + binary
+    )
 
 
 @pytest.fixture()
@@ -70,7 +100,14 @@ def skinned(tmp_path):
     weights = np.zeros((len(v), 4))
     weights[:, 0] = 1.0
     path = tmp_path / "bar.glb"
-    _write_skinned_glb(path, v, f, joints, weights, [("root", (0, 0, 0)), ("spine", (0, 0.85, 0)), ("head", (0, 0.8, 0))])
+    _write_skinned_glb(
+        path,
+        v,
+        f,
+        joints,
+        weights,
+        [("root", (0, 0, 0)), ("spine", (0, 0.85, 0)), ("head", (0, 0.8, 0))],
+    )
     return path, v
 
 
@@ -82,7 +119,9 @@ def test_skinned_glb(skinned):
     np.testing.assert_allclose(c.vertices, v * 100, atol=1e-4)
     assert c.skeleton.names == ("root", "spine", "head")
     np.testing.assert_array_equal(c.skeleton.parents, [-1, 0, 1])
-    np.testing.assert_allclose(c.skeleton.heads, [[0, 0, 0], [0, 85, 0], [0, 165, 0]], atol=1e-6)
+    np.testing.assert_allclose(
+        c.skeleton.heads, [[0, 0, 0], [0, 85, 0], [0, 165, 0]], atol=1e-6
+    )
     assert c.skin.bone_indices.shape == (len(v), 4)
     np.testing.assert_allclose(c.skin.weights.sum(axis=1), 1.0)
     # bend the upper half about the spine joint: the lower half stays
@@ -90,14 +129,25 @@ def test_skinned_glb(skinned):
     out = pose_vertices(c, {"spine": r})
     low = c.vertices[:, 1] < 85
     np.testing.assert_allclose(out[low], c.vertices[low])
-    np.testing.assert_allclose(out[~low], (c.vertices[~low] - [0, 85, 0]) @ r.T + [0, 85, 0], atol=1e-9)
+    np.testing.assert_allclose(
+        out[~low], (c.vertices[~low] - [0, 85, 0]) @ r.T + [0, 85, 0], atol=1e-9
+    )
 
 
 def test_gltf_extension_refused(tmp_path):
     path = tmp_path / "draco.gltf"
-    path.write_text(json.dumps({"asset": {"version": "2.0"}, "extensionsRequired": ["KHR_draco_mesh_compression"]}))
+    path.write_text(
+        json.dumps(
+            {
+                "asset": {"version": "2.0"},
+                "extensionsRequired": ["KHR_draco_mesh_compression"],
+            }
+        )
+    )
     with pytest.raises(MeshError, match="compress"):
         load_character(path)
-    path.write_text(json.dumps({"asset": {"version": "2.0"}, "nodes": [], "meshes": []}))
+    path.write_text(
+        json.dumps({"asset": {"version": "2.0"}, "nodes": [], "meshes": []})
+    )
     with pytest.raises(MeshError, match="no triangle"):
         load_character(path)

@@ -44,14 +44,18 @@ def test_shared_obj_with_sidecar(b_obj, b_mesh):
 @pytest.mark.parametrize("suffix", [".stl", ".glb", ".ply", ".obj"])
 def test_units_and_up_axis_detected(tmp_path, b_mesh, suffix):
     v, f = b_mesh
-    z_up_m = np.column_stack([v[:, 0], -v[:, 2], v[:, 1]]) / 100.0  # Blender frame, metres
+    z_up_m = (
+        np.column_stack([v[:, 0], -v[:, 2], v[:, 1]]) / 100.0
+    )  # Blender frame, metres
     path = tmp_path / f"b{suffix}"
     trimesh.Trimesh(z_up_m, f, process=False).export(str(path))
     c, report = load_character(path)
     assert c.assumed["up"].startswith("+Z") and c.assumed["units"].startswith("m ")
     assert "units-assumed" in report.codes()
     assert c.vertices.shape == (13380, 3)
-    np.testing.assert_allclose(np.sort(c.vertices, axis=0), np.sort(v, axis=0), atol=1e-4)
+    np.testing.assert_allclose(
+        np.sort(c.vertices, axis=0), np.sort(v, axis=0), atol=1e-4
+    )
 
 
 def test_overrides(tmp_path, b_mesh):
@@ -106,14 +110,20 @@ def test_holes_and_nonmanifold_edges(tmp_path, b_mesh):
     # every face doubled with a third vertex: unusable
     junk = np.column_stack([f[:, 0], f[:, 1], (f[:, 2] + 7) % len(v)])
     path = tmp_path / "junk.ply"
-    trimesh.Trimesh(v, np.vstack([f, junk, junk[:, [1, 0, 2]]]), process=False).export(str(path))
+    trimesh.Trimesh(v, np.vstack([f, junk, junk[:, [1, 0, 2]]]), process=False).export(
+        str(path)
+    )
     with pytest.raises(MeshError, match="non-manifold"):
         load_character(path)
 
 
 def test_mesh_defects_counts():
     tet = np.array([[0, 1, 2], [0, 3, 1], [1, 3, 2], [2, 3, 0]])
-    assert mesh_defects(tet) == {"boundary_edges": 0, "nonmanifold_edges": 0, "degenerate_faces": 0}
+    assert mesh_defects(tet) == {
+        "boundary_edges": 0,
+        "nonmanifold_edges": 0,
+        "degenerate_faces": 0,
+    }
     assert mesh_defects(tet[:3])["boundary_edges"] == 3
     assert mesh_defects(np.vstack([tet, [[0, 1, 4]]]))["nonmanifold_edges"] == 1
 
@@ -136,7 +146,16 @@ def test_landmark_file(tmp_path, b_obj, b_mesh):
     v, _ = b_mesh
     target = v[881] + np.array([0.0, 2.0, 0.0])  # 2 cm above the head: snaps back down
     lm = tmp_path / "lm.json"
-    lm.write_text(json.dumps({"landmarks": {"crotch_point": {"vertex": 6431}, "top_of_head": {"position": target.tolist()}}}))
+    lm.write_text(
+        json.dumps(
+            {
+                "landmarks": {
+                    "crotch_point": {"vertex": 6431},
+                    "top_of_head": {"position": target.tolist()},
+                }
+            }
+        )
+    )
     c, _ = load_character(b_obj, landmarks=lm)
     assert c.landmarks["crotch_point"].vertex == 6431
     assert np.linalg.norm(c.landmarks["top_of_head"].position - v[881]) < 0.5
@@ -148,7 +167,10 @@ def test_landmark_file(tmp_path, b_obj, b_mesh):
     [
         ({"landmarks": {"nose_tip": {"vertex": 1}}}, "unknown landmark 'nose_tip'"),
         ({"landmarks": {"crotch_point": {"vertex": 99999}}}, "out of range"),
-        ({"landmarks": {"crotch_point": {"foo": 1}}}, "neither 'vertex' nor 'position'"),
+        (
+            {"landmarks": {"crotch_point": {"foo": 1}}},
+            "neither 'vertex' nor 'position'",
+        ),
         ({"landmarks": {"crotch_point": {"position": [1, 2]}}}, "not three numbers"),
         ({"points": {}}, "no 'landmarks' object"),
     ],

@@ -37,16 +37,32 @@ def test_polylines_are_depth_tested(box):
     v, f = box
     front = np.array([[-30.0, 50, 10.5], [30.0, 50, 10.5]])  # on the front face
     back = np.array([[-30.0, 70, -10.5], [30.0, 70, -10.5]])  # behind the box
-    img = render(v, f, polylines=[front, back], polyline_colors=[(0, 200, 0), (200, 0, 200)], size=(200, 300))
+    img = render(
+        v,
+        f,
+        polylines=[front, back],
+        polyline_colors=[(0, 200, 0), (200, 0, 200)],
+        size=(200, 300),
+    )
     green = (img[:, :, 1] > 150) & (img[:, :, 0] < 80)
     magenta = (img[:, :, 0] > 150) & (img[:, :, 1] < 80) & (img[:, :, 2] > 150)
     assert green.sum() > 50
     # only the parts outside the silhouette of the box are visible
     cols = np.flatnonzero(magenta.any(axis=0))
     assert len(cols) > 0 and not ((cols > 80) & (cols < 120)).any()
-    img_b = render(v, f, polylines=[front, back], polyline_colors=[(0, 200, 0), (200, 0, 200)], size=(200, 300), view="back")
+    img_b = render(
+        v,
+        f,
+        polylines=[front, back],
+        polyline_colors=[(0, 200, 0), (200, 0, 200)],
+        size=(200, 300),
+        view="back",
+    )
     magenta_b = (img_b[:, :, 0] > 150) & (img_b[:, :, 1] < 80) & (img_b[:, :, 2] > 150)
-    assert ((np.flatnonzero(magenta_b.any(axis=0)) > 80) & (np.flatnonzero(magenta_b.any(axis=0)) < 120)).any()
+    assert (
+        (np.flatnonzero(magenta_b.any(axis=0)) > 80)
+        & (np.flatnonzero(magenta_b.any(axis=0)) < 120)
+    ).any()
 
 
 def test_views_and_labels(box, tmp_path):

@@ -19,9 +19,15 @@ from patternbridge.mesh.skinning import (
 
 def _chain() -> Character:
     """Two bones along +X; vertex 0 on bone 0, vertex 1 on bone 1, vertex 2 half-half."""
-    sk = Skeleton(names=("upper", "lower"), parents=[-1, 0],
-                  heads=[[0, 0, 0], [10, 0, 0]], tails=[[10, 0, 0], [20, 0, 0]])
-    skin = Skin(bone_indices=[[0, -1], [1, -1], [0, 1]], weights=[[1, 0], [1, 0], [0.5, 0.5]])
+    sk = Skeleton(
+        names=("upper", "lower"),
+        parents=[-1, 0],
+        heads=[[0, 0, 0], [10, 0, 0]],
+        tails=[[10, 0, 0], [20, 0, 0]],
+    )
+    skin = Skin(
+        bone_indices=[[0, -1], [1, -1], [0, 1]], weights=[[1, 0], [1, 0], [0.5, 0.5]]
+    )
     v = np.array([[5.0, 1, 0], [15.0, 1, 0], [10.0, 1, 0]])
     return Character(vertices=v, faces=[[0, 1, 2]], skeleton=sk, skin=skin)
 
@@ -39,12 +45,16 @@ def test_rotation_about_the_head_and_hierarchy():
     np.testing.assert_allclose(out, c.vertices @ r.T, atol=1e-12)
     out = pose_vertices(c, {"lower": r})
     np.testing.assert_allclose(out[0], c.vertices[0])
-    np.testing.assert_allclose(out[1], [9.0, 5.0, 0.0], atol=1e-12)  # (15,1) about (10,0)
+    np.testing.assert_allclose(
+        out[1], [9.0, 5.0, 0.0], atol=1e-12
+    )  # (15,1) about (10,0)
     # composed: the lower bone is carried by the upper one
     both = pose_vertices(c, {"upper": r, "lower": r})
     np.testing.assert_allclose(both[1], r @ [9.0, 5.0, 0.0], atol=1e-12)
     # blended vertex: average of the two transforms
-    np.testing.assert_allclose(out[2], 0.5 * (c.vertices[2] + (r @ (c.vertices[2] - [10, 0, 0]) + [10, 0, 0])))
+    np.testing.assert_allclose(
+        out[2], 0.5 * (c.vertices[2] + (r @ (c.vertices[2] - [10, 0, 0]) + [10, 0, 0]))
+    )
 
 
 def test_pose_skeleton_moves_children():
@@ -56,10 +66,18 @@ def test_pose_skeleton_moves_children():
 
 
 def test_rotation_between():
-    for a, b in [([1, 0, 0], [0, 1, 0]), ([1, 2, 3], [-3, 1, 0.5]), ([0, 0, 1], [0, 0, -1])]:
+    for a, b in [
+        ([1, 0, 0], [0, 1, 0]),
+        ([1, 2, 3], [-3, 1, 0.5]),
+        ([0, 0, 1], [0, 0, -1]),
+    ]:
         r = rotation_between(a, b)
         np.testing.assert_allclose(r @ r.T, np.eye(3), atol=1e-12)
-        np.testing.assert_allclose(r @ (np.array(a) / np.linalg.norm(a)), np.array(b) / np.linalg.norm(b), atol=1e-12)
+        np.testing.assert_allclose(
+            r @ (np.array(a) / np.linalg.norm(a)),
+            np.array(b) / np.linalg.norm(b),
+            atol=1e-12,
+        )
 
 
 def test_bad_poses():
@@ -93,7 +111,9 @@ def test_a_to_t_and_elbow_on_a_character(characters_dir):
         f = s.heads[wr] - s.heads[la]
         return np.arccos(u @ f / np.linalg.norm(u) / np.linalg.norm(f))
 
-    assert elbow_angle(posed2) - elbow_angle(posed) == pytest.approx(np.pi / 4, abs=1e-9)
+    assert elbow_angle(posed2) - elbow_angle(posed) == pytest.approx(
+        np.pi / 4, abs=1e-9
+    )
     v = pose_vertices(c, bend)
     assert v.shape == c.vertices.shape and np.all(np.isfinite(v))
     # legs do not move
