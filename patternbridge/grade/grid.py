@@ -265,7 +265,7 @@ class PatternGrid:
         """
         X = np.atleast_2d(np.asarray(X, dtype=np.float64))
         out = np.full(len(X), np.inf)
-        for k, g in enumerate(self.pieces):
+        for k in range(len(self.pieces)):
             c = self.control(X, k)
             c0 = self.control(self.x0[None, :], k)
             out = np.minimum(out, _min_corner_ratio(c, c0))

@@ -267,7 +267,7 @@ def objective_data(
     labels = []
     fractions = np.linspace(0.0, 1.0, n_samples)
     notch_sets = {}
-    for k, piece in enumerate(pattern.pieces):
+    for piece in pattern.pieces:
         notch_sets[piece.name] = {int(nt.vertex) for nt in piece.notches}
     q = 0
     for s_i, seam in enumerate(pattern.seams):
@@ -428,7 +428,6 @@ def measurement_error(data: ObjectiveData, points: np.ndarray) -> tuple[np.ndarr
 
 
 def _seam_terms(data: ObjectiveData, points: np.ndarray, edges: np.ndarray):
-    n_pop = len(points)
     S = data.n_seams
     mismatch = edges @ data.seam_b_edges - edges @ data.seam_a_edges - data.seam_ease_cm
     samples = _samples(data, points)

@@ -6,7 +6,15 @@ import numpy as np
 import pytest
 
 from patternbridge.pattern.model import (
-    EdgeRange, Leg, Line, MeasurementLink, Notch, Pattern, Piece, Seam, VertexKind,
+    EdgeRange,
+    Leg,
+    Line,
+    MeasurementLink,
+    Notch,
+    Pattern,
+    Piece,
+    Seam,
+    VertexKind,
 )
 
 

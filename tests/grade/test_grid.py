@@ -6,7 +6,12 @@ import numpy as np
 import pytest
 from conftest import skirt_pattern
 
-from patternbridge.grade.grid import bilinear_weights, build_grid, deform_pattern, grid_lines
+from patternbridge.grade.grid import (
+    bilinear_weights,
+    build_grid,
+    deform_pattern,
+    grid_lines,
+)
 
 
 def test_grid_lines_keep_ends_and_gap():

@@ -48,7 +48,7 @@ def test_similarity_keeps_shape_and_seams(setup):
 
 
 def test_stretching_one_piece_breaks_seams_by_the_length_difference(setup):
-    pattern, grid, data = setup
+    _, grid, data = setup
     x = grid.x0.copy().reshape(-1, 2)
     n_front = grid.pieces[0].n_control
     x[:n_front, 1] *= 1.1  # front 10 % taller

@@ -4,15 +4,18 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import skirt_pattern
+from conftest import BODY, skirt_pattern
 
 from patternbridge.grade.grid import build_grid
+from patternbridge.grade.objectives import objective_data
 from patternbridge.grade.operators import (
-    GridCrossover, SeedSampling, mutate, mutation_rate, non_uniform_delta,
+    GridCrossover,
+    SeedSampling,
+    mutate,
+    mutation_rate,
+    non_uniform_delta,
 )
 from patternbridge.grade.problem import GradingProblem
-from patternbridge.grade.objectives import objective_data
-from conftest import BODY
 
 
 def test_non_uniform_delta_range_and_decay():
