@@ -197,8 +197,8 @@ def _resample(points: np.ndarray, max_seg: float) -> np.ndarray:
 
 
 def flow_path(mesh: SurfaceMesh, vpath, start, end, *, scheme: str = "lsq",
-              n_outer: int = 4, mu: float = 4.0,
-              omega: float = 1.0, rings: int = 8, fast: bool = True) -> np.ndarray:
+              n_outer: int = 7, mu: float = 4.0,
+              omega: float = 1.3, rings: int = 14, fast: bool = True) -> np.ndarray:
     """Run the curvature flow from an edge path.
 
     Parameters
@@ -209,7 +209,7 @@ def flow_path(mesh: SurfaceMesh, vpath, start, end, *, scheme: str = "lsq",
     scheme : ``"lsq"`` or ``"euler"``
     n_outer : outer iterations (tangent planes re-estimated each time)
     mu : implicit-Euler step
-    omega : relaxation of each outer step (1: plain)
+    omega : over-relaxation of each outer step after the first (1: plain)
     rings : width of the vertex corridor searched for closest vertices
     fast : solve the least-squares step in tangent coordinates (same result)
 
