@@ -66,29 +66,59 @@ def bodice_front(b, g) -> PieceDraft:
     dl = g["y_apex"] - g["y_w"]
     o = OutlineBuilder()
     o.start((0.0, g["y_cfn"]), "centre_neck", notch=True)
-    o.polyline(bezier(*(neck * LEFT), 8), "neck_side_right", allowance_cm=EDGE_ALLOWANCE)
+    o.polyline(
+        bezier(*(neck * LEFT), 8), "neck_side_right", allowance_cm=EDGE_ALLOWANCE
+    )
     o.line(g["f_sp"] * LEFT, "shoulder_point_right")
-    o.polyline(bezier(*(up * LEFT), 8), "armhole_notch_right", notch=True, end_kind=CURVE, allowance_cm=EDGE_ALLOWANCE)
-    o.polyline(bezier(*(low * LEFT), 8), "side_underarm_right", allowance_cm=EDGE_ALLOWANCE)
+    o.polyline(
+        bezier(*(up * LEFT), 8),
+        "armhole_notch_right",
+        notch=True,
+        end_kind=CURVE,
+        allowance_cm=EDGE_ALLOWANCE,
+    )
+    o.polyline(
+        bezier(*(low * LEFT), 8), "side_underarm_right", allowance_cm=EDGE_ALLOWANCE
+    )
     o.line((-g["xsf"], g["y_w"]), "side_waist_right")
     w, x = g["dart_f"], g["dart_fx"]
     o.darted_line((0.0, g["y_w"]), "cf_waist", [(g["xsf"] - x, w, dl, "dart_right")])
     o.darted_line((g["xsf"], g["y_w"]), "side_waist_left", [(x, w, dl, "dart_left")])
     o.line((g["fwc"], 0.0), "side_underarm_left")
-    o.polyline(bezier(*low[::-1], 8), "armhole_notch_left", notch=True, end_kind=CURVE, allowance_cm=EDGE_ALLOWANCE)
+    o.polyline(
+        bezier(*low[::-1], 8),
+        "armhole_notch_left",
+        notch=True,
+        end_kind=CURVE,
+        allowance_cm=EDGE_ALLOWANCE,
+    )
     o.polyline(bezier(*up[::-1], 8), "shoulder_point_left", allowance_cm=EDGE_ALLOWANCE)
     o.line(g["f_snp"], "neck_side_left")
     o.polyline(bezier(*neck[::-1], 8)[:-1], end_kind=CURVE, allowance_cm=EDGE_ALLOWANCE)
     net = o.close(allowance_cm=EDGE_ALLOWANCE)
     return PieceDraft(
-        name="bodice_front", net=net, quantity=Quantity(right=1, left=0),
+        name="bodice_front",
+        net=net,
+        quantity=Quantity(right=1, left=0),
         grain=((0.0, g["y_w"] + 4), (0.0, g["y_cfn"] - 4)),
-        placement=Placement(body_part="torso", side="front", anchor="front_neck_point", anchor_mark="centre_neck"),
-        landmarks={"front_neck_point": "centre_neck", "neck_shoulder_point_right": "neck_side_right",
-                   "neck_shoulder_point_left": "neck_side_left", "shoulder_point_right": "shoulder_point_right",
-                   "shoulder_point_left": "shoulder_point_left", "waist_front": "cf_waist",
-                   "waist_side_right": "side_waist_right", "waist_side_left": "side_waist_left"},
-        category="FRONT", annotation="BODICE FRONT (CUT 1 ON FOLD)",
+        placement=Placement(
+            body_part="torso",
+            side="front",
+            anchor="front_neck_point",
+            anchor_mark="centre_neck",
+        ),
+        landmarks={
+            "front_neck_point": "centre_neck",
+            "neck_shoulder_point_right": "neck_side_right",
+            "neck_shoulder_point_left": "neck_side_left",
+            "shoulder_point_right": "shoulder_point_right",
+            "shoulder_point_left": "shoulder_point_left",
+            "waist_front": "cf_waist",
+            "waist_side_right": "side_waist_right",
+            "waist_side_left": "side_waist_left",
+        },
+        category="FRONT",
+        annotation="BODICE FRONT (CUT 1 ON FOLD)",
     )
 
 
@@ -99,20 +129,41 @@ def bodice_back(b, g) -> PieceDraft:
     o.start((0.0, g["y_nape"]), "cb_neck", notch=True)
     o.line((0.0, 0.0), "cb_chest", allowance_cm=CB_ALLOWANCE)
     o.line((0.0, g["y_w"]), "cb_waist", allowance_cm=CB_ALLOWANCE)
-    o.darted_line((g["xsb"], g["y_w"]), "side_waist", [(g["dart_bx"], g["dart_b"], 14.0, "dart")])
+    o.darted_line(
+        (g["xsb"], g["y_w"]), "side_waist", [(g["dart_bx"], g["dart_b"], 14.0, "dart")]
+    )
     o.line((g["bwc"], 0.0), "side_underarm")
-    o.polyline(bezier(*low[::-1], 8), "armhole_notch", notch=True, end_kind=CURVE, allowance_cm=EDGE_ALLOWANCE)
+    o.polyline(
+        bezier(*low[::-1], 8),
+        "armhole_notch",
+        notch=True,
+        end_kind=CURVE,
+        allowance_cm=EDGE_ALLOWANCE,
+    )
     o.polyline(bezier(*up[::-1], 8), "shoulder_point", allowance_cm=EDGE_ALLOWANCE)
     o.line(g["b_snp"], "neck_side")
     o.polyline(bezier(*neck[::-1], 8)[:-1], end_kind=CURVE, allowance_cm=EDGE_ALLOWANCE)
     net = o.close(allowance_cm=EDGE_ALLOWANCE)
     return PieceDraft(
-        name="bodice_back", net=net, quantity=Quantity(right=1, left=1),
+        name="bodice_back",
+        net=net,
+        quantity=Quantity(right=1, left=1),
         grain=((g["bwc"] / 2, g["y_w"] + 4), (g["bwc"] / 2, g["y_nape"] - 8)),
-        placement=Placement(body_part="torso", side="back", anchor="back_neck_point", anchor_mark="cb_neck"),
-        landmarks={"back_neck_point": "cb_neck", "neck_shoulder_point_right": "neck_side",
-                   "shoulder_point_right": "shoulder_point", "waist_back": "cb_waist", "waist_side_right": "side_waist"},
-        category="BACK", annotation="BODICE BACK",
+        placement=Placement(
+            body_part="torso",
+            side="back",
+            anchor="back_neck_point",
+            anchor_mark="cb_neck",
+        ),
+        landmarks={
+            "back_neck_point": "cb_neck",
+            "neck_shoulder_point_right": "neck_side",
+            "shoulder_point_right": "shoulder_point",
+            "waist_back": "cb_waist",
+            "waist_side_right": "side_waist",
+        },
+        category="BACK",
+        annotation="BODICE BACK",
     )
 
 
@@ -122,20 +173,38 @@ def skirt_front(b, g) -> PieceDraft:
     o.start((0.0, g["y_hem"]), "cf_hem")
     o.line((hf - 1.0, g["y_hem"]), "side_hem_left", allowance_cm=HEM_ALLOWANCE)
     o.line((hf, g["y_hip"]), "side_hip_left", notch=True)
-    o.polyline(hermite(o.current, (0.0, 1.0), (xs, 0.0), (-0.3, 1.0), 8), "side_waist_left")
+    o.polyline(
+        hermite(o.current, (0.0, 1.0), (xs, 0.0), (-0.3, 1.0), 8), "side_waist_left"
+    )
     o.darted_line((0.0, 0.0), "cf_waist", [(xs - x, w, 9.0, "dart_left")])
     o.darted_line((-xs, 0.0), "side_waist_right", [(x, w, 9.0, "dart_right")])
-    o.polyline(hermite(o.current, (-0.3, -1.0), (-hf, g["y_hip"]), (0.0, -1.0), 8), "side_hip_right", notch=True)
+    o.polyline(
+        hermite(o.current, (-0.3, -1.0), (-hf, g["y_hip"]), (0.0, -1.0), 8),
+        "side_hip_right",
+        notch=True,
+    )
     o.line((-hf + 1.0, g["y_hem"]), "side_hem_right")
     net = o.close(allowance_cm=HEM_ALLOWANCE)
     return PieceDraft(
-        name="skirt_front", net=net, quantity=Quantity(right=1, left=0),
+        name="skirt_front",
+        net=net,
+        quantity=Quantity(right=1, left=0),
         grain=((0.0, g["y_hem"] + 10), (0.0, g["y_hip"])),
-        placement=Placement(body_part="torso", side="front", anchor="waist_front", anchor_mark="cf_waist"),
-        landmarks={"waist_front": "cf_waist", "waist_side_right": "side_waist_right",
-                   "waist_side_left": "side_waist_left", "hip_side_right": "side_hip_right",
-                   "hip_side_left": "side_hip_left"},
-        category="FRONT", annotation="SKIRT FRONT (CUT 1 ON FOLD)",
+        placement=Placement(
+            body_part="torso",
+            side="front",
+            anchor="waist_front",
+            anchor_mark="cf_waist",
+        ),
+        landmarks={
+            "waist_front": "cf_waist",
+            "waist_side_right": "side_waist_right",
+            "waist_side_left": "side_waist_left",
+            "hip_side_right": "side_hip_right",
+            "hip_side_left": "side_hip_left",
+        },
+        category="FRONT",
+        annotation="SKIRT FRONT (CUT 1 ON FOLD)",
     )
 
 
@@ -147,14 +216,25 @@ def skirt_back(b, g) -> PieceDraft:
     o.line((hb - 1.0, g["y_hem"]), "side_hem", allowance_cm=HEM_ALLOWANCE)
     o.line((hb, g["y_hip"]), "side_hip", notch=True)
     o.polyline(hermite(o.current, (0.0, 1.0), (xs, 0.0), (-0.3, 1.0), 8), "side_waist")
-    o.darted_line((0.0, 0.0), "cb_waist", [(xs - g["dart_bx"], g["dart_b"], 13.0, "dart")])
+    o.darted_line(
+        (0.0, 0.0), "cb_waist", [(xs - g["dart_bx"], g["dart_b"], 13.0, "dart")]
+    )
     net = o.close(allowance_cm=CB_ALLOWANCE)
     return PieceDraft(
-        name="skirt_back", net=net, quantity=Quantity(right=1, left=1),
+        name="skirt_back",
+        net=net,
+        quantity=Quantity(right=1, left=1),
         grain=((hb / 2, g["y_hem"] + 10), (hb / 2, g["y_hip"])),
-        placement=Placement(body_part="torso", side="back", anchor="waist_back", anchor_mark="cb_waist"),
-        landmarks={"waist_back": "cb_waist", "waist_side_right": "side_waist", "hip_side_right": "side_hip"},
-        category="BACK", annotation="SKIRT BACK",
+        placement=Placement(
+            body_part="torso", side="back", anchor="waist_back", anchor_mark="cb_waist"
+        ),
+        landmarks={
+            "waist_back": "cb_waist",
+            "waist_side_right": "side_waist",
+            "hip_side_right": "side_hip",
+        },
+        category="BACK",
+        annotation="SKIRT BACK",
     )
 
 
@@ -165,69 +245,147 @@ def draft(b):
 
 def _seams():
     out = [
-        seam("shoulder_right", ("bodice_front", "neck_side_right", "shoulder_point_right"),
-             ("bodice_back", "shoulder_point", "neck_side")),
-        seam("shoulder_left", ("bodice_front", "shoulder_point_left", "neck_side_left"),
-             ("bodice_back", "shoulder_point", "neck_side", "mirror")),
-        seam("bodice_side_right", ("bodice_front", "side_underarm_right", "side_waist_right"),
-             ("bodice_back", "side_waist", "side_underarm")),
-        seam("bodice_side_left", ("bodice_front", "side_waist_left", "side_underarm_left"),
-             ("bodice_back", "side_waist", "side_underarm", "mirror")),
-        seam("skirt_side_right", ("skirt_front", "side_waist_right", "side_hem_right"),
-             ("skirt_back", "side_hem", "side_waist")),
-        seam("skirt_side_left", ("skirt_front", "side_hem_left", "side_waist_left"),
-             ("skirt_back", "side_hem", "side_waist", "mirror")),
-        seam("bodice_centre_back", ("bodice_back", "cb_neck", "cb_waist"),
-             ("bodice_back", "cb_neck", "cb_waist", "mirror")),
-        seam("skirt_centre_back", ("skirt_back", "cb_waist", "cb_hem"), ("skirt_back", "cb_waist", "cb_hem", "mirror")),
-        seam("waist_front_right", ("bodice_front", "side_waist_right", "dart_right_a"),
-             ("skirt_front", "dart_right_b", "side_waist_right")),
-        seam("waist_front_centre", ("bodice_front", "dart_right_b", "dart_left_a"),
-             ("skirt_front", "dart_left_b", "dart_right_a")),
-        seam("waist_front_left", ("bodice_front", "dart_left_b", "side_waist_left"),
-             ("skirt_front", "side_waist_left", "dart_left_a")),
+        seam(
+            "shoulder_right",
+            ("bodice_front", "neck_side_right", "shoulder_point_right"),
+            ("bodice_back", "shoulder_point", "neck_side"),
+        ),
+        seam(
+            "shoulder_left",
+            ("bodice_front", "shoulder_point_left", "neck_side_left"),
+            ("bodice_back", "shoulder_point", "neck_side", "mirror"),
+        ),
+        seam(
+            "bodice_side_right",
+            ("bodice_front", "side_underarm_right", "side_waist_right"),
+            ("bodice_back", "side_waist", "side_underarm"),
+        ),
+        seam(
+            "bodice_side_left",
+            ("bodice_front", "side_waist_left", "side_underarm_left"),
+            ("bodice_back", "side_waist", "side_underarm", "mirror"),
+        ),
+        seam(
+            "skirt_side_right",
+            ("skirt_front", "side_waist_right", "side_hem_right"),
+            ("skirt_back", "side_hem", "side_waist"),
+        ),
+        seam(
+            "skirt_side_left",
+            ("skirt_front", "side_hem_left", "side_waist_left"),
+            ("skirt_back", "side_hem", "side_waist", "mirror"),
+        ),
+        seam(
+            "bodice_centre_back",
+            ("bodice_back", "cb_neck", "cb_waist"),
+            ("bodice_back", "cb_neck", "cb_waist", "mirror"),
+        ),
+        seam(
+            "skirt_centre_back",
+            ("skirt_back", "cb_waist", "cb_hem"),
+            ("skirt_back", "cb_waist", "cb_hem", "mirror"),
+        ),
+        seam(
+            "waist_front_right",
+            ("bodice_front", "side_waist_right", "dart_right_a"),
+            ("skirt_front", "dart_right_b", "side_waist_right"),
+        ),
+        seam(
+            "waist_front_centre",
+            ("bodice_front", "dart_right_b", "dart_left_a"),
+            ("skirt_front", "dart_left_b", "dart_right_a"),
+        ),
+        seam(
+            "waist_front_left",
+            ("bodice_front", "dart_left_b", "side_waist_left"),
+            ("skirt_front", "side_waist_left", "dart_left_a"),
+        ),
     ]
     for side, copy in (("right", "primary"), ("left", "mirror")):
         out += [
-            seam(f"waist_back_centre_{side}", ("bodice_back", "cb_waist", "dart_a", copy),
-                 ("skirt_back", "dart_b", "cb_waist", copy)),
-            seam(f"waist_back_side_{side}", ("bodice_back", "dart_b", "side_waist", copy),
-                 ("skirt_back", "side_waist", "dart_a", copy)),
-            seam(f"bodice_back_dart_{side}", ("bodice_back", "dart_a", "dart_apex", copy),
-                 ("bodice_back", "dart_apex", "dart_b", copy)),
-            seam(f"skirt_back_dart_{side}", ("skirt_back", "dart_a", "dart_apex", copy),
-                 ("skirt_back", "dart_apex", "dart_b", copy)),
+            seam(
+                f"waist_back_centre_{side}",
+                ("bodice_back", "cb_waist", "dart_a", copy),
+                ("skirt_back", "dart_b", "cb_waist", copy),
+            ),
+            seam(
+                f"waist_back_side_{side}",
+                ("bodice_back", "dart_b", "side_waist", copy),
+                ("skirt_back", "side_waist", "dart_a", copy),
+            ),
+            seam(
+                f"bodice_back_dart_{side}",
+                ("bodice_back", "dart_a", "dart_apex", copy),
+                ("bodice_back", "dart_apex", "dart_b", copy),
+            ),
+            seam(
+                f"skirt_back_dart_{side}",
+                ("skirt_back", "dart_a", "dart_apex", copy),
+                ("skirt_back", "dart_apex", "dart_b", copy),
+            ),
         ]
     for piece in ("bodice_front", "skirt_front"):
         for d in ("dart_right", "dart_left"):
-            out.append(seam(f"{piece}_{d}", (piece, f"{d}_a", f"{d}_apex"), (piece, f"{d}_apex", f"{d}_b")))
+            out.append(
+                seam(
+                    f"{piece}_{d}",
+                    (piece, f"{d}_a", f"{d}_apex"),
+                    (piece, f"{d}_apex", f"{d}_b"),
+                )
+            )
     return out
 
 
 SEAMS = _seams()
 
 LINKS = [
-    link("chest_girth", BUST_EASE, leg("bodice_front", "side_underarm_right", "side_underarm_left"),
-         leg("bodice_back", "cb_chest", "side_underarm", factor=2)),
-    link("waist_girth", WAIST_EASE,
-         leg("bodice_front", "side_waist_right", "dart_right_a", "boundary"),
-         leg("bodice_front", "dart_right_b", "dart_left_a", "boundary"),
-         leg("bodice_front", "dart_left_b", "side_waist_left", "boundary"),
-         leg("bodice_back", "cb_waist", "dart_a", "boundary", 2),
-         leg("bodice_back", "dart_b", "side_waist", "boundary", 2)),
-    link("hip_girth", HIP_EASE, leg("skirt_front", "side_hip_right", "side_hip_left"),
-         leg("skirt_back", "cb_hip", "side_hip", factor=2)),
+    link(
+        "chest_girth",
+        BUST_EASE,
+        leg("bodice_front", "side_underarm_right", "side_underarm_left"),
+        leg("bodice_back", "cb_chest", "side_underarm", factor=2),
+    ),
+    link(
+        "waist_girth",
+        WAIST_EASE,
+        leg("bodice_front", "side_waist_right", "dart_right_a", "boundary"),
+        leg("bodice_front", "dart_right_b", "dart_left_a", "boundary"),
+        leg("bodice_front", "dart_left_b", "side_waist_left", "boundary"),
+        leg("bodice_back", "cb_waist", "dart_a", "boundary", 2),
+        leg("bodice_back", "dart_b", "side_waist", "boundary", 2),
+    ),
+    link(
+        "hip_girth",
+        HIP_EASE,
+        leg("skirt_front", "side_hip_right", "side_hip_left"),
+        leg("skirt_back", "cb_hip", "side_hip", factor=2),
+    ),
     link("back_length", None, leg("bodice_back", "cb_neck", "cb_waist", "boundary")),
     link("front_length", None, leg("bodice_front", "centre_neck", "cf_waist")),
-    link("shoulder_length_right", None, leg("bodice_front", "neck_side_right", "shoulder_point_right")),
-    link("waist_to_hip", None, leg("skirt_front", "side_waist_right", "side_hip_right", "boundary")),
+    link(
+        "shoulder_length_right",
+        None,
+        leg("bodice_front", "neck_side_right", "shoulder_point_right"),
+    ),
+    link(
+        "waist_to_hip",
+        None,
+        leg("skirt_front", "side_waist_right", "side_hip_right", "boundary"),
+    ),
 ]
 
 DESCRIPTION = "Fitted sleeveless sheath dress (stretch, no ease): darted bodice and skirt joined at the waist, centre-back zip"
 
 
 def build():
-    return build_pattern(style="dress", description=DESCRIPTION, chart=CHART, draft=draft, seams=SEAMS, links=LINKS)
+    return build_pattern(
+        style="dress",
+        description=DESCRIPTION,
+        chart=CHART,
+        draft=draft,
+        seams=SEAMS,
+        links=LINKS,
+    )
 
 
 if __name__ == "__main__":

@@ -18,8 +18,18 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import brentq
 
-from patternbridge.library.blocks import armhole_controls, neckline_controls, sleeve_cap_controls
-from patternbridge.library.draft import OutlineBuilder, bezier, bezier_split, bezier_t_at, bezier_length
+from patternbridge.library.blocks import (
+    armhole_controls,
+    neckline_controls,
+    sleeve_cap_controls,
+)
+from patternbridge.library.draft import (
+    OutlineBuilder,
+    bezier,
+    bezier_length,
+    bezier_split,
+    bezier_t_at,
+)
 from patternbridge.library.garment import PieceDraft, build_pattern, leg, link, seam
 from patternbridge.library.sizes import MEN
 from patternbridge.pattern.model import Placement, Quantity, VertexKind
@@ -66,27 +76,48 @@ def _back_armhole(g):
 def front(b, g) -> PieceDraft:
     o = OutlineBuilder()
     o.start((0.0, g["y_cfn"]), "cf_neck")
-    o.bezier(neckline_controls((0.0, g["y_cfn"]), g["f_snp"], g["f_sp"] - g["f_snp"]), "neck_side", n=10)
+    o.bezier(
+        neckline_controls((0.0, g["y_cfn"]), g["f_snp"], g["f_sp"] - g["f_snp"]),
+        "neck_side",
+        n=10,
+    )
     o.line(g["f_sp"], "shoulder_point")
     upper, lower = armhole_controls(g["f_sp"], g["f_ac"], (-g["fwc"], 0.0))
     o.bezier(upper, "armhole_notch", n=8, notch=True, end_kind=CURVE)
     o.bezier(lower, "side_underarm", n=8)
     o.line((-g["fwc"] + 1.0, g["y_waist"]), "side_waist", notch=True)
     o.line((-g["fwc"] + 0.5, g["y_hem"] + 6.0), "side_hem")
-    o.curve((-g["fwc"] * 0.55, g["y_hem"] + 6.0), (-g["fwc"] * 0.35, g["y_hem"]), (0.0, g["y_hem"]), "cf_hem",
-            n=10, allowance_cm=HEM_ALLOWANCE)
+    o.curve(
+        (-g["fwc"] * 0.55, g["y_hem"] + 6.0),
+        (-g["fwc"] * 0.35, g["y_hem"]),
+        (0.0, g["y_hem"]),
+        "cf_hem",
+        n=10,
+        allowance_cm=HEM_ALLOWANCE,
+    )
     o.line((0.0, g["y_waist"]), "cf_waist", allowance_cm=CF_ALLOWANCE)
     o.line((0.0, 0.0), "cf_chest", allowance_cm=CF_ALLOWANCE)
     net = o.close(allowance_cm=CF_ALLOWANCE)
     return PieceDraft(
-        name="front", net=net, quantity=Quantity(right=1, left=1),
+        name="front",
+        net=net,
+        quantity=Quantity(right=1, left=1),
         grain=((-g["fwc"] / 2, g["y_waist"] - 10), (-g["fwc"] / 2, g["f_sp"][1] - 8)),
-        placement=Placement(body_part="torso", side="front", anchor="neck_shoulder_point_right",
-                            anchor_mark="neck_side"),
-        landmarks={"front_neck_point": "cf_neck", "neck_shoulder_point_right": "neck_side",
-                   "shoulder_point_right": "shoulder_point", "waist_front": "cf_waist",
-                   "waist_side_right": "side_waist"},
-        category="FRONT", annotation="SHIRT FRONT",
+        placement=Placement(
+            body_part="torso",
+            side="front",
+            anchor="neck_shoulder_point_right",
+            anchor_mark="neck_side",
+        ),
+        landmarks={
+            "front_neck_point": "cf_neck",
+            "neck_shoulder_point_right": "neck_side",
+            "shoulder_point_right": "shoulder_point",
+            "waist_front": "cf_waist",
+            "waist_side_right": "side_waist",
+        },
+        category="FRONT",
+        annotation="SHIRT FRONT",
     )
 
 
@@ -106,23 +137,53 @@ def back(b, g) -> PieceDraft:
     o.bezier(down_lower, "side_underarm_left", n=9, at=[(1.0, "ab_notch2_left", True)])
     o.line((-bwc + 1.0, g["y_waist"]), "side_waist_left", notch=True)
     o.line((-bwc + 0.5, g["y_hem"] + 6.0), "side_hem_left")
-    o.curve((-bwc * 0.55, g["y_hem"] + 6.0), (-bwc * 0.35, g["y_hem"] - 2.0), (0.0, g["y_hem"] - 2.0), "cb_hem",
-            n=10, allowance_cm=HEM_ALLOWANCE)
-    o.curve((bwc * 0.35, g["y_hem"] - 2.0), (bwc * 0.55, g["y_hem"] + 6.0), (bwc - 0.5, g["y_hem"] + 6.0),
-            "side_hem_right", n=10, allowance_cm=HEM_ALLOWANCE)
+    o.curve(
+        (-bwc * 0.55, g["y_hem"] + 6.0),
+        (-bwc * 0.35, g["y_hem"] - 2.0),
+        (0.0, g["y_hem"] - 2.0),
+        "cb_hem",
+        n=10,
+        allowance_cm=HEM_ALLOWANCE,
+    )
+    o.curve(
+        (bwc * 0.35, g["y_hem"] - 2.0),
+        (bwc * 0.55, g["y_hem"] + 6.0),
+        (bwc - 0.5, g["y_hem"] + 6.0),
+        "side_hem_right",
+        n=10,
+        allowance_cm=HEM_ALLOWANCE,
+    )
     o.line((bwc - 1.0, g["y_waist"]), "side_waist_right", notch=True)
     o.line((bwc, 0.0), "side_underarm_right")
     # up the right armhole: the notch 1 cm below the across-back point, then the across-back point
-    o.bezier(up_lower, "ab_notch", n=9, notch=True, end_kind=CURVE, at=[(lower_len - 1.0, "ab_notch2", True)])
+    o.bezier(
+        up_lower,
+        "ab_notch",
+        n=9,
+        notch=True,
+        end_kind=CURVE,
+        at=[(lower_len - 1.0, "ab_notch2", True)],
+    )
     o.bezier(up_upper, "yoke_right", n=6)
     o.line((0.0, g["y_yoke"]), "cb_yoke", notch=True)
     net = o.close()
     return PieceDraft(
-        name="back", net=net, quantity=Quantity(right=1, left=0),
+        name="back",
+        net=net,
+        quantity=Quantity(right=1, left=0),
         grain=((0.0, g["y_waist"] - 10), (0.0, g["y_yoke"] - 6)),
-        placement=Placement(body_part="torso", side="back", anchor="waist_side_right", anchor_mark="side_waist_right"),
-        landmarks={"waist_side_right": "side_waist_right", "waist_side_left": "side_waist_left"},
-        category="BACK", annotation="SHIRT BACK (CUT 1, CENTRE BACK AT MIDDLE)",
+        placement=Placement(
+            body_part="torso",
+            side="back",
+            anchor="waist_side_right",
+            anchor_mark="side_waist_right",
+        ),
+        landmarks={
+            "waist_side_right": "side_waist_right",
+            "waist_side_left": "side_waist_left",
+        },
+        category="BACK",
+        annotation="SHIRT BACK (CUT 1, CENTRE BACK AT MIDDLE)",
     )
 
 
@@ -143,16 +204,30 @@ def yoke(b, g) -> PieceDraft:
     o.polyline(neck_right, "cb_neck", notch=True, end_kind=CURVE)
     o.polyline(neck_left, "neck_side_left")
     o.line(g["b_sp"] * np.array([-1.0, 1.0]), "shoulder_point_left")
-    o.polyline(left_down[:-1], end_kind=CURVE)  # close() joins the last edge to yoke_left
+    o.polyline(
+        left_down[:-1], end_kind=CURVE
+    )  # close() joins the last edge to yoke_left
     net = o.close()
     return PieceDraft(
-        name="yoke", net=net, quantity=Quantity(right=1, left=0),
+        name="yoke",
+        net=net,
+        quantity=Quantity(right=1, left=0),
         grain=((0.0, g["y_yoke"] + 1.5), (0.0, g["y_nape"] - 2.0)),
-        placement=Placement(body_part="torso", side="back", anchor="back_neck_point", anchor_mark="cb_neck"),
-        landmarks={"back_neck_point": "cb_neck", "neck_shoulder_point_right": "neck_side_right",
-                   "neck_shoulder_point_left": "neck_side_left", "shoulder_point_right": "shoulder_point_right",
-                   "shoulder_point_left": "shoulder_point_left"},
-        category="YOKE", annotation="BACK YOKE (CUT 1)",
+        placement=Placement(
+            body_part="torso",
+            side="back",
+            anchor="back_neck_point",
+            anchor_mark="cb_neck",
+        ),
+        landmarks={
+            "back_neck_point": "cb_neck",
+            "neck_shoulder_point_right": "neck_side_right",
+            "neck_shoulder_point_left": "neck_side_left",
+            "shoulder_point_right": "shoulder_point_right",
+            "shoulder_point_left": "shoulder_point_left",
+        },
+        category="YOKE",
+        annotation="BACK YOKE (CUT 1)",
     )
 
 
@@ -167,8 +242,12 @@ def sleeve(b, g, fr: PieceDraft, bk: PieceDraft, yk: PieceDraft) -> PieceDraft:
     # notch positions, proportional along each seam (b of a seam runs opposite to a)
     (nf,) = fr.net.notch_offsets("shoulder_point", "side_underarm")
     s_front = (lf - nf) * (lf + ef) / lf
-    nb = bk.net.notch_offsets("side_underarm_right", "yoke_right")  # from the underarm upwards
-    s_back = [(ly + ey) + (lb - s) * (lb + eb) / lb for s in nb]  # from the crown downwards
+    nb = bk.net.notch_offsets(
+        "side_underarm_right", "yoke_right"
+    )  # from the underarm upwards
+    s_back = [
+        (ly + ey) + (lb - s) * (lb + eb) / lb for s in nb
+    ]  # from the crown downwards
     cuff_len = b["wrist_girth_right"] + WRIST_EASE
     hem_w = cuff_len + CUFF_PLEATS
     length = b["arm_length_right"] + 2.0 - CUFF_DEPTH
@@ -176,19 +255,42 @@ def sleeve(b, g, fr: PieceDraft, bk: PieceDraft, yk: PieceDraft) -> PieceDraft:
     xt = cap_f[3][0]
     o = OutlineBuilder()
     o.start((a, 0.0), "underarm_front")
-    o.bezier(cap_f, "cap_top", n=14, notch=True, at=[(s_front, "front_notch", True)], end_kind=CURVE)
-    o.bezier(cap_b, "underarm_back", n=18,
-             at=[(ly + ey, "yoke_notch", True), (s_back[0], "back_notch", True), (s_back[1], "back_notch2", True)])
+    o.bezier(
+        cap_f,
+        "cap_top",
+        n=14,
+        notch=True,
+        at=[(s_front, "front_notch", True)],
+        end_kind=CURVE,
+    )
+    o.bezier(
+        cap_b,
+        "underarm_back",
+        n=18,
+        at=[
+            (ly + ey, "yoke_notch", True),
+            (s_back[0], "back_notch", True),
+            (s_back[1], "back_notch2", True),
+        ],
+    )
     o.line((-hem_w / 2, y_hem), "hem_back")
     o.line((xt, y_hem), "hem_mid", notch=True)
     o.line((hem_w / 2, y_hem), "hem_front")
     net = o.close()
     return PieceDraft(
-        name="sleeve", net=net, quantity=Quantity(right=1, left=1),
+        name="sleeve",
+        net=net,
+        quantity=Quantity(right=1, left=1),
         grain=((xt, y_hem + 8.0), (xt, h - 8.0)),
-        placement=Placement(body_part="right_arm", side="around", anchor="shoulder_point_right", anchor_mark="cap_top"),
+        placement=Placement(
+            body_part="right_arm",
+            side="around",
+            anchor="shoulder_point_right",
+            anchor_mark="cap_top",
+        ),
         landmarks={"shoulder_point_right": "cap_top"},
-        category="SLEEVE", annotation="SLEEVE",
+        category="SLEEVE",
+        annotation="SLEEVE",
     ), (ef, ey, eb)
 
 
@@ -205,10 +307,18 @@ def cuff(b, g, sl: PieceDraft) -> PieceDraft:
     o.line((x_notch, CUFF_DEPTH), "top_mid", notch=True)
     net = o.close()
     return PieceDraft(
-        name="cuff", net=net, quantity=Quantity(right=1, left=1),
+        name="cuff",
+        net=net,
+        quantity=Quantity(right=1, left=1),
         grain=((-w / 4, CUFF_DEPTH / 2), (w / 4, CUFF_DEPTH / 2)),
-        placement=Placement(body_part="right_arm", side="around", anchor="wrist_point_right", anchor_mark="bottom_right"),
-        category="CUFF", annotation="CUFF",
+        placement=Placement(
+            body_part="right_arm",
+            side="around",
+            anchor="wrist_point_right",
+            anchor_mark="bottom_right",
+        ),
+        category="CUFF",
+        annotation="CUFF",
     )
 
 
@@ -219,9 +329,18 @@ def collar(b, g, fr: PieceDraft, yk: PieceDraft) -> PieceDraft:
 
     def end_curve(d):
         p0 = np.array([half_back, 0.0])
-        return np.array([p0, p0 + [d * 0.5, 0.0], [half_back + d * 0.8, rise * 0.4], [half_back + d, rise]])
+        return np.array(
+            [
+                p0,
+                p0 + [d * 0.5, 0.0],
+                [half_back + d * 0.8, rise * 0.4],
+                [half_back + d, rise],
+            ]
+        )
 
-    d = brentq(lambda d: bezier_length(end_curve(d)) - front_neck, 0.5 * front_neck, front_neck)
+    d = brentq(
+        lambda d: bezier_length(end_curve(d)) - front_neck, 0.5 * front_neck, front_neck
+    )
     right = bezier(*end_curve(d), 8)
     left = (right * [-1.0, 1.0])[::-1]
     xe = half_back + d
@@ -233,14 +352,25 @@ def collar(b, g, fr: PieceDraft, yk: PieceDraft) -> PieceDraft:
     o.polyline(right, "end_right")
     o.line((xe + 2.0, rise + height), "tip_right")
     o.curve((xe * 0.6, height + 0.4), (xe * 0.3, height), (0.0, height), "top_cb", n=6)
-    o.curve((-xe * 0.3, height), (-xe * 0.6, height + 0.4), (-xe - 2.0, rise + height), "tip_left", n=6)
+    o.curve(
+        (-xe * 0.3, height),
+        (-xe * 0.6, height + 0.4),
+        (-xe - 2.0, rise + height),
+        "tip_left",
+        n=6,
+    )
     net = o.close()
     return PieceDraft(
-        name="collar", net=net, quantity=Quantity(right=1, left=0),
+        name="collar",
+        net=net,
+        quantity=Quantity(right=1, left=0),
         grain=((-8.0, height / 2), (8.0, height / 2)),
-        placement=Placement(body_part="neck", side="around", anchor="back_neck_point", anchor_mark="cb"),
+        placement=Placement(
+            body_part="neck", side="around", anchor="back_neck_point", anchor_mark="cb"
+        ),
         landmarks={"back_neck_point": "cb"},
-        category="COLLAR", annotation="COLLAR (CUT 1, CENTRE BACK AT MIDDLE)",
+        category="COLLAR",
+        annotation="COLLAR (CUT 1, CENTRE BACK AT MIDDLE)",
     )
 
 
@@ -262,53 +392,143 @@ def seams():
     ef, ey, eb = _EASES[str(body["chest_girth"])]
     out = []
     for side, copy in (("right", "primary"), ("left", "mirror")):
-        back_arm = ("back", "side_underarm_right", "yoke_right") if side == "right" else \
-            ("back", "yoke_left", "side_underarm_left")
-        yoke_arm = ("yoke", "yoke_right", "shoulder_point_right") if side == "right" else \
-            ("yoke", "shoulder_point_left", "yoke_left")
-        yoke_sh = ("yoke", "shoulder_point_right", "neck_side_right") if side == "right" else \
-            ("yoke", "neck_side_left", "shoulder_point_left")
-        back_side = ("back", "side_hem_right", "side_underarm_right") if side == "right" else \
-            ("back", "side_underarm_left", "side_hem_left")
+        back_arm = (
+            ("back", "side_underarm_right", "yoke_right")
+            if side == "right"
+            else ("back", "yoke_left", "side_underarm_left")
+        )
+        yoke_arm = (
+            ("yoke", "yoke_right", "shoulder_point_right")
+            if side == "right"
+            else ("yoke", "shoulder_point_left", "yoke_left")
+        )
+        yoke_sh = (
+            ("yoke", "shoulder_point_right", "neck_side_right")
+            if side == "right"
+            else ("yoke", "neck_side_left", "shoulder_point_left")
+        )
+        back_side = (
+            ("back", "side_hem_right", "side_underarm_right")
+            if side == "right"
+            else ("back", "side_underarm_left", "side_hem_left")
+        )
         out += [
-            seam(f"shoulder_{side}", ("front", "neck_side", "shoulder_point", copy), yoke_sh),
-            seam(f"side_{side}", ("front", "side_underarm", "side_hem", copy), back_side),
-            seam(f"armhole_front_{side}", ("front", "shoulder_point", "side_underarm", copy),
-                 ("sleeve", "underarm_front", "cap_top", copy), ease_cm=round(ef, 4)),
-            seam(f"armhole_yoke_{side}", yoke_arm, ("sleeve", "cap_top", "yoke_notch", copy), ease_cm=round(ey, 4)),
-            seam(f"armhole_back_{side}", back_arm, ("sleeve", "yoke_notch", "underarm_back", copy),
-                 ease_cm=round(eb, 4)),
-            seam(f"sleeve_{side}", ("sleeve", "hem_front", "underarm_front", copy),
-                 ("sleeve", "underarm_back", "hem_back", copy)),
-            seam(f"cuff_{side}", ("cuff", "top_right", "top_left", copy), ("sleeve", "hem_back", "hem_front", copy),
-                 ease_cm=CUFF_PLEATS),
-            seam(f"cuff_closure_{side}", ("cuff", "top_left", "bottom_left", copy),
-                 ("cuff", "bottom_right", "top_right", copy)),
+            seam(
+                f"shoulder_{side}",
+                ("front", "neck_side", "shoulder_point", copy),
+                yoke_sh,
+            ),
+            seam(
+                f"side_{side}", ("front", "side_underarm", "side_hem", copy), back_side
+            ),
+            seam(
+                f"armhole_front_{side}",
+                ("front", "shoulder_point", "side_underarm", copy),
+                ("sleeve", "underarm_front", "cap_top", copy),
+                ease_cm=round(ef, 4),
+            ),
+            seam(
+                f"armhole_yoke_{side}",
+                yoke_arm,
+                ("sleeve", "cap_top", "yoke_notch", copy),
+                ease_cm=round(ey, 4),
+            ),
+            seam(
+                f"armhole_back_{side}",
+                back_arm,
+                ("sleeve", "yoke_notch", "underarm_back", copy),
+                ease_cm=round(eb, 4),
+            ),
+            seam(
+                f"sleeve_{side}",
+                ("sleeve", "hem_front", "underarm_front", copy),
+                ("sleeve", "underarm_back", "hem_back", copy),
+            ),
+            seam(
+                f"cuff_{side}",
+                ("cuff", "top_right", "top_left", copy),
+                ("sleeve", "hem_back", "hem_front", copy),
+                ease_cm=CUFF_PLEATS,
+            ),
+            seam(
+                f"cuff_closure_{side}",
+                ("cuff", "top_left", "bottom_left", copy),
+                ("cuff", "bottom_right", "top_right", copy),
+            ),
         ]
     out += [
-        seam("yoke", ("yoke", "yoke_left", "yoke_right"), ("back", "yoke_right", "yoke_left")),
-        seam("centre_front", ("front", "cf_hem", "cf_neck"), ("front", "cf_hem", "cf_neck", "mirror")),
-        seam("collar_back", ("yoke", "neck_side_right", "neck_side_left"), ("collar", "snp_left", "snp_right")),
-        seam("collar_front_right", ("front", "cf_neck", "neck_side"), ("collar", "snp_right", "end_right")),
-        seam("collar_front_left", ("front", "cf_neck", "neck_side", "mirror"), ("collar", "end_left", "snp_left")),
-        seam("collar_closure", ("collar", "tip_left", "end_left"), ("collar", "end_right", "tip_right")),
+        seam(
+            "yoke",
+            ("yoke", "yoke_left", "yoke_right"),
+            ("back", "yoke_right", "yoke_left"),
+        ),
+        seam(
+            "centre_front",
+            ("front", "cf_hem", "cf_neck"),
+            ("front", "cf_hem", "cf_neck", "mirror"),
+        ),
+        seam(
+            "collar_back",
+            ("yoke", "neck_side_right", "neck_side_left"),
+            ("collar", "snp_left", "snp_right"),
+        ),
+        seam(
+            "collar_front_right",
+            ("front", "cf_neck", "neck_side"),
+            ("collar", "snp_right", "end_right"),
+        ),
+        seam(
+            "collar_front_left",
+            ("front", "cf_neck", "neck_side", "mirror"),
+            ("collar", "end_left", "snp_left"),
+        ),
+        seam(
+            "collar_closure",
+            ("collar", "tip_left", "end_left"),
+            ("collar", "end_right", "tip_right"),
+        ),
     ]
     return out
 
 
 LINKS = [
-    link("chest_girth", CHEST_EASE, leg("front", "side_underarm", "cf_chest", factor=2),
-         leg("back", "side_underarm_left", "side_underarm_right")),
-    link("waist_girth", None, leg("front", "side_waist", "cf_waist", factor=2),
-         leg("back", "side_waist_left", "side_waist_right")),
-    link("neck_girth", None, leg("front", "cf_neck", "neck_side", "boundary", 2),
-         leg("yoke", "neck_side_right", "neck_side_left", "boundary")),
-    link("shoulder_width", None, leg("yoke", "shoulder_point_left", "shoulder_point_right")),
+    link(
+        "chest_girth",
+        CHEST_EASE,
+        leg("front", "side_underarm", "cf_chest", factor=2),
+        leg("back", "side_underarm_left", "side_underarm_right"),
+    ),
+    link(
+        "waist_girth",
+        None,
+        leg("front", "side_waist", "cf_waist", factor=2),
+        leg("back", "side_waist_left", "side_waist_right"),
+    ),
+    link(
+        "neck_girth",
+        None,
+        leg("front", "cf_neck", "neck_side", "boundary", 2),
+        leg("yoke", "neck_side_right", "neck_side_left", "boundary"),
+    ),
+    link(
+        "shoulder_width",
+        None,
+        leg("yoke", "shoulder_point_left", "shoulder_point_right"),
+    ),
     link("back_width", None, leg("back", "ab_notch_left", "ab_notch")),
     link("shoulder_length_right", 1.0, leg("front", "neck_side", "shoulder_point")),
     link("front_length", None, leg("front", "cf_neck", "cf_waist")),
-    link("arm_length_right", None, leg("sleeve", "cap_top", "hem_mid"), leg("cuff", "top_right", "bottom_right")),
-    link("upper_arm_girth_right", BICEP_EASE, leg("sleeve", "underarm_front", "underarm_back")),
+    link(
+        "arm_length_right",
+        None,
+        leg("sleeve", "cap_top", "hem_mid"),
+        leg("cuff", "top_right", "bottom_right"),
+    ),
+    link(
+        "upper_arm_girth_right",
+        BICEP_EASE,
+        leg("sleeve", "underarm_front", "underarm_back"),
+    ),
     link("wrist_girth_right", WRIST_EASE, leg("cuff", "bottom_left", "bottom_right")),
 ]
 
@@ -316,7 +536,14 @@ DESCRIPTION = "Classic shirt: fronts, back with yoke, one-piece sleeves with cuf
 
 
 def build():
-    return build_pattern(style="shirt", description=DESCRIPTION, chart=CHART, draft=draft, seams=seams(), links=LINKS)
+    return build_pattern(
+        style="shirt",
+        description=DESCRIPTION,
+        chart=CHART,
+        draft=draft,
+        seams=seams(),
+        links=LINKS,
+    )
 
 
 if __name__ == "__main__":

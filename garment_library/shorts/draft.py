@@ -15,7 +15,9 @@ from pathlib import Path
 from patternbridge.library.garment import build_pattern, leg, link
 from patternbridge.library.sizes import MEN
 
-_TROUSERS = runpy.run_path(str(Path(__file__).resolve().parents[1] / "trousers" / "draft.py"))
+_TROUSERS = runpy.run_path(
+    str(Path(__file__).resolve().parents[1] / "trousers" / "draft.py")
+)
 CHART = MEN.relabel("waist_girth")
 LEG_BELOW_CROTCH = 20.0
 
@@ -25,7 +27,9 @@ def _geometry(b):
     g["y_knee"] = -LEG_BELOW_CROTCH / 2
     g["y_hem"] = -LEG_BELOW_CROTCH
     g["kf"] = g["hf"] + g["ef"] - 2.0
-    g["kb"] = g["kf"] + 8.0  # a fuller back thigh keeps the short back inside leg from slanting
+    g["kb"] = (
+        g["kf"] + 8.0
+    )  # a fuller back thigh keeps the short back inside leg from slanting
     g["hemf"] = g["kf"] - 1.0
     g["hemb"] = g["kb"] - 1.0
     return g
@@ -41,23 +45,46 @@ def draft(b):
 SEAMS = list(_TROUSERS["SEAMS"])
 
 LINKS = [
-    link("waist_girth", _TROUSERS["WAIST_EASE"],
-         leg("front", "cf_waist", "side_waist", "boundary", 2),
-         leg("back", "side_waist", "dart_side", "boundary", 2),
-         leg("back", "dart_cb", "cb_waist", "boundary", 2)),
-    link("hip_girth", _TROUSERS["HIP_EASE"], leg("front", "cf_hip", "side_hip", factor=2),
-         leg("back", "cb_hip", "side_hip", factor=2)),
-    link("crotch_length", None, leg("front", "crotch_point", "cf_waist", "boundary"),
-         leg("back", "cb_waist", "crotch_point", "boundary")),
+    link(
+        "waist_girth",
+        _TROUSERS["WAIST_EASE"],
+        leg("front", "cf_waist", "side_waist", "boundary", 2),
+        leg("back", "side_waist", "dart_side", "boundary", 2),
+        leg("back", "dart_cb", "cb_waist", "boundary", 2),
+    ),
+    link(
+        "hip_girth",
+        _TROUSERS["HIP_EASE"],
+        leg("front", "cf_hip", "side_hip", factor=2),
+        leg("back", "cb_hip", "side_hip", factor=2),
+    ),
+    link(
+        "crotch_length",
+        None,
+        leg("front", "crotch_point", "cf_waist", "boundary"),
+        leg("back", "cb_waist", "crotch_point", "boundary"),
+    ),
     link("waist_to_hip", None, leg("front", "side_waist", "side_hip", "boundary")),
-    link("thigh_girth_right", None, leg("front", "side_crotch", "crotch_point"), leg("back", "crotch_point", "side_crotch")),
+    link(
+        "thigh_girth_right",
+        None,
+        leg("front", "side_crotch", "crotch_point"),
+        leg("back", "crotch_point", "side_crotch"),
+    ),
 ]
 
 DESCRIPTION = "Shorts: trouser-block front and back (back dart) ending 20 cm below the crotch, straight waistband"
 
 
 def build():
-    return build_pattern(style="shorts", description=DESCRIPTION, chart=CHART, draft=draft, seams=SEAMS, links=LINKS)
+    return build_pattern(
+        style="shorts",
+        description=DESCRIPTION,
+        chart=CHART,
+        draft=draft,
+        seams=SEAMS,
+        links=LINKS,
+    )
 
 
 if __name__ == "__main__":

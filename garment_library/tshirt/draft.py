@@ -15,9 +15,20 @@ from pathlib import Path
 
 import numpy as np
 
-from patternbridge.library.blocks import armhole_controls, neckline_controls, sleeve_cap_controls
+from patternbridge.library.blocks import (
+    armhole_controls,
+    neckline_controls,
+    sleeve_cap_controls,
+)
 from patternbridge.library.draft import OutlineBuilder, bezier
-from patternbridge.library.garment import PieceDraft, band_draft, build_pattern, leg, link, seam
+from patternbridge.library.garment import (
+    PieceDraft,
+    band_draft,
+    build_pattern,
+    leg,
+    link,
+    seam,
+)
 from patternbridge.library.sizes import MEN
 from patternbridge.pattern.model import Placement, Quantity, VertexKind
 
@@ -59,41 +70,86 @@ def _body(name, g, centre_neck_y, across, side, landmarks, placement, annotation
     o.start((0.0, centre_neck_y), "centre_neck", notch=True)
     o.polyline(bezier(*(neck * fx), 8), f"neck_side_{first}")
     o.line(g["sp"] * fx, f"shoulder_point_{first}")
-    o.polyline(bezier(*(arm_upper * fx), 8), f"armhole_notch_{first}", notch=True, end_kind=CURVE)
+    o.polyline(
+        bezier(*(arm_upper * fx), 8),
+        f"armhole_notch_{first}",
+        notch=True,
+        end_kind=CURVE,
+    )
     o.polyline(bezier(*(arm_lower * fx), 8), f"side_underarm_{first}")
     o.line((f * g["half"], g["y_hem"]), f"side_hem_{first}", allowance_cm=HEM_ALLOWANCE)
     o.line((0.0, g["y_hem"]), "centre_hem", allowance_cm=HEM_ALLOWANCE, notch=True)
     o.line((-f * g["half"], g["y_hem"]), f"side_hem_{second}")
     o.line((-f * g["half"], 0.0), f"side_underarm_{second}")
     ox = np.array([-f, 1.0])
-    o.polyline(bezier(*(arm_lower[::-1] * ox), 8), f"armhole_notch_{second}", notch=True, end_kind=CURVE)
+    o.polyline(
+        bezier(*(arm_lower[::-1] * ox), 8),
+        f"armhole_notch_{second}",
+        notch=True,
+        end_kind=CURVE,
+    )
     o.polyline(bezier(*(arm_upper[::-1] * ox), 8), f"shoulder_point_{second}")
     o.line(g["snp"] * ox, f"neck_side_{second}")
     o.polyline(bezier(*(neck[::-1] * ox), 8)[:-1], end_kind=CURVE)
     net = o.close()
     return PieceDraft(
-        name=name, net=net, quantity=Quantity(right=1, left=0),
+        name=name,
+        net=net,
+        quantity=Quantity(right=1, left=0),
         grain=((0.0, g["y_hem"] + 8), (0.0, centre_neck_y - 8)),
-        placement=placement, landmarks=landmarks, category=name.upper(), annotation=annotation,
+        placement=placement,
+        landmarks=landmarks,
+        category=name.upper(),
+        annotation=annotation,
     )
 
 
 def front(b, g):
-    return _body("front", g, g["y_cfn"], g["ac"], "front",
-                 {"front_neck_point": "centre_neck", "neck_shoulder_point_right": "neck_side_right",
-                  "neck_shoulder_point_left": "neck_side_left", "shoulder_point_right": "shoulder_point_right",
-                  "shoulder_point_left": "shoulder_point_left"},
-                 Placement(body_part="torso", side="front", anchor="front_neck_point", anchor_mark="centre_neck"),
-                 "T-SHIRT FRONT (CUT 1 ON FOLD)")
+    return _body(
+        "front",
+        g,
+        g["y_cfn"],
+        g["ac"],
+        "front",
+        {
+            "front_neck_point": "centre_neck",
+            "neck_shoulder_point_right": "neck_side_right",
+            "neck_shoulder_point_left": "neck_side_left",
+            "shoulder_point_right": "shoulder_point_right",
+            "shoulder_point_left": "shoulder_point_left",
+        },
+        Placement(
+            body_part="torso",
+            side="front",
+            anchor="front_neck_point",
+            anchor_mark="centre_neck",
+        ),
+        "T-SHIRT FRONT (CUT 1 ON FOLD)",
+    )
 
 
 def back(b, g):
-    return _body("back", g, g["y_cbn"], g["ab"], "back",
-                 {"back_neck_point": "centre_neck", "neck_shoulder_point_right": "neck_side_right",
-                  "neck_shoulder_point_left": "neck_side_left", "shoulder_point_right": "shoulder_point_right",
-                  "shoulder_point_left": "shoulder_point_left"},
-                 Placement(body_part="torso", side="back", anchor="back_neck_point", anchor_mark="centre_neck"),
-                 "T-SHIRT BACK (CUT 1 ON FOLD)")
+    return _body(
+        "back",
+        g,
+        g["y_cbn"],
+        g["ab"],
+        "back",
+        {
+            "back_neck_point": "centre_neck",
+            "neck_shoulder_point_right": "neck_side_right",
+            "neck_shoulder_point_left": "neck_side_left",
+            "shoulder_point_right": "shoulder_point_right",
+            "shoulder_point_left": "shoulder_point_left",
+        },
+        Placement(
+            body_part="torso",
+            side="back",
+            anchor="back_neck_point",
+            anchor_mark="centre_neck",
+        ),
+        "T-SHIRT BACK (CUT 1 ON FOLD)",
+    )
 
 
 def sleeve(b, g, fr, bk):
@@ -108,17 +164,33 @@ def sleeve(b, g, fr, bk):
     xt = cap_f[3][0]
     o = OutlineBuilder()
     o.start((a, 0.0), "underarm_front")
-    o.bezier(cap_f, "cap_top", n=14, notch=True, at=[(lf - nf, "front_notch", True)], end_kind=CURVE)
+    o.bezier(
+        cap_f,
+        "cap_top",
+        n=14,
+        notch=True,
+        at=[(lf - nf, "front_notch", True)],
+        end_kind=CURVE,
+    )
     o.bezier(cap_b, "underarm_back", n=14, at=[(lb - nb, "back_notch", True)])
     o.line((-hem_half, y_hem), "hem_back")
     o.line((xt, y_hem), "hem_mid", allowance_cm=SLEEVE_HEM)
     o.line((hem_half, y_hem), "hem_front", allowance_cm=SLEEVE_HEM)
     net = o.close()
     return PieceDraft(
-        name="sleeve", net=net, quantity=Quantity(right=1, left=1),
+        name="sleeve",
+        net=net,
+        quantity=Quantity(right=1, left=1),
         grain=((xt, y_hem + 4), (xt, h - 5)),
-        placement=Placement(body_part="right_arm", side="around", anchor="shoulder_point_right", anchor_mark="cap_top"),
-        landmarks={"shoulder_point_right": "cap_top"}, category="SLEEVE", annotation="SLEEVE",
+        placement=Placement(
+            body_part="right_arm",
+            side="around",
+            anchor="shoulder_point_right",
+            anchor_mark="cap_top",
+        ),
+        landmarks={"shoulder_point_right": "cap_top"},
+        category="SLEEVE",
+        annotation="SLEEVE",
     )
 
 
@@ -129,9 +201,19 @@ def _neckband(fr, bk):
         (fr, "primary", "neck_side_left", "centre_neck", "snp_left"),
         (bk, "primary", "centre_neck", "neck_side_left", None),
     ]
-    return band_draft("neckband", parts, 2.0, ends=("cb_right", "cb_left"), part_ease_cm=NECKBAND_STRETCH,
-                      placement=Placement(body_part="neck", side="around", anchor="front_neck_point", anchor_mark="cf"),
-                      landmarks={"front_neck_point": "cf"}, annotation="RIB NECKBAND (CUT 1)", category="RIB")
+    return band_draft(
+        "neckband",
+        parts,
+        2.0,
+        ends=("cb_right", "cb_left"),
+        part_ease_cm=NECKBAND_STRETCH,
+        placement=Placement(
+            body_part="neck", side="around", anchor="front_neck_point", anchor_mark="cf"
+        ),
+        landmarks={"front_neck_point": "cf"},
+        annotation="RIB NECKBAND (CUT 1)",
+        category="RIB",
+    )
 
 
 def draft(b):
@@ -148,46 +230,98 @@ def seams():
     out = []
     for side, copy in (("right", "primary"), ("left", "mirror")):
         if side == "right":
-            f_arm, b_arm = ("front", "shoulder_point_right", "side_underarm_right"), \
-                ("back", "side_underarm_right", "shoulder_point_right")
-            f_sh, b_sh = ("front", "neck_side_right", "shoulder_point_right"), \
-                ("back", "shoulder_point_right", "neck_side_right")
-            f_sd, b_sd = ("front", "side_underarm_right", "side_hem_right"), \
-                ("back", "side_hem_right", "side_underarm_right")
+            f_arm, b_arm = (
+                ("front", "shoulder_point_right", "side_underarm_right"),
+                ("back", "side_underarm_right", "shoulder_point_right"),
+            )
+            f_sh, b_sh = (
+                ("front", "neck_side_right", "shoulder_point_right"),
+                ("back", "shoulder_point_right", "neck_side_right"),
+            )
+            f_sd, b_sd = (
+                ("front", "side_underarm_right", "side_hem_right"),
+                ("back", "side_hem_right", "side_underarm_right"),
+            )
         else:
-            f_arm, b_arm = ("front", "side_underarm_left", "shoulder_point_left"), \
-                ("back", "shoulder_point_left", "side_underarm_left")
-            f_sh, b_sh = ("front", "shoulder_point_left", "neck_side_left"), \
-                ("back", "neck_side_left", "shoulder_point_left")
-            f_sd, b_sd = ("front", "side_hem_left", "side_underarm_left"), \
-                ("back", "side_underarm_left", "side_hem_left")
+            f_arm, b_arm = (
+                ("front", "side_underarm_left", "shoulder_point_left"),
+                ("back", "shoulder_point_left", "side_underarm_left"),
+            )
+            f_sh, b_sh = (
+                ("front", "shoulder_point_left", "neck_side_left"),
+                ("back", "neck_side_left", "shoulder_point_left"),
+            )
+            f_sd, b_sd = (
+                ("front", "side_hem_left", "side_underarm_left"),
+                ("back", "side_underarm_left", "side_hem_left"),
+            )
         out += [
             seam(f"shoulder_{side}", f_sh, b_sh),
             seam(f"side_{side}", f_sd, b_sd),
-            seam(f"armhole_front_{side}", f_arm, ("sleeve", "underarm_front", "cap_top", copy)),
-            seam(f"armhole_back_{side}", b_arm, ("sleeve", "cap_top", "underarm_back", copy)),
-            seam(f"sleeve_{side}", ("sleeve", "hem_front", "underarm_front", copy),
-                 ("sleeve", "underarm_back", "hem_back", copy)),
+            seam(
+                f"armhole_front_{side}",
+                f_arm,
+                ("sleeve", "underarm_front", "cap_top", copy),
+            ),
+            seam(
+                f"armhole_back_{side}",
+                b_arm,
+                ("sleeve", "cap_top", "underarm_back", copy),
+            ),
+            seam(
+                f"sleeve_{side}",
+                ("sleeve", "hem_front", "underarm_front", copy),
+                ("sleeve", "underarm_back", "hem_back", copy),
+            ),
         ]
     return out + band_seams
 
 
 LINKS = [
-    link("chest_girth", CHEST_EASE, leg("front", "side_underarm_right", "side_underarm_left"),
-         leg("back", "side_underarm_left", "side_underarm_right")),
-    link("neck_girth", None, leg("front", "centre_neck", "neck_side_right", "boundary", 2),
-         leg("back", "neck_side_right", "centre_neck", "boundary", 2)),
-    link("shoulder_width", None, leg("back", "shoulder_point_left", "shoulder_point_right")),
+    link(
+        "chest_girth",
+        CHEST_EASE,
+        leg("front", "side_underarm_right", "side_underarm_left"),
+        leg("back", "side_underarm_left", "side_underarm_right"),
+    ),
+    link(
+        "neck_girth",
+        None,
+        leg("front", "centre_neck", "neck_side_right", "boundary", 2),
+        leg("back", "neck_side_right", "centre_neck", "boundary", 2),
+    ),
+    link(
+        "shoulder_width",
+        None,
+        leg("back", "shoulder_point_left", "shoulder_point_right"),
+    ),
     link("back_width", None, leg("back", "armhole_notch_left", "armhole_notch_right")),
-    link("shoulder_length_right", None, leg("front", "neck_side_right", "shoulder_point_right")),
-    link("upper_arm_girth_right", BICEP_EASE, leg("sleeve", "underarm_front", "underarm_back")),
+    link(
+        "shoulder_length_right",
+        None,
+        leg("front", "neck_side_right", "shoulder_point_right"),
+    ),
+    link(
+        "upper_arm_girth_right",
+        BICEP_EASE,
+        leg("sleeve", "underarm_front", "underarm_back"),
+    ),
 ]
 
-DESCRIPTION = "Jersey T-shirt: front and back cut on the fold, short set-in sleeves, rib neckband"
+DESCRIPTION = (
+    "Jersey T-shirt: front and back cut on the fold, short set-in sleeves, rib neckband"
+)
 
 
 def build():
-    return build_pattern(style="tshirt", description=DESCRIPTION, chart=CHART, draft=draft, seams=seams(), links=LINKS)
+    return build_pattern(
+        style="tshirt",
+        description=DESCRIPTION,
+        chart=CHART,
+        draft=draft,
+        seams=seams(),
+        links=LINKS,
+    )
 
 
 if __name__ == "__main__":

@@ -37,9 +37,18 @@ def armhole_controls(shoulder, across, underarm) -> tuple[np.ndarray, np.ndarray
     """
     s, a, u = (np.asarray(p, dtype=np.float64) for p in (shoulder, across, underarm))
     drop = s[1] - a[1]
-    upper = np.array([s, [s[0] + (a[0] - s[0]) * 0.35, s[1] - drop * 0.35], [a[0], a[1] + drop * 0.4], a])
+    upper = np.array(
+        [
+            s,
+            [s[0] + (a[0] - s[0]) * 0.35, s[1] - drop * 0.35],
+            [a[0], a[1] + drop * 0.4],
+            a,
+        ]
+    )
     rise = a[1] - u[1]
-    lower = np.array([a, [a[0], u[1] + rise * 0.35], [u[0] - (u[0] - a[0]) * 0.45, u[1]], u])
+    lower = np.array(
+        [a, [a[0], u[1] + rise * 0.35], [u[0] - (u[0] - a[0]) * 0.45, u[1]], u]
+    )
     return upper, lower
 
 
@@ -57,18 +66,30 @@ def neckline_controls(centre, side_neck, shoulder_dir) -> np.ndarray:
     if perp[1] > 0:  # the curve arrives going up
         perp = -perp
     width, depth = abs(n[0] - c[0]), abs(n[1] - c[1])
-    return np.array([c, [c[0] + np.sign(n[0] - c[0]) * width * 0.6, c[1]],
-                     n + perp * depth * 0.55, n])
+    return np.array(
+        [
+            c,
+            [c[0] + np.sign(n[0] - c[0]) * width * 0.6, c[1]],
+            n + perp * depth * 0.55,
+            n,
+        ]
+    )
 
 
 def _cap(a: float, xt: float, h: float) -> tuple[np.ndarray, np.ndarray]:
-    front = np.array([[a, 0.0], [xt + 0.72 * (a - xt), 0.14 * h], [xt + 0.45 * (a - xt), h], [xt, h]])
+    front = np.array(
+        [[a, 0.0], [xt + 0.72 * (a - xt), 0.14 * h], [xt + 0.45 * (a - xt), h], [xt, h]]
+    )
     b = -a
-    back = np.array([[xt, h], [xt + 0.45 * (b - xt), h], [xt + 0.72 * (b - xt), 0.14 * h], [b, 0.0]])
+    back = np.array(
+        [[xt, h], [xt + 0.45 * (b - xt), h], [xt + 0.72 * (b - xt), 0.14 * h], [b, 0.0]]
+    )
     return front, back
 
 
-def sleeve_cap_controls(half_bicep: float, front_cm: float, back_cm: float) -> tuple[np.ndarray, np.ndarray, float]:
+def sleeve_cap_controls(
+    half_bicep: float, front_cm: float, back_cm: float
+) -> tuple[np.ndarray, np.ndarray, float]:
     """Sleeve-cap curves whose lengths are ``front_cm`` and ``back_cm``.
 
     The front underarm sits at ``(+half_bicep, 0)``, the back at
@@ -88,7 +109,9 @@ def sleeve_cap_controls(half_bicep: float, front_cm: float, back_cm: float) -> t
     """
     a = float(half_bicep)
     if min(front_cm, back_cm) <= a * 1.02:
-        raise ValueError(f"cap lengths {front_cm:.1f}/{back_cm:.1f} cm too short for half bicep {a:.1f} cm")
+        raise ValueError(
+            f"cap lengths {front_cm:.1f}/{back_cm:.1f} cm too short for half bicep {a:.1f} cm"
+        )
 
     def resid(v):
         xt, h = v

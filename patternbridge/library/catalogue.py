@@ -14,7 +14,14 @@ from pathlib import Path
 
 from ..pattern.model import Pattern
 
-__all__ = ["GARMENTS", "LIBRARY_DIR", "garment_dir", "garment_names", "load_garment", "write_garment"]
+__all__ = [
+    "GARMENTS",
+    "LIBRARY_DIR",
+    "garment_dir",
+    "garment_names",
+    "load_garment",
+    "write_garment",
+]
 
 log = logging.getLogger(__name__)
 
@@ -39,7 +46,9 @@ def garment_dir(name: str) -> Path:
         When ``name`` is not a library garment.
     """
     if name not in garment_names():
-        raise KeyError(f"no library garment {name!r} (library: {', '.join(garment_names())})")
+        raise KeyError(
+            f"no library garment {name!r} (library: {', '.join(garment_names())})"
+        )
     return LIBRARY_DIR / name
 
 
@@ -57,7 +66,9 @@ def load_garment(name: str) -> Pattern:
     return load_pattern_json(garment_dir(name) / f"{name}.json")
 
 
-def write_garment(pattern: Pattern, directory: str | os.PathLike, *, picture: bool = True) -> list[Path]:
+def write_garment(
+    pattern: Pattern, directory: str | os.PathLike, *, picture: bool = True
+) -> list[Path]:
     """Write a drafted garment's files into ``directory`` (and its picture into ``docs/library``).
 
     Writes ``<style>.json``, ``<style>.seams.json`` and, when the DXF writer
@@ -79,10 +90,18 @@ def write_garment(pattern: Pattern, directory: str | os.PathLike, *, picture: bo
     except ImportError:  # pragma: no cover - writer absent
         log.warning("DXF writer not available; %s DXF/RUL not written", name)
     else:
-        written.append(write_dxf(pattern, directory / f"{name}_aama.dxf", flavor="aama",
-                                 rul_path=directory / f"{name}.rul"))
+        written.append(
+            write_dxf(
+                pattern,
+                directory / f"{name}_aama.dxf",
+                flavor="aama",
+                rul_path=directory / f"{name}.rul",
+            )
+        )
         written.append(directory / f"{name}.rul")
-        written.append(write_dxf(pattern, directory / f"{name}_astm.dxf", flavor="astm"))
+        written.append(
+            write_dxf(pattern, directory / f"{name}_astm.dxf", flavor="astm")
+        )
     if picture:
         from ..io.plot_library import plot_library_garment
 

@@ -24,8 +24,8 @@ from ..pattern.geometry import arc_lengths, signed_area
 from ..pattern.model import VertexKind
 
 __all__ = [
-    "OutlineBuilder",
     "NetOutline",
+    "OutlineBuilder",
     "bezier",
     "bezier_length",
     "bezier_split",
@@ -190,7 +190,9 @@ class NetOutline:
         idx = np.arange(i, j + 1) if j >= i else np.r_[i:n, 0 : j + 1]
         cum = arc_lengths(self.points[idx])
         notch_idx = {self.marks[m] for m in self.notches}
-        return [float(cum[k]) for k in range(1, len(idx) - 1) if int(idx[k]) in notch_idx]
+        return [
+            float(cum[k]) for k in range(1, len(idx) - 1) if int(idx[k]) in notch_idx
+        ]
 
 
 class OutlineBuilder:
@@ -239,8 +241,15 @@ class OutlineBuilder:
         if notch:
             self._notches.append(name)
 
-    def line(self, p, mark: str | None = None, *, allowance_cm: float = 1.0,
-             notch: bool = False, dart_apex: bool = False) -> None:
+    def line(
+        self,
+        p,
+        mark: str | None = None,
+        *,
+        allowance_cm: float = 1.0,
+        notch: bool = False,
+        dart_apex: bool = False,
+    ) -> None:
         """Straight edge to ``p``, ending in a turn point."""
         self._pts.append(np.asarray(p, dtype=np.float64))
         self._kinds.append(VertexKind.TURN)
@@ -250,9 +259,16 @@ class OutlineBuilder:
         if dart_apex:
             self._darts.append(len(self._pts) - 1)
 
-    def polyline(self, pts: np.ndarray, mark: str | None = None, *, allowance_cm: float = 1.0,
-                 notch: bool = False, at: Sequence[tuple[float, str, bool]] = (),
-                 end_kind: VertexKind = VertexKind.TURN) -> None:
+    def polyline(
+        self,
+        pts: np.ndarray,
+        mark: str | None = None,
+        *,
+        allowance_cm: float = 1.0,
+        notch: bool = False,
+        at: Sequence[tuple[float, str, bool]] = (),
+        end_kind: VertexKind = VertexKind.TURN,
+    ) -> None:
         """Append a sampled curve ``pts`` whose first row is the current vertex.
 
         at : ``(arc_length_cm, mark, notch)`` marks dropped along the curve;
@@ -279,17 +295,40 @@ class OutlineBuilder:
         if mark:
             self._set_mark(mark, len(self._pts) - 1, notch)
 
-    def curve(self, c1, c2, p3, mark: str | None = None, *, n: int = 10,
-              allowance_cm: float = 1.0, notch: bool = False,
-              at: Sequence[tuple[float, str, bool]] = (),
-              end_kind: VertexKind = VertexKind.TURN) -> None:
+    def curve(
+        self,
+        c1,
+        c2,
+        p3,
+        mark: str | None = None,
+        *,
+        n: int = 10,
+        allowance_cm: float = 1.0,
+        notch: bool = False,
+        at: Sequence[tuple[float, str, bool]] = (),
+        end_kind: VertexKind = VertexKind.TURN,
+    ) -> None:
         """Cubic Bézier from the current vertex with controls ``c1``, ``c2`` to ``p3``."""
-        self.polyline(bezier(self._pts[-1], c1, c2, p3, n), mark, allowance_cm=allowance_cm,
-                      notch=notch, at=at, end_kind=end_kind)
+        self.polyline(
+            bezier(self._pts[-1], c1, c2, p3, n),
+            mark,
+            allowance_cm=allowance_cm,
+            notch=notch,
+            at=at,
+            end_kind=end_kind,
+        )
 
-    def bezier(self, ctrl, mark: str | None = None, *, n: int = 10, allowance_cm: float = 1.0,
-               notch: bool = False, at: Sequence[tuple[float, str, bool]] = (),
-               end_kind: VertexKind = VertexKind.TURN) -> None:
+    def bezier(
+        self,
+        ctrl,
+        mark: str | None = None,
+        *,
+        n: int = 10,
+        allowance_cm: float = 1.0,
+        notch: bool = False,
+        at: Sequence[tuple[float, str, bool]] = (),
+        end_kind: VertexKind = VertexKind.TURN,
+    ) -> None:
         """Cubic Bézier given as (4, 2) controls whose first row is the current vertex.
 
         Marks ``at`` arc lengths split the curve there; each part is sampled
@@ -299,7 +338,16 @@ class OutlineBuilder:
         """
         c = np.asarray(ctrl, dtype=np.float64)
         if not at:
-            self.curve(c[1], c[2], c[3], mark, n=n, allowance_cm=allowance_cm, notch=notch, end_kind=end_kind)
+            self.curve(
+                c[1],
+                c[2],
+                c[3],
+                mark,
+                n=n,
+                allowance_cm=allowance_cm,
+                notch=notch,
+                end_kind=end_kind,
+            )
             return
         dense_t = np.linspace(0.0, 1.0, 4001)
         cum = arc_lengths(bezier(*c, 4000))
@@ -308,17 +356,33 @@ class OutlineBuilder:
         k = len(stops) + 1
         counts = [max(2, n // k)] * (k - 1) + [max(2, n - (n // k) * (k - 1))]
         rest, t_done = c, 0.0
-        for (s, name, is_notch), t, m in zip(stops, ts, counts):
+        for (_s, name, is_notch), t, m in zip(stops, ts, counts[:-1], strict=True):
             local = (t - t_done) / (1.0 - t_done)
             part, rest = bezier_split(rest, local)
             t_done = t
-            self.polyline(bezier(*part, m), name, allowance_cm=allowance_cm, notch=is_notch,
-                          end_kind=VertexKind.CURVE)
-        self.polyline(bezier(*rest, counts[-1]), mark, allowance_cm=allowance_cm, notch=notch,
-                      end_kind=end_kind)
+            self.polyline(
+                bezier(*part, m),
+                name,
+                allowance_cm=allowance_cm,
+                notch=is_notch,
+                end_kind=VertexKind.CURVE,
+            )
+        self.polyline(
+            bezier(*rest, counts[-1]),
+            mark,
+            allowance_cm=allowance_cm,
+            notch=notch,
+            end_kind=end_kind,
+        )
 
-    def darted_line(self, p, mark: str | None, darts: Sequence[tuple[float, float, float, str]], *,
-                    allowance_cm: float = 1.0) -> None:
+    def darted_line(
+        self,
+        p,
+        mark: str | None,
+        darts: Sequence[tuple[float, float, float, str]],
+        *,
+        allowance_cm: float = 1.0,
+    ) -> None:
         """Straight edge to ``p`` with V darts cut into it.
 
         darts : ``(centre_cm, width_cm, length_cm, prefix)`` — dart centre as a
@@ -334,9 +398,18 @@ class OutlineBuilder:
         inward = np.array([-u[1], u[0]])  # the piece lies left of a CCW walk
         for centre, width, length, prefix in sorted(darts, key=lambda t: t[0]):
             c = p0 + u * centre
-            self.line(c - u * width / 2, f"{prefix}_a", allowance_cm=allowance_cm, notch=True)
-            self.line(c + inward * length, f"{prefix}_apex", allowance_cm=allowance_cm, dart_apex=True)
-            self.line(c + u * width / 2, f"{prefix}_b", allowance_cm=allowance_cm, notch=True)
+            self.line(
+                c - u * width / 2, f"{prefix}_a", allowance_cm=allowance_cm, notch=True
+            )
+            self.line(
+                c + inward * length,
+                f"{prefix}_apex",
+                allowance_cm=allowance_cm,
+                dart_apex=True,
+            )
+            self.line(
+                c + u * width / 2, f"{prefix}_b", allowance_cm=allowance_cm, notch=True
+            )
         self.line(p1, mark, allowance_cm=allowance_cm)
 
     def close(self, *, allowance_cm: float = 1.0) -> NetOutline:
@@ -350,17 +423,24 @@ class OutlineBuilder:
         pts = np.asarray(self._pts, dtype=np.float64)
         if np.allclose(pts[0], pts[-1]):
             raise ValueError("do not repeat the first vertex; close() joins it")
-        allow = np.asarray(self._allow + [float(allowance_cm)], dtype=np.float64)
+        allow = np.asarray([*self._allow, float(allowance_cm)], dtype=np.float64)
         if signed_area(pts) <= 0:
             raise ValueError("outline walk must run counter-clockwise")
         if not shapely.is_simple(shapely.linearrings(pts)):
             raise ValueError("outline walk intersects itself")
-        return NetOutline(points=pts, kinds=list(self._kinds), marks=dict(self._marks),
-                          notches=list(self._notches), allowance=allow, darts=list(self._darts))
+        return NetOutline(
+            points=pts,
+            kinds=list(self._kinds),
+            marks=dict(self._marks),
+            notches=list(self._notches),
+            allowance=allow,
+            darts=list(self._darts),
+        )
 
 
-def offset_outline(points: np.ndarray, allowance_cm: np.ndarray,
-                   darts: Sequence[int] = ()) -> np.ndarray:
+def offset_outline(
+    points: np.ndarray, allowance_cm: np.ndarray, darts: Sequence[int] = ()
+) -> np.ndarray:
     """Offset a CCW outline outwards edge by edge, keeping one vertex per vertex.
 
     Each cut-line vertex is the intersection of the two neighbouring edges'

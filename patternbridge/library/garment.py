@@ -63,25 +63,46 @@ class PieceDraft:
     mirror_line: tuple | None = None
 
 
-def seam(seam_id: str, a: Sequence[str], b: Sequence[str], *, ease_cm: float = 0.0,
-         kind: str = "seam") -> Seam:
+def seam(
+    seam_id: str,
+    a: Sequence[str],
+    b: Sequence[str],
+    *,
+    ease_cm: float = 0.0,
+    kind: str = "seam",
+) -> Seam:
     """A seam between ``a`` and ``b`` given as ``(piece, start, end[, copy])``.
 
     ``reverse`` is set by the library convention (every piece seen from the
     outside, outlines CCW): two copies of the same handedness meet running
     opposite ways, a primary and a mirror copy run the same way.
     """
-    ea = EdgeRange(piece=a[0], start=a[1], end=a[2], copy=a[3] if len(a) > 3 else Copy.PRIMARY)
-    eb = EdgeRange(piece=b[0], start=b[1], end=b[2], copy=b[3] if len(b) > 3 else Copy.PRIMARY)
-    return Seam(id=seam_id, a=ea, b=eb, kind=SeamKind(kind), reverse=ea.copy == eb.copy, ease_cm=ease_cm)
+    ea = EdgeRange(
+        piece=a[0], start=a[1], end=a[2], copy=a[3] if len(a) > 3 else Copy.PRIMARY
+    )
+    eb = EdgeRange(
+        piece=b[0], start=b[1], end=b[2], copy=b[3] if len(b) > 3 else Copy.PRIMARY
+    )
+    return Seam(
+        id=seam_id,
+        a=ea,
+        b=eb,
+        kind=SeamKind(kind),
+        reverse=ea.copy == eb.copy,
+        ease_cm=ease_cm,
+    )
 
 
-def leg(piece: str, start: str, end: str, along: str = "chord", factor: float = 1.0) -> Leg:
+def leg(
+    piece: str, start: str, end: str, along: str = "chord", factor: float = 1.0
+) -> Leg:
     """Shorthand for :class:`Leg`."""
     return Leg(piece=piece, start=start, end=end, along=along, factor=factor)
 
 
-def link(measurement: str, ease_cm: float | None, *legs: Leg, link_id: str = "") -> tuple:
+def link(
+    measurement: str, ease_cm: float | None, *legs: Leg, link_id: str = ""
+) -> tuple:
     """A measurement link; ``ease_cm=None`` takes the ease the sample size realises."""
     return (measurement, ease_cm, tuple(legs), link_id)
 
@@ -99,7 +120,11 @@ def _inward_angle(cut: np.ndarray, i: int) -> float:
 
 def _piece_geometry(d: PieceDraft) -> dict[str, np.ndarray]:
     cut = offset_outline(d.net.points, d.net.allowance, d.net.darts)
-    geo = {"outline": cut, "sew": d.net.points, "grain": np.asarray(d.grain, dtype=np.float64)}
+    geo = {
+        "outline": cut,
+        "sew": d.net.points,
+        "grain": np.asarray(d.grain, dtype=np.float64),
+    }
     for k, (pts, _label) in enumerate(d.internal):
         geo[f"internal{k}"] = np.asarray(pts, dtype=np.float64)
     if d.mirror_line is not None:
@@ -123,7 +148,9 @@ def build_pattern(
     ValueError
         When a piece changes vertex count or marks between sizes (a drafting bug).
     """
-    drafts = {size: {d.name: d for d in draft(chart.body(size))} for size in chart.sizes}
+    drafts = {
+        size: {d.name: d for d in draft(chart.body(size))} for size in chart.sizes
+    }
     sample = drafts[chart.sample_size]
     k_sample = chart.sizes.index(chart.sample_size)
     deltas: dict[str, np.ndarray] = {}
@@ -145,9 +172,14 @@ def build_pattern(
         geos = []
         for size in chart.sizes:
             other = drafts[size][name]
-            if len(other.net.points) != len(d.net.points) or other.net.marks != d.net.marks:
-                raise ValueError(f"{style}/{name}: size {size} has {len(other.net.points)} vertices or other "
-                                 f"marks than the sample ({len(d.net.points)})")
+            if (
+                len(other.net.points) != len(d.net.points)
+                or other.net.marks != d.net.marks
+            ):
+                raise ValueError(
+                    f"{style}/{name}: size {size} has {len(other.net.points)} vertices or other "
+                    f"marks than the sample ({len(d.net.points)})"
+                )
             geos.append(_piece_geometry(other))
         g0 = geos[k_sample]
         outline_rules = new_rules([g["outline"] for g in geos])
@@ -156,45 +188,73 @@ def build_pattern(
         internal = []
         for k, (_pts, label) in enumerate(d.internal):
             key = f"internal{k}"
-            internal.append(Polyline(points=g0[key], rules=new_rules([g[key] for g in geos]), label=label))
+            internal.append(
+                Polyline(
+                    points=g0[key], rules=new_rules([g[key] for g in geos]), label=label
+                )
+            )
         mirror = None
         if d.mirror_line is not None:
-            mirror = Line(points=g0["mirror"], rules=new_rules([g["mirror"] for g in geos]))
+            mirror = Line(
+                points=g0["mirror"], rules=new_rules([g["mirror"] for g in geos])
+            )
         notches = tuple(
-            Notch(vertex=d.net.marks[m], type=NotchType.SLIT, depth_cm=NOTCH_DEPTH_CM,
-                  angle=_inward_angle(g0["outline"], d.net.marks[m]), rule=outline_rules[d.net.marks[m]])
+            Notch(
+                vertex=d.net.marks[m],
+                type=NotchType.SLIT,
+                depth_cm=NOTCH_DEPTH_CM,
+                angle=_inward_angle(g0["outline"], d.net.marks[m]),
+                rule=outline_rules[d.net.marks[m]],
+            )
             for m in d.net.notches
         )
         notches = tuple(sorted(notches, key=lambda n: n.vertex))
-        pieces.append(Piece(
-            name=name,
-            size=chart.sample_size,
-            outline=g0["outline"],
-            kinds=tuple(d.net.kinds),
-            rules=outline_rules,
-            quantity=d.quantity,
-            category=d.category or name,
-            annotation=d.annotation,
-            fabric=d.fabric,
-            notches=notches,
-            grain_line=Line(points=g0["grain"], rules=grain_rules),
-            mirror_line=mirror,
-            internal_lines=tuple(internal),
-            sew_lines=(Polyline(points=g0["sew"], kinds=tuple(d.net.kinds), rules=sew_rules,
-                                closed=True),),
-            marks=d.net.marks,
-            landmarks=d.landmarks,
-            placement=d.placement,
-        ))
-    rules = GradeRuleTable(name=style.upper(), sizes=chart.sizes, sample_size=chart.sample_size, deltas=deltas)
+        pieces.append(
+            Piece(
+                name=name,
+                size=chart.sample_size,
+                outline=g0["outline"],
+                kinds=tuple(d.net.kinds),
+                rules=outline_rules,
+                quantity=d.quantity,
+                category=d.category or name,
+                annotation=d.annotation,
+                fabric=d.fabric,
+                notches=notches,
+                grain_line=Line(points=g0["grain"], rules=grain_rules),
+                mirror_line=mirror,
+                internal_lines=tuple(internal),
+                sew_lines=(
+                    Polyline(
+                        points=g0["sew"],
+                        kinds=tuple(d.net.kinds),
+                        rules=sew_rules,
+                        closed=True,
+                    ),
+                ),
+                marks=d.net.marks,
+                landmarks=d.landmarks,
+                placement=d.placement,
+            )
+        )
+    rules = GradeRuleTable(
+        name=style.upper(),
+        sizes=chart.sizes,
+        sample_size=chart.sample_size,
+        deltas=deltas,
+    )
     pattern = Pattern(
         style=style,
         pieces=tuple(pieces),
         sample_size=chart.sample_size,
         sizes=chart.sizes,
         rules=rules,
-        provenance=Provenance(producer="PATTERNBRIDGE", product="patternbridge garment library",
-                              author="patternbridge", source_file=f"garment_library/{style}/draft.py"),
+        provenance=Provenance(
+            producer="PATTERNBRIDGE",
+            product="patternbridge garment library",
+            author="patternbridge",
+            source_file=f"garment_library/{style}/draft.py",
+        ),
         description=description,
         seams=tuple(seams),
     )
@@ -203,13 +263,16 @@ def build_pattern(
     body = chart.body(chart.sample_size)
     measurements = []
     provisional = tuple(
-        MeasurementLink(measurement=m, legs=legs_, ease_cm=0.0, id=lid or m) for m, _e, legs_, lid in links
+        MeasurementLink(measurement=m, legs=legs_, ease_cm=0.0, id=lid or m)
+        for m, _e, legs_, lid in links
     )
     achieved = link_lengths(replace(pattern, measurements=provisional))
-    for (m, ease, legs_, lid), ml in zip(links, provisional):
+    for (m, ease, legs_, _lid), ml in zip(links, provisional, strict=True):
         if ease is None:
             ease = round(float(achieved[ml.id][k_sample]) - body[m], 1)
-        measurements.append(MeasurementLink(measurement=m, legs=legs_, ease_cm=float(ease), id=ml.id))
+        measurements.append(
+            MeasurementLink(measurement=m, legs=legs_, ease_cm=float(ease), id=ml.id)
+        )
     return replace(pattern, measurements=tuple(measurements))
 
 
@@ -259,13 +322,32 @@ def band_draft(
     o.line((x[-1], height_cm), f"top_{ends[1]}")
     o.line((0.0, height_cm), f"top_{ends[0]}")
     net = o.close()
-    band = PieceDraft(name=name, net=net, quantity=Quantity(right=1, left=0),
-                      grain=((x[-1] * 0.3, height_cm / 2), (x[-1] * 0.7, height_cm / 2)),
-                      placement=placement, landmarks=landmarks or {}, annotation=annotation,
-                      category=category or name.upper())
+    band = PieceDraft(
+        name=name,
+        net=net,
+        quantity=Quantity(right=1, left=0),
+        grain=((x[-1] * 0.3, height_cm / 2), (x[-1] * 0.7, height_cm / 2)),
+        placement=placement,
+        landmarks=landmarks or {},
+        annotation=annotation,
+        category=category or name.upper(),
+    )
     seams = []
     for k, (p, copy, s, e, _m) in enumerate(parts):
         sid = f"{name}_{p.name}_{s}" + ("_left" if copy == "mirror" else "")
-        seams.append(seam(sid, (name, names[k], names[k + 1]), (p.name, s, e, copy), ease_cm=part_ease_cm))
-    seams.append(seam(f"{name}_closure", (name, f"top_{ends[0]}", ends[0]), (name, ends[1], f"top_{ends[1]}")))
+        seams.append(
+            seam(
+                sid,
+                (name, names[k], names[k + 1]),
+                (p.name, s, e, copy),
+                ease_cm=part_ease_cm,
+            )
+        )
+    seams.append(
+        seam(
+            f"{name}_closure",
+            (name, f"top_{ends[0]}", ends[0]),
+            (name, ends[1], f"top_{ends[1]}"),
+        )
+    )
     return band, seams

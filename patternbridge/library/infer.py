@@ -2,16 +2,19 @@
 
 The sew line of every piece is cut into *stretches* at its turn points and
 notches (or, for files that mark neither, at corners sharper than
-``CORNER_DEG``). Two stretches are a candidate seam when their lengths agree
-(within ``max(LENGTH_TOL_CM, 3 %)``, the room sleeve-cap ease needs, and
-with a difference that stays constant over the graded sizes) and
-their shapes are compatible: both straight, or both curved by a similar
-amount (a convex cap against a concave armhole counts as similar — only the
-magnitude of the bend is compared). Each candidate gets a confidence in
-(0, 1]; stretches are then paired greedily, best first, each used once.
+``CORNER_DEG``); runs of up to ``MAX_RUN`` consecutive stretches that turn no
+sharp corner are candidate seam sides. Two runs are a candidate seam when
+their lengths agree within ``max(LENGTH_TOL_CM, 3 %)`` (the room sleeve-crown
+ease needs) with a difference that stays constant over the graded sizes,
+their straightness and total bend are alike, and their inner notches sit at
+matching fractions. Mirror-image matches (twin left/right pieces, the two
+halves of a symmetric piece) count ``TWIN_FACTOR``; neighbouring runs of one
+piece only pair at a dart point. Runs are then paired greedily, longest and
+surest first, each stretch used once.
 
 The result is a proposal, not a truth: ``patternbridge seams infer`` writes it
-to a sidecar for the user to confirm or edit.
+to a sidecar for the user to confirm or edit (``docs/library.md`` says what it
+finds and misses).
 """
 
 from __future__ import annotations
@@ -116,21 +119,39 @@ def stretches(pattern: Pattern, *, max_run: int = MAX_RUN) -> list[Stretch]:
                 if length < MIN_STRETCH_CM:
                     continue
                 heading = np.unwrap(np.arctan2(d[:, 1], d[:, 0]))
-                bend = float(np.abs(np.diff(heading)).sum()) if len(heading) > 1 else 0.0
+                bend = (
+                    float(np.abs(np.diff(heading)).sum()) if len(heading) > 1 else 0.0
+                )
                 chord = float(np.hypot(*(seg[-1] - seg[0])))
-                graded = np.linalg.norm(np.diff(lines[piece.name][:, idx], axis=1), axis=-1).sum(axis=-1)
-                fracs = tuple(float(cum[k] / length) for k in range(1, len(idx) - 1) if int(idx[k]) in notch_vertices)
+                graded = np.linalg.norm(
+                    np.diff(lines[piece.name][:, idx], axis=1), axis=-1
+                ).sum(axis=-1)
+                fracs = tuple(
+                    float(cum[k] / length)
+                    for k in range(1, len(idx) - 1)
+                    if int(idx[k]) in notch_vertices
+                )
                 if run > 1:
                     # a seam does not turn a corner: reject runs through a sharp inner break
                     inner = [brk[(i + k) % len(brk)] for k in range(1, run)]
-                    if np.any(np.abs(np.pi - corner_angles[inner]) > np.radians(CORNER_DEG)):
+                    if np.any(
+                        np.abs(np.pi - corner_angles[inner]) > np.radians(CORNER_DEG)
+                    ):
                         continue
-                out.append(Stretch(piece=piece.name, start=int(s), end=int(e), length_cm=length,
-                                   bend=bend, straightness=chord / length,
-                                   graded_cm=tuple(float(x) for x in graded),
-                                   parts=tuple(base_ids[(i + k) % len(brk)] for k in range(run)),
-                                   notch_fracs=fracs,
-                                   ends_xy=(tuple(map(float, seg[0])), tuple(map(float, seg[-1])))))
+                out.append(
+                    Stretch(
+                        piece=piece.name,
+                        start=int(s),
+                        end=int(e),
+                        length_cm=length,
+                        bend=bend,
+                        straightness=chord / length,
+                        graded_cm=tuple(float(x) for x in graded),
+                        parts=tuple(base_ids[(i + k) % len(brk)] for k in range(run)),
+                        notch_fracs=fracs,
+                        ends_xy=(tuple(map(float, seg[0])), tuple(map(float, seg[-1]))),
+                    )
+                )
     return out
 
 
@@ -144,14 +165,18 @@ def _score(a: Stretch, b: Stretch) -> float:
     if dl > tol:
         return 0.0
     length_term = np.exp(-((dl / (0.35 * tol)) ** 2))
-    shape_term = np.exp(-abs(a.straightness - b.straightness) / 0.05) * np.exp(-abs(a.bend - b.bend) / 1.0)
+    shape_term = np.exp(-abs(a.straightness - b.straightness) / 0.05) * np.exp(
+        -abs(a.bend - b.bend) / 1.0
+    )
     # long matching stretches are less likely to be coincidences
     size_term = 1.0 - np.exp(-min(a.length_cm, b.length_cm) / 8.0)
     # notches inside the two sides must line up (b runs backwards along a)
     if len(a.notch_fracs) != len(b.notch_fracs):
         notch_term = 0.3
     elif a.notch_fracs:
-        err = np.max(np.abs(np.asarray(a.notch_fracs) - (1.0 - np.asarray(b.notch_fracs[::-1]))))
+        err = np.max(
+            np.abs(np.asarray(a.notch_fracs) - (1.0 - np.asarray(b.notch_fracs[::-1])))
+        )
         notch_term = 1.0 if err < 0.02 else 0.3
     else:
         notch_term = 0.9
@@ -162,11 +187,16 @@ def _twins(pattern: Pattern) -> set[frozenset[str]]:
     """Pairs of pieces that are mirror images of each other (same area and perimeter)."""
     from ..pattern.geometry import area, perimeter
 
-    stats = [(p.name, float(area(sew_line(p)[0])), float(perimeter(sew_line(p)[0]))) for p in pattern.pieces]
+    stats = [
+        (p.name, float(area(sew_line(p)[0])), float(perimeter(sew_line(p)[0])))
+        for p in pattern.pieces
+    ]
     out = set()
     for i, (na, aa, pa) in enumerate(stats):
         for nb, ab, pb in stats[i + 1 :]:
-            if abs(aa - ab) <= 0.005 * max(aa, ab) and abs(pa - pb) <= 0.005 * max(pa, pb):
+            if abs(aa - ab) <= 0.005 * max(aa, ab) and abs(pa - pb) <= 0.005 * max(
+                pa, pb
+            ):
                 out.add(frozenset((na, nb)))
     return out
 
@@ -180,7 +210,10 @@ def _mirrored(a: Stretch, b: Stretch, cx: float, tol_cm: float = 0.3) -> bool:
     """True when ``b`` is ``a`` reflected across the vertical line ``x = cx`` (a symmetric piece's halves)."""
     (ax0, ay0), (ax1, ay1) = a.ends_xy
     (bx0, by0), (bx1, by1) = b.ends_xy
-    return bool(np.hypot(2 * cx - ax0 - bx1, ay0 - by1) < tol_cm and np.hypot(2 * cx - ax1 - bx0, ay1 - by0) < tol_cm)
+    return bool(
+        np.hypot(2 * cx - ax0 - bx1, ay0 - by1) < tol_cm
+        and np.hypot(2 * cx - ax1 - bx0, ay1 - by0) < tol_cm
+    )
 
 
 def infer_seams(pattern: Pattern, *, min_confidence: float = 0.2) -> list[SeamProposal]:
@@ -197,9 +230,16 @@ def infer_seams(pattern: Pattern, *, min_confidence: float = 0.2) -> list[SeamPr
     """
     items = stretches(pattern)
     twins = _twins(pattern)
-    centre_x = {p.name: float(np.mean(sew_line(p)[0][:, 0][[np.argmin(sew_line(p)[0][:, 0]),
-                                                             np.argmax(sew_line(p)[0][:, 0])]]))
-                for p in pattern.pieces}
+    centre_x = {
+        p.name: float(
+            np.mean(
+                sew_line(p)[0][:, 0][
+                    [np.argmin(sew_line(p)[0][:, 0]), np.argmax(sew_line(p)[0][:, 0])]
+                ]
+            )
+        )
+        for p in pattern.pieces
+    }
     sharp: dict[tuple[str, int], bool] = {}
     for piece in pattern.pieces:
         ang = interior_angles(sew_line(piece)[0])
@@ -217,7 +257,9 @@ def infer_seams(pattern: Pattern, *, min_confidence: float = 0.2) -> list[SeamPr
                 if shared and not sharp.get((a.piece, shared.pop()), False):
                     continue
             c = _score(a, b)
-            if frozenset((a.piece, b.piece)) in twins or (a.piece == b.piece and _mirrored(a, b, centre_x[a.piece])):
+            if frozenset((a.piece, b.piece)) in twins or (
+                a.piece == b.piece and _mirrored(a, b, centre_x[a.piece])
+            ):
                 c *= TWIN_FACTOR
             if c >= min_confidence:
                 rank = c * (1.0 + 0.15 * (len(a.parts) + len(b.parts) - 2))
@@ -243,13 +285,20 @@ def with_proposals(pattern: Pattern, proposals: list[SeamProposal]) -> Pattern:
     extra: dict[str, dict[str, int]] = {}
     for p in proposals:
         for s in (p.a, p.b):
-            extra.setdefault(s.piece, {}).update({f"v{s.start}": s.start, f"v{s.end}": s.end})
+            extra.setdefault(s.piece, {}).update(
+                {f"v{s.start}": s.start, f"v{s.end}": s.end}
+            )
     pieces = tuple(
-        replace(pc, marks={**extra.get(pc.name, {}), **dict(pc.marks)}) for pc in pattern.pieces
+        replace(pc, marks={**extra.get(pc.name, {}), **dict(pc.marks)})
+        for pc in pattern.pieces
     )
     seams = tuple(
-        Seam(id=p.seam_id, a=EdgeRange(piece=p.a.piece, start=f"v{p.a.start}", end=f"v{p.a.end}"),
-             b=EdgeRange(piece=p.b.piece, start=f"v{p.b.start}", end=f"v{p.b.end}"), reverse=True)
+        Seam(
+            id=p.seam_id,
+            a=EdgeRange(piece=p.a.piece, start=f"v{p.a.start}", end=f"v{p.a.end}"),
+            b=EdgeRange(piece=p.b.piece, start=f"v{p.b.start}", end=f"v{p.b.end}"),
+            reverse=True,
+        )
         for p in proposals
     )
     return replace(pattern, pieces=pieces, seams=pattern.seams + seams)

@@ -88,12 +88,16 @@ def _leg_length(lines: np.ndarray, piece: Piece, g: Leg) -> np.ndarray:
     return np.linalg.norm(seg, axis=-1).sum(axis=-1)
 
 
-def leg_lengths(pattern: Pattern, legs, lines: Mapping[str, np.ndarray] | None = None) -> np.ndarray:
+def leg_lengths(
+    pattern: Pattern, legs, lines: Mapping[str, np.ndarray] | None = None
+) -> np.ndarray:
     """Σ factor·length of ``legs`` in every size, (n_sizes,) cm."""
     lines = graded_sew_lines(pattern) if lines is None else lines
     total = 0.0
     for g in legs:
-        total = total + g.factor * _leg_length(lines[g.piece], pattern.piece(g.piece), g)
+        total = total + g.factor * _leg_length(
+            lines[g.piece], pattern.piece(g.piece), g
+        )
     return np.asarray(total, dtype=np.float64)
 
 
@@ -131,7 +135,9 @@ def _notch_positions(piece: Piece, idx: np.ndarray, line: np.ndarray) -> np.ndar
     """Arc length (cm) of the notches strictly inside the range, in range order."""
     notch_vertices = {n.vertex for n in piece.notches}
     cum = arc_lengths(line[idx])
-    return np.array([cum[k] for k in range(1, len(idx) - 1) if int(idx[k]) in notch_vertices])
+    return np.array(
+        [cum[k] for k in range(1, len(idx) - 1) if int(idx[k]) in notch_vertices]
+    )
 
 
 def check_seams(
@@ -156,7 +162,10 @@ def check_seams(
     results = []
     for s in pattern.seams:
         pa, pb = pattern.piece(s.a.piece), pattern.piece(s.b.piece)
-        ia, ib = range_indices(pa, s.a.start, s.a.end), range_indices(pb, s.b.start, s.b.end)
+        ia, ib = (
+            range_indices(pa, s.a.start, s.a.end),
+            range_indices(pb, s.b.start, s.b.end),
+        )
         for k, size in enumerate(sizes):
             la_pts, lb_pts = lines[pa.name][k], lines[pb.name][k]
             len_a = float(np.linalg.norm(np.diff(la_pts[ia], axis=0), axis=1).sum())
@@ -164,15 +173,19 @@ def check_seams(
             mismatch = len_b - len_a - s.ease_cm
             problems = []
             if abs(mismatch) > tol_cm:
-                problems.append(f"length {len_a:.2f} vs {len_b:.2f} cm (ease {s.ease_cm:g}): "
-                                f"off by {mismatch * 10:+.1f} mm")
+                problems.append(
+                    f"length {len_a:.2f} vs {len_b:.2f} cm (ease {s.ease_cm:g}): "
+                    f"off by {mismatch * 10:+.1f} mm"
+                )
             na = _notch_positions(pa, ia, la_pts)
             nb = _notch_positions(pb, ib, lb_pts)
             if s.reverse:
                 nb = (len_b - nb)[::-1]
             if len(na) != len(nb):
                 notch_err = float("nan")
-                problems.append(f"{len(na)} notch(es) on {s.a.piece} but {len(nb)} on {s.b.piece}")
+                problems.append(
+                    f"{len(na)} notch(es) on {s.a.piece} but {len(nb)} on {s.b.piece}"
+                )
             elif len(na):
                 expected = na * (len_b / max(len_a, 1e-12))
                 notch_err = float(np.max(np.abs(nb - expected)))
@@ -180,7 +193,16 @@ def check_seams(
                     problems.append(f"notches off by {notch_err * 10:.1f} mm")
             else:
                 notch_err = 0.0
-            results.append(SeamResult(seam=s.id, size=size, length_a_cm=len_a, length_b_cm=len_b,
-                                      ease_cm=s.ease_cm, mismatch_cm=mismatch, notch_error_cm=notch_err,
-                                      problems=tuple(problems)))
+            results.append(
+                SeamResult(
+                    seam=s.id,
+                    size=size,
+                    length_a_cm=len_a,
+                    length_b_cm=len_b,
+                    ease_cm=s.ease_cm,
+                    mismatch_cm=mismatch,
+                    notch_error_cm=notch_err,
+                    problems=tuple(problems),
+                )
+            )
     return results

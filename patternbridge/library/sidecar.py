@@ -23,7 +23,13 @@ from ..atomic import write_text
 from ..errors import InputError
 from ..pattern.model import EdgeRange, Leg, MeasurementLink, Pattern, Placement, Seam
 
-__all__ = ["SIDECAR_FORMAT", "apply_sidecar", "read_sidecar", "sidecar_dict", "write_sidecar"]
+__all__ = [
+    "SIDECAR_FORMAT",
+    "apply_sidecar",
+    "read_sidecar",
+    "sidecar_dict",
+    "write_sidecar",
+]
 
 SIDECAR_FORMAT = "patternbridge.bridge"
 SIDECAR_VERSION = "1.0"
@@ -31,7 +37,9 @@ SIDECAR_VERSION = "1.0"
 MATCH_TOL_CM = 0.05
 
 
-def sidecar_dict(pattern: Pattern, *, proposals: list[dict[str, Any]] | None = None) -> dict[str, Any]:
+def sidecar_dict(
+    pattern: Pattern, *, proposals: list[dict[str, Any]] | None = None
+) -> dict[str, Any]:
     """The sidecar content of ``pattern`` as a JSON-ready dict.
 
     proposals : extra seam proposals (from ``seams infer``) written with their
@@ -42,17 +50,41 @@ def sidecar_dict(pattern: Pattern, *, proposals: list[dict[str, Any]] | None = N
         entry: dict[str, Any] = {
             "name": p.name,
             "n_vertices": p.n_vertices,
-            "marks": {m: {"vertex": i, "xy": [round(float(v), 4) for v in p.outline[i]]} for m, i in p.marks.items()},
+            "marks": {
+                m: {"vertex": i, "xy": [round(float(v), 4) for v in p.outline[i]]}
+                for m, i in p.marks.items()
+            },
             "landmarks": dict(p.landmarks),
-            "placement": None if p.placement is None else {
-                "body_part": str(p.placement.body_part), "side": str(p.placement.side),
-                "anchor": p.placement.anchor, "anchor_mark": p.placement.anchor_mark},
+            "placement": None
+            if p.placement is None
+            else {
+                "body_part": str(p.placement.body_part),
+                "side": str(p.placement.side),
+                "anchor": p.placement.anchor,
+                "anchor_mark": p.placement.anchor_mark,
+            },
         }
         pieces.append(entry)
     seams = [
-        {"id": s.id, "kind": str(s.kind), "reverse": s.reverse, "ease_cm": s.ease_cm, "status": "confirmed",
-         "a": {"piece": s.a.piece, "start": s.a.start, "end": s.a.end, "copy": str(s.a.copy)},
-         "b": {"piece": s.b.piece, "start": s.b.start, "end": s.b.end, "copy": str(s.b.copy)}}
+        {
+            "id": s.id,
+            "kind": str(s.kind),
+            "reverse": s.reverse,
+            "ease_cm": s.ease_cm,
+            "status": "confirmed",
+            "a": {
+                "piece": s.a.piece,
+                "start": s.a.start,
+                "end": s.a.end,
+                "copy": str(s.a.copy),
+            },
+            "b": {
+                "piece": s.b.piece,
+                "start": s.b.start,
+                "end": s.b.end,
+                "copy": str(s.b.copy),
+            },
+        }
         for s in pattern.seams
     ]
     seams.extend(proposals or [])
@@ -66,18 +98,39 @@ def sidecar_dict(pattern: Pattern, *, proposals: list[dict[str, Any]] | None = N
         "pieces": pieces,
         "seams": seams,
         "measurements": [
-            {"id": m.id, "measurement": m.measurement, "ease_cm": m.ease_cm,
-             "legs": [{"piece": g.piece, "start": g.start, "end": g.end, "along": g.along, "factor": g.factor}
-                      for g in m.legs]}
+            {
+                "id": m.id,
+                "measurement": m.measurement,
+                "ease_cm": m.ease_cm,
+                "legs": [
+                    {
+                        "piece": g.piece,
+                        "start": g.start,
+                        "end": g.end,
+                        "along": g.along,
+                        "factor": g.factor,
+                    }
+                    for g in m.legs
+                ],
+            }
             for m in pattern.measurements
         ],
     }
 
 
-def write_sidecar(pattern: Pattern, path: str | os.PathLike, *,
-                  proposals: list[dict[str, Any]] | None = None) -> Path:
+def write_sidecar(
+    pattern: Pattern,
+    path: str | os.PathLike,
+    *,
+    proposals: list[dict[str, Any]] | None = None,
+) -> Path:
     """Write the bridge-data sidecar of ``pattern`` to ``path`` atomically."""
-    text = json.dumps(sidecar_dict(pattern, proposals=proposals), indent=1, ensure_ascii=False) + "\n"
+    text = (
+        json.dumps(
+            sidecar_dict(pattern, proposals=proposals), indent=1, ensure_ascii=False
+        )
+        + "\n"
+    )
     return write_text(path, text)
 
 
@@ -95,12 +148,16 @@ def read_sidecar(path: str | os.PathLike) -> dict[str, Any]:
     except FileNotFoundError:
         raise InputError(f"{path}: no such sidecar file") from None
     except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise InputError(f"{path}: not valid JSON ({exc}); give a sidecar written by "
-                         "'patternbridge seams infer' or 'library export'") from None
+        raise InputError(
+            f"{path}: not valid JSON ({exc}); give a sidecar written by "
+            "'patternbridge seams infer' or 'library export'"
+        ) from None
     if not isinstance(data, dict) or data.get("format") != SIDECAR_FORMAT:
         got = data.get("format") if isinstance(data, dict) else type(data).__name__
-        raise InputError(f"{path}: not a bridge-data sidecar (format {got!r}, expected {SIDECAR_FORMAT!r}); "
-                         "give a *.seams.json sidecar")
+        raise InputError(
+            f"{path}: not a bridge-data sidecar (format {got!r}, expected {SIDECAR_FORMAT!r}); "
+            "give a *.seams.json sidecar"
+        )
     return data
 
 
@@ -114,22 +171,30 @@ def _match_marks(path: Path, piece, entry: dict[str, Any]) -> dict[str, int]:
         xy = m.get("xy")
         if xy is not None:
             xy = np.asarray(xy, dtype=np.float64)
-            if not (0 <= vertex < len(outline)) or np.hypot(*(outline[vertex] - xy)) > MATCH_TOL_CM:
+            if (
+                not (0 <= vertex < len(outline))
+                or np.hypot(*(outline[vertex] - xy)) > MATCH_TOL_CM
+            ):
                 dist = np.hypot(*(outline - xy).T)
                 vertex = int(np.argmin(dist))
                 if dist[vertex] > MATCH_TOL_CM:
                     raise InputError(
                         f"{path}: mark {name!r} of piece {piece.name!r} at {xy.tolist()} is "
                         f"{dist[vertex]:.2f} cm from the nearest outline vertex; the sidecar belongs to "
-                        "another version of the pattern, re-run 'patternbridge seams infer'")
+                        "another version of the pattern, re-run 'patternbridge seams infer'"
+                    )
         if not 0 <= vertex < len(outline):
-            raise InputError(f"{path}: mark {name!r} of piece {piece.name!r} is vertex {vertex}, the outline "
-                             f"has {len(outline)}; fix the sidecar")
+            raise InputError(
+                f"{path}: mark {name!r} of piece {piece.name!r} is vertex {vertex}, the outline "
+                f"has {len(outline)}; fix the sidecar"
+            )
         marks[name] = vertex
     return marks
 
 
-def apply_sidecar(pattern: Pattern, path: str | os.PathLike, *, confirmed_only: bool = False) -> Pattern:
+def apply_sidecar(
+    pattern: Pattern, path: str | os.PathLike, *, confirmed_only: bool = False
+) -> Pattern:
     """Return ``pattern`` with the bridge data of the sidecar at ``path``.
 
     Marks, landmarks and placement replace the pieces' own; seams and
@@ -148,8 +213,10 @@ def apply_sidecar(pattern: Pattern, path: str | os.PathLike, *, confirmed_only: 
     entries = {}
     for entry in data.get("pieces", []):
         if entry.get("name") not in names:
-            raise InputError(f"{path}: piece {entry.get('name')!r} is not in the pattern "
-                             f"(pieces: {sorted(names)}); fix the sidecar")
+            raise InputError(
+                f"{path}: piece {entry.get('name')!r} is not in the pattern "
+                f"(pieces: {sorted(names)}); fix the sidecar"
+            )
         entries[entry["name"]] = entry
     pieces = []
     try:
@@ -160,36 +227,65 @@ def apply_sidecar(pattern: Pattern, path: str | os.PathLike, *, confirmed_only: 
                 continue
             marks = _match_marks(path, p, e)
             pl = e.get("placement")
-            pieces.append(replace(p, marks=marks, landmarks=e.get("landmarks", {}),
-                                  placement=None if pl is None else Placement(**pl)))
+            pieces.append(
+                replace(
+                    p,
+                    marks=marks,
+                    landmarks=e.get("landmarks", {}),
+                    placement=None if pl is None else Placement(**pl),
+                )
+            )
         out = replace(pattern, pieces=tuple(pieces))
         seams = []
         for s in data.get("seams", []):
             if confirmed_only and s.get("status", "confirmed") != "confirmed":
                 continue
-            seams.append(Seam(id=s["id"], a=EdgeRange(**s["a"]), b=EdgeRange(**s["b"]),
-                              kind=s.get("kind", "seam"), reverse=bool(s.get("reverse", True)),
-                              ease_cm=float(s.get("ease_cm", 0.0))))
+            seams.append(
+                Seam(
+                    id=s["id"],
+                    a=EdgeRange(**s["a"]),
+                    b=EdgeRange(**s["b"]),
+                    kind=s.get("kind", "seam"),
+                    reverse=bool(s.get("reverse", True)),
+                    ease_cm=float(s.get("ease_cm", 0.0)),
+                )
+            )
         links = tuple(
-            MeasurementLink(id=m.get("id", ""), measurement=m["measurement"], ease_cm=m.get("ease_cm", 0.0),
-                            legs=tuple(Leg(**g) for g in m["legs"]))
+            MeasurementLink(
+                id=m.get("id", ""),
+                measurement=m["measurement"],
+                ease_cm=m.get("ease_cm", 0.0),
+                legs=tuple(Leg(**g) for g in m["legs"]),
+            )
             for m in data.get("measurements", [])
         )
     except (KeyError, TypeError, ValueError) as exc:
-        raise InputError(f"{path}: malformed sidecar ({exc}); see formats/bridge.md") from None
+        raise InputError(
+            f"{path}: malformed sidecar ({exc}); see formats/bridge.md"
+        ) from None
     for s in seams:
         for e in (s.a, s.b):
             if e.piece not in names:
-                raise InputError(f"{path}: seam {s.id!r} names piece {e.piece!r}, not in the pattern; fix the sidecar")
+                raise InputError(
+                    f"{path}: seam {s.id!r} names piece {e.piece!r}, not in the pattern; fix the sidecar"
+                )
             piece = out.piece(e.piece)
             for m in (e.start, e.end):
                 if m not in piece.marks:
-                    raise InputError(f"{path}: seam {s.id!r} names mark {m!r} that piece {e.piece!r} does not "
-                                     "have; add it under the piece's marks")
+                    raise InputError(
+                        f"{path}: seam {s.id!r} names mark {m!r} that piece {e.piece!r} does not "
+                        "have; add it under the piece's marks"
+                    )
     for m in links:
         for g in m.legs:
-            if g.piece not in names or g.start not in out.piece(g.piece).marks or g.end not in out.piece(g.piece).marks:
-                raise InputError(f"{path}: measurement {m.id!r} leg {g.piece}:{g.start}-{g.end} names an "
-                                 "unknown piece or mark; fix the sidecar")
+            if (
+                g.piece not in names
+                or g.start not in out.piece(g.piece).marks
+                or g.end not in out.piece(g.piece).marks
+            ):
+                raise InputError(
+                    f"{path}: measurement {m.id!r} leg {g.piece}:{g.start}-{g.end} names an "
+                    "unknown piece or mark; fix the sidecar"
+                )
     description = data.get("description") or out.description
     return replace(out, seams=tuple(seams), measurements=links, description=description)

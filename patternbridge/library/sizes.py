@@ -42,7 +42,9 @@ class SizeChart:
         for k, v in dict(self.dims).items():
             arr = np.asarray(v, dtype=np.float64)
             if arr.shape != (len(self.sizes),):
-                raise ValueError(f"size chart {self.name}: {k} has shape {arr.shape}, expected ({len(self.sizes)},)")
+                raise ValueError(
+                    f"size chart {self.name}: {k} has shape {arr.shape}, expected ({len(self.sizes)},)"
+                )
             arr.flags.writeable = False
             table[k] = arr
         object.__setattr__(self, "dims", MappingProxyType(table))
@@ -56,10 +58,18 @@ class SizeChart:
         """The same chart with sizes labelled by dimension ``key`` (e.g. waist girth)."""
         labels = tuple(fmt.format(v) for v in self.dims[key])
         sample = labels[self.sizes.index(self.sample_size)]
-        return SizeChart(name=self.name, sizes=labels, sample_size=sample, dims=self.dims, source=self.source)
+        return SizeChart(
+            name=self.name,
+            sizes=labels,
+            sample_size=sample,
+            dims=self.dims,
+            source=self.source,
+        )
 
 
-def _steps(sample: float, step: float, n_below: int = 2, n_above: int = 2) -> np.ndarray:
+def _steps(
+    sample: float, step: float, n_below: int = 2, n_above: int = 2
+) -> np.ndarray:
     return sample + step * np.arange(-n_below, n_above + 1, dtype=np.float64)
 
 

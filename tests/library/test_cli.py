@@ -16,9 +16,20 @@ from patternbridge.pattern.model import Polyline
 def test_library_list_json(capsys):
     assert main(["library", "list", "--json"]) == 0
     rows = json.loads(capsys.readouterr().out)
-    assert {r["name"] for r in rows} == {"shirt", "trousers", "skirt", "dress", "tshirt", "shorts"}
+    assert {r["name"] for r in rows} == {
+        "shirt",
+        "trousers",
+        "skirt",
+        "dress",
+        "tshirt",
+        "shorts",
+    }
     for r in rows:
-        assert set(r) == {"name", "pieces", "sizes", "description"} and len(r["sizes"]) >= 5 and r["description"]
+        assert (
+            set(r) == {"name", "pieces", "sizes", "description"}
+            and len(r["sizes"]) >= 5
+            and r["description"]
+        )
 
 
 def test_library_list_and_show_text(capsys):
@@ -37,7 +48,22 @@ def test_library_show_picture(tmp_path):
 
 def test_library_export_then_check_the_dxf(tmp_path, capsys):
     dxf = tmp_path / "tr.dxf"
-    assert main(["library", "export", "trousers", "-o", str(dxf), "--flavor", "astm", "--rul", str(tmp_path / "tr.rul")]) == 0
+    assert (
+        main(
+            [
+                "library",
+                "export",
+                "trousers",
+                "-o",
+                str(dxf),
+                "--flavor",
+                "astm",
+                "--rul",
+                str(tmp_path / "tr.rul"),
+            ]
+        )
+        == 0
+    )
     assert (tmp_path / "tr.seams.json").is_file()
     assert main(["check", str(dxf)]) == 0
     assert "0 failed" in capsys.readouterr().out
@@ -53,17 +79,32 @@ def test_check_fails_with_exit_1_on_a_broken_seam(tmp_path, capsys):
     shirt = load_garment("shirt")
     cuff = shirt.piece("cuff")
     sew = cuff.sew_lines[0]
-    broken = replace(cuff, sew_lines=(Polyline(points=np.asarray(sew.points) * 1.05, kinds=sew.kinds,
-                                               rules=sew.rules, closed=True),))
-    path = save_pattern_json(replace(shirt, pieces=tuple(broken if p.name == "cuff" else p for p in shirt.pieces)),
-                             tmp_path / "shirt.json")
+    broken = replace(
+        cuff,
+        sew_lines=(
+            Polyline(
+                points=np.asarray(sew.points) * 1.05,
+                kinds=sew.kinds,
+                rules=sew.rules,
+                closed=True,
+            ),
+        ),
+    )
+    path = save_pattern_json(
+        replace(
+            shirt, pieces=tuple(broken if p.name == "cuff" else p for p in shirt.pieces)
+        ),
+        tmp_path / "shirt.json",
+    )
     assert main(["check", str(path)]) == 1
     out = capsys.readouterr().out
     assert "FAIL cuff_right size 88" in out and "mm" in out
     assert main(["check", str(path), "--json"]) == 1
     rows = json.loads(capsys.readouterr().out)
     assert any(not r["ok"] and r["seam"] == "cuff_right" for r in rows)
-    assert all(r["ok"] for r in rows if r["seam"] == "cuff_closure_right")  # both ends grew alike
+    assert all(
+        r["ok"] for r in rows if r["seam"] == "cuff_closure_right"
+    )  # both ends grew alike
 
 
 def test_check_json_passes_for_every_library_garment(capsys):
@@ -74,12 +115,27 @@ def test_check_json_passes_for_every_library_garment(capsys):
 
 def test_seams_infer_writes_an_applicable_sidecar(tmp_path, capsys):
     d = tmp_path
-    assert main(["library", "export", "shorts", "-o", str(d / "s.dxf"), "--rul", str(d / "s.rul")]) == 0
+    assert (
+        main(
+            [
+                "library",
+                "export",
+                "shorts",
+                "-o",
+                str(d / "s.dxf"),
+                "--rul",
+                str(d / "s.rul"),
+            ]
+        )
+        == 0
+    )
     (d / "s.seams.json").unlink()
     side = d / "proposal.json"
     assert main(["seams", "infer", str(d / "s.dxf"), "-o", str(side)]) == 0
     data = json.loads(side.read_text())
-    assert data["seams"] and all(s["status"] == "proposed" and 0 < s["confidence"] <= 1 for s in data["seams"])
+    assert data["seams"] and all(
+        s["status"] == "proposed" and 0 < s["confidence"] <= 1 for s in data["seams"]
+    )
     capsys.readouterr()
     code = main(["check", str(d / "s.dxf"), "--sidecar", str(side)])
     assert code in (0, 1)

@@ -20,14 +20,18 @@ from patternbridge.library.draft import (
 def test_bezier_straight_line_is_evenly_sampled():
     pts = bezier((0, 0), (1, 0), (2, 0), (3, 0), 6)
     np.testing.assert_allclose(pts[:, 0], np.linspace(0, 3, 7))
-    assert bezier_length(np.array([[0, 0], [1, 0], [2, 0], [3, 0]])) == pytest.approx(3.0)
+    assert bezier_length(np.array([[0, 0], [1, 0], [2, 0], [3, 0]])) == pytest.approx(
+        3.0
+    )
 
 
 def test_bezier_split_keeps_the_curve():
     c = np.array([[0, 0], [1, 3], [4, 3], [5, 0]], float)
     left, right = bezier_split(c, 0.3)
     np.testing.assert_allclose(left[-1], right[0])
-    assert bezier_length(left) + bezier_length(right) == pytest.approx(bezier_length(c), rel=1e-4)
+    assert bezier_length(left) + bezier_length(right) == pytest.approx(
+        bezier_length(c), rel=1e-4
+    )
 
 
 def test_insert_at_length_places_vertex_at_arc_length():
@@ -48,9 +52,13 @@ def test_offset_square_is_mitred():
 
 def test_offset_dart_closes_over_the_dart_mouth():
     # a square with a V dart cut into its top edge
-    pts = np.array([[0, 0], [10, 0], [10, 10], [6, 10], [5, 4], [4, 10], [0, 10]], float)
+    pts = np.array(
+        [[0, 0], [10, 0], [10, 10], [6, 10], [5, 4], [4, 10], [0, 10]], float
+    )
     cut = offset_outline(pts, np.ones(7), darts=[4])
-    np.testing.assert_allclose(cut[3:6, 1], 11.0)  # straight across the mouth, 1 cm above
+    np.testing.assert_allclose(
+        cut[3:6, 1], 11.0
+    )  # straight across the mouth, 1 cm above
     assert shapely.is_simple(shapely.linearrings(cut))
 
 
@@ -73,7 +81,12 @@ def test_builder_bezier_marks_keep_their_index_when_they_move():
         b.start((0, 0), "bottom")
         b.line((10, -5))
         b.line((10, 0), "start")
-        b.bezier(np.array([[10, 0], [7, 4], [3, 4], [0.5, 0.5]], float), "end", n=10, at=[(s, "notch", True)])
+        b.bezier(
+            np.array([[10, 0], [7, 4], [3, 4], [0.5, 0.5]], float),
+            "end",
+            n=10,
+            at=[(s, "notch", True)],
+        )
         return b.close()
 
     one, two = walk(3.0), walk(9.0)

@@ -9,19 +9,40 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from patternbridge.library import garment_dir, garment_names, load_garment
+from patternbridge.library import garment_dir, garment_names
 from patternbridge.library.catalogue import GARMENTS
-from patternbridge.library.seams import check_seams, graded_sew_lines, link_lengths, sew_line
+from patternbridge.library.seams import (
+    check_seams,
+    graded_sew_lines,
+    link_lengths,
+    sew_line,
+)
 from patternbridge.library.sizes import MEN, WOMEN
 from patternbridge.pattern.geometry import is_simple, signed_area
 from patternbridge.pattern.model import BodyPart, Polyline
 from patternbridge.testing import assert_patterns_equal
 
 MEASUREMENT_IDS = {
-    "chest_girth", "bust_girth", "waist_girth", "hip_girth", "neck_girth", "upper_arm_girth_right",
-    "wrist_girth_right", "thigh_girth_right", "knee_girth_right", "ankle_girth_right", "back_length",
-    "front_length", "shoulder_width", "shoulder_length_right", "arm_length_right", "crotch_length",
-    "outside_leg_right", "inside_leg_right", "waist_to_hip", "back_width",
+    "chest_girth",
+    "bust_girth",
+    "waist_girth",
+    "hip_girth",
+    "neck_girth",
+    "upper_arm_girth_right",
+    "wrist_girth_right",
+    "thigh_girth_right",
+    "knee_girth_right",
+    "ankle_girth_right",
+    "back_length",
+    "front_length",
+    "shoulder_width",
+    "shoulder_length_right",
+    "arm_length_right",
+    "crotch_length",
+    "outside_leg_right",
+    "inside_leg_right",
+    "waist_to_hip",
+    "back_width",
 }
 
 
@@ -36,7 +57,12 @@ def test_garment_files_are_committed(garment):
     for suffix in (".json", "_aama.dxf", "_astm.dxf", ".rul", ".seams.json"):
         assert (d / f"{garment.style}{suffix}").is_file(), suffix
     assert (d / "draft.py").is_file()
-    assert (Path(__file__).resolve().parents[2] / "docs" / "library" / f"{garment.style}.png").is_file()
+    assert (
+        Path(__file__).resolve().parents[2]
+        / "docs"
+        / "library"
+        / f"{garment.style}.png"
+    ).is_file()
 
 
 def test_at_least_five_sizes_with_one_rule_per_vertex(garment):
@@ -57,7 +83,9 @@ def test_outlines_are_ccw_simple_and_contain_the_sew_line(garment):
         assert signed_area(piece.outline) > 0 and is_simple(piece.outline)
         for graded in lines[piece.name]:
             assert signed_area(graded) > 0 and is_simple(graded), piece.name
-        assert float(signed_area(piece.outline)) > float(signed_area(sew_line(piece)[0]))
+        assert float(signed_area(piece.outline)) > float(
+            signed_area(sew_line(piece)[0])
+        )
 
 
 def test_every_piece_has_placement_and_grain(garment, shared_dir):
@@ -70,7 +98,11 @@ def test_every_piece_has_placement_and_grain(garment, shared_dir):
         assert piece.grain_line is not None
         if piece.quantity.left:
             # paired pieces are drafted for the right side of the body
-            assert pl.body_part in (BodyPart.TORSO, BodyPart.RIGHT_ARM, BodyPart.RIGHT_LEG)
+            assert pl.body_part in (
+                BodyPart.TORSO,
+                BodyPart.RIGHT_ARM,
+                BodyPart.RIGHT_LEG,
+            )
             assert all(not k.endswith("_left") for k in piece.landmarks)
 
 
@@ -92,7 +124,9 @@ def test_links_realise_body_plus_ease_in_the_sample_size(garment):
     k = list(garment.sizes).index(garment.sample_size)
     for m in garment.measurements:
         target = body[m.measurement] + m.ease_cm
-        assert achieved[m.id][k] == pytest.approx(target[chart.sizes.index(chart.sample_size)], abs=0.06), m.id
+        assert achieved[m.id][k] == pytest.approx(
+            target[chart.sizes.index(chart.sample_size)], abs=0.06
+        ), m.id
         # and the graded sizes follow the chart within a few centimetres
         assert np.max(np.abs(achieved[m.id] - target)) < 3.0, m.id
 
@@ -108,23 +142,47 @@ def test_a_broken_seam_is_caught(garment):
     seam = garment.seams[0]
     piece = garment.piece(seam.a.piece)
     pts = np.array(piece.sew_lines[0].points) * 1.02  # the piece sewn 2 % too large
-    broken_line = Polyline(points=pts, kinds=piece.sew_lines[0].kinds, rules=piece.sew_lines[0].rules, closed=True)
-    broken = replace(garment, pieces=tuple(replace(p, sew_lines=(broken_line,)) if p.name == piece.name else p
-                                           for p in garment.pieces))
+    broken_line = Polyline(
+        points=pts,
+        kinds=piece.sew_lines[0].kinds,
+        rules=piece.sew_lines[0].rules,
+        closed=True,
+    )
+    broken = replace(
+        garment,
+        pieces=tuple(
+            replace(p, sew_lines=(broken_line,)) if p.name == piece.name else p
+            for p in garment.pieces
+        ),
+    )
     bad = {r.seam for r in check_seams(broken) if not r.ok}
     assert seam.id in bad
 
 
 def test_a_missing_notch_is_caught(garment):
-    seam = next((s for s in garment.seams
-                 if any(n.vertex in _inside(garment, s.a) for n in garment.piece(s.a.piece).notches)), None)
+    seam = next(
+        (
+            s
+            for s in garment.seams
+            if any(
+                n.vertex in _inside(garment, s.a)
+                for n in garment.piece(s.a.piece).notches
+            )
+        ),
+        None,
+    )
     if seam is None:
         pytest.skip("no seam with notches")
     piece = garment.piece(seam.a.piece)
     inside = _inside(garment, seam.a)
     notches = tuple(n for n in piece.notches if n.vertex not in inside)
-    broken = replace(garment, pieces=tuple(replace(p, notches=notches) if p.name == piece.name else p
-                                           for p in garment.pieces))
+    broken = replace(
+        garment,
+        pieces=tuple(
+            replace(p, notches=notches) if p.name == piece.name else p
+            for p in garment.pieces
+        ),
+    )
     assert any(r.seam == seam.id and not r.ok for r in check_seams(broken))
 
 
@@ -150,7 +208,13 @@ def test_dxf_rul_sidecar_round_trip(garment, flavor, tmp_path):
     sidecar = write_sidecar(garment, tmp_path / "g.seams.json")
     back, _report = read_dxf(dxf, rul=rul)
     back = apply_sidecar(back, sidecar)
-    assert_patterns_equal(garment, back, atol_cm=1e-3, atol_rad=1e-3, ignore={"provenance", "source_angle_deg"})
+    assert_patterns_equal(
+        garment,
+        back,
+        atol_cm=1e-3,
+        atol_rad=1e-3,
+        ignore={"provenance", "source_angle_deg"},
+    )
     assert not [r for r in check_seams(back) if not r.ok]
 
 
@@ -161,4 +225,10 @@ def test_committed_dxf_reads_back_to_the_json(garment):
     d = garment_dir(garment.style)
     back, _ = read_dxf(d / f"{garment.style}_aama.dxf", rul=d / f"{garment.style}.rul")
     back = apply_sidecar(back, d / f"{garment.style}.seams.json")
-    assert_patterns_equal(garment, back, atol_cm=1e-3, atol_rad=1e-3, ignore={"provenance", "source_angle_deg"})
+    assert_patterns_equal(
+        garment,
+        back,
+        atol_cm=1e-3,
+        atol_rad=1e-3,
+        ignore={"provenance", "source_angle_deg"},
+    )

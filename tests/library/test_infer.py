@@ -20,10 +20,19 @@ def _recovered(name: str) -> tuple[int, int, int]:
     for s in truth_pattern.seams:
         if s.a.copy == s.b.copy == "primary":
             pa, pb = truth_pattern.piece(s.a.piece), truth_pattern.piece(s.b.piece)
-            truth.add(frozenset([(s.a.piece, pa.marks[s.a.start], pa.marks[s.a.end]),
-                                 (s.b.piece, pb.marks[s.b.start], pb.marks[s.b.end])]))
-    hits = sum(frozenset([(p.a.piece, p.a.start, p.a.end), (p.b.piece, p.b.start, p.b.end)]) in truth
-               for p in proposals)
+            truth.add(
+                frozenset(
+                    [
+                        (s.a.piece, pa.marks[s.a.start], pa.marks[s.a.end]),
+                        (s.b.piece, pb.marks[s.b.start], pb.marks[s.b.end]),
+                    ]
+                )
+            )
+    hits = sum(
+        frozenset([(p.a.piece, p.a.start, p.a.end), (p.b.piece, p.b.start, p.b.end)])
+        in truth
+        for p in proposals
+    )
     return len(truth), len(proposals), hits
 
 
@@ -43,14 +52,23 @@ def test_trouser_side_seam_and_inside_leg_are_found():
     bare, _ = read_dxf(d / "trousers_aama.dxf", rul=d / "trousers.rul")
     truth = load_garment("trousers")
     front, back = truth.piece("front"), truth.piece("back")
-    pairs = {frozenset([(p.a.piece, p.a.start, p.a.end), (p.b.piece, p.b.start, p.b.end)]) for p in infer_seams(bare)}
-    side = frozenset([("front", front.marks["side_waist"], front.marks["side_hem"]),
-                      ("back", back.marks["side_hem"], back.marks["side_waist"])])
+    pairs = {
+        frozenset([(p.a.piece, p.a.start, p.a.end), (p.b.piece, p.b.start, p.b.end)])
+        for p in infer_seams(bare)
+    }
+    side = frozenset(
+        [
+            ("front", front.marks["side_waist"], front.marks["side_hem"]),
+            ("back", back.marks["side_hem"], back.marks["side_waist"]),
+        ]
+    )
     assert side in pairs
 
 
 def test_proposals_are_exclusive_and_become_checkable_seams():
-    bare, _ = read_dxf(garment_dir("skirt") / "skirt_aama.dxf", rul=garment_dir("skirt") / "skirt.rul")
+    bare, _ = read_dxf(
+        garment_dir("skirt") / "skirt_aama.dxf", rul=garment_dir("skirt") / "skirt.rul"
+    )
     proposals = infer_seams(bare)
     assert proposals and all(0 < p.confidence <= 1 for p in proposals)
     used = [k for p in proposals for k in p.a.parts + p.b.parts]
@@ -63,7 +81,9 @@ def test_proposals_are_exclusive_and_become_checkable_seams():
 def test_stretches_split_at_turn_points_and_notches():
     shirt = load_garment("shirt")
     singles = [s for s in stretches(shirt, max_run=1) if s.piece == "cuff"]
-    assert sorted(round(s.length_cm, 3) for s in singles)[:2] == pytest.approx([6.0, 6.0])
+    assert sorted(round(s.length_cm, 3) for s in singles)[:2] == pytest.approx(
+        [6.0, 6.0]
+    )
 
 
 @pytest.mark.shared
