@@ -43,6 +43,7 @@ __all__ = [
     "deform_pattern",
     "grid_lines",
     "piece_grid",
+    "reference_line",
 ]
 
 
@@ -125,6 +126,19 @@ def bilinear_weights(points: np.ndarray, xs: np.ndarray, ys: np.ndarray) -> tupl
     return uv, w
 
 
+def reference_line(piece: Piece) -> np.ndarray:
+    """The line seams and measurements are measured on, ``(n, 2)`` cm.
+
+    The piece's first closed sew line when it has one vertex per outline
+    vertex (the library convention: marks index both lines), else the cut
+    outline (a net pattern).
+    """
+    for line in piece.sew_lines:
+        if line.closed and len(line.points) == piece.n_vertices:
+            return np.asarray(line.points, dtype=np.float64)
+    return piece.outline
+
+
 def _piece_extra_points(piece: Piece) -> np.ndarray:
     """All non-outline points that must move with the grid, in a fixed order."""
     chunks = [pl.points for pl in piece.internal_lines]
@@ -146,7 +160,11 @@ class PieceGrid:
 
     xs : (nu,) grid x positions, cm ; ys : (nv,) grid y positions, cm
     control : (nv * nu, 2) original control points (row-major, cm)
-    outline_weights : (n, nv * nu) bilinear weights of the outline vertices
+    outline_weights : (n, nv * nu) bilinear weights of the reference line:
+        the sew line when the piece has one with a vertex per outline vertex
+        (seams and measurements are lengths along the stitching), else the
+        cut outline
+    cut_weights : (n, nv * nu) bilinear weights of the cut outline
     extra_points : (e, 2) the piece's other geometry (internal lines, grain,
         drill holes, annotations) in the order :func:`deform_piece` expects
     extra_weights : (e, nv * nu)
@@ -159,6 +177,7 @@ class PieceGrid:
     ys: np.ndarray
     control: np.ndarray
     outline_weights: np.ndarray
+    cut_weights: np.ndarray
     extra_points: np.ndarray
     extra_weights: np.ndarray
     critical: np.ndarray
@@ -180,20 +199,23 @@ class PieceGrid:
 def piece_grid(piece: Piece, *, max_lines: int = 6, min_gap_frac: float = 0.06) -> PieceGrid:
     """Build the control grid of ``piece`` through its critical points."""
     outline = piece.outline
-    lo = outline.min(axis=0)
-    hi = outline.max(axis=0)
+    line = reference_line(piece)
+    both = np.vstack([outline, line])
+    lo = both.min(axis=0)
+    hi = both.max(axis=0)
     extent = float(np.max(hi - lo))
     crit = critical_vertices(piece)
     gap = max(min_gap_frac * extent, 1e-6)
-    xs = grid_lines(outline[crit, 0], lo[0], hi[0], max_lines=max_lines, min_gap_cm=gap)
-    ys = grid_lines(outline[crit, 1], lo[1], hi[1], max_lines=max_lines, min_gap_cm=gap)
+    xs = grid_lines(line[crit, 0], lo[0], hi[0], max_lines=max_lines, min_gap_cm=gap)
+    ys = grid_lines(line[crit, 1], lo[1], hi[1], max_lines=max_lines, min_gap_cm=gap)
     gx, gy = np.meshgrid(xs, ys)
     control = np.stack([gx.ravel(), gy.ravel()], axis=1)
-    _, w_out = bilinear_weights(outline, xs, ys)
+    _, w_out = bilinear_weights(line, xs, ys)
+    _, w_cut = bilinear_weights(outline, xs, ys)
     extra = _piece_extra_points(piece)
     _, w_extra = bilinear_weights(extra, xs, ys)
     return PieceGrid(
-        name=piece.name, xs=xs, ys=ys, control=control, outline_weights=w_out,
+        name=piece.name, xs=xs, ys=ys, control=control, outline_weights=w_out, cut_weights=w_cut,
         extra_points=extra, extra_weights=w_extra, critical=crit, extent_cm=extent,
     )
 
@@ -238,7 +260,11 @@ class PatternGrid:
         return sl.reshape(len(X), g.nv, g.nu, 2)
 
     def outlines(self, X: np.ndarray) -> np.ndarray:
-        """All outline vertices of all pieces, ``(n_pop, n_points, 2)`` cm."""
+        """Reference-line vertices of all pieces, ``(n_pop, n_points, 2)`` cm.
+
+        The reference line is the sew line when the piece has a matching one,
+        else the cut outline (:func:`reference_line`).
+        """
         X = np.atleast_2d(np.asarray(X, dtype=np.float64))
         parts = []
         for k, g in enumerate(self.pieces):
@@ -398,7 +424,7 @@ def deform_pattern(grid: PatternGrid, x: np.ndarray, *, size: str | None = None)
     pieces = []
     for k, (piece, g) in enumerate(zip(grid.pattern.pieces, grid.pieces)):
         control = x[grid.var_offsets[k]:grid.var_offsets[k + 1]].reshape(g.n_control, 2)
-        outline = g.outline_weights @ control
+        outline = g.cut_weights @ control
 
         def move(points, _g=g, _c=control):
             return _map_points(_g, _c, np.asarray(points, dtype=np.float64))

@@ -263,22 +263,19 @@ def axis_scaling(grid: PatternGrid, data: ObjectiveData) -> np.ndarray:
 
 
 def nearest_size(pattern: Pattern, data: ObjectiveData, grid: PatternGrid) -> tuple[str, np.ndarray] | None:
-    """The graded size with the least measurement error and its outline points.
+    """The graded size with the least measurement error and its reference-line points.
 
     Returns ``(size, points (N, 2))`` or None when the pattern has no grade
     rules (or a single size).
     """
     if len(pattern.rules.sizes) < 2 or not pattern.rules.deltas:
         return None
-    try:
-        from ..pattern.grading import graded_outlines
-    except ImportError:  # pragma: no cover - grading lives in the pattern stage
-        return None
+    from ..library.seams import graded_sew_lines
     from .objectives import measurement_error
 
-    table = graded_outlines(pattern)
-    sizes = list(table)
-    pts = np.stack([np.concatenate([table[s][p.name] for p in pattern.pieces]) for s in sizes])
+    table = graded_sew_lines(pattern)  # reference line of every piece in every size
+    sizes = list(pattern.rules.sizes)
+    pts = np.stack([np.concatenate([table[p.name][i] for p in pattern.pieces]) for i in range(len(sizes))])
     if pts.shape[1] != grid.n_points:
         return None
     _, err = measurement_error(data, pts)
