@@ -232,3 +232,13 @@ def test_committed_dxf_reads_back_to_the_json(garment):
         atol_rad=1e-3,
         ignore={"provenance", "source_angle_deg"},
     )
+
+
+def test_sew_line_grading_agrees_with_the_pattern_grader(garment):
+    from patternbridge.pattern.grading import grade
+
+    lines = graded_sew_lines(garment)
+    for k, size in enumerate(garment.sizes):
+        sized = grade(garment, size)
+        for piece in sized.pieces:
+            np.testing.assert_allclose(piece.sew_lines[0].points, lines[piece.name][k], atol=1e-9)
