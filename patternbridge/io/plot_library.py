@@ -165,6 +165,8 @@ def plot_library_garment(
                 solid_capstyle="butt",
                 zorder=2.5,
             )
+            if np.linalg.norm(np.diff(pts, axis=0), axis=1).sum() < 4.0:
+                continue  # too short to label legibly; the colour still pairs it
             mid = pts[len(pts) // 2]
             ax.annotate(
                 s.id + (f" +{s.ease_cm:g}" if s.ease_cm and k == 1 else ""),
