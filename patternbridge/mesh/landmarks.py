@@ -26,7 +26,8 @@ reference tables of the six test characters):
 * ``front_neck_point``/``back_neck_point``/``neck_shoulder_point_*``: from the
   narrowest section between the shoulders and the head: the midline front
   point deepest behind the chord of the front profile, the midline back point
-  at the neck-base level, and the neck/shoulder corner of the frontal contour.
+  at the neck-base level, and the neck/shoulder corner of the frontal contour
+  (in the plane half-way between the back and front neck points).
 * waist, bust and hip points: the narrowest torso section (waist) and the
   widest above (chest) and below it (hip), with the front / back / lateral
   extreme points of those sections.
@@ -454,7 +455,10 @@ def detect_landmarks(vertices: np.ndarray, faces: np.ndarray) -> dict[str, Landm
             if back.any():
                 i = np.flatnonzero(back)
                 put("back_neck_point", v[i[np.argmin(v[i, 2])]])
-            # side neck points: neck/shoulder corner of the frontal contour
+            # side neck points: neck/shoulder corner of the frontal contour, in the
+            # frontal plane half-way between the back and front neck points
+            if "back_neck_point" in pts and "front_neck_point" in pts:
+                zc = 0.5 * float(pts["back_neck_point"][2] + pts["front_neck_point"][2])
             for s, sg in _SIGN.items():
                 key = f"shoulder_point_{s}"
                 if key not in pts:
@@ -466,7 +470,7 @@ def detect_landmarks(vertices: np.ndarray, faces: np.ndarray) -> dict[str, Landm
                 for x in xs_:
                     sel = (
                         (np.abs(v[:, 0] - x) < max(0.004 * S, 0.3))
-                        & (np.abs(v[:, 2] - zc) < 0.03 * S)
+                        & (np.abs(v[:, 2] - zc) < 0.01 * S)
                         & (v[:, 1] < y_neck + 0.02 * S)
                         & (v[:, 1] > spt[1] - 0.02 * S)
                     )
