@@ -83,3 +83,24 @@ def test_fit_controls_recovers_scaled_outlines():
     target = [p.outline * 1.1 for p in pattern.pieces]
     x = grid.fit_controls(target)
     np.testing.assert_allclose(grid.outlines(x[None, :])[0], np.concatenate(target), atol=1e-3)
+
+
+def test_seams_are_measured_on_the_sew_line():
+    import dataclasses
+
+    from patternbridge.pattern.model import Polyline
+
+    pattern = skirt_pattern()
+    pieces = []
+    for p in pattern.pieces:
+        centre = p.outline.mean(axis=0)
+        sew = centre + 0.9 * (p.outline - centre)  # a stand-in for the line inside the allowance
+        pieces.append(dataclasses.replace(p, sew_lines=(Polyline(points=sew, closed=True),)))
+    pattern = dataclasses.replace(pattern, pieces=tuple(pieces))
+    grid = build_grid(pattern)
+    ref = grid.outlines(grid.x0[None, :])[0]
+    np.testing.assert_allclose(ref, np.concatenate([p.sew_lines[0].points for p in pieces]), atol=1e-9)
+    out = deform_pattern(grid, grid.x0)
+    for a, b in zip(pattern.pieces, out.pieces):
+        np.testing.assert_allclose(a.outline, b.outline, atol=1e-9)
+        np.testing.assert_allclose(a.sew_lines[0].points, b.sew_lines[0].points, atol=1e-9)
