@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import MeshError
-from .initial import edge_path
+from .initial import edge_paths
 from .straighten import Endpoint, _Local, straighten, strip_from_vertex_path
 from .surface import SurfaceMesh, SurfacePoint
 
@@ -28,6 +28,10 @@ log = logging.getLogger(__name__)
 #: ``"euler"``: the same with implicit-Euler flow; ``"exact"``: straightening
 #: straight from the Dijkstra strip; ``"flow"``: the thesis method alone (flow
 #: and projection, no straightening); ``"dijkstra"``: the edge path.
+#: straighten the second route when its scaled edge length is within this of
+#: the straightened best route
+_TRY_ALT = 0.05
+
 METHODS = ("lsq", "euler", "exact", "flow", "dijkstra")
 
 
@@ -104,49 +108,22 @@ def geodesic_path(mesh: SurfaceMesh, a, b, *, tape: bool = False, exempt=None,
     pb = mesh.check_point(b, "to")
     ea, va = _endpoint(mesh, pa)
     eb, vb = _endpoint(mesh, pb)
-    vpath, _ = edge_path(mesh, va, vb)
-    loc = _Local(mesh)
-    result = None
-    if method == "dijkstra":
-        pts = mesh.vertices[vpath]
-        pts = np.vstack([ea.xyz, pts, eb.xyz])
-        keep = np.ones(len(pts), dtype=bool)
-        keep[1:] = np.linalg.norm(np.diff(pts, axis=0), axis=1) > 0
-        pts = pts[keep]
-        vf = mesh.vertex_faces
-        fcs = np.array([vf[1][vf[0][v]] for v in vpath], dtype=np.int64)
-        fcs = np.concatenate([[ea.face if ea.face is not None else fcs[0]], fcs,
-                              [eb.face if eb.face is not None else fcs[-1]]])[keep]
-        result = (pts, fcs, np.full((len(pts), 2), -1, dtype=np.int64))
-    else:
-        strip = None
-        if method in ("lsq", "euler", "flow"):
-            from .flow import flow_path
-            from .project import project_walk
-
-            fl = flow_path(mesh, vpath, ea, eb, scheme="euler" if method == "euler" else "lsq")
-            walk = project_walk(mesh, fl, ea, eb, local=loc)
-            if walk is not None:
-                if method == "flow":
-                    result = walk.points, walk.faces, walk.edges
-                else:
-                    strip = walk.strip
-            elif method == "flow":
-                log.info("projection walk failed; straightening instead")
-        if result is None:
-            if strip is None:
-                strip = strip_from_vertex_path(mesh, vpath, ea.face, eb.face, local=loc)
-            if strip is None:
-                log.warning("no face strip around the edge path; returning the edge path")
-                return geodesic_path(mesh, pa, pb, tape=tape, exempt=exempt,
-                                     method="dijkstra")
-            try:
-                sp_ = straighten(mesh, strip, ea, eb, local=loc)
-            except ValueError as exc:
-                log.warning("straightening failed (%s); returning the edge path", exc)
-                return geodesic_path(mesh, pa, pb, tape=tape, exempt=exempt,
-                                     method="dijkstra")
-            result = sp_.points, sp_.faces, sp_.edges
+    routes = edge_paths(mesh, va, vb, alternative=method not in ("dijkstra", "flow"))
+    vpath, graph_len = routes[0]
+    result = _one_route(mesh, vpath, ea, eb, method)
+    if result is None:
+        log.warning("no face strip around the edge path; returning the edge path")
+        return geodesic_path(mesh, pa, pb, tape=tape, exempt=exempt, method="dijkstra")
+    if len(routes) > 1:
+        # another way around: worth straightening when its edge length, scaled
+        # like the best route's, could come out shorter
+        best_len = _polyline(result[0])
+        alt_path, alt_len = routes[1]
+        ratio = graph_len / best_len if best_len > 0 else 1.0
+        if alt_len / ratio < best_len * (1.0 + _TRY_ALT):
+            other = _one_route(mesh, alt_path, ea, eb, method)
+            if other is not None and _polyline(other[0]) < best_len:
+                result = other
     pts, fcs, eds = result
     surface_length = _polyline(pts)
     if tape and len(pts) > 2:
@@ -158,6 +135,44 @@ def geodesic_path(mesh: SurfaceMesh, a, b, *, tape: bool = False, exempt=None,
         fcs, eds = _relabel(pts, result)
     return GeodesicPath(points=pts, faces=fcs, edges=eds, length=_polyline(pts),
                         surface_length=surface_length, method=method)
+
+
+def _one_route(mesh: SurfaceMesh, vpath, ea: Endpoint, eb: Endpoint, method: str):
+    """(points, faces, edges) of one route by ``method``; None when no strip."""
+    loc = _Local(mesh)
+    if method == "dijkstra":
+        V = mesh.vertices
+        pts = np.vstack([ea.xyz, V[vpath], eb.xyz])
+        keep = np.ones(len(pts), dtype=bool)
+        keep[1:] = np.linalg.norm(np.diff(pts, axis=0), axis=1) > 0
+        indptr, fl = mesh.vertex_faces
+        fcs = fl[indptr[vpath]]
+        fcs = np.concatenate([[ea.face if ea.face is not None else fcs[0]], fcs,
+                              [eb.face if eb.face is not None else fcs[-1]]])
+        return pts[keep], fcs[keep], np.full((int(keep.sum()), 2), -1, dtype=np.int64)
+    strip = None
+    if method in ("lsq", "euler", "flow"):
+        from .flow import flow_path
+        from .project import project_walk
+
+        fl = flow_path(mesh, vpath, ea, eb, scheme="euler" if method == "euler" else "lsq")
+        walk = project_walk(mesh, fl, ea, eb, local=loc)
+        if walk is not None:
+            if method == "flow":
+                return walk.points, walk.faces, walk.edges
+            strip = walk.strip
+        else:
+            log.info("projection walk failed; straightening the edge path's strip")
+    if strip is None:
+        strip = strip_from_vertex_path(mesh, vpath, ea.face, eb.face, local=loc)
+    if strip is None:
+        return None
+    try:
+        sp_ = straighten(mesh, strip, ea, eb, local=loc)
+    except ValueError as exc:
+        log.warning("straightening failed (%s)", exc)
+        return None
+    return sp_.points, sp_.faces, sp_.edges
 
 
 def _relabel(pts: np.ndarray, result) -> tuple[np.ndarray, np.ndarray]:
