@@ -303,7 +303,7 @@ def assemble(
         for inst in pmesh.instances
     ]
     seams = [
-        (index[Instance_key(s.a)], index[Instance_key(s.b)], s.a_vertices, s.b_vertices) for s in pmesh.seams
+        (index[s.a.key], index[s.b.key], s.a_vertices, s.b_vertices) for s in pmesh.seams
     ]
     settings = DrapeSettings()
     cloth = build_cloth(positions, points2d, faces, seams, density_kg_cm2=settings.density_kg_cm2)
@@ -313,24 +313,14 @@ def assemble(
 
     log.debug("draped: cloth y %.1f..%.1f gap %.2f", cloth.x[:, 1].min(), cloth.x[:, 1].max(), seam_gaps(cloth.x, cloth.seams).max())
     if rotvecs:
+        # back to the rest pose: the cloth follows the skin (weights of the
+        # nearest body points), then a few steps without gravity settle it
         joints, weights = transfer_weights(collider, character, cloth.x)
-        n_stages = 8
-        prev = _blend(character, _rotations(rotvecs, 1.0), joints, weights)
-        from ..mesh.skinning import pose_vertices
-
-        for k in range(1, n_stages + 1):
-            s = 1.0 - k / n_stages
-            rot = _rotations(rotvecs, s)
-            cur = _blend(character, rot, joints, weights)
-            cloth.x = _apply(cur, _unapply(prev, cloth.x))
-            cloth.v[:] = 0.0
-            prev = cur
-            body_s = pose_vertices(character, rot) if s > 0 else np.array(character.vertices)
-            collider = BodyCollider(body_s, character.faces)
-            drape(cloth, collider, steps=12 if s > 0 else 40, sew_steps=0, settings=settings, solver=solver, stage="pose")
-            log.debug("pose stage %d: cloth y %.1f..%.1f gap %.2f", k, cloth.x[:, 1].min(), cloth.x[:, 1].max(), seam_gaps(cloth.x, cloth.seams).max())
-            if progress:
-                progress("pose", k, n_stages)
+        blend = _blend(character, _rotations(rotvecs, 1.0), joints, weights)
+        cloth.x = _unapply(blend, cloth.x)
+        cloth.v[:] = 0.0
+        collider = BodyCollider(character.vertices, character.faces)
+        drape(cloth, collider, steps=8, sew_steps=0, settings=settings, solver=solver, gravity_scale=0.0, stage="pose")
     gaps_before = seam_gaps(cloth.x, cloth.seams)
 
     # weld the seams, then make sure nothing is left inside the skin
@@ -384,10 +374,6 @@ def assemble(
         joints=joints, weights=weights, skeleton=character.skeleton if rigged else None, report=report,
         findings=findings,
     )
-
-
-def Instance_key(inst) -> str:  # noqa: N802 - tiny adapter kept private to this module
-    return inst.key
 
 
 def dress(

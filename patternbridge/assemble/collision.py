@@ -59,6 +59,42 @@ class BodyCollider:
         signed = np.einsum("ij,ij->i", points - q, n)
         return q, n, signed, tri, uv
 
+    def sweep(
+        self, start: np.ndarray, end: np.ndarray, offset_cm: float, *, min_move_cm: float = 3.0
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Stop points moving from ``start`` (outside) to ``end`` where they first enter the skin.
+
+        A ray is cast along each move; a move that crosses the skin ends at
+        the crossing, ``offset_cm`` out along the face normal (continuous
+        collision: no point can jump through a limb in one step). Moves
+        shorter than ``min_move_cm`` are left to the closest-point projection:
+        they cannot cross a limb, and a point sliding along the skin would
+        otherwise stick at every grazing hit.
+
+        Returns
+        -------
+        end : (n, 3) float64, corrected copy ; hit : (n,) bool
+        """
+        d = end - start
+        ln = np.linalg.norm(d, axis=1)
+        out = np.array(end, dtype=np.float64)
+        moving = ln > min_move_cm
+        if not moving.any():
+            return out, np.zeros(len(end), dtype=bool)
+        idx = np.flatnonzero(moving)
+        rays = np.concatenate([start[idx], d[idx] / ln[idx, None]], axis=1)
+        res = self.scene.cast_rays(self._t(rays))
+        t = res["t_hit"].numpy().astype(np.float64)
+        n = res["primitive_normals"].numpy().astype(np.float64)
+        hit = np.isfinite(t) & (t < ln[idx])
+        # only crossings from outside (the ray meets the outer side of a face)
+        hit &= np.einsum("ij,ij->i", n, rays[:, 3:]) < 0
+        j = idx[hit]
+        out[j] = start[j] + rays[hit, 3:] * t[hit, None] + offset_cm * n[hit]
+        mask = np.zeros(len(end), dtype=bool)
+        mask[j] = True
+        return out, mask
+
     def signed_distance(self, points: np.ndarray) -> np.ndarray:
         """(n,) float64 signed distance, cm, negative inside (ray-parity inside test)."""
         return self.scene.compute_signed_distance(self._t(points)).numpy().astype(np.float64)

@@ -41,11 +41,11 @@ class DrapeSettings:
     seam_weight: float = 600.0
     damping: float = 0.985  # velocity kept per step
     friction: float = 0.6  # share of tangential motion removed in contact
-    offset_cm: float = 0.4  # distance kept from the skin
+    offset_cm: float = 0.6  # distance kept from the skin
     thickness_cm: float = 0.35  # distance kept between layers
     density_kg_cm2: float = 1.5e-5  # 150 g/m²
-    max_speed_cm_s: float = 60.0
-    max_step_cm: float = 1.0
+    max_speed_cm_s: float = 150.0
+    max_step_cm: float = 2.0
 
 
 @dataclass(eq=False)
@@ -111,7 +111,8 @@ def build_cloth(
     edges, bends = _edges_and_bends(f)
     rest = np.linalg.norm(uv[edges[:, 0]] - uv[edges[:, 1]], axis=1)
     bend_rest = np.linalg.norm(uv[bends[:, 0]] - uv[bends[:, 1]], axis=1)
-    a2 = np.abs(np.cross(uv[f[:, 1]] - uv[f[:, 0]], uv[f[:, 2]] - uv[f[:, 0]])) / 2
+    u, w = uv[f[:, 1]] - uv[f[:, 0]], uv[f[:, 2]] - uv[f[:, 0]]
+    a2 = np.abs(u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0]) / 2
     mass = np.bincount(f.ravel(), weights=np.repeat(a2 / 3, 3), minlength=len(x)) * density_kg_cm2
     mass = np.maximum(mass, 1e-3 * mass.mean())
     return Cloth(x=x, uv=uv, group=group, faces=f, seams=pairs.astype(np.int64), edges=edges, rest=rest, bends=bends, bend_rest=bend_rest, mass=mass)
@@ -198,10 +199,13 @@ class _Solver:
             ln = np.linalg.norm(d, axis=1, keepdims=True)
             p = d * (targets[:, None] / np.maximum(ln, 1e-9))
             x = self.lu.solve(rhs0 + self.St @ (self.w[:, None] * p))
-            # no vertex moves more than max_step_cm in a step, so none can jump through a limb
+            # no vertex may jump through a limb in one step: when the fastest one
+            # would move more than max_step_cm, the whole step is scaled down
+            # (uniformly, so the cloth's shape is not torn)
             dx = x - x0
-            ln = np.linalg.norm(dx, axis=1, keepdims=True)
-            x = x0 + dx * np.minimum(1.0, s.max_step_cm / np.maximum(ln, 1e-12))
+            fastest = float(np.sqrt(np.max(np.einsum("ij,ij->i", dx, dx))))
+            if fastest > s.max_step_cm:
+                x = x0 + dx * (s.max_step_cm / fastest)
             if layers is not None and it == s.iterations - 1:
                 x = separate_layers(x, c.group, c.uv, s.thickness_cm, weld=layers)
             if it == s.iterations - 1:

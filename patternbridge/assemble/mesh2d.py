@@ -166,6 +166,19 @@ def _check_seams(pattern: Pattern) -> None:
                     )
 
 
+def _on_sew_line(piece: Piece) -> Piece:
+    """The piece with its sew line (net line) as outline when it has one vertex per outline vertex.
+
+    Seams are sewn on the sew line; the seam allowance outside it is folded
+    inside the garment and is not part of the draped surface.
+    """
+    import dataclasses
+
+    if piece.sew_lines and len(piece.sew_lines[0].points) == piece.n_vertices and piece.sew_lines[0].closed:
+        return dataclasses.replace(piece, outline=piece.sew_lines[0].points, sew_lines=(), notches=())
+    return piece
+
+
 def mesh_pattern(pattern: Pattern, *, max_edge_cm: float = 2.0) -> PatternMesh:
     """Triangulate every piece so that sewn boundaries have matching vertices.
 
@@ -188,7 +201,7 @@ def mesh_pattern(pattern: Pattern, *, max_edge_cm: float = 2.0) -> PatternMesh:
     if max_edge_cm <= 0:
         raise ValueError(f"max_edge_cm must be positive, got {max_edge_cm}")
     _check_seams(pattern)
-    pieces = {p.name: p for p in pattern.pieces}
+    pieces = {p.name: _on_sew_line(p) for p in pattern.pieces}
     arcs = {n: _arc(p.outline) for n, p in pieces.items()}
     breaks = {n: _Breaks(arcs[n][1]) for n in pieces}
     for n, p in pieces.items():
@@ -296,7 +309,8 @@ def mesh_pattern(pattern: Pattern, *, max_edge_cm: float = 2.0) -> PatternMesh:
                 f"{pattern.style}: piece {n!r} boundary changed while meshing (self-touching outline?); "
                 "check that the outline is simple"
             )
-        a2 = np.cross(pts[faces[:, 1]] - pts[faces[:, 0]], pts[faces[:, 2]] - pts[faces[:, 0]])
+        u, w = pts[faces[:, 1]] - pts[faces[:, 0]], pts[faces[:, 2]] - pts[faces[:, 0]]
+        a2 = u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0]
         faces = np.where((a2 < 0)[:, None], faces[:, ::-1], faces)
         marks = {name: seg_start[(n, breaks[n].index(s[v]))] for name, v in p.marks.items()}
         meshes[n] = PieceMesh(name=n, points=pts, faces=faces, n_boundary=m, marks=marks)

@@ -34,6 +34,7 @@ log = logging.getLogger(__name__)
 
 MARGIN_CM = 1.5  # cylinder radius above the part's largest radius
 CLEARANCE_CM = 1.0  # distance kept from the skin when a wrapped point is moved out
+_DISTAL = {"arm": 0.22, "leg": 0.12}  # share of a limb's length taken by the hand / the foot
 
 
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)
@@ -121,6 +122,15 @@ def bounding_cylinders(
             axis = np.array([0.0, 1.0, 0.0])
             c = 0.5 * (pv.min(axis=0) + pv.max(axis=0))
         else:
+            c = pv.mean(axis=0)
+            _, _, vt = np.linalg.svd(pv - c, full_matrices=False)
+            axis = vt[0] / np.linalg.norm(vt[0])
+            if axis @ (torso_c - c) < 0:
+                axis = -axis
+            # leave the hand or the foot out (the distal share of the limb's length)
+            h = (pv - c) @ axis
+            cut = h.min() + _DISTAL[part.split("_")[1]] * np.ptp(h)
+            pv = pv[h > cut]
             c = pv.mean(axis=0)
             _, _, vt = np.linalg.svd(pv - c, full_matrices=False)
             axis = vt[0] / np.linalg.norm(vt[0])
@@ -225,23 +235,8 @@ def place_instances(
             th_a = {"front": 0.0, "back": np.pi}.get(str(pl.side), np.pi / 2)
             h_a = 0.5 * (cyl.h_min + cyl.h_max)
             a2 = 0.5 * (p2.min(axis=0) + p2.max(axis=0))
-        # orientation: pattern +x runs to the right as seen from outside; other
-        # landmarks of the piece may say it runs the other way
+        # pattern +x runs to the right as seen from outside (docs/library.md conventions)
         sigma = 1.0
-        checks = []
-        for lname, mname in piece.landmarks.items():
-            if lname == pl.anchor or mname not in marks:
-                continue
-            q = _landmark(character, vertices, lname, mirrored)
-            if q is not None:
-                checks.append((cyl.coordinates(q[None])[0][0], p2[marks[mname]][0] - a2[0]))
-        if checks:
-            err = {
-                s: sum(abs(np.angle(np.exp(1j * (th_a + s * dx / R - th)))) for th, dx in checks) for s in (1.0, -1.0)
-            }
-            sigma = min(err, key=err.get)
-            if sigma < 0:
-                report.add("piece-flipped", "landmarks say the piece runs the other way round", where=inst.key)
         theta = th_a + sigma * (p2[:, 0] - a2[0]) / R
         h = h_a + (p2[:, 1] - a2[1])
         r = np.full(len(p2), R)

@@ -118,3 +118,11 @@ def make_tshirt(*, placement: bool = True) -> Pattern:
 @pytest.fixture(scope="session")
 def tshirt() -> Pattern:
     return make_tshirt()
+
+
+@pytest.fixture(scope="session")
+def character_e(characters_dir):
+    from patternbridge.mesh.load import load_character
+
+    character, _ = load_character(characters_dir / "E_average_male.obj")
+    return character

