@@ -126,3 +126,9 @@ def character_e(characters_dir):
 
     character, _ = load_character(characters_dir / "E_average_male.obj")
     return character
+
+
+@pytest.fixture(scope="session")
+def tshirt_factory():
+    """The T-shirt builder (``placement=False`` drops the placement hints)."""
+    return make_tshirt

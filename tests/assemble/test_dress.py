@@ -1,0 +1,91 @@
+"""Dressing a character end to end: placement, sewing, draping, files."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+
+import numpy as np
+import pytest
+
+from patternbridge.assemble import assemble, dress
+from patternbridge.assemble.collision import BodyCollider
+from patternbridge.assemble.export_gltf import read_glb
+from patternbridge.assemble.mesh2d import mesh_pattern
+from patternbridge.errors import InputError
+
+
+
+@pytest.mark.shared
+def test_garment_without_placement_hints_is_a_clear_input_error(character_e, tshirt_factory):
+    with pytest.raises(InputError, match="no placement hint"):
+        assemble(character_e, tshirt_factory(placement=False))
+
+
+@pytest.mark.shared
+def test_garment_without_seams_is_an_input_error(character_e, tshirt):
+    with pytest.raises(InputError, match="no seams"):
+        assemble(character_e, dataclasses.replace(tshirt, seams=()))
+
+
+@pytest.fixture(scope="module")
+def dressed(character_e, tshirt, tmp_path_factory):
+    out = tmp_path_factory.mktemp("fit")
+    report = dress(character_e, tshirt, out, max_edge_cm=3.0)
+    return out, report
+
+
+@pytest.mark.shared
+@pytest.mark.slow
+def test_dress_writes_every_file_and_a_json_report(dressed):
+    out, report = dressed
+    for name in ("garment.glb", "garment.obj", "garment.mtl", "fit_front.png", "fit_back.png", "fit_side.png"):
+        assert (out / name).stat().st_size > 0
+    json.dumps(report)
+    for key in ("penetrating_vertices", "max_seam_gap_mm", "stretch", "seconds"):
+        assert key in report
+    assert set(report["stretch"]["percentiles"]) >= {"p5", "p50", "p95"}
+
+
+@pytest.mark.shared
+@pytest.mark.slow
+def test_no_vertex_inside_the_body_and_seams_closed(dressed, character_e):
+    out, report = dressed
+    assert report["penetrating_vertices"] == 0
+    assert report["max_seam_gap_mm"] <= 1.0
+    doc, binary = read_glb((out / "garment.glb").read_bytes())
+    pos = []
+    for prim in doc["meshes"][0]["primitives"]:
+        acc = doc["accessors"][prim["attributes"]["POSITION"]]
+        view = doc["bufferViews"][acc["bufferView"]]
+        pos.append(np.frombuffer(binary, np.float32, acc["count"] * 3, view["byteOffset"]).reshape(-1, 3))
+    pos = np.concatenate(pos).astype(np.float64) * 100.0
+    sd = BodyCollider(character_e.vertices, character_e.faces).signed_distance(pos)
+    assert sd.min() > -0.05  # float32 rounding of the file
+    # the garment covers the torso: between the waist and the chest
+    assert pos[:, 1].min() < 100.0 and pos[:, 1].max() > 140.0
+
+
+@pytest.mark.shared
+@pytest.mark.slow
+def test_uvs_are_pattern_coordinates_and_weights_sum_to_one(character_e, tshirt):
+    pattern = tshirt
+    g = assemble(character_e, pattern, max_edge_cm=4.0, steps=40)
+    pm = mesh_pattern(pattern, max_edge_cm=4.0)
+    for i, key in enumerate(g.instance_names):
+        piece = key.split("~")[0]
+        np.testing.assert_allclose(g.uv[g.instance == i], pm.pieces[piece].points)
+    np.testing.assert_allclose(g.weights.sum(axis=1), 1.0)
+    assert g.joints.max() < len(character_e.skeleton.names)
+    # welded: sewn vertices share one position exactly
+    for w in np.unique(g.weld):
+        members = g.vertices[g.weld == w]
+        assert np.ptp(members, axis=0).max() == 0.0
+
+
+@pytest.mark.shared
+@pytest.mark.slow
+def test_same_seed_same_garment(character_e, tshirt):
+    a = assemble(character_e, tshirt, seed=3, max_edge_cm=5.0, steps=20)
+    b = assemble(character_e, tshirt, seed=3, max_edge_cm=5.0, steps=20)
+    np.testing.assert_array_equal(a.vertices, b.vertices)
