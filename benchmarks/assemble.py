@@ -1,0 +1,83 @@
+"""Benchmark: dress the six ../shared characters in the library shirt and trousers.
+
+Plain script (no asv). For every character and garment it runs
+``patternbridge.assemble.dress`` with the garment in its sample size and prints
+one line: seconds, peak RSS, penetrating vertices, seam gap before and after
+welding, stretch percentiles and the worst piece. Pictures and meshes go to
+``--out`` (default ``bench_out/assemble``), one folder per case.
+
+Targets (issue 7): at most 90 s a case on 2 cores, 0 penetrating vertices, seams
+closed (<= 1 mm after welding).
+
+    .venv/bin/python benchmarks/assemble.py [--characters A_superhero ...] [--garments shirt trousers]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import sys
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+SHARED = REPO.parent / "shared" / "characters"
+CHARACTERS = ("A_superhero", "B_slim_female", "C_heavy_male", "D_cartoon_child", "E_average_male", "F_tall_thin_elder")
+
+
+def _rss_mb() -> float:
+    try:
+        import psutil
+
+        return psutil.Process().memory_info().rss / 2**20
+    except ImportError:
+        import resource
+
+        return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--characters", nargs="*", default=list(CHARACTERS))
+    ap.add_argument("--garments", nargs="*", default=["shirt", "trousers"])
+    ap.add_argument("--out", default=str(REPO / "bench_out" / "assemble"))
+    ap.add_argument("--json", help="also write the rows to this JSON file")
+    args = ap.parse_args(argv)
+
+    import numpy as np
+
+    from patternbridge.assemble import dress
+    from patternbridge.library import load_garment
+    from patternbridge.mesh.load import load_character
+
+    print(f"# assemble benchmark  python {platform.python_version()}  numpy {np.__version__}  "
+          f"cores {os.cpu_count()}  {platform.machine()}")
+    print(f"{'case':34s} {'s':>6s} {'RSS MB':>7s} {'pen':>4s} {'gap0 mm':>8s} {'gap mm':>7s} "
+          f"{'p5':>5s} {'p50':>5s} {'p95':>5s} {'p99':>5s}  worst")
+    rows = []
+    ok = True
+    for cname in args.characters:
+        character, _ = load_character(SHARED / f"{cname}.obj")
+        for gname in args.garments:
+            pattern = load_garment(gname)
+            out = Path(args.out) / f"{gname}_{cname}"
+            t = time.perf_counter()
+            r = dress(character, pattern, out)
+            secs = time.perf_counter() - t
+            st = r["stretch"]["percentiles"]
+            worst = r["stretch"]["worst_pieces"][0] if r["stretch"]["worst_pieces"] else {"piece": "-", "p95": 0}
+            print(f"{gname + ' on ' + cname:34s} {secs:6.1f} {_rss_mb():7.0f} {r['penetrating_vertices']:4d} "
+                  f"{r['max_seam_gap_before_weld_mm']:8.1f} {r['max_seam_gap_mm']:7.2f} {st['p5']:5.2f} {st['p50']:5.2f} "
+                  f"{st['p95']:5.2f} {st['p99']:5.2f}  {worst['piece']} {worst['p95']:.2f}", flush=True)
+            ok &= secs <= 90 and r["penetrating_vertices"] == 0 and r["max_seam_gap_mm"] <= 1.0
+            rows.append({"character": cname, "garment": gname, "seconds": secs, **r})
+    if args.json:
+        Path(args.json).write_text(json.dumps(rows, indent=1))
+    print("# all targets met" if ok else "# some targets missed")
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
