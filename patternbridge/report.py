@@ -17,12 +17,20 @@ class Finding:
 
     ``code`` is a stable kebab-case identifier (``"units-assumed"``), ``where``
     names the file, piece or element, ``fixed`` says whether it was repaired.
+    ``severity`` is ``"warning"`` (the result may not be what the user meant;
+    ``--strict`` refuses it) or ``"info"`` (a normal, expected adjustment such as
+    dropping validation curves, printed as a note).
     """
 
     code: str
     message: str
     where: str = ""
     fixed: bool = False
+    severity: str = "warning"
+
+    def __post_init__(self) -> None:
+        if self.severity not in ("warning", "info"):
+            raise ValueError(f"finding severity must be 'warning' or 'info', got {self.severity!r}")
 
     def __str__(self) -> str:
         prefix = f"{self.where}: " if self.where else ""
@@ -35,8 +43,17 @@ class Report:
 
     findings: list[Finding] = field(default_factory=list)
 
-    def add(self, code: str, message: str, where: str = "", fixed: bool = False) -> None:
-        self.findings.append(Finding(code=code, message=message, where=where, fixed=fixed))
+    def add(
+        self, code: str, message: str, where: str = "", fixed: bool = False, severity: str = "warning"
+    ) -> None:
+        self.findings.append(
+            Finding(code=code, message=message, where=where, fixed=fixed, severity=severity)
+        )
+
+    @property
+    def warnings(self) -> list[Finding]:
+        """The findings ``--strict`` refuses (everything but ``info``)."""
+        return [f for f in self.findings if f.severity == "warning"]
 
     def extend(self, other: Report) -> None:
         self.findings.extend(other.findings)

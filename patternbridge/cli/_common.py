@@ -13,13 +13,14 @@ __all__ = ["print_findings", "progress_printer", "print_json"]
 
 
 def print_findings(report: Report, *, strict: bool = False) -> None:
-    """Print each finding as a warning line on stderr; raise with ``strict``."""
+    """Print findings on stderr (warnings, then notes); raise on warnings with ``strict``."""
     from ..errors import InputError
 
     for finding in report:
-        print(f"patternbridge: warning: {finding}", file=sys.stderr)
-    if strict and report:
-        raise InputError(f"{len(report)} warning(s) and --strict was given")
+        label = "note" if finding.severity == "info" else "warning"
+        print(f"patternbridge: {label}: {finding}", file=sys.stderr)
+    if strict and report.warnings:
+        raise InputError(f"{len(report.warnings)} warning(s) and --strict was given")
 
 
 def progress_printer(quiet: bool = False) -> Callable[[str, int, int], None]:

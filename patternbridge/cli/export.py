@@ -95,9 +95,7 @@ def run(args: argparse.Namespace) -> int:
         )
         report.extend(written)
         print_findings(report)
-        from ..io.dxf_aama.read import INFO_FINDINGS
-
-        blocking = [f for f in report if f.code not in INFO_FINDINGS]
+        blocking = report.warnings
         if blocking:
             raise InputError(
                 f"{out}: {len(blocking)} warning(s) and --strict was given "

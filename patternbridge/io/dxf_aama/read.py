@@ -1095,8 +1095,11 @@ def _build(path, blocks, entities, report, *, rul, units, unfold, strict, exact_
                        f"sample size {sample_size} is available", where)
     if unfold:
         pattern = _unfold_pattern(pattern, report)
+    report.findings[:] = [
+        dataclasses.replace(f, severity="info") if f.code in INFO_FINDINGS else f for f in report
+    ]
     if strict:
-        bad = [f for f in report if f.code not in INFO_FINDINGS]
+        bad = report.warnings
         if bad:
             raise DXFFormatError(f"{path}: {bad[0].message} [{bad[0].code}] (strict mode, "
                                  f"{len(bad)} finding(s)); fix the file or read without strict")

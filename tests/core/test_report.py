@@ -1,0 +1,28 @@
+"""Findings carry a severity; --strict refuses warnings, never notes."""
+
+from __future__ import annotations
+
+import pytest
+
+from patternbridge.cli._common import print_findings
+from patternbridge.errors import InputError
+from patternbridge.report import Finding, Report
+
+
+def test_strict_refuses_warnings_but_not_notes(capsys):
+    notes = Report()
+    notes.add("validation-curves-dropped", "dropped", severity="info")
+    print_findings(notes, strict=True)
+    assert "patternbridge: note: dropped" in capsys.readouterr().err
+
+    mixed = Report()
+    mixed.add("units-assumed", "assumed METRIC", where="a.dxf")
+    mixed.extend(notes)
+    assert [f.code for f in mixed.warnings] == ["units-assumed"]
+    with pytest.raises(InputError, match="1 warning"):
+        print_findings(mixed, strict=True)
+
+
+def test_unknown_severity_is_rejected():
+    with pytest.raises(ValueError, match="severity"):
+        Finding(code="x", message="y", severity="fatal")
