@@ -238,6 +238,12 @@ def place_instances(
         # pattern +x runs to the right as seen from outside (docs/library.md conventions)
         sigma = 1.0
         theta = th_a + sigma * (p2[:, 0] - a2[0]) / R
+        if part == "torso" and str(pl.side) in ("front", "back"):
+            # torso fronts and backs are drawn with the body midline at x = 0
+            # (docs/library.md): x = 0 goes on the centre front / back, the
+            # anchor only fixes the height (a neck point lies too near the
+            # axis to give a reliable angle)
+            theta = (0.0 if str(pl.side) == "front" else np.pi) + p2[:, 0] / R
         h = h_a + (p2[:, 1] - a2[1])
         r = np.full(len(p2), R)
         if scene is not None:
