@@ -24,7 +24,7 @@ __all__ = ["edge_path", "edge_paths"]
 _ALT_SLACK = 0.1
 #: a route counts as another way when it passes this fraction of the best
 #: length away from the best route
-_ALT_AWAY = 0.15
+_ALT_AWAY = 0.2
 
 log = logging.getLogger(__name__)
 
