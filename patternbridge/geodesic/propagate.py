@@ -33,14 +33,22 @@ _FIX_WEIGHT = 1e4
 _NEAR = 0.05  # candidate parents: distance estimate within this many edge lengths of the best
 
 
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Row-wise cross product of (..., 3) arrays (faster than ``np.cross``)."""
+    out = np.zeros(np.broadcast_shapes(a.shape, b.shape))
+    out[..., 0] = a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1]
+    out[..., 1] = a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2]
+    out[..., 2] = a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+    return out
+
+
 def _tangent_bases(normals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Two unit tangent vectors per normal (..., 3) -> (..., 3), (..., 3)."""
     helper = np.where((np.abs(normals[..., 0]) < 0.9)[..., None], [1.0, 0.0, 0.0],
                       [0.0, 1.0, 0.0])
-    t1 = np.cross(normals, helper)
-    t1 /= np.linalg.norm(t1, axis=-1, keepdims=True)
-    t2 = np.cross(normals, t1)
-    return t1, t2
+    t1 = _cross(normals, helper)
+    t1 /= np.sqrt((t1 * t1).sum(axis=-1))[..., None]
+    return t1, _cross(normals, t1)
 
 
 def solve_windows(points: np.ndarray, normals: np.ndarray, anchors_xyz: np.ndarray,
@@ -73,24 +81,39 @@ def solve_windows(points: np.ndarray, normals: np.ndarray, anchors_xyz: np.ndarr
     T = np.stack([t1, t2], axis=-1)  # (B, w, 3, 2)
     fr = free.astype(np.float64)
     base = np.where(free[..., None], anchors_xyz, points)  # p = base + T u (free)
-    # rows: for interior sample i, T_i^T (p_{i-1} - 2 p_i + p_{i+1}) = 0
-    M = np.zeros((B, w, 2, w, 2))
-    i = np.arange(1, w - 1)
-    TT = np.einsum("bwci,bwcj->bwij", T[:, 1:-1], T[:, :-2])  # T_i^T T_{i-1}
-    TU = np.einsum("bwci,bwcj->bwij", T[:, 1:-1], T[:, 2:])   # T_i^T T_{i+1}
-    M[:, i, :, i - 1, :] = np.moveaxis(TT * (fr[:, :-2] * fr[:, 1:-1])[..., None, None], 1, 0)
-    M[:, i, :, i + 1, :] = np.moveaxis(TU * (fr[:, 2:] * fr[:, 1:-1])[..., None, None], 1, 0)
-    M[:, i, :, i, :] = np.moveaxis(-2.0 * np.eye(2) * fr[:, 1:-1, None, None], 1, 0)
+    # rows of inner sample i: T_i^T (p_{i-1} - 2 p_i + p_{i+1}) = 0; fixed: u_i = 0
+    n = 2 * w
+    M = np.zeros((B, n, n))
+    TT = (T[:, 1:-1, :, :, None] * T[:, :-2, :, None, :]).sum(axis=2)  # T_i^T T_{i-1}
+    TU = (T[:, 1:-1, :, :, None] * T[:, 2:, :, None, :]).sum(axis=2)   # T_i^T T_{i+1}
+    TT *= (fr[:, :-2] * fr[:, 1:-1])[..., None, None]
+    TU *= (fr[:, 2:] * fr[:, 1:-1])[..., None, None]
+    r, c, rr, cc = _block_index(w)
+    M[:, rr, cc - 2] = TT.reshape(B, -1)
+    M[:, rr, cc + 2] = TU.reshape(B, -1)
+    d = np.arange(n)
+    M[:, d, d] = np.repeat(np.where(free, -2.0, 1.0), 2, axis=1)
     lap = base[:, :-2] - 2.0 * base[:, 1:-1] + base[:, 2:]
     rhs = np.zeros((B, w, 2))
-    rhs[:, 1:-1] = -np.einsum("bwci,bwc->bwi", T[:, 1:-1], lap)
-    # fixed samples: identity rows, u = 0
-    k = np.arange(w)
-    M[:, k, :, k, :] += np.moveaxis((1.0 - fr)[..., None, None] * np.eye(2), 1, 0)
+    rhs[:, 1:-1] = -(T[:, 1:-1] * lap[..., None]).sum(axis=2)
     rhs *= fr[..., None]
-    u = np.linalg.solve(M.reshape(B, 2 * w, 2 * w), rhs.reshape(B, 2 * w, 1))
-    u = u.reshape(B, w, 2)
-    return base + np.einsum("bwcj,bwj->bwc", T, u) * fr[..., None]
+    u = np.linalg.solve(M, rhs.reshape(B, n, 1)).reshape(B, w, 2)
+    return base + (T * u[:, :, None, :]).sum(axis=3) * fr[..., None]
+
+
+_BLOCKS: dict = {}
+
+
+def _block_index(w: int):
+    """Row/column indices of the 2x2 blocks (i, i) for inner samples i, flattened
+    in (i, r, c) order, for a window of ``w`` samples."""
+    if w not in _BLOCKS:
+        i = np.arange(1, w - 1)
+        r = np.arange(2)
+        rr = (2 * i[:, None, None] + r[None, :, None] + 0 * r[None, None, :]).ravel()
+        cc = (2 * i[:, None, None] + 0 * r[None, :, None] + r[None, None, :]).ravel()
+        _BLOCKS[w] = (i, r, rr, cc)
+    return _BLOCKS[w]
 
 
 def _neighbours(indptr, indices, verts):
