@@ -165,6 +165,10 @@ def _solution(grid: PatternGrid, data: ObjectiveData, name: str, x: np.ndarray, 
     return Solution(name=name, pattern=pattern, scores=scores, x=np.array(x), note=note)
 
 
+def _valid(sol: Solution) -> bool:
+    return sol.scores.fold_margin > 0 and sol.scores.is_simple
+
+
 def _link_ratios(data: ObjectiveData, grid: PatternGrid) -> np.ndarray:
     achieved0 = _achieved(data, grid, grid.x0[None, :])[0][0]
     return data.target_cm / np.where(achieved0 > 0, achieved0, 1.0)
@@ -308,6 +312,7 @@ def repair(
     w_reg: float = 0.02,
     w_bend: float = 0.1,
     w_fold: float = 50.0,
+    shape_scale: float = 1.0,
     progress: Progress | None = None,
 ) -> tuple[np.ndarray, float]:
     """Least-squares correction of one individual (deterministic).
@@ -319,6 +324,8 @@ def repair(
     using scipy's trust-region reflective solver. The Jacobian is taken by
     forward differences evaluated as one vectorised batch: the perturbed
     individuals form a population.
+
+    ``shape_scale`` multiplies the weights of the inner-angle terms.
 
     Returns
     -------
@@ -332,7 +339,7 @@ def repair(
     h = 1e-6 * scale
 
     def resid_batch(X: np.ndarray) -> np.ndarray:
-        r = residuals(data, grid.outlines(X))
+        r = residuals(data, grid.outlines(X), w_critical=10.0 * shape_scale, w_angle=4.0 * shape_scale)
         reg = w_reg * (X - x_start) / scale
         fold = w_fold * np.maximum(0.0, 2 * FOLD_MARGIN - grid.fold_margin(X))[:, None]
         bend = w_bend * grid.bending(X)
@@ -388,6 +395,9 @@ def fit_pattern(
     tol_seam: float = 0.5,
     size: str = "fit",
     do_repair: bool = True,
+    accept_measure_cm: float = 0.3,
+    accept_max_cm: float = 1.0,
+    accept_seam_cm: float = 0.05,
     source: str = "pattern",
     progress: Progress | None = None,
 ) -> FitResult:
@@ -403,6 +413,9 @@ def fit_pattern(
     tol_measure_cm, tol_seam : tolerances on objectives 1 and 2 for the choice
     size : size name of the graded pieces (e.g. the character's name)
     do_repair : run the least-squares repair on the chosen solution
+    accept_measure_cm, accept_max_cm, accept_seam_cm : a repair with raised
+        angle weights is kept only when its mean / max measurement error and
+        worst seam or notch mismatch stay within these
     source : pattern name for error messages
     progress : ``progress(stage, done, total)`` callback
 
@@ -495,13 +508,25 @@ def fit_pattern(
             x_rep, cost = repair(grid, data, x_start, progress=progress)
             cand = _solution(grid, data, "nsga2+repair", x_rep, size,
                              f"least-squares repair started from the {start_name}")
-            if cand.scores.fold_margin <= 0 or not cand.scores.is_simple:
+            if not _valid(cand):
                 log.warning("%s: repair from the %s folded a piece; discarded", source, start_name)
                 continue
             if best is None or cost < best[0]:
                 best = (cost, cand)
         if best is not None:
             chosen = best[1]
+            # spend the tolerance on the design: raise the weight of the
+            # inner angles while the fit stays well inside the targets
+            for scale in (4.0, 2.0):
+                x_rep, _ = repair(grid, data, chosen.x, shape_scale=scale, max_nfev=30, progress=progress)
+                cand = _solution(grid, data, "nsga2+repair", x_rep, size,
+                                 f"{chosen.note}, angle weights x{scale:g}")
+                sc = cand.scores
+                if (_valid(cand) and sc.measurement_error <= accept_measure_cm
+                        and sc.max_measurement_error <= accept_max_cm
+                        and sc.max_seam_mismatch_cm <= accept_seam_cm):
+                    chosen = cand
+                    break
     seconds = time.perf_counter() - t0
     return FitResult(
         pattern=chosen.pattern, original=pattern, chosen=chosen, ga_choice=ga_choice,
