@@ -245,13 +245,15 @@ DEFINITIONS: dict[str, Definition] = {
             "inside_leg",
             "length",
             ("crotch_point", "ankle_inside_{s}"),
-            "surface path from the crotch point down the inner leg to the inner ankle point",
+            "surface path from the crotch point down the inner leg to the inner ankle "
+            "point, held on the skin (no bridging across the leg's concave profile)",
         ),
         *_side(
             "outside_leg",
             "length",
-            ("waist_side_{s}", "ankle_outside_{s}"),
-            "surface path from the side waist point down the outer leg to the outer ankle point",
+            ("waist_side_{s}", "hip_side_{s}", "ankle_outside_{s}"),
+            "surface path from the side waist point over the hip side point (taut) and "
+            "down the outer leg on the skin to the outer ankle point",
         ),
         *_side(
             "knee_height",

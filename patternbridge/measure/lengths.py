@@ -2,7 +2,9 @@
 
 Each leg is a geodesic of :mod:`patternbridge.geodesic` with tape correction
 (the tape bridges hollows such as the spine groove or the gluteal cleft
-instead of following the skin into them). A multi-point length (arm length:
+instead of following the skin into them), except the legs listed in
+:data:`ON_SKIN`, where the tape is held on the body (inside and outside leg).
+A multi-point length (arm length:
 shoulder point, elbow point, wrist point) is the sum of its legs, so the tape
 bends at the intermediate points as a tailor's does. Heights (stature, knee
 height) are vertical distances to the floor, not surface paths.
@@ -20,7 +22,7 @@ from ..mesh.character import Landmark
 from .definitions import DEFINITIONS
 from .model import Measurement
 
-__all__ = ["PATHS", "measure_lengths"]
+__all__ = ["HEIGHTS", "ON_SKIN", "PATHS", "measure_lengths"]
 
 log = logging.getLogger(__name__)
 
@@ -52,9 +54,18 @@ PATHS: dict[str, tuple[tuple[str, ...], ...]] = {
                 "wrist_point_{s}",
             ),
             "inside_leg": ("crotch_point", "ankle_inside_{s}"),
-            "outside_leg": ("waist_side_{s}", "ankle_outside_{s}"),
+            "outside_leg": ("waist_side_{s}", "hip_side_{s}", "ankle_outside_{s}"),
         }.items()
     },
+}
+
+#: legs of a chain (by index) that follow the skin instead of bridging hollows:
+#: a tailor holds the leg tapes on the leg, so their fall from the crotch or the
+#: hip to the ankle keeps to the inner or outer leg (a taut chord would cut
+#: across the A-pose leg's concave profile through the air)
+ON_SKIN: dict[str, frozenset[int]] = {
+    **{f"inside_leg_{s}": frozenset({0}) for s in ("left", "right")},
+    **{f"outside_leg_{s}": frozenset({1}) for s in ("left", "right")},
 }
 
 #: vertical heights: id -> landmark
@@ -139,16 +150,16 @@ def measure_lengths(
                 "tape correction is not available in this build; lengths follow the skin"
             )
             tape = False
-    cache: dict[tuple[int, int], object] = {}
+    cache: dict[tuple[int, int, bool], object] = {}
 
-    def leg(a: int, b: int):
-        key = (a, b)
+    def leg(a: int, b: int, taut: bool):
+        key = (a, b, taut)
         if key not in cache:
-            if (b, a) in cache:
-                p = cache[(b, a)]
+            if (b, a, taut) in cache:
+                p = cache[(b, a, taut)]
                 cache[key] = (p[0][::-1], p[1])
             else:
-                path = geodesic_path(mesh, a, b, tape=tape)
+                path = geodesic_path(mesh, a, b, tape=taut)
                 cache[key] = (
                     np.asarray(path.points, dtype=np.float64),
                     float(path.length),
@@ -167,10 +178,11 @@ def measure_lengths(
             for chain in chains:
                 vids = [_vertex_of(landmarks[n], mesh) for n in chain]
                 total, pts = 0.0, []
-                for a, b in zip(vids[:-1], vids[1:], strict=True):
+                skin = ON_SKIN.get(mid, frozenset())
+                for j, (a, b) in enumerate(zip(vids[:-1], vids[1:], strict=True)):
                     if a == b:
                         continue
-                    p, length = leg(a, b)
+                    p, length = leg(a, b, tape and j not in skin)
                     total += length
                     legs.append(length)
                     pts.append(p if not pts else p[1:])

@@ -89,6 +89,29 @@ def test_values_follow_the_shapes(results):
         assert r["arm_length_left"] < r["neck_to_wrist_left"]
 
 
+def test_leg_tapes_stay_on_the_leg(characters, results):
+    """Inside and outside leg follow the leg like a held tape, not a chord through the air."""
+    from scipy.spatial import cKDTree
+    from trimesh.remesh import subdivide_to_size
+
+    for key, res in results.items():
+        c = characters[key]
+        # surface samples <= 1 cm apart: a point on the skin is within ~0.6 cm of one
+        dense, _ = subdivide_to_size(c.vertices, c.faces, max_edge=1.0)
+        tree = cKDTree(dense)
+        # the outside leg is taut from the waist over the hip; from there on the skin
+        hip_y = res.landmarks["hip_side_right"].position[1]
+        for mid, top in (("inside_leg_left", np.inf), ("outside_leg_right", hip_y)):
+            poly = res.measurements[mid].polyline
+            # every 1 cm along the polyline (a straightened span keeps only its ends)
+            seg = np.linalg.norm(np.diff(poly, axis=0), axis=1)
+            s = np.concatenate([[0.0], np.cumsum(seg)])
+            t = np.linspace(0.0, s[-1], int(s[-1]) + 2)
+            pts = np.column_stack([np.interp(t, s, poly[:, i]) for i in range(3)])
+            dist, _ = tree.query(pts[pts[:, 1] <= top + 1e-9])
+            assert dist.max() < 1.0, (key, mid, float(dist.max()))
+
+
 def test_json_round_trip(results, tmp_path):
     res = results["E"]
     path = write_measurements(tmp_path / "m.json", res)
