@@ -690,6 +690,13 @@ def load_character(
         else:
             lm_where = str(landmarks)
             table = load_landmark_file(landmarks)
+        by_id = [n for n, e in table.items() if e.get("vertex") is not None]
+        if by_id and path.suffix.lower() == ".stl":
+            raise LandmarkError(
+                f"{lm_where}: landmark {by_id[0]!r} is given by vertex id, but an STL file "
+                f"has no vertex ids (its triangles repeat their corners; {path.name}); "
+                'give {"position": [x, y, z]} for STL meshes'
+            )
         marks.update(
             _place_landmarks(
                 table,

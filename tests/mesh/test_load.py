@@ -190,3 +190,17 @@ def test_landmark_file_not_json(tmp_path, b_obj):
         load_character(b_obj, landmarks=lm)
     with pytest.raises(LandmarkError, match="no such landmark file"):
         load_character(b_obj, landmarks=tmp_path / "none.json")
+
+
+def test_vertex_id_landmarks_on_an_stl_are_refused(tmp_path, b_mesh):
+    # STL welds repeated triangle corners: ids of the source mesh mean nothing there
+    v, f = b_mesh
+    stl = tmp_path / "b.stl"
+    trimesh.Trimesh(v, f, process=False).export(str(stl))
+    lm = tmp_path / "lm.json"
+    lm.write_text(json.dumps({"landmarks": {"crotch_point": {"vertex": 6431}}}))
+    with pytest.raises(LandmarkError, match=r"lm\.json: .*no vertex ids.*position"):
+        load_character(stl, landmarks=lm)
+    lm.write_text(json.dumps({"landmarks": {"crotch_point": {"position": v[6431].tolist()}}}))
+    c, _ = load_character(stl, landmarks=lm)
+    np.testing.assert_allclose(c.landmarks["crotch_point"].position, v[6431], atol=1e-6)
