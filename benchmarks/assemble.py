@@ -1,7 +1,8 @@
 """Benchmark: dress the six ../shared characters in the library shirt and trousers.
 
 Plain script (no asv). For every character and garment it runs
-``patternbridge.assemble.dress`` with the garment in its sample size and prints
+``patternbridge.assemble.dress`` with the garment in its sample size (or graded to the character with
+``--graded``) and prints
 one line: seconds, peak RSS, penetrating vertices, seam gap before and after
 welding, stretch percentiles and the worst piece. Pictures and meshes go to
 ``--out`` (default ``bench_out/assemble``), one folder per case.
@@ -44,6 +45,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--garments", nargs="*", default=["shirt", "trousers"])
     ap.add_argument("--out", default=str(REPO / "bench_out" / "assemble"))
     ap.add_argument("--json", help="also write the rows to this JSON file")
+    ap.add_argument("--graded", action="store_true",
+                    help="grade each garment to the character first (measure + NSGA-II, small budget; not timed)")
     args = ap.parse_args(argv)
 
     import numpy as np
@@ -62,6 +65,12 @@ def main(argv: list[str] | None = None) -> int:
         character, _ = load_character(SHARED / f"{cname}.obj")
         for gname in args.garments:
             pattern = load_garment(gname)
+            if args.graded:
+                from patternbridge.grade.run import fit_pattern
+                from patternbridge.measure.run import measure
+
+                values = measure(character, partial=True).values_cm()
+                pattern = fit_pattern(pattern, values, pop_size=40, n_gen=40, size=cname).pattern
             out = Path(args.out) / f"{gname}_{cname}"
             t = time.perf_counter()
             r = dress(character, pattern, out)

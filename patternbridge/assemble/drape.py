@@ -45,7 +45,7 @@ class DrapeSettings:
     thickness_cm: float = 0.35  # distance kept between layers
     density_kg_cm2: float = 1.5e-5  # 150 g/m²
     max_speed_cm_s: float = 150.0
-    max_step_cm: float = 2.0
+    max_step_cm: float = 1.0
 
 
 @dataclass(eq=False)

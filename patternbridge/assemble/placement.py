@@ -141,7 +141,14 @@ def bounding_cylinders(
         h = d @ axis
         r = np.linalg.norm(d - h[:, None] * axis, axis=1)
         body_r = float(np.max(r))
-        radius = max(body_r + MARGIN_CM, widths_cm.get(part, 0.0) / (2 * np.pi))
+        if part in ("torso", "head"):
+            base = body_r
+        else:
+            # a limb's pieces should go all the way round it, or the seams would
+            # pull across the limb: the typical radius (90th percentile) is used
+            # and the thicker parts are cleared along the radius when wrapping
+            base = float(np.percentile(r, 90))
+        radius = max(base + MARGIN_CM, widths_cm.get(part, 0.0) / (2 * np.pi))
         out[part] = Cylinder(
             part=part, center=c, axis=axis, e0=e0, e1=e1, radius_cm=radius, body_radius_cm=body_r,
             h_min=float(h.min()), h_max=float(h.max()),
