@@ -24,25 +24,43 @@ from scipy.spatial import cKDTree
 
 from .surface import SurfaceMesh
 
-__all__ = ["corridor", "euler_step", "flow_path", "lsq_step", "tangent_planes", "tangent_step"]
+__all__ = [
+    "corridor",
+    "euler_step",
+    "flow_path",
+    "lsq_step",
+    "tangent_planes",
+    "tangent_step",
+]
 
 log = logging.getLogger(__name__)
 
 
 def corridor(mesh: SurfaceMesh, vids, rings: int = 3) -> np.ndarray:
-    """Vertices within ``rings`` edge hops of ``vids`` (sorted int64)."""
+    """Vertices within ``rings`` edge hops of ``vids`` (sorted int64).
+
+    A breadth-first growth from the path that only expands the newest ring.
+    """
     g = mesh.graph
-    cur = np.unique(np.asarray(vids, dtype=np.int64))
+    seen = np.zeros(mesh.n_vertices, dtype=bool)
+    front = np.unique(np.asarray(vids, dtype=np.int64))
+    seen[front] = True
     for _ in range(rings):
-        starts, stops = g.indptr[cur], g.indptr[cur + 1]
-        cnt = stops - starts
+        starts = g.indptr[front]
+        cnt = g.indptr[front + 1] - starts
         idx = np.repeat(starts - np.cumsum(cnt) + cnt, cnt) + np.arange(cnt.sum())
-        cur = np.union1d(cur, g.indices[idx])
-    return cur
+        nb = g.indices[idx]
+        nb = np.unique(nb[~seen[nb]])
+        if len(nb) == 0:
+            break
+        seen[nb] = True
+        front = nb
+    return np.flatnonzero(seen)
 
 
-def tangent_planes(mesh: SurfaceMesh, points: np.ndarray, tree: cKDTree,
-                   verts: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def tangent_planes(
+    mesh: SurfaceMesh, points: np.ndarray, tree: cKDTree, verts: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Closest corridor vertex, its tangent normal and the projected points.
 
     Returns
@@ -76,8 +94,9 @@ def _block_nn(normals: np.ndarray) -> sp.csr_matrix:
     return sp.csr_matrix((blocks.ravel(), (rows, cols)), shape=(3 * m, 3 * m))
 
 
-def lsq_step(points: np.ndarray, normals: np.ndarray, pbar: np.ndarray,
-             plane_weight: float = 1.0) -> np.ndarray:
+def lsq_step(
+    points: np.ndarray, normals: np.ndarray, pbar: np.ndarray, plane_weight: float = 1.0
+) -> np.ndarray:
     """One least-squares solve of the geodesic-curvature system.
 
     Parameters
@@ -114,7 +133,9 @@ def lsq_step(points: np.ndarray, normals: np.ndarray, pbar: np.ndarray,
     return x
 
 
-def tangent_step(points: np.ndarray, normals: np.ndarray, pbar: np.ndarray) -> np.ndarray:
+def tangent_step(
+    points: np.ndarray, normals: np.ndarray, pbar: np.ndarray
+) -> np.ndarray:
     """The least-squares step solved exactly in tangent coordinates (fast path).
 
     The stacked system of :func:`lsq_step` is consistent: three independent rows
@@ -161,8 +182,9 @@ def tangent_step(points: np.ndarray, normals: np.ndarray, pbar: np.ndarray) -> n
     return out
 
 
-def euler_step(points: np.ndarray, normals: np.ndarray, pbar: np.ndarray,
-               mu: float) -> np.ndarray:
+def euler_step(
+    points: np.ndarray, normals: np.ndarray, pbar: np.ndarray, mu: float
+) -> np.ndarray:
     """One implicit-Euler step ``(I + mu (nn^T - K + nn^T K)) P' = P + mu nn^T Pbar``.
 
     The end points are kept fixed (their rows are the identity).
@@ -196,9 +218,19 @@ def _resample(points: np.ndarray, max_seg: float) -> np.ndarray:
     return np.vstack(out)
 
 
-def flow_path(mesh: SurfaceMesh, vpath, start, end, *, scheme: str = "lsq",
-              n_outer: int = 7, mu: float = 4.0,
-              omega: float = 1.3, rings: int = 14, fast: bool = True) -> np.ndarray:
+def flow_path(
+    mesh: SurfaceMesh,
+    vpath,
+    start,
+    end,
+    *,
+    scheme: str = "lsq",
+    n_outer: int = 7,
+    mu: float = 4.0,
+    omega: float = 1.3,
+    rings: int = 14,
+    fast: bool = True,
+) -> np.ndarray:
     """Run the curvature flow from an edge path.
 
     Parameters
@@ -210,7 +242,8 @@ def flow_path(mesh: SurfaceMesh, vpath, start, end, *, scheme: str = "lsq",
     n_outer : outer iterations (tangent planes re-estimated each time)
     mu : implicit-Euler step
     omega : over-relaxation of each outer step after the first (1: plain)
-    rings : width of the vertex corridor searched for closest vertices
+    rings : least width of the vertex corridor searched for closest vertices
+        (at least 1/16 of the edge path length in edges)
     fast : solve the least-squares step in tangent coordinates (same result)
 
     Returns
@@ -225,7 +258,8 @@ def flow_path(mesh: SurfaceMesh, vpath, start, end, *, scheme: str = "lsq",
         pts = np.vstack([pts, end.xyz])
     if len(pts) < 3:
         return pts.copy()
-    verts = corridor(mesh, vp, rings=rings)
+    # the flow may move the path sideways by a fraction of its edge count
+    verts = corridor(mesh, vp, rings=max(rings, len(vp) // 16))
     tree = cKDTree(mesh.vertices[verts])
     max_seg = 1.5 * mesh.edge_mean
     for it in range(n_outer):

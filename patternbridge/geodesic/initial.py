@@ -21,7 +21,7 @@ __all__ = ["edge_path", "edge_paths"]
 
 #: graph routes up to this much longer than the best one are searched for a
 #: second way around (e.g. front or back of the neck)
-_ALT_SLACK = 0.1
+_ALT_SLACK = 0.07
 #: a route counts as another way when it passes this fraction of the best
 #: length away from the best route
 _ALT_AWAY = 0.2
@@ -59,8 +59,9 @@ def edge_path(mesh: SurfaceMesh, a: int, b: int) -> tuple[np.ndarray, float]:
     return edge_paths(mesh, a, b, alternative=False)[0]
 
 
-def edge_paths(mesh: SurfaceMesh, a: int, b: int, *, alternative: bool = True
-               ) -> list[tuple[np.ndarray, float]]:
+def edge_paths(
+    mesh: SurfaceMesh, a: int, b: int, *, alternative: bool = True
+) -> list[tuple[np.ndarray, float]]:
     """The shortest edge path, and the best edge path that goes another way.
 
     The second route (when ``alternative``) passes through the vertex of least
@@ -85,8 +86,9 @@ def edge_paths(mesh: SurfaceMesh, a: int, b: int, *, alternative: bool = True
     r = 0.5 * cover * 1.24 * chord + 2.0 * emax
     reached_before = -1
     while True:
-        dist, pred = dijkstra(g, directed=True, indices=[a, b], limit=r,
-                              return_predecessors=True)
+        dist, pred = dijkstra(
+            g, directed=True, indices=[a, b], limit=r, return_predecessors=True
+        )
         total = dist[0] + dist[1]
         m = int(np.argmin(total))
         best = float(total[m])
@@ -100,7 +102,8 @@ def edge_paths(mesh: SurfaceMesh, a: int, b: int, *, alternative: bool = True
             raise MeshError(
                 f"mesh: vertices {a} and {b} are not connected (components {comp[a]} "
                 f"and {comp[b]} of {comp.max() + 1}); pick points on the same piece "
-                "of surface")
+                "of surface"
+            )
         reached_before = reached
         r *= 1.6
     out = [(_route(pred, m), best)]

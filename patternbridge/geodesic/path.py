@@ -64,18 +64,23 @@ class GeodesicPath:
 def _endpoint(mesh: SurfaceMesh, p: SurfacePoint) -> tuple[Endpoint, int]:
     xyz = mesh.point_position(p)
     if p.vertex_id is not None:
-        return Endpoint(vertex=p.vertex_id, face=None, xyz=tuple(xyz.tolist())), p.vertex_id
+        return Endpoint(
+            vertex=p.vertex_id, face=None, xyz=tuple(xyz.tolist())
+        ), p.vertex_id
     k = int(np.argmax(p.bary))
-    return (Endpoint(vertex=None, face=p.face, xyz=tuple(xyz.tolist())),
-            int(mesh.faces[p.face, k]))
+    return (
+        Endpoint(vertex=None, face=p.face, xyz=tuple(xyz.tolist())),
+        int(mesh.faces[p.face, k]),
+    )
 
 
 def _polyline(points: np.ndarray) -> float:
     return float(np.linalg.norm(np.diff(points, axis=0), axis=1).sum())
 
 
-def geodesic_path(mesh: SurfaceMesh, a, b, *, tape: bool = False, exempt=None,
-                  method: str = "lsq") -> GeodesicPath:
+def geodesic_path(
+    mesh: SurfaceMesh, a, b, *, tape: bool = False, exempt=None, method: str = "lsq"
+) -> GeodesicPath:
     """Geodesic path between two surface points.
 
     Parameters
@@ -99,11 +104,15 @@ def geodesic_path(mesh: SurfaceMesh, a, b, *, tape: bool = False, exempt=None,
         Unknown points, points on different components, unknown method.
     """
     if not isinstance(mesh, SurfaceMesh):
-        raise MeshError(f"geodesic: expected a SurfaceMesh, got {type(mesh).__name__}; "
-                        "wrap the arrays with SurfaceMesh(vertices, faces)")
+        raise MeshError(
+            f"geodesic: expected a SurfaceMesh, got {type(mesh).__name__}; "
+            "wrap the arrays with SurfaceMesh(vertices, faces)"
+        )
     if method not in METHODS:
-        raise MeshError(f"geodesic: unknown method {method!r} (expected one of "
-                        f"{', '.join(METHODS)}); pick a listed method")
+        raise MeshError(
+            f"geodesic: unknown method {method!r} (expected one of "
+            f"{', '.join(METHODS)}); pick a listed method"
+        )
     pa = mesh.check_point(a, "from")
     pb = mesh.check_point(b, "to")
     ea, va = _endpoint(mesh, pa)
@@ -133,8 +142,14 @@ def geodesic_path(mesh: SurfaceMesh, a, b, *, tape: bool = False, exempt=None,
         pts = tape_correct(pts, normals, exempt=exempt)
         # tape points off the skin keep the face of the nearest surface point
         fcs, eds = _relabel(pts, result)
-    return GeodesicPath(points=pts, faces=fcs, edges=eds, length=_polyline(pts),
-                        surface_length=surface_length, method=method)
+    return GeodesicPath(
+        points=pts,
+        faces=fcs,
+        edges=eds,
+        length=_polyline(pts),
+        surface_length=surface_length,
+        method=method,
+    )
 
 
 def _one_route(mesh: SurfaceMesh, vpath, ea: Endpoint, eb: Endpoint, method: str):
@@ -147,15 +162,22 @@ def _one_route(mesh: SurfaceMesh, vpath, ea: Endpoint, eb: Endpoint, method: str
         keep[1:] = np.linalg.norm(np.diff(pts, axis=0), axis=1) > 0
         indptr, fl = mesh.vertex_faces
         fcs = fl[indptr[vpath]]
-        fcs = np.concatenate([[ea.face if ea.face is not None else fcs[0]], fcs,
-                              [eb.face if eb.face is not None else fcs[-1]]])
+        fcs = np.concatenate(
+            [
+                [ea.face if ea.face is not None else fcs[0]],
+                fcs,
+                [eb.face if eb.face is not None else fcs[-1]],
+            ]
+        )
         return pts[keep], fcs[keep], np.full((int(keep.sum()), 2), -1, dtype=np.int64)
     strip = None
     if method in ("lsq", "euler", "flow"):
         from .flow import flow_path
         from .project import project_walk
 
-        fl = flow_path(mesh, vpath, ea, eb, scheme="euler" if method == "euler" else "lsq")
+        fl = flow_path(
+            mesh, vpath, ea, eb, scheme="euler" if method == "euler" else "lsq"
+        )
         walk = project_walk(mesh, fl, ea, eb, local=loc)
         if walk is not None:
             if method == "flow":
@@ -185,10 +207,14 @@ def _relabel(pts: np.ndarray, result) -> tuple[np.ndarray, np.ndarray]:
     return src_f[idx].copy(), eds
 
 
-def geodesic_paths(mesh: SurfaceMesh, pairs: Iterable[Sequence], *, tape: bool = False,
-                   method: str = "lsq",
-                   progress: Callable[[str, int, int], None] | None = None
-                   ) -> list[GeodesicPath]:
+def geodesic_paths(
+    mesh: SurfaceMesh,
+    pairs: Iterable[Sequence],
+    *,
+    tape: bool = False,
+    method: str = "lsq",
+    progress: Callable[[str, int, int], None] | None = None,
+) -> list[GeodesicPath]:
     """Geodesic paths for many ``(a, b)`` pairs on one mesh (preparation shared).
 
     Parameters

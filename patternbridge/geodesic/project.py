@@ -45,15 +45,21 @@ def _dot(a, b):
 
 
 def _crs(a, b):
-    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+    return (
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    )
 
 
 def _inside(loc: _Local, f: int, q, tol: float = 1e-9) -> bool:
     a, b, c = (loc.pos(v) for v in loc.face(f))
     n = _crs(_sub(b, a), _sub(c, a))
-    return (_dot(_crs(_sub(b, a), _sub(q, a)), n) >= -tol * _dot(n, n)
-            and _dot(_crs(_sub(c, b), _sub(q, b)), n) >= -tol * _dot(n, n)
-            and _dot(_crs(_sub(a, c), _sub(q, c)), n) >= -tol * _dot(n, n))
+    return (
+        _dot(_crs(_sub(b, a), _sub(q, a)), n) >= -tol * _dot(n, n)
+        and _dot(_crs(_sub(c, b), _sub(q, b)), n) >= -tol * _dot(n, n)
+        and _dot(_crs(_sub(a, c), _sub(q, c)), n) >= -tol * _dot(n, n)
+    )
 
 
 def _onto_face(loc: _Local, f: int, q):
@@ -82,9 +88,15 @@ def _start_face(loc: _Local, v: int, toward) -> int | None:
     return best
 
 
-def project_walk(mesh: SurfaceMesh, samples: np.ndarray, start: Endpoint, end: Endpoint,
-                 *, local: _Local | None = None, max_steps: int | None = None
-                 ) -> Walk | None:
+def project_walk(
+    mesh: SurfaceMesh,
+    samples: np.ndarray,
+    start: Endpoint,
+    end: Endpoint,
+    *,
+    local: _Local | None = None,
+    max_steps: int | None = None,
+) -> Walk | None:
     """Walk the samples onto the surface.
 
     Parameters
@@ -123,9 +135,12 @@ def project_walk(mesh: SurfaceMesh, samples: np.ndarray, start: Endpoint, end: E
             pts.append(end.xyz)
             fcs.append(f)
             eds.append((-1, -1))
-            return Walk(points=np.array(pts), faces=np.array(fcs, dtype=np.int64),
-                        edges=np.array(eds, dtype=np.int64),
-                        strip=np.array(strip, dtype=np.int64))
+            return Walk(
+                points=np.array(pts),
+                faces=np.array(fcs, dtype=np.int64),
+                edges=np.array(eds, dtype=np.int64),
+                strip=np.array(strip, dtype=np.int64),
+            )
         q = Q[min(i, len(Q) - 1)]
         if i < len(Q) - 1 and _inside(loc, f, _onto_face(loc, f, q)):
             x = _onto_face(loc, f, q)
@@ -161,8 +176,11 @@ def project_walk(mesh: SurfaceMesh, samples: np.ndarray, start: Endpoint, end: E
                 continue
             t = su / (su - sw)
             pu, pw = loc.pos(u), loc.pos(w)
-            cpt = (pu[0] + t * (pw[0] - pu[0]), pu[1] + t * (pw[1] - pu[1]),
-                   pu[2] + t * (pw[2] - pu[2]))
+            cpt = (
+                pu[0] + t * (pw[0] - pu[0]),
+                pu[1] + t * (pw[1] - pu[1]),
+                pu[2] + t * (pw[2] - pu[2]),
+            )
             ahead = _dot(_sub(cpt, x), d)
             if ahead > 0 and (best is None or ahead > best[0]):
                 best = (ahead, u, w, cpt)

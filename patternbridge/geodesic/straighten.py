@@ -20,7 +20,7 @@ import numpy as np
 
 from .surface import SurfaceMesh
 
-__all__ = ["Endpoint", "StraightPath", "strip_from_vertex_path", "straighten"]
+__all__ = ["Endpoint", "StraightPath", "straighten", "strip_from_vertex_path"]
 
 log = logging.getLogger(__name__)
 
@@ -135,9 +135,13 @@ def _third(t: tuple[int, int, int], p: int, q: int) -> int:
     return -1
 
 
-def strip_from_vertex_path(mesh: SurfaceMesh, vpath, start_face: int | None = None,
-                           end_face: int | None = None, local: _Local | None = None
-                           ) -> list[int] | None:
+def strip_from_vertex_path(
+    mesh: SurfaceMesh,
+    vpath,
+    start_face: int | None = None,
+    end_face: int | None = None,
+    local: _Local | None = None,
+) -> list[int] | None:
     """Face strip around an edge path: turn around each path vertex.
 
     Parameters
@@ -175,10 +179,12 @@ def strip_from_vertex_path(mesh: SurfaceMesh, vpath, start_face: int | None = No
         v = vp[i]
         if i + 1 < k:
             w = vp[i + 1]
+
             def stop(g, v=v, w=w):
                 return w in loc.face(g)
         elif end_face is not None:
             tgt = end_face
+
             def stop(g, tgt=tgt):
                 return g == tgt
         else:
@@ -232,7 +238,7 @@ def _unfold(loc: _Local, strip, s: Endpoint, e: Endpoint, cache: dict | None = N
                 break
     if k0 >= 1:
         face_xy = cache["face_xy"][:k0]
-        portals = cache["portals"][:k0 - 1]
+        portals = cache["portals"][: k0 - 1]
         coords = face_xy[-1]
     else:
         f0 = strip[0]
@@ -339,7 +345,7 @@ def _funnel(portals, s2, e2):
         lid, rid, pl, pr = P[i]
         # tighten the right side
         if rid != apex_v or rid < 0:
-            if right_i == apex_i and right is apex or _cross(apex, right, pr) >= 0.0:
+            if (right_i == apex_i and right is apex) or _cross(apex, right, pr) >= 0.0:
                 if (left is apex and left_i == apex_i) or _cross(apex, left, pr) < 0.0:
                     right, right_i, right_v = pr, i, rid
                 else:
@@ -351,8 +357,10 @@ def _funnel(portals, s2, e2):
                     i = apex_i + 1
                     continue
         if lid != apex_v or lid < 0:
-            if left_i == apex_i and left is apex or _cross(apex, left, pl) <= 0.0:
-                if (right is apex and right_i == apex_i) or _cross(apex, right, pl) > 0.0:
+            if (left_i == apex_i and left is apex) or _cross(apex, left, pl) <= 0.0:
+                if (right is apex and right_i == apex_i) or _cross(
+                    apex, right, pl
+                ) > 0.0:
                     left, left_i, left_v = pl, i, lid
                 else:
                     apex, apex_i, apex_v = right, right_i, right_v
@@ -380,17 +388,20 @@ def _corner(loc: _Local, f: int, v: int) -> float:
     cx = u[1] * w[2] - u[2] * w[1]
     cy = u[2] * w[0] - u[0] * w[2]
     cz = u[0] * w[1] - u[1] * w[0]
-    return math.atan2(math.sqrt(cx * cx + cy * cy + cz * cz),
-                      u[0] * w[0] + u[1] * w[1] + u[2] * w[2])
+    return math.atan2(
+        math.sqrt(cx * cx + cy * cy + cz * cz), u[0] * w[0] + u[1] * w[1] + u[2] * w[2]
+    )
 
 
-def _find_swings(loc: _Local, strip, portals, apexes, face_xy, s: Endpoint, e: Endpoint):
+def _find_swings(
+    loc: _Local, strip, portals, apexes, face_xy, s: Endpoint, e: Endpoint
+):
     """Vertices the path wraps with less than pi on the other side; return
     (start, stop, replacement faces) edits of the strip."""
     edits = []
     n = len(portals)
     for k in range(1, len(apexes) - 1):
-        xy, pi_, v = apexes[k]
+        _, pi_, v = apexes[k]
         if v < 0:
             continue
         side = 0 if portals[pi_ - 1][0] == v else 1
@@ -431,8 +442,15 @@ def _find_swings(loc: _Local, strip, portals, apexes, face_xy, s: Endpoint, e: E
     return edits
 
 
-def straighten(mesh: SurfaceMesh, strip, s: Endpoint, e: Endpoint, *,
-               max_rounds: int = 400, local: _Local | None = None) -> StraightPath:
+def straighten(
+    mesh: SurfaceMesh,
+    strip,
+    s: Endpoint,
+    e: Endpoint,
+    *,
+    max_rounds: int = 400,
+    local: _Local | None = None,
+) -> StraightPath:
     """Shortest path through ``strip``, swinging it over vertices until it is a
     locally shortest geodesic.
 
@@ -469,15 +487,16 @@ def straighten(mesh: SurfaceMesh, strip, s: Endpoint, e: Endpoint, *,
         for lo, hi, new in edits:
             if hi >= floor:
                 continue
-            strip[lo:hi + 1] = new
+            strip[lo : hi + 1] = new
             floor = lo
             n_swings += 1
         strip = _clean(strip)
     return _assemble(loc, strip, portals, apexes, s, e, n_swings)
 
 
-def _assemble(loc: _Local, strip, portals, apexes, s: Endpoint, e: Endpoint,
-              n_swings: int) -> StraightPath:
+def _assemble(
+    loc: _Local, strip, portals, apexes, s: Endpoint, e: Endpoint, n_swings: int
+) -> StraightPath:
     pts: list[tuple[float, float, float]] = [s.xyz]
     fcs: list[int] = [s.face if s.face is not None else strip[0]]
     eds: list[tuple[int, int]] = [(-1, -1)]
@@ -519,7 +538,11 @@ def _assemble(loc: _Local, strip, portals, apexes, s: Endpoint, e: Endpoint,
         pts = [pts[i] for i in keep]
         fcs = [fcs[i] for i in keep]
         eds = [eds[i] for i in keep]
-    return StraightPath(points=np.array(pts, dtype=np.float64),
-                        faces=np.array(fcs, dtype=np.int64),
-                        edges=np.array(eds, dtype=np.int64), length=float(length),
-                        strip=np.array(strip, dtype=np.int64), n_swings=n_swings)
+    return StraightPath(
+        points=np.array(pts, dtype=np.float64),
+        faces=np.array(fcs, dtype=np.int64),
+        edges=np.array(eds, dtype=np.int64),
+        length=float(length),
+        strip=np.array(strip, dtype=np.int64),
+        n_swings=n_swings,
+    )

@@ -105,20 +105,30 @@ class SurfaceMesh:
             v = np.array(vertices, dtype=np.float64)
             f = np.array(faces, dtype=np.int64)
         except (TypeError, ValueError) as exc:
-            raise MeshError(f"mesh: vertices/faces are not numeric arrays ({exc}); "
-                            "pass (V, 3) floats and (F, 3) ints") from None
+            raise MeshError(
+                f"mesh: vertices/faces are not numeric arrays ({exc}); "
+                "pass (V, 3) floats and (F, 3) ints"
+            ) from None
         if v.ndim != 2 or v.shape[1] != 3 or len(v) < 3:
-            raise MeshError(f"mesh: vertices must be (V, 3) with V >= 3 (got {v.shape}); "
-                            "pass an (V, 3) float array in cm")
+            raise MeshError(
+                f"mesh: vertices must be (V, 3) with V >= 3 (got {v.shape}); "
+                "pass an (V, 3) float array in cm"
+            )
         if f.ndim != 2 or f.shape[1] != 3 or len(f) < 1:
-            raise MeshError(f"mesh: faces must be (F, 3) triangles (got {f.shape}); "
-                            "triangulate the mesh first")
+            raise MeshError(
+                f"mesh: faces must be (F, 3) triangles (got {f.shape}); "
+                "triangulate the mesh first"
+            )
         if not np.all(np.isfinite(v)):
-            raise MeshError(f"mesh: {int((~np.isfinite(v)).any(axis=1).sum())} vertices "
-                            "have NaN or infinite coordinates; repair the mesh")
+            raise MeshError(
+                f"mesh: {int((~np.isfinite(v)).any(axis=1).sum())} vertices "
+                "have NaN or infinite coordinates; repair the mesh"
+            )
         if f.min() < 0 or f.max() >= len(v):
-            raise MeshError(f"mesh: face indices out of range (min {f.min()}, max {f.max()}, "
-                            f"{len(v)} vertices); check the face list")
+            raise MeshError(
+                f"mesh: face indices out of range (min {f.min()}, max {f.max()}, "
+                f"{len(v)} vertices); check the face list"
+            )
         self.n_vertices = len(v)
         self.n_faces = len(f)
         self._cache: dict = {}
@@ -137,11 +147,17 @@ class SurfaceMesh:
         cr[:, 2] = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
         dbl_area = np.sqrt(np.einsum("ij,ij->i", cr, cr))
         scale = float(np.mean(np.einsum("ij,ij->i", e1, e1))) or 1.0
-        degenerate = (dbl_area <= _AREA_EPS * scale) | (fw[:, 0] == fw[:, 1]) | (
-            fw[:, 1] == fw[:, 2]) | (fw[:, 0] == fw[:, 2])
+        degenerate = (
+            (dbl_area <= _AREA_EPS * scale)
+            | (fw[:, 0] == fw[:, 1])
+            | (fw[:, 1] == fw[:, 2])
+            | (fw[:, 0] == fw[:, 2])
+        )
         if degenerate.all():
-            raise MeshError(f"mesh: all {len(f)} faces have zero area; "
-                            "the mesh has no usable surface")
+            raise MeshError(
+                f"mesh: all {len(f)} faces have zero area; "
+                "the mesh has no usable surface"
+            )
         with np.errstate(invalid="ignore", divide="ignore"):
             fn = cr / np.where(dbl_area > 0, dbl_area, 1.0)[:, None]
         fn[degenerate] = 0.0
@@ -189,8 +205,9 @@ class SurfaceMesh:
         np.maximum(w, 1e-12, out=w)  # a zero weight would read as "no edge"
         indptr = np.zeros(n + 1, dtype=np.int64)
         np.cumsum(np.bincount(src, minlength=n), out=indptr[1:])
-        graph = sp.csr_matrix((w, dst.astype(np.int32), indptr.astype(np.int32)),
-                              shape=(n, n))
+        graph = sp.csr_matrix(
+            (w, dst.astype(np.int32), indptr.astype(np.int32)), shape=(n, n)
+        )
         self._cache["graph"] = graph
         self._cache["edge_max"] = float(w.max()) if len(w) else 0.0
         self._cache["edge_mean"] = float(w.mean()) if len(w) else 0.0
@@ -253,8 +270,9 @@ class SurfaceMesh:
             g = self.graph
             deg = np.diff(g.indptr)
             d = int(deg.max()) if len(deg) else 0
-            tab = np.repeat(np.arange(self.n_vertices, dtype=np.int64)[:, None], max(d, 1),
-                            axis=1)
+            tab = np.repeat(
+                np.arange(self.n_vertices, dtype=np.int64)[:, None], max(d, 1), axis=1
+            )
             rows = np.repeat(np.arange(self.n_vertices), deg)
             cols = np.arange(len(rows)) - np.repeat(g.indptr[:-1], deg)
             tab[rows, cols] = g.indices
@@ -271,7 +289,7 @@ class SurfaceMesh:
     def faces_of(self, v: int) -> np.ndarray:
         """Usable faces around vertex ``v`` (int64 array)."""
         indptr, fl = self.vertex_faces
-        return fl[indptr[v]:indptr[v + 1]]
+        return fl[indptr[v] : indptr[v + 1]]
 
     # ---------------------------------------------------------- tangent planes
     def vertex_normals(self, vids) -> np.ndarray:
@@ -321,21 +339,29 @@ class SurfaceMesh:
         if isinstance(p, (int, np.integer)):
             p = SurfacePoint.vertex(int(p))
         if not isinstance(p, SurfacePoint):
-            raise MeshError(f"{name}: expected a vertex id or SurfacePoint, got "
-                            f"{type(p).__name__}; pass an int or SurfacePoint")
+            raise MeshError(
+                f"{name}: expected a vertex id or SurfacePoint, got "
+                f"{type(p).__name__}; pass an int or SurfacePoint"
+            )
         if p.vertex_id is not None:
             if not 0 <= p.vertex_id < self.n_vertices:
-                raise MeshError(f"{name}: vertex {p.vertex_id} out of range "
-                                f"(0..{self.n_vertices - 1}); pick a vertex of this mesh")
+                raise MeshError(
+                    f"{name}: vertex {p.vertex_id} out of range "
+                    f"(0..{self.n_vertices - 1}); pick a vertex of this mesh"
+                )
             r = int(self.rep[p.vertex_id])
             return p if r == p.vertex_id else SurfacePoint.vertex(r)
         if not 0 <= p.face < self.n_faces:
-            raise MeshError(f"{name}: face {p.face} out of range "
-                            f"(0..{self.n_faces - 1}); pick a face of this mesh")
+            raise MeshError(
+                f"{name}: face {p.face} out of range "
+                f"(0..{self.n_faces - 1}); pick a face of this mesh"
+            )
         b = np.asarray(p.bary)
         if b.min() < -1e-9:
-            raise MeshError(f"{name}: barycentric coordinates {p.bary} leave the face "
-                            "(negative weight); pass weights >= 0")
+            raise MeshError(
+                f"{name}: barycentric coordinates {p.bary} leave the face "
+                "(negative weight); pass weights >= 0"
+            )
         k = int(np.argmax(b))
         if b[k] > 1 - 1e-12 or self.degenerate[p.face]:
             return SurfacePoint.vertex(int(self.faces[p.face, k]))

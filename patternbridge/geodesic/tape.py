@@ -1,11 +1,12 @@
 """Tape correction: a real tape bridges concave stretches instead of following them.
 
 A point of a surface path is concave when its curve normal (the turn of the
-unit tangent between ``p_{i-1} -> p_i`` and ``p_i -> p_{i+1}``) agrees with the outward surface
-normal: the skin curves away under the tape there. Such points are moved onto
-the line through their neighbours until none is left; a run of consecutive
-concave points goes at once onto the chord between the points around it (kept
-in arc-length order), which reaches the taut state in a few sweeps. Points of an exempt section (a bent elbow, say) stay on the skin.
+unit tangent between ``p_{i-1} -> p_i`` and ``p_i -> p_{i+1}``) agrees with the
+outward surface normal: the skin curves away under the tape there. Such points
+are moved onto the line through their neighbours until none is left; a run of
+consecutive concave points goes at once onto the chord between the points
+around it (kept in arc-length order), which reaches the taut state in a few
+sweeps. Points of an exempt section (a bent elbow, say) stay on the skin.
 """
 
 from __future__ import annotations
@@ -32,13 +33,21 @@ def exempt_mask(points: np.ndarray, exempt) -> np.ndarray:
     arr = np.asarray(exempt)
     if arr.dtype == bool:
         if arr.shape != (k,):
-            raise MeshError(f"tape: exempt mask has shape {arr.shape}, expected ({k},); "
-                            "pass one flag per path point or (start, stop) fractions")
+            raise MeshError(
+                f"tape: exempt mask has shape {arr.shape}, expected ({k},); "
+                "pass one flag per path point or (start, stop) fractions"
+            )
         return arr.copy()
-    arr = np.asarray(exempt, dtype=np.float64).reshape(-1, 2) if arr.size else np.zeros((0, 2))
+    arr = (
+        np.asarray(exempt, dtype=np.float64).reshape(-1, 2)
+        if arr.size
+        else np.zeros((0, 2))
+    )
     if np.any(arr < 0) or np.any(arr > 1) or np.any(arr[:, 0] > arr[:, 1]):
-        raise MeshError(f"tape: exempt sections {arr.tolist()} are not (start, stop) "
-                        "fractions with 0 <= start <= stop <= 1; fix the sections")
+        raise MeshError(
+            f"tape: exempt sections {arr.tolist()} are not (start, stop) "
+            "fractions with 0 <= start <= stop <= 1; fix the sections"
+        )
     seg = np.linalg.norm(np.diff(points, axis=0), axis=1)
     s = np.concatenate([[0.0], np.cumsum(seg)])
     t = s / s[-1] if s[-1] > 0 else np.zeros(k)
@@ -48,8 +57,9 @@ def exempt_mask(points: np.ndarray, exempt) -> np.ndarray:
     return mask
 
 
-def tape_correct(points, normals, exempt=None, *, tol_cm: float = 1e-6,
-                 max_sweeps: int | None = None) -> np.ndarray:
+def tape_correct(
+    points, normals, exempt=None, *, tol_cm: float = 1e-6, max_sweeps: int | None = None
+) -> np.ndarray:
     """Straighten the concave stretches of a path like a taut tape.
 
     Parameters
@@ -78,8 +88,10 @@ def tape_correct(points, normals, exempt=None, *, tol_cm: float = 1e-6,
     p = np.array(points, dtype=np.float64)
     n = np.array(normals, dtype=np.float64)
     if p.ndim != 2 or p.shape[1] != 3 or n.shape != p.shape:
-        raise MeshError(f"tape: points {p.shape} and normals {n.shape} must both be "
-                        "(k, 3); pass one normal per point")
+        raise MeshError(
+            f"tape: points {p.shape} and normals {n.shape} must both be "
+            "(k, 3); pass one normal per point"
+        )
     fixed = exempt_mask(p, exempt)
     step = np.ones(len(p), dtype=bool)
     step[1:] = np.linalg.norm(np.diff(p, axis=0), axis=1) > 0
@@ -112,8 +124,14 @@ def tape_correct(points, normals, exempt=None, *, tol_cm: float = 1e-6,
             if not concave[i:j].any():
                 continue
             a, b = p[i - 1], p[j]
-            s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p[i - 1:j + 1], axis=0),
-                                                                 axis=1))])
+            s = np.concatenate(
+                [
+                    [0.0],
+                    np.cumsum(
+                        np.linalg.norm(np.diff(p[i - 1 : j + 1], axis=0), axis=1)
+                    ),
+                ]
+            )
             t = s[1:-1] / s[-1] if s[-1] > 0 else np.zeros(j - i)
             p[i:j] = a + t[:, None] * (b - a)
             moved[i:j] = True
