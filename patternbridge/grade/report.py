@@ -88,6 +88,7 @@ def fit_report(result: FitResult, *, character: str = "", garment: str = "") -> 
     out.update(scores_dict(result, result.chosen.scores))
     out["seconds"] = _r(result.seconds, 3)
     out["method"] = result.chosen.name
+    out["note"] = result.chosen.note
     out["baseline"] = _solution_dict(result, result.baselines["proportional"])
     out["baselines"] = {name: _solution_dict(result, sol) for name, sol in result.baselines.items()}
     out["nsga2"] = _solution_dict(result, result.ga_choice)
