@@ -25,7 +25,14 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
 SHARED = REPO.parent / "shared" / "characters"
-CHARACTERS = ("A_superhero", "B_slim_female", "C_heavy_male", "D_cartoon_child", "E_average_male", "F_tall_thin_elder")
+CHARACTERS = (
+    "A_superhero",
+    "B_slim_female",
+    "C_heavy_male",
+    "D_cartoon_child",
+    "E_average_male",
+    "F_tall_thin_elder",
+)
 
 
 def _rss_mb() -> float:
@@ -45,8 +52,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--garments", nargs="*", default=["shirt", "trousers"])
     ap.add_argument("--out", default=str(REPO / "bench_out" / "assemble"))
     ap.add_argument("--json", help="also write the rows to this JSON file")
-    ap.add_argument("--graded", action="store_true",
-                    help="grade each garment to the character first (measure + NSGA-II, small budget; not timed)")
+    ap.add_argument(
+        "--graded",
+        action="store_true",
+        help="grade each garment to the character first (measure + NSGA-II, small budget; not timed)",
+    )
     args = ap.parse_args(argv)
 
     import numpy as np
@@ -55,10 +65,14 @@ def main(argv: list[str] | None = None) -> int:
     from patternbridge.library import load_garment
     from patternbridge.mesh.load import load_character
 
-    print(f"# assemble benchmark  python {platform.python_version()}  numpy {np.__version__}  "
-          f"cores {os.cpu_count()}  {platform.machine()}")
-    print(f"{'case':34s} {'s':>6s} {'RSS MB':>7s} {'pen':>4s} {'gap0 mm':>8s} {'gap mm':>7s} "
-          f"{'p5':>5s} {'p50':>5s} {'p95':>5s} {'p99':>5s}  worst")
+    print(
+        f"# assemble benchmark  python {platform.python_version()}  numpy {np.__version__}  "
+        f"cores {os.cpu_count()}  {platform.machine()}"
+    )
+    print(
+        f"{'case':34s} {'s':>6s} {'RSS MB':>7s} {'pen':>4s} {'gap0 mm':>8s} {'gap mm':>7s} "
+        f"{'p5':>5s} {'p50':>5s} {'p95':>5s} {'p99':>5s}  worst"
+    )
     rows = []
     ok = True
     for cname in args.characters:
@@ -70,17 +84,30 @@ def main(argv: list[str] | None = None) -> int:
                 from patternbridge.measure.run import measure
 
                 values = measure(character, partial=True).values_cm()
-                pattern = fit_pattern(pattern, values, pop_size=40, n_gen=40, size=cname).pattern
+                pattern = fit_pattern(
+                    pattern, values, pop_size=40, n_gen=40, size=cname
+                ).pattern
             out = Path(args.out) / f"{gname}_{cname}"
             t = time.perf_counter()
             r = dress(character, pattern, out)
             secs = time.perf_counter() - t
             st = r["stretch"]["percentiles"]
-            worst = r["stretch"]["worst_pieces"][0] if r["stretch"]["worst_pieces"] else {"piece": "-", "p95": 0}
-            print(f"{gname + ' on ' + cname:34s} {secs:6.1f} {_rss_mb():7.0f} {r['penetrating_vertices']:4d} "
-                  f"{r['max_seam_gap_before_weld_mm']:8.1f} {r['max_seam_gap_mm']:7.2f} {st['p5']:5.2f} {st['p50']:5.2f} "
-                  f"{st['p95']:5.2f} {st['p99']:5.2f}  {worst['piece']} {worst['p95']:.2f}", flush=True)
-            ok &= secs <= 90 and r["penetrating_vertices"] == 0 and r["max_seam_gap_mm"] <= 1.0
+            worst = (
+                r["stretch"]["worst_pieces"][0]
+                if r["stretch"]["worst_pieces"]
+                else {"piece": "-", "p95": 0}
+            )
+            print(
+                f"{gname + ' on ' + cname:34s} {secs:6.1f} {_rss_mb():7.0f} {r['penetrating_vertices']:4d} "
+                f"{r['max_seam_gap_before_weld_mm']:8.1f} {r['max_seam_gap_mm']:7.2f} {st['p5']:5.2f} {st['p50']:5.2f} "
+                f"{st['p95']:5.2f} {st['p99']:5.2f}  {worst['piece']} {worst['p95']:.2f}",
+                flush=True,
+            )
+            ok &= (
+                secs <= 90
+                and r["penetrating_vertices"] == 0
+                and r["max_seam_gap_mm"] <= 1.0
+            )
             rows.append({"character": cname, "garment": gname, "seconds": secs, **r})
     if args.json:
         Path(args.json).write_text(json.dumps(rows, indent=1))

@@ -115,7 +115,7 @@ def _limbs_touching(vertices: np.ndarray, parts, report: Report, name: str) -> N
                 where=name,
             )
     legs = [vertices[parts.mask(f"{s}_leg")] for s in ("left", "right")]
-    if all(len(l) for l in legs):
+    if all(len(leg) for leg in legs):
         d = cKDTree(legs[0]).query(legs[1])[0]
         if np.min(d) < 0.3:
             report.add(
@@ -139,7 +139,9 @@ def _pose_rotvecs(character: Character) -> dict[str, np.ndarray]:
         target = np.array([sx, 0.0, 0.0])
         r_up = rotation_between(skel.heads[la] - skel.heads[ua], target)
         fore = r_up @ (skel.heads[wr] - skel.heads[la])
-        r_fore = rotation_between(fore, target)  # in the world frame after the upper arm turned
+        r_fore = rotation_between(
+            fore, target
+        )  # in the world frame after the upper arm turned
         # the forearm rotation is given in the rest frame and carried by the upper arm's
         r_fore_rest = r_up.T @ r_fore @ r_up
         out[skel.names[ua]] = _rotvec(r_up)
@@ -159,7 +161,9 @@ def _rotations(rotvecs: dict[str, np.ndarray], s: float) -> dict[str, np.ndarray
     return {k: Rotation.from_rotvec(s * v).as_matrix() for k, v in rotvecs.items()}
 
 
-def _blend(character: Character, rotations: dict, joints: np.ndarray, weights: np.ndarray) -> np.ndarray:
+def _blend(
+    character: Character, rotations: dict, joints: np.ndarray, weights: np.ndarray
+) -> np.ndarray:
     """(N, 3, 4) per-vertex blended bone transforms."""
     from ..mesh.skinning import bone_transforms
 
@@ -176,7 +180,9 @@ def _unapply(b: np.ndarray, x: np.ndarray) -> np.ndarray:
     return np.einsum("vij,vj->vi", np.linalg.inv(b[:, :, :3]), x - b[:, :, 3])
 
 
-def transfer_weights(collider, character: Character, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def transfer_weights(
+    collider, character: Character, points: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Skin weights at ``points`` from the nearest body surface points.
 
     The weights of the three corners of the closest body triangle are blended
@@ -257,7 +263,11 @@ def assemble(
     from .collision import BodyCollider
     from .drape import DrapeSettings, build_cloth, drape, seam_gaps, weld_groups
     from .mesh2d import mesh_pattern
-    from .placement import bounding_cylinders, instance_part, instance_points2d, place_instances
+    from .placement import (
+        bounding_cylinders,
+        instance_part,
+        place_instances,
+    )
 
     t0 = time.perf_counter()
     _check_pattern(pattern)
@@ -270,9 +280,15 @@ def assemble(
         try:
             rotvecs = _pose_rotvecs(character)
         except InputError as exc:
-            findings.add("no-t-pose", f"dressed in the rest pose: {exc}", where=character.name)
+            findings.add(
+                "no-t-pose", f"dressed in the rest pose: {exc}", where=character.name
+            )
     elif not rigged and not on_legs:
-        findings.add("no-t-pose", "the character has no rig: dressed in its rest pose", where=character.name)
+        findings.add(
+            "no-t-pose",
+            "the character has no rig: dressed in its rest pose",
+            where=character.name,
+        )
     if rotvecs:
         from ..mesh.skinning import pose_vertices
 
@@ -293,25 +309,45 @@ def assemble(
         widths[part] = widths.get(part, 0.0) + float(np.ptp(p2[:, 0])) + 1.0
     cylinders = bounding_cylinders(body, parts, widths)
     collider = BodyCollider(body, character.faces)
-    placed = place_instances(character, body, pattern, pmesh, cylinders, findings, scene=collider)
+    placed = place_instances(
+        character, body, pattern, pmesh, cylinders, findings, scene=collider
+    )
     keys = [inst.key for inst in pmesh.instances]
     index = {k: i for i, k in enumerate(keys)}
     positions = [placed[k] + rng.normal(scale=1e-3, size=placed[k].shape) for k in keys]
     points2d = [pmesh.pieces[inst.piece].points for inst in pmesh.instances]
     faces = [
-        pmesh.pieces[inst.piece].faces[:, ::-1] if inst.copy is Copy.MIRROR else pmesh.pieces[inst.piece].faces
+        pmesh.pieces[inst.piece].faces[:, ::-1]
+        if inst.copy is Copy.MIRROR
+        else pmesh.pieces[inst.piece].faces
         for inst in pmesh.instances
     ]
     seams = [
-        (index[s.a.key], index[s.b.key], s.a_vertices, s.b_vertices) for s in pmesh.seams
+        (index[s.a.key], index[s.b.key], s.a_vertices, s.b_vertices)
+        for s in pmesh.seams
     ]
     settings = DrapeSettings()
-    cloth = build_cloth(positions, points2d, faces, seams, density_kg_cm2=settings.density_kg_cm2)
+    cloth = build_cloth(
+        positions, points2d, faces, seams, density_kg_cm2=settings.density_kg_cm2
+    )
     x_placed = cloth.x.copy()
     sew_steps = int(0.55 * steps)
-    solver = drape(cloth, collider, steps=steps, sew_steps=sew_steps, settings=settings, progress=progress, stage="drape")
+    solver = drape(
+        cloth,
+        collider,
+        steps=steps,
+        sew_steps=sew_steps,
+        settings=settings,
+        progress=progress,
+        stage="drape",
+    )
 
-    log.debug("draped: cloth y %.1f..%.1f gap %.2f", cloth.x[:, 1].min(), cloth.x[:, 1].max(), seam_gaps(cloth.x, cloth.seams).max())
+    log.debug(
+        "draped: cloth y %.1f..%.1f gap %.2f",
+        cloth.x[:, 1].min(),
+        cloth.x[:, 1].max(),
+        seam_gaps(cloth.x, cloth.seams).max(),
+    )
     if rotvecs:
         # back to the rest pose: the cloth follows the skin (weights of the
         # nearest body points), then a few steps without gravity settle it
@@ -320,7 +356,16 @@ def assemble(
         cloth.x = _unapply(blend, cloth.x)
         cloth.v[:] = 0.0
         collider = BodyCollider(character.vertices, character.faces)
-        drape(cloth, collider, steps=8, sew_steps=0, settings=settings, solver=solver, gravity_scale=0.0, stage="pose")
+        drape(
+            cloth,
+            collider,
+            steps=8,
+            sew_steps=0,
+            settings=settings,
+            solver=solver,
+            gravity_scale=0.0,
+            stage="pose",
+        )
     gaps_before = seam_gaps(cloth.x, cloth.seams)
 
     # weld the seams, then make sure nothing is left inside the skin
@@ -344,7 +389,9 @@ def assemble(
         joints = np.zeros((len(x), 0), np.int64)
         weights = np.zeros((len(x), 0))
     names = tuple(keys)
-    ratio = np.linalg.norm(x[cloth.edges[:, 0]] - x[cloth.edges[:, 1]], axis=1) / np.maximum(cloth.rest, 1e-9)
+    ratio = np.linalg.norm(
+        x[cloth.edges[:, 0]] - x[cloth.edges[:, 1]], axis=1
+    ) / np.maximum(cloth.rest, 1e-9)
     per = {}
     egroup = cloth.group[cloth.edges[:, 0]]
     for i, n in enumerate(names):
@@ -357,21 +404,31 @@ def assemble(
         "max_seam_gap_mm": float(seam_gaps(x, cloth.seams).max(initial=0.0) * 10.0),
         "max_seam_gap_before_weld_mm": float(gaps_before.max(initial=0.0) * 10.0),
         "stretch": {
-            "percentiles": {f"p{q}": float(np.percentile(ratio, q)) for q in (1, 5, 50, 95, 99)},
+            "percentiles": {
+                f"p{q}": float(np.percentile(ratio, q)) for q in (1, 5, 50, 95, 99)
+            },
             "max": float(ratio.max()),
             "worst_pieces": [{"piece": n, "p95": v} for n, v in worst],
         },
         "seconds": round(seconds, 2),
-        "vertices": int(len(ids)),
-        "triangles": int(len(cloth.faces)),
+        "vertices": len(ids),
+        "triangles": len(cloth.faces),
         "pieces": list(names),
         "pose": "T-pose, then back to rest" if rotvecs else "rest",
         "max_placement_move_cm": float(np.linalg.norm(x - x_placed, axis=1).max()),
         "warnings": [str(f) for f in findings],
     }
     return Garment(
-        vertices=x, faces=cloth.faces, uv=cloth.uv, instance=cloth.group, instance_names=names, weld=weld,
-        joints=joints, weights=weights, skeleton=character.skeleton if rigged else None, report=report,
+        vertices=x,
+        faces=cloth.faces,
+        uv=cloth.uv,
+        instance=cloth.group,
+        instance_names=names,
+        weld=weld,
+        joints=joints,
+        weights=weights,
+        skeleton=character.skeleton if rigged else None,
+        report=report,
         findings=findings,
     )
 
@@ -408,7 +465,9 @@ def dress(
     from .pictures import write_pictures
 
     t0 = time.perf_counter()
-    garment = assemble(character, pattern, seed=seed, progress=progress, max_edge_cm=max_edge_cm)
+    garment = assemble(
+        character, pattern, seed=seed, progress=progress, max_edge_cm=max_edge_cm
+    )
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     write_glb(out / "garment.glb", garment, character)
@@ -416,5 +475,7 @@ def dress(
     pics = write_pictures(out, garment, character)
     report = dict(garment.report)
     report["seconds"] = round(time.perf_counter() - t0, 2)
-    report["files"] = [str(out / n) for n in ("garment.glb", "garment.obj", "garment.mtl", *pics)]
+    report["files"] = [
+        str(out / n) for n in ("garment.glb", "garment.obj", "garment.mtl", *pics)
+    ]
     return report

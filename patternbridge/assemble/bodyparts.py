@@ -23,7 +23,14 @@ __all__ = ["PARTS", "BodyParts", "segment_body"]
 log = logging.getLogger(__name__)
 
 #: part names in label order; the names match :class:`~patternbridge.pattern.model.BodyPart`
-PARTS: tuple[str, ...] = ("torso", "head", "left_arm", "right_arm", "left_leg", "right_leg")
+PARTS: tuple[str, ...] = (
+    "torso",
+    "head",
+    "left_arm",
+    "right_arm",
+    "left_leg",
+    "right_leg",
+)
 _INDEX = {name: i for i, name in enumerate(PARTS)}
 
 
@@ -78,13 +85,24 @@ def _from_skin(character: Character) -> np.ndarray:
     w = np.where(idx >= 0, character.skin.weights, 0.0)
     part = bone_part[np.maximum(idx, 0)]
     acc = np.zeros((len(idx), len(PARTS)))
-    np.add.at(acc, (np.repeat(np.arange(len(idx)), idx.shape[1]), part.ravel()), w.ravel())
+    np.add.at(
+        acc, (np.repeat(np.arange(len(idx)), idx.shape[1]), part.ravel()), w.ravel()
+    )
     return np.argmax(acc, axis=1).astype(np.int64)
 
 
 def _from_landmarks(character: Character, vertices: np.ndarray) -> np.ndarray:
-    lm = {name: vertices[l.vertex] if l.vertex is not None else l.position for name, l in character.landmarks.items()}
-    need = ("crotch_point", "armpit_point_left", "armpit_point_right", "front_neck_point", "back_neck_point")
+    lm = {
+        name: vertices[mark.vertex] if mark.vertex is not None else mark.position
+        for name, mark in character.landmarks.items()
+    }
+    need = (
+        "crotch_point",
+        "armpit_point_left",
+        "armpit_point_right",
+        "front_neck_point",
+        "back_neck_point",
+    )
     missing = [n for n in need if n not in lm]
     if missing:
         raise LandmarkError(
@@ -108,7 +126,9 @@ def _from_landmarks(character: Character, vertices: np.ndarray) -> np.ndarray:
     return labels
 
 
-def segment_body(character: Character, *, vertices: np.ndarray | None = None) -> BodyParts:
+def segment_body(
+    character: Character, *, vertices: np.ndarray | None = None
+) -> BodyParts:
     """Label every body vertex with its part.
 
     Parameters
@@ -126,10 +146,17 @@ def segment_body(character: Character, *, vertices: np.ndarray | None = None) ->
     LandmarkError
         The character has no rig and lacks the crotch, armpit or neck landmarks.
     """
-    v = character.vertices if vertices is None else np.asarray(vertices, dtype=np.float64)
+    v = (
+        character.vertices
+        if vertices is None
+        else np.asarray(vertices, dtype=np.float64)
+    )
     if character.skeleton is not None and character.skin is not None:
         labels = _from_skin(character)
         if np.all(np.bincount(labels, minlength=len(PARTS))[2:] > 0):
             return BodyParts(labels=labels, source="skin")
-        log.warning("%s: skin weights do not name four limbs; cutting at the landmarks", character.name)
+        log.warning(
+            "%s: skin weights do not name four limbs; cutting at the landmarks",
+            character.name,
+        )
     return BodyParts(labels=_from_landmarks(character, v), source="landmarks")

@@ -33,13 +33,16 @@ class BodyCollider:
         self.faces = np.asarray(faces, dtype=np.int64)
         self.scene = o3d.t.geometry.RaycastingScene()
         self.scene.add_triangles(
-            o3d.core.Tensor(self.vertices.astype(np.float32)), o3d.core.Tensor(self.faces.astype(np.uint32))
+            o3d.core.Tensor(self.vertices.astype(np.float32)),
+            o3d.core.Tensor(self.faces.astype(np.uint32)),
         )
 
     def _t(self, a: np.ndarray):
         return self._o3c.Tensor(np.ascontiguousarray(a, dtype=np.float32))
 
-    def closest(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    def closest(
+        self, points: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Closest skin points.
 
         Returns
@@ -60,7 +63,12 @@ class BodyCollider:
         return q, n, signed, tri, uv
 
     def sweep(
-        self, start: np.ndarray, end: np.ndarray, offset_cm: float, *, min_move_cm: float = 3.0
+        self,
+        start: np.ndarray,
+        end: np.ndarray,
+        offset_cm: float,
+        *,
+        min_move_cm: float = 3.0,
     ) -> tuple[np.ndarray, np.ndarray]:
         """Stop points moving from ``start`` (outside) to ``end`` where they first enter the skin.
 
@@ -97,13 +105,19 @@ class BodyCollider:
 
     def signed_distance(self, points: np.ndarray) -> np.ndarray:
         """(n,) float64 signed distance, cm, negative inside (ray-parity inside test)."""
-        return self.scene.compute_signed_distance(self._t(points)).numpy().astype(np.float64)
+        return (
+            self.scene.compute_signed_distance(self._t(points))
+            .numpy()
+            .astype(np.float64)
+        )
 
     def inside(self, points: np.ndarray) -> np.ndarray:
         """(n,) bool, True where the point is inside the body."""
         return self.scene.compute_occupancy(self._t(points)).numpy() > 0.5
 
-    def radial_clearance(self, cyl, theta: np.ndarray, h: np.ndarray, r: np.ndarray, clearance_cm: float) -> np.ndarray:
+    def radial_clearance(
+        self, cyl, theta: np.ndarray, h: np.ndarray, r: np.ndarray, clearance_cm: float
+    ) -> np.ndarray:
         """Radii that keep wrapped points outside the skin along their radius.
 
         From the axis point at height ``h`` a ray runs out at angle ``theta``;
@@ -121,7 +135,9 @@ class BodyCollider:
         grow = inside & np.isfinite(t) & (t + clearance_cm > r) & (t < 1.6 * r)
         return np.where(grow, t + clearance_cm, r)
 
-    def push_out(self, points: np.ndarray, offset_cm: float, *, robust: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    def push_out(
+        self, points: np.ndarray, offset_cm: float, *, robust: bool = False
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Move points closer than ``offset_cm`` (or inside) to ``offset_cm`` outside.
 
         ``robust`` decides inside/outside by ray parity instead of the face
@@ -185,7 +201,13 @@ def separate_layers(
         return out
     d = out[i] - out[j]
     dist = np.linalg.norm(d, axis=1)
-    corr = np.where(dist > 1e-9, (thickness_cm - dist) / np.maximum(dist, 1e-9), 0.0)[:, None] * d * 0.5
+    corr = (
+        np.where(dist > 1e-9, (thickness_cm - dist) / np.maximum(dist, 1e-9), 0.0)[
+            :, None
+        ]
+        * d
+        * 0.5
+    )
     delta = np.zeros_like(out)
     np.add.at(delta, i, corr)
     np.add.at(delta, j, -corr)

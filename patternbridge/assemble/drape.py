@@ -89,8 +89,12 @@ def _edges_and_bends(faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def build_cloth(
-    positions: list[np.ndarray], points2d: list[np.ndarray], faces: list[np.ndarray], seams: list[tuple[int, int, np.ndarray, np.ndarray]],
-    *, density_kg_cm2: float = 1.5e-5,
+    positions: list[np.ndarray],
+    points2d: list[np.ndarray],
+    faces: list[np.ndarray],
+    seams: list[tuple[int, int, np.ndarray, np.ndarray]],
+    *,
+    density_kg_cm2: float = 1.5e-5,
 ) -> Cloth:
     """Stack the placed instances into one cloth.
 
@@ -106,16 +110,39 @@ def build_cloth(
     uv = np.concatenate(points2d)
     group = np.repeat(np.arange(len(positions)), np.diff(offsets))
     f = np.concatenate([fc + offsets[i] for i, fc in enumerate(faces)])
-    pairs = np.concatenate([np.stack([va + offsets[a], vb + offsets[b]], axis=1) for a, b, va, vb in seams]) if seams else np.zeros((0, 2), np.int64)
+    pairs = (
+        np.concatenate(
+            [
+                np.stack([va + offsets[a], vb + offsets[b]], axis=1)
+                for a, b, va, vb in seams
+            ]
+        )
+        if seams
+        else np.zeros((0, 2), np.int64)
+    )
     pairs = pairs[pairs[:, 0] != pairs[:, 1]]
     edges, bends = _edges_and_bends(f)
     rest = np.linalg.norm(uv[edges[:, 0]] - uv[edges[:, 1]], axis=1)
     bend_rest = np.linalg.norm(uv[bends[:, 0]] - uv[bends[:, 1]], axis=1)
     u, w = uv[f[:, 1]] - uv[f[:, 0]], uv[f[:, 2]] - uv[f[:, 0]]
     a2 = np.abs(u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0]) / 2
-    mass = np.bincount(f.ravel(), weights=np.repeat(a2 / 3, 3), minlength=len(x)) * density_kg_cm2
+    mass = (
+        np.bincount(f.ravel(), weights=np.repeat(a2 / 3, 3), minlength=len(x))
+        * density_kg_cm2
+    )
     mass = np.maximum(mass, 1e-3 * mass.mean())
-    return Cloth(x=x, uv=uv, group=group, faces=f, seams=pairs.astype(np.int64), edges=edges, rest=rest, bends=bends, bend_rest=bend_rest, mass=mass)
+    return Cloth(
+        x=x,
+        uv=uv,
+        group=group,
+        faces=f,
+        seams=pairs.astype(np.int64),
+        edges=edges,
+        rest=rest,
+        bends=bends,
+        bend_rest=bend_rest,
+        mass=mass,
+    )
 
 
 def weld_groups(n: int, pairs: np.ndarray) -> np.ndarray:
@@ -130,10 +157,16 @@ def weld_groups(n: int, pairs: np.ndarray) -> np.ndarray:
 
 def seam_gaps(x: np.ndarray, pairs: np.ndarray) -> np.ndarray:
     """(S,) float64, cm — distance between sewn vertex pairs."""
-    return np.linalg.norm(x[pairs[:, 0]] - x[pairs[:, 1]], axis=1) if len(pairs) else np.zeros(0)
+    return (
+        np.linalg.norm(x[pairs[:, 0]] - x[pairs[:, 1]], axis=1)
+        if len(pairs)
+        else np.zeros(0)
+    )
 
 
-def _push_direction(x: np.ndarray, q: np.ndarray, n: np.ndarray, inside: np.ndarray) -> np.ndarray:
+def _push_direction(
+    x: np.ndarray, q: np.ndarray, n: np.ndarray, inside: np.ndarray
+) -> np.ndarray:
     """Unit directions from the closest skin points outward (the distance gradient).
 
     Away from the skin the direction from ``q`` to ``x`` (reversed inside) is
@@ -162,14 +195,18 @@ class _Solver:
         n = len(cloth.x)
         unit = float(cloth.mass.mean()) / h**2
         springs = np.concatenate([cloth.edges, cloth.bends, cloth.seams])
-        w = np.concatenate([
-            np.full(len(cloth.edges), settings.stretch_weight * unit),
-            np.full(len(cloth.bends), settings.bend_weight * unit),
-            np.full(len(cloth.seams), settings.seam_weight * unit),
-        ])
+        w = np.concatenate(
+            [
+                np.full(len(cloth.edges), settings.stretch_weight * unit),
+                np.full(len(cloth.bends), settings.bend_weight * unit),
+                np.full(len(cloth.seams), settings.seam_weight * unit),
+            ]
+        )
         m = len(springs)
         rows = np.repeat(np.arange(m), 2)
-        S = coo_matrix((np.tile([1.0, -1.0], m), (rows, springs.ravel())), shape=(m, n)).tocsr()
+        S = coo_matrix(
+            (np.tile([1.0, -1.0], m), (rows, springs.ravel())), shape=(m, n)
+        ).tocsr()
         self.S, self.St = S, S.T.tocsr()
         self.w = w
         self.n_stretch, self.n_bend = len(cloth.edges), len(cloth.bends)
@@ -178,18 +215,27 @@ class _Solver:
         self.lu = splu(A)
         self.seam_start = seam_gaps(cloth.x, cloth.seams)
 
-    def step(self, collider: BodyCollider, gravity: float, sew: float, *, layers: np.ndarray | None) -> None:
+    def step(
+        self,
+        collider: BodyCollider,
+        gravity: float,
+        sew: float,
+        *,
+        layers: np.ndarray | None,
+    ) -> None:
         c, s = self.c, self.s
         h = s.time_step_s
         x0 = c.x.copy()
         y = c.x + h * c.v
         y[:, 1] -= h * h * gravity
-        q, nrm, signed, _, _ = collider.closest(y)
+        _, nrm, signed, _, _ = collider.closest(y)
         # ray parity decides inside/outside; the face normal alone misjudges deep points
         inside = collider.inside(y)
         signed = np.where(inside, -np.abs(signed), np.abs(signed))
         near = inside | (signed < s.offset_cm + s.max_speed_cm_s * h * 1.5)
-        targets = np.concatenate([c.rest, c.bend_rest, self.seam_start * max(0.0, 1.0 - sew)])
+        targets = np.concatenate(
+            [c.rest, c.bend_rest, self.seam_start * max(0.0, 1.0 - sew)]
+        )
         rhs0 = self.m_h2[:, None] * y
         x = y.copy()
         ni = np.flatnonzero(near)
@@ -218,9 +264,15 @@ class _Solver:
                     ins = collider.inside(x[ni])
                     si = np.where(ins, -np.abs(si), np.abs(si))
                 else:
-                    si = np.where(np.einsum("ij,ij->i", x[ni] - qi, ni_n) < 0, -np.abs(si), np.abs(si))
+                    si = np.where(
+                        np.einsum("ij,ij->i", x[ni] - qi, ni_n) < 0,
+                        -np.abs(si),
+                        np.abs(si),
+                    )
                 fix = si < s.offset_cm
-                x[ni[fix]] = qi[fix] + s.offset_cm * _push_direction(x[ni[fix]], qi[fix], ni_n[fix], si[fix] < 0)
+                x[ni[fix]] = qi[fix] + s.offset_cm * _push_direction(
+                    x[ni[fix]], qi[fix], ni_n[fix], si[fix] < 0
+                )
                 if it == s.iterations - 1:
                     contact[ni[si < s.offset_cm + 0.05]] = True
                     nrm[ni] = ni_n
@@ -230,7 +282,9 @@ class _Solver:
             vn = np.einsum("ij,ij->i", v[contact], nn)
             v[contact] -= np.maximum(vn, 0.0)[:, None] * nn
             vn = np.minimum(vn, 0.0)[:, None] * nn
-            v[contact] = vn + (1.0 - s.friction) * (v[contact] - vn)  # friction slows the sliding
+            v[contact] = vn + (1.0 - s.friction) * (
+                v[contact] - vn
+            )  # friction slows the sliding
         speed = np.linalg.norm(v, axis=1, keepdims=True)
         v *= np.minimum(1.0, s.max_speed_cm_s / np.maximum(speed, 1e-9))
         c.v = v * s.damping
@@ -263,8 +317,16 @@ def drape(
     for k in range(steps):
         sew = (k + 1) / max(sew_steps, 1) if sew_steps else 1.0
         # no gravity while sewing (the pieces would fall before the seams hold them), then ramp it up
-        g = GRAVITY_CM_S2 * gravity_scale * float(np.clip((k - sew_steps) / 20.0, 0.0, 1.0)) if sew_steps else GRAVITY_CM_S2 * gravity_scale
-        solver.step(collider, g, min(sew, 1.0), layers=weld if k % layer_every == 0 else None)
+        g = (
+            GRAVITY_CM_S2
+            * gravity_scale
+            * float(np.clip((k - sew_steps) / 20.0, 0.0, 1.0))
+            if sew_steps
+            else GRAVITY_CM_S2 * gravity_scale
+        )
+        solver.step(
+            collider, g, min(sew, 1.0), layers=weld if k % layer_every == 0 else None
+        )
         if progress is not None and (k % 10 == 0 or k == steps - 1):
             progress(stage, k + 1, steps)
     return solver

@@ -36,7 +36,10 @@ _ARRAY_BUFFER, _ELEMENT_ARRAY_BUFFER = 34962, 34963
 
 def vertex_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """(V, 3) area-weighted unit vertex normals."""
-    fn = np.cross(vertices[faces[:, 1]] - vertices[faces[:, 0]], vertices[faces[:, 2]] - vertices[faces[:, 0]])
+    fn = np.cross(
+        vertices[faces[:, 1]] - vertices[faces[:, 0]],
+        vertices[faces[:, 2]] - vertices[faces[:, 0]],
+    )
     vn = np.zeros_like(vertices)
     for k in range(3):
         np.add.at(vn, faces[:, k], fn)
@@ -64,8 +67,20 @@ class _Bin:
         self.views.append(v)
         return len(self.views) - 1
 
-    def accessor(self, a: np.ndarray, ctype: int, kind: str, target: int | None, minmax: bool = False) -> int:
-        acc = {"bufferView": self.view(a.tobytes(), target), "componentType": ctype, "count": int(len(a)), "type": kind}
+    def accessor(
+        self,
+        a: np.ndarray,
+        ctype: int,
+        kind: str,
+        target: int | None,
+        minmax: bool = False,
+    ) -> int:
+        acc = {
+            "bufferView": self.view(a.tobytes(), target),
+            "componentType": ctype,
+            "count": len(a),
+            "type": kind,
+        }
         if minmax:
             acc["min"] = [float(x) for x in a.reshape(len(a), -1).min(axis=0)]
             acc["max"] = [float(x) for x in a.reshape(len(a), -1).max(axis=0)]
@@ -95,10 +110,24 @@ def glb_bytes(garment, *, colours: np.ndarray | None = None) -> bytes:
                 nodes[p].setdefault("children", []).append(j)
         ibm = np.tile(np.eye(4, dtype=np.float32), (len(heads), 1, 1))
         ibm[:, :3, 3] = -heads
-        ibm_acc = b.accessor(np.ascontiguousarray(ibm.transpose(0, 2, 1)).astype(np.float32), _FLOAT, "MAT4", None)
+        ibm_acc = b.accessor(
+            np.ascontiguousarray(ibm.transpose(0, 2, 1)).astype(np.float32),
+            _FLOAT,
+            "MAT4",
+            None,
+        )
         roots = [int(j) for j in np.flatnonzero(parents < 0)]
-        doc["skins"] = [{"joints": list(range(len(heads))), "inverseBindMatrices": ibm_acc, "skeleton": roots[0], "name": "skeleton"}]
-    normals = vertex_normals(*garment.welded())[np.unique(garment.weld, return_inverse=True)[1]]
+        doc["skins"] = [
+            {
+                "joints": list(range(len(heads))),
+                "inverseBindMatrices": ibm_acc,
+                "skeleton": roots[0],
+                "name": "skeleton",
+            }
+        ]
+    normals = vertex_normals(*garment.welded())[
+        np.unique(garment.weld, return_inverse=True)[1]
+    ]
     primitives, materials = [], []
     for i, name in enumerate(garment.instance_names):
         vid = np.flatnonzero(garment.instance == i)
@@ -108,32 +137,77 @@ def glb_bytes(garment, *, colours: np.ndarray | None = None) -> bytes:
         local[vid] = np.arange(len(vid))
         f = garment.faces[np.all(garment.instance[garment.faces] == i, axis=1)]
         attrs = {
-            "POSITION": b.accessor((garment.vertices[vid] / 100.0).astype(np.float32), _FLOAT, "VEC3", _ARRAY_BUFFER, True),
-            "NORMAL": b.accessor(normals[vid].astype(np.float32), _FLOAT, "VEC3", _ARRAY_BUFFER),
-            "TEXCOORD_0": b.accessor((garment.uv[vid] / 100.0).astype(np.float32), _FLOAT, "VEC2", _ARRAY_BUFFER),
-            "_PIECE": b.accessor(np.full(len(vid), float(i), dtype=np.float32), _FLOAT, "SCALAR", _ARRAY_BUFFER),
+            "POSITION": b.accessor(
+                (garment.vertices[vid] / 100.0).astype(np.float32),
+                _FLOAT,
+                "VEC3",
+                _ARRAY_BUFFER,
+                True,
+            ),
+            "NORMAL": b.accessor(
+                normals[vid].astype(np.float32), _FLOAT, "VEC3", _ARRAY_BUFFER
+            ),
+            "TEXCOORD_0": b.accessor(
+                (garment.uv[vid] / 100.0).astype(np.float32),
+                _FLOAT,
+                "VEC2",
+                _ARRAY_BUFFER,
+            ),
+            "_PIECE": b.accessor(
+                np.full(len(vid), float(i), dtype=np.float32),
+                _FLOAT,
+                "SCALAR",
+                _ARRAY_BUFFER,
+            ),
         }
         if skinned:
-            j = np.where(garment.joints[vid] >= 0, garment.joints[vid], 0).astype(np.uint16)
-            w = np.where(garment.joints[vid] >= 0, garment.weights[vid], 0.0).astype(np.float32)
+            j = np.where(garment.joints[vid] >= 0, garment.joints[vid], 0).astype(
+                np.uint16
+            )
+            w = np.where(garment.joints[vid] >= 0, garment.weights[vid], 0.0).astype(
+                np.float32
+            )
             attrs["JOINTS_0"] = b.accessor(j, _USHORT, "VEC4", _ARRAY_BUFFER)
             attrs["WEIGHTS_0"] = b.accessor(w, _FLOAT, "VEC4", _ARRAY_BUFFER)
-        idx = b.accessor(local[f].astype(np.uint32).ravel(), _UINT, "SCALAR", _ELEMENT_ARRAY_BUFFER)
+        idx = b.accessor(
+            local[f].astype(np.uint32).ravel(), _UINT, "SCALAR", _ELEMENT_ARRAY_BUFFER
+        )
         rgb = colours[i % len(colours)] / 255.0
-        materials.append({
-            "name": name,
-            "doubleSided": True,
-            "pbrMetallicRoughness": {"baseColorFactor": [*map(float, rgb), 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.9},
-        })
-        primitives.append({"attributes": attrs, "indices": idx, "material": len(materials) - 1, "mode": 4})
+        materials.append(
+            {
+                "name": name,
+                "doubleSided": True,
+                "pbrMetallicRoughness": {
+                    "baseColorFactor": [*map(float, rgb), 1.0],
+                    "metallicFactor": 0.0,
+                    "roughnessFactor": 0.9,
+                },
+            }
+        )
+        primitives.append(
+            {
+                "attributes": attrs,
+                "indices": idx,
+                "material": len(materials) - 1,
+                "mode": 4,
+            }
+        )
     mesh_node = {"name": "garment", "mesh": 0}
     if skinned:
         mesh_node["skin"] = 0
     nodes.append(mesh_node)
-    scene_nodes = [len(nodes) - 1] + ([int(j) for j in np.flatnonzero(skel.parents < 0)] if skinned else [])
+    scene_nodes = [len(nodes) - 1] + (
+        [int(j) for j in np.flatnonzero(skel.parents < 0)] if skinned else []
+    )
     doc["nodes"] = nodes
     doc["scenes"] = [{"nodes": scene_nodes}]
-    doc["meshes"] = [{"name": "garment", "primitives": primitives, "extras": {"pieces": list(garment.instance_names)}}]
+    doc["meshes"] = [
+        {
+            "name": "garment",
+            "primitives": primitives,
+            "extras": {"pieces": list(garment.instance_names)},
+        }
+    ]
     doc["materials"] = materials
     doc["accessors"] = b.accessors
     doc["bufferViews"] = b.views
@@ -143,11 +217,15 @@ def glb_bytes(garment, *, colours: np.ndarray | None = None) -> bytes:
     js = json.dumps(doc, separators=(",", ":")).encode("utf-8")
     js += b" " * ((-len(js)) % 4)
     total = 12 + 8 + len(js) + 8 + len(binary)
-    return b"".join([
-        struct.pack("<4sII", b"glTF", 2, total),
-        struct.pack("<I4s", len(js), b"JSON"), js,
-        struct.pack("<I4s", len(binary), b"BIN\0"), binary,
-    ])
+    return b"".join(
+        [
+            struct.pack("<4sII", b"glTF", 2, total),
+            struct.pack("<I4s", len(js), b"JSON"),
+            js,
+            struct.pack("<I4s", len(binary), b"BIN\0"),
+            binary,
+        ]
+    )
 
 
 def write_glb(path: str | os.PathLike, garment, character=None) -> None:
@@ -165,7 +243,9 @@ def read_glb(data: bytes) -> tuple[dict, bytes]:
     """
     magic, version, total = struct.unpack_from("<4sII", data, 0)
     if magic != b"glTF" or version != 2 or total != len(data):
-        raise ValueError(f"not a GLB 2.0 file (magic {magic!r}, version {version}, length {total} vs {len(data)})")
+        raise ValueError(
+            f"not a GLB 2.0 file (magic {magic!r}, version {version}, length {total} vs {len(data)})"
+        )
     jlen, jtype = struct.unpack_from("<I4s", data, 12)
     if jtype != b"JSON":
         raise ValueError("first GLB chunk is not JSON")
@@ -183,7 +263,10 @@ def obj_text(garment, mtl_name: str = "garment.mtl") -> tuple[str, str]:
 
     wv, _ = garment.welded()
     _, inv = np.unique(garment.weld, return_inverse=True)
-    lines = ["# patternbridge garment: positions in cm, +Y up; vt = pattern coordinates / 100", f"mtllib {mtl_name}"]
+    lines = [
+        "# patternbridge garment: positions in cm, +Y up; vt = pattern coordinates / 100",
+        f"mtllib {mtl_name}",
+    ]
     lines += [f"v {x:.5f} {y:.5f} {z:.5f}" for x, y, z in wv]
     lines += [f"vt {u:.6f} {v:.6f}" for u, v in garment.uv / 100.0]
     mtl = ["# patternbridge garment materials"]
@@ -191,9 +274,20 @@ def obj_text(garment, mtl_name: str = "garment.mtl") -> tuple[str, str]:
         f = garment.faces[garment.instance[garment.faces[:, 0]] == i]
         safe = name.replace(" ", "_")
         lines += [f"g {safe}", f"usemtl {safe}"]
-        lines += [f"f {a}/{ta} {b}/{tb} {c}/{tc}" for (a, b, c), (ta, tb, tc) in zip(inv[f] + 1, f + 1)]
+        lines += [
+            f"f {a}/{ta} {b}/{tb} {c}/{tc}"
+            for (a, b, c), (ta, tb, tc) in zip(inv[f] + 1, f + 1, strict=True)
+        ]
         rgb = PIECE_COLOURS[i % len(PIECE_COLOURS)] / 255.0
-        mtl += [f"newmtl {safe}", f"Kd {rgb[0]:.4f} {rgb[1]:.4f} {rgb[2]:.4f}", "Ka 0 0 0", "Ks 0 0 0", "d 1", "illum 1", ""]
+        mtl += [
+            f"newmtl {safe}",
+            f"Kd {rgb[0]:.4f} {rgb[1]:.4f} {rgb[2]:.4f}",
+            "Ka 0 0 0",
+            "Ks 0 0 0",
+            "d 1",
+            "illum 1",
+            "",
+        ]
     return "\n".join(lines) + "\n", "\n".join(mtl) + "\n"
 
 

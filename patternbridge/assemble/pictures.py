@@ -12,15 +12,25 @@ __all__ = ["PIECE_COLOURS", "render_fit", "write_pictures"]
 #: cloth colours per piece instance (muted fabric tones)
 PIECE_COLOURS = np.array(
     [
-        (70, 110, 160), (90, 130, 175), (60, 100, 140), (110, 140, 180), (80, 120, 150),
-        (100, 120, 165), (75, 105, 150), (95, 125, 170), (85, 115, 155), (105, 135, 175),
+        (70, 110, 160),
+        (90, 130, 175),
+        (60, 100, 140),
+        (110, 140, 180),
+        (80, 120, 150),
+        (100, 120, 165),
+        (75, 105, 150),
+        (95, 125, 170),
+        (85, 115, 155),
+        (105, 135, 175),
     ],
     dtype=np.uint8,
 )
 _SKIN = np.array([222, 196, 178], dtype=np.uint8)
 
 
-def render_fit(garment, character, view: str, size: tuple[int, int] = (700, 1000)) -> np.ndarray:
+def render_fit(
+    garment, character, view: str, size: tuple[int, int] = (700, 1000)
+) -> np.ndarray:
     """(H, W, 3) uint8 picture of the character wearing ``garment`` from ``view``."""
     from ..mesh.render import render
 
@@ -29,15 +39,24 @@ def render_fit(garment, character, view: str, size: tuple[int, int] = (700, 1000
     bv = np.asarray(character.vertices)
     v = np.concatenate([bv, gv])
     f = np.concatenate([character.faces, gf + len(bv)])
-    colours = np.concatenate([
-        np.tile(_SKIN, (len(character.faces), 1)),
-        PIECE_COLOURS[garment.instance[gf[:, 0]] % len(PIECE_COLOURS)],
-    ])
+    colours = np.concatenate(
+        [
+            np.tile(_SKIN, (len(character.faces), 1)),
+            PIECE_COLOURS[garment.instance[gf[:, 0]] % len(PIECE_COLOURS)],
+        ]
+    )
     lo, hi = bv.min(axis=0), bv.max(axis=0)
     c, half = (lo + hi) / 2, (hi - lo) / 2
     half[[0, 2]] = half[[0, 2]].max()
-    return render(v, f, face_colors=colours, view=view, size=size, bounds=np.array([c - half, c + half]),
-                  title=f"{character.name} - {view}")
+    return render(
+        v,
+        f,
+        face_colors=colours,
+        view=view,
+        size=size,
+        bounds=np.array([c - half, c + half]),
+        title=f"{character.name} - {view}",
+    )
 
 
 def write_pictures(out_dir: str | os.PathLike, garment, character) -> list[str]:

@@ -12,7 +12,7 @@ legs, toward the shoulder for a sleeve), then it is wrapped. Points that
 would still fall inside the body are moved out along their radius.
 
 Frame of a cylinder: ``axis`` (proximal direction), ``e0`` (angle 0, the
-front), ``e1 = axis × e0`` (angle +π/2, the right as seen from outside).
+front), ``e1 = axis x e0`` (angle +π/2, the right as seen from outside).
 """
 
 from __future__ import annotations
@@ -34,7 +34,10 @@ log = logging.getLogger(__name__)
 
 MARGIN_CM = 1.5  # cylinder radius above the part's largest radius
 CLEARANCE_CM = 1.0  # distance kept from the skin when a wrapped point is moved out
-_DISTAL = {"arm": 0.22, "leg": 0.12}  # share of a limb's length taken by the hand / the foot
+_DISTAL = {
+    "arm": 0.22,
+    "leg": 0.12,
+}  # share of a limb's length taken by the hand / the foot
 
 
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)
@@ -56,14 +59,22 @@ class Cylinder:
     h_min: float
     h_max: float
 
-    def coordinates(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def coordinates(
+        self, points: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(theta rad, h cm, r cm) of ``points`` (n, 3)."""
         d = np.asarray(points, dtype=np.float64) - self.center
         h = d @ self.axis
         radial = d - h[:, None] * self.axis
-        return np.arctan2(radial @ self.e1, radial @ self.e0), h, np.linalg.norm(radial, axis=1)
+        return (
+            np.arctan2(radial @ self.e1, radial @ self.e0),
+            h,
+            np.linalg.norm(radial, axis=1),
+        )
 
-    def points(self, theta: np.ndarray, h: np.ndarray, r: np.ndarray | float | None = None) -> np.ndarray:
+    def points(
+        self, theta: np.ndarray, h: np.ndarray, r: np.ndarray | float | None = None
+    ) -> np.ndarray:
         """(n, 3) positions at angle ``theta``, height ``h`` and radius ``r`` (default: the cylinder's)."""
         r = self.radius_cm if r is None else r
         r = np.broadcast_to(np.asarray(r, dtype=np.float64), np.shape(theta))
@@ -150,8 +161,15 @@ def bounding_cylinders(
             base = float(np.percentile(r, 90))
         radius = max(base + MARGIN_CM, widths_cm.get(part, 0.0) / (2 * np.pi))
         out[part] = Cylinder(
-            part=part, center=c, axis=axis, e0=e0, e1=e1, radius_cm=radius, body_radius_cm=body_r,
-            h_min=float(h.min()), h_max=float(h.max()),
+            part=part,
+            center=c,
+            axis=axis,
+            e0=e0,
+            e1=e1,
+            radius_cm=radius,
+            body_radius_cm=body_r,
+            h_min=float(h.min()),
+            h_max=float(h.max()),
         )
     return out
 
@@ -169,7 +187,9 @@ def instance_points2d(pmesh: PatternMesh, inst: Instance) -> np.ndarray:
     return pts * np.array([-1.0, 1.0]) if inst.copy is Copy.MIRROR else pts.copy()
 
 
-def _landmark(character, vertices: np.ndarray, name: str, mirrored: bool) -> np.ndarray | None:
+def _landmark(
+    character, vertices: np.ndarray, name: str, mirrored: bool
+) -> np.ndarray | None:
     lm = character.landmarks
     if mirrored:
         mname = mirror_name(name)
@@ -180,8 +200,10 @@ def _landmark(character, vertices: np.ndarray, name: str, mirrored: bool) -> np.
             return None if p is None else p * np.array([-1.0, 1.0, 1.0])
     if name not in lm:
         return None
-    l = lm[name]
-    return vertices[l.vertex] if l.vertex is not None else np.asarray(l.position)
+    mark = lm[name]
+    return (
+        vertices[mark.vertex] if mark.vertex is not None else np.asarray(mark.position)
+    )
 
 
 def place_instances(

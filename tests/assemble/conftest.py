@@ -30,7 +30,9 @@ def _arc(p0, p1, bulge, n=6):
 def _body(neck_depth: float, side: str) -> tuple[np.ndarray, dict[str, int]]:
     """Front or back outline (CCW, seen from outside) and its marks."""
     w, h = 27.0, 68.0
-    left, right = ("r", "l") if side == "front" else ("l", "r")  # character sides on the drawing's left/right
+    left, right = (
+        ("r", "l") if side == "front" else ("l", "r")
+    )  # character sides on the drawing's left/right
     pts, marks = [], {}
 
     def add(name, p):
@@ -84,16 +86,50 @@ def make_tshirt(*, placement: bool = True) -> Pattern:
     bo, bm = _body(2.0, "back")
     so, sm = _sleeve()
     front = Piece(
-        name="front", outline=fo, marks=fm, landmarks={"front_neck_point": "neck_centre", "shoulder_point_left": "shoulder_l"},
-        placement=Placement(body_part=BodyPart.TORSO, side=Side.FRONT, anchor="front_neck_point", anchor_mark="neck_centre") if placement else None,
+        name="front",
+        outline=fo,
+        marks=fm,
+        landmarks={
+            "front_neck_point": "neck_centre",
+            "shoulder_point_left": "shoulder_l",
+        },
+        placement=Placement(
+            body_part=BodyPart.TORSO,
+            side=Side.FRONT,
+            anchor="front_neck_point",
+            anchor_mark="neck_centre",
+        )
+        if placement
+        else None,
     )
     back = Piece(
-        name="back", outline=bo, marks=bm, landmarks={"back_neck_point": "neck_centre"},
-        placement=Placement(body_part=BodyPart.TORSO, side=Side.BACK, anchor="back_neck_point", anchor_mark="neck_centre") if placement else None,
+        name="back",
+        outline=bo,
+        marks=bm,
+        landmarks={"back_neck_point": "neck_centre"},
+        placement=Placement(
+            body_part=BodyPart.TORSO,
+            side=Side.BACK,
+            anchor="back_neck_point",
+            anchor_mark="neck_centre",
+        )
+        if placement
+        else None,
     )
     sleeve = Piece(
-        name="sleeve", outline=so, marks=sm, quantity=Quantity(right=1, left=1), landmarks={"shoulder_point_right": "top"},
-        placement=Placement(body_part=BodyPart.RIGHT_ARM, side=Side.AROUND, anchor="shoulder_point_right", anchor_mark="top") if placement else None,
+        name="sleeve",
+        outline=so,
+        marks=sm,
+        quantity=Quantity(right=1, left=1),
+        landmarks={"shoulder_point_right": "top"},
+        placement=Placement(
+            body_part=BodyPart.RIGHT_ARM,
+            side=Side.AROUND,
+            anchor="shoulder_point_right",
+            anchor_mark="top",
+        )
+        if placement
+        else None,
     )
 
     def er(piece, a, b, copy=Copy.PRIMARY):
@@ -101,18 +137,62 @@ def make_tshirt(*, placement: bool = True) -> Pattern:
 
     M = Copy.MIRROR
     seams = (
-        Seam(id="side_l", a=er("front", "hem_l", "underarm_l"), b=er("back", "underarm_l", "hem_l")),
-        Seam(id="side_r", a=er("front", "underarm_r", "hem_r"), b=er("back", "hem_r", "underarm_r")),
-        Seam(id="shoulder_l", a=er("front", "shoulder_l", "neck_l"), b=er("back", "neck_l", "shoulder_l")),
-        Seam(id="shoulder_r", a=er("front", "neck_r", "shoulder_r"), b=er("back", "shoulder_r", "neck_r")),
-        Seam(id="armhole_r_front", a=er("front", "shoulder_r", "underarm_r"), b=er("sleeve", "under_b", "top")),
-        Seam(id="armhole_r_back", a=er("back", "underarm_r", "shoulder_r"), b=er("sleeve", "top", "under_a")),
-        Seam(id="armhole_l_front", a=er("front", "underarm_l", "shoulder_l"), b=er("sleeve", "under_b", "top", M), reverse=False),
-        Seam(id="armhole_l_back", a=er("back", "shoulder_l", "underarm_l"), b=er("sleeve", "top", "under_a", M), reverse=False),
-        Seam(id="underarm_r", a=er("sleeve", "hem_b", "under_b"), b=er("sleeve", "under_a", "hem_a")),
-        Seam(id="underarm_l", a=er("sleeve", "hem_b", "under_b", M), b=er("sleeve", "under_a", "hem_a", M)),
+        Seam(
+            id="side_l",
+            a=er("front", "hem_l", "underarm_l"),
+            b=er("back", "underarm_l", "hem_l"),
+        ),
+        Seam(
+            id="side_r",
+            a=er("front", "underarm_r", "hem_r"),
+            b=er("back", "hem_r", "underarm_r"),
+        ),
+        Seam(
+            id="shoulder_l",
+            a=er("front", "shoulder_l", "neck_l"),
+            b=er("back", "neck_l", "shoulder_l"),
+        ),
+        Seam(
+            id="shoulder_r",
+            a=er("front", "neck_r", "shoulder_r"),
+            b=er("back", "shoulder_r", "neck_r"),
+        ),
+        Seam(
+            id="armhole_r_front",
+            a=er("front", "shoulder_r", "underarm_r"),
+            b=er("sleeve", "under_b", "top"),
+        ),
+        Seam(
+            id="armhole_r_back",
+            a=er("back", "underarm_r", "shoulder_r"),
+            b=er("sleeve", "top", "under_a"),
+        ),
+        Seam(
+            id="armhole_l_front",
+            a=er("front", "underarm_l", "shoulder_l"),
+            b=er("sleeve", "under_b", "top", M),
+            reverse=False,
+        ),
+        Seam(
+            id="armhole_l_back",
+            a=er("back", "shoulder_l", "underarm_l"),
+            b=er("sleeve", "top", "under_a", M),
+            reverse=False,
+        ),
+        Seam(
+            id="underarm_r",
+            a=er("sleeve", "hem_b", "under_b"),
+            b=er("sleeve", "under_a", "hem_a"),
+        ),
+        Seam(
+            id="underarm_l",
+            a=er("sleeve", "hem_b", "under_b", M),
+            b=er("sleeve", "under_a", "hem_a", M),
+        ),
     )
-    return Pattern(style="test-tshirt", pieces=(front, back, sleeve), sample_size="M", seams=seams)
+    return Pattern(
+        style="test-tshirt", pieces=(front, back, sleeve), sample_size="M", seams=seams
+    )
 
 
 @pytest.fixture(scope="session")

@@ -29,7 +29,11 @@ def test_signed_distance_of_a_sphere(sphere):
 def test_push_out_moves_inside_points_to_the_offset(sphere):
     rng = np.random.default_rng(1)
     d = rng.normal(size=(50, 3))
-    p = d / np.linalg.norm(d, axis=1, keepdims=True) * rng.uniform(7.0, 10.2, size=(50, 1))
+    p = (
+        d
+        / np.linalg.norm(d, axis=1, keepdims=True)
+        * rng.uniform(7.0, 10.2, size=(50, 1))
+    )
     out, moved = sphere.push_out(p, 0.5, robust=True)
     r = np.linalg.norm(out, axis=1)
     assert moved.all()
@@ -39,8 +43,17 @@ def test_push_out_moves_inside_points_to_the_offset(sphere):
 def test_radial_clearance_grows_radii_inside_the_body(sphere):
     from patternbridge.assemble.placement import Cylinder
 
-    cyl = Cylinder(part="torso", center=np.zeros(3), axis=np.array([0.0, 1.0, 0.0]), e0=np.array([0.0, 0.0, 1.0]),
-                   e1=np.array([1.0, 0.0, 0.0]), radius_cm=5.0, body_radius_cm=10.0, h_min=-10.0, h_max=10.0)
+    cyl = Cylinder(
+        part="torso",
+        center=np.zeros(3),
+        axis=np.array([0.0, 1.0, 0.0]),
+        e0=np.array([0.0, 0.0, 1.0]),
+        e1=np.array([1.0, 0.0, 0.0]),
+        radius_cm=5.0,
+        body_radius_cm=10.0,
+        h_min=-10.0,
+        h_max=10.0,
+    )
     theta = np.linspace(0, 2 * np.pi, 8, endpoint=False)
     r = sphere.radial_clearance(cyl, theta, np.zeros(8), np.full(8, 7.0), 1.0)
     np.testing.assert_allclose(r, 11.0, atol=0.1)

@@ -15,9 +15,10 @@ from patternbridge.assemble.mesh2d import mesh_pattern
 from patternbridge.errors import InputError
 
 
-
 @pytest.mark.shared
-def test_garment_without_placement_hints_is_a_clear_input_error(character_e, tshirt_factory):
+def test_garment_without_placement_hints_is_a_clear_input_error(
+    character_e, tshirt_factory
+):
     with pytest.raises(InputError, match="no placement hint"):
         assemble(character_e, tshirt_factory(placement=False))
 
@@ -39,7 +40,14 @@ def dressed(character_e, tshirt, tmp_path_factory):
 @pytest.mark.slow
 def test_dress_writes_every_file_and_a_json_report(dressed):
     out, report = dressed
-    for name in ("garment.glb", "garment.obj", "garment.mtl", "fit_front.png", "fit_back.png", "fit_side.png"):
+    for name in (
+        "garment.glb",
+        "garment.obj",
+        "garment.mtl",
+        "fit_front.png",
+        "fit_back.png",
+        "fit_side.png",
+    ):
         assert (out / name).stat().st_size > 0
     json.dumps(report)
     for key in ("penetrating_vertices", "max_seam_gap_mm", "stretch", "seconds"):
@@ -58,7 +66,11 @@ def test_no_vertex_inside_the_body_and_seams_closed(dressed, character_e):
     for prim in doc["meshes"][0]["primitives"]:
         acc = doc["accessors"][prim["attributes"]["POSITION"]]
         view = doc["bufferViews"][acc["bufferView"]]
-        pos.append(np.frombuffer(binary, np.float32, acc["count"] * 3, view["byteOffset"]).reshape(-1, 3))
+        pos.append(
+            np.frombuffer(
+                binary, np.float32, acc["count"] * 3, view["byteOffset"]
+            ).reshape(-1, 3)
+        )
     pos = np.concatenate(pos).astype(np.float64) * 100.0
     sd = BodyCollider(character_e.vertices, character_e.faces).signed_distance(pos)
     assert sd.min() > -0.05  # float32 rounding of the file

@@ -8,7 +8,13 @@ import numpy as np
 import pytest
 
 from patternbridge.assemble import Garment
-from patternbridge.assemble.export_gltf import glb_bytes, obj_text, read_glb, write_glb, write_obj
+from patternbridge.assemble.export_gltf import (
+    glb_bytes,
+    obj_text,
+    read_glb,
+    write_glb,
+    write_obj,
+)
 from patternbridge.mesh.character import Skeleton
 
 _SIZES = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT4": 16}
@@ -23,16 +29,26 @@ def _garment(skinned: bool = True) -> Garment:
     f = np.array([[0, 1, 2], [0, 2, 3], [4, 5, 6], [4, 6, 7]])
     uv = np.concatenate([a[:, :2], a[:, :2] + [3.0, 0]])
     weld = np.array([0, 1, 2, 3, 1, 5, 6, 2])
-    skel = Skeleton(names=("root", "spine", "arm"), parents=[-1, 0, 1],
-                    heads=[[0, 0, 0], [0, 10, 0], [10, 10, 0]], tails=[[0, 10, 0], [10, 10, 0], [20, 10, 0]])
+    skel = Skeleton(
+        names=("root", "spine", "arm"),
+        parents=[-1, 0, 1],
+        heads=[[0, 0, 0], [0, 10, 0], [10, 10, 0]],
+        tails=[[0, 10, 0], [10, 10, 0], [20, 10, 0]],
+    )
     joints = np.tile([0, 1, -1, -1], (8, 1))
     weights = np.tile([0.25, 0.75, 0.0, 0.0], (8, 1))
     joints[5:] = [2, -1, -1, -1]
     weights[5:] = [1.0, 0, 0, 0]
     return Garment(
-        vertices=v, faces=f, uv=uv, instance=np.array([0, 0, 0, 0, 1, 1, 1, 1]), instance_names=("front", "back"),
-        weld=weld, joints=joints if skinned else np.zeros((8, 0), np.int64),
-        weights=weights if skinned else np.zeros((8, 0)), skeleton=skel if skinned else None,
+        vertices=v,
+        faces=f,
+        uv=uv,
+        instance=np.array([0, 0, 0, 0, 1, 1, 1, 1]),
+        instance_names=("front", "back"),
+        weld=weld,
+        joints=joints if skinned else np.zeros((8, 0), np.int64),
+        weights=weights if skinned else np.zeros((8, 0)),
+        skeleton=skel if skinned else None,
     )
 
 
@@ -44,7 +60,9 @@ def _accessor(doc, binary, i):
     assert view["byteOffset"] % 4 == 0
     assert view["byteOffset"] + view["byteLength"] <= len(binary)
     assert view["byteLength"] == n * np.dtype(dt).itemsize
-    a = np.frombuffer(binary, dtype=dt, count=n, offset=view["byteOffset"] + acc.get("byteOffset", 0))
+    a = np.frombuffer(
+        binary, dtype=dt, count=n, offset=view["byteOffset"] + acc.get("byteOffset", 0)
+    )
     return a.reshape(acc["count"], -1)
 
 
@@ -76,16 +94,25 @@ def test_glb_parses_back_with_consistent_buffers():
         uv = _accessor(doc, binary, attrs["TEXCOORD_0"])
         np.testing.assert_allclose(uv * 100.0, g.uv[g.instance == k], atol=1e-4)
         np.testing.assert_allclose(pos * 100.0, g.vertices[g.instance == k], atol=1e-4)
-        np.testing.assert_array_equal(_accessor(doc, binary, attrs["_PIECE"]).ravel(), k)
+        np.testing.assert_array_equal(
+            _accessor(doc, binary, attrs["_PIECE"]).ravel(), k
+        )
         acc = doc["accessors"][attrs["POSITION"]]
         np.testing.assert_allclose(acc["min"], pos.min(axis=0))
         assert doc["materials"][prim["material"]]["name"] == ("front", "back")[k]
     assert total == len(g.vertices)
-    ibm = _accessor(doc, binary, doc["skins"][0]["inverseBindMatrices"]).reshape(3, 4, 4).transpose(0, 2, 1)
+    ibm = (
+        _accessor(doc, binary, doc["skins"][0]["inverseBindMatrices"])
+        .reshape(3, 4, 4)
+        .transpose(0, 2, 1)
+    )
     np.testing.assert_allclose(ibm[:, :3, 3], -g.skeleton.heads / 100.0, atol=1e-6)
     # node translations rebuild the bone heads
     nodes = doc["nodes"]
-    np.testing.assert_allclose(np.cumsum([nodes[i]["translation"] for i in range(3)], axis=0), g.skeleton.heads / 100.0)
+    np.testing.assert_allclose(
+        np.cumsum([nodes[i]["translation"] for i in range(3)], axis=0),
+        g.skeleton.heads / 100.0,
+    )
     assert nodes[-1]["skin"] == 0 and nodes[-1]["mesh"] == 0
 
 
@@ -103,9 +130,9 @@ def test_read_glb_rejects_other_bytes():
 def test_obj_welds_sewn_vertices_and_keeps_uvs(tmp_path):
     g = _garment()
     obj, mtl = obj_text(g)
-    v = [l for l in obj.splitlines() if l.startswith("v ")]
-    vt = [l for l in obj.splitlines() if l.startswith("vt ")]
-    faces = [l for l in obj.splitlines() if l.startswith("f ")]
+    v = [ln for ln in obj.splitlines() if ln.startswith("v ")]
+    vt = [ln for ln in obj.splitlines() if ln.startswith("vt ")]
+    faces = [ln for ln in obj.splitlines() if ln.startswith("f ")]
     assert len(v) == 6  # 8 vertices, 2 sewn pairs
     assert len(vt) == 8 and len(faces) == 4
     assert "newmtl front" in mtl and "newmtl back" in mtl

@@ -23,7 +23,9 @@ def test_seam_sides_have_equal_counts_and_matching_ends(tshirt):
         # ends of the ranges are the marks (b read backwards for a reversed seam)
         assert sp.a_vertices[0] == pa.marks[seam.a.start]
         assert sp.a_vertices[-1] == pa.marks[seam.a.end]
-        b_first, b_last = (seam.b.end, seam.b.start) if seam.reverse else (seam.b.start, seam.b.end)
+        b_first, b_last = (
+            (seam.b.end, seam.b.start) if seam.reverse else (seam.b.start, seam.b.end)
+        )
         assert sp.b_vertices[0] == pb.marks[b_first]
         assert sp.b_vertices[-1] == pb.marks[b_last]
 
@@ -34,7 +36,9 @@ def test_matched_vertices_sit_at_equal_arc_fractions(tshirt):
         fa = []
         for piece, ids in ((sp.a.piece, sp.a_vertices), (sp.b.piece, sp.b_vertices)):
             pts = pm.pieces[piece].points[ids]
-            s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))])
+            s = np.concatenate(
+                [[0.0], np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))]
+            )
             fa.append(s / s[-1])
         np.testing.assert_allclose(fa[0], fa[1], atol=0.08)
 
@@ -47,11 +51,16 @@ def test_boundary_follows_outline_and_edges_are_short(tshirt):
         boundary = m.points[: m.n_boundary]
         assert all(poly.exterior.distance(Point(p)) < 1e-6 for p in boundary)
         # interior points inside, triangles cover the piece area, all CCW
-        u, w = m.points[m.faces[:, 1]] - m.points[m.faces[:, 0]], m.points[m.faces[:, 2]] - m.points[m.faces[:, 0]]
+        u, w = (
+            m.points[m.faces[:, 1]] - m.points[m.faces[:, 0]],
+            m.points[m.faces[:, 2]] - m.points[m.faces[:, 0]],
+        )
         area = 0.5 * (u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0])
         assert np.all(area > 0)
         assert area.sum() == pytest.approx(poly.area, rel=0.02)
-        e = np.linalg.norm(m.points[m.faces] - m.points[np.roll(m.faces, 1, axis=1)], axis=2)
+        e = np.linalg.norm(
+            m.points[m.faces] - m.points[np.roll(m.faces, 1, axis=1)], axis=2
+        )
         assert np.percentile(e, 95) < 2.0 * 1.6
 
 
@@ -60,7 +69,9 @@ def test_marks_are_boundary_vertices(tshirt):
     for piece in tshirt.pieces:
         m = pm.pieces[piece.name]
         for name, v in piece.marks.items():
-            np.testing.assert_allclose(m.points[m.marks[name]], piece.outline[v], atol=1e-9)
+            np.testing.assert_allclose(
+                m.points[m.marks[name]], piece.outline[v], atol=1e-9
+            )
 
 
 def test_mirror_instances_are_created_for_pairs(tshirt):
@@ -69,12 +80,20 @@ def test_mirror_instances_are_created_for_pairs(tshirt):
 
 
 def test_unknown_seam_mark_is_an_input_error(tshirt):
-    bad = Seam(id="bad", a=EdgeRange(piece="front", start="hem_l", end="nowhere"), b=EdgeRange(piece="back", start="hem_l", end="hem_r"))
+    bad = Seam(
+        id="bad",
+        a=EdgeRange(piece="front", start="hem_l", end="nowhere"),
+        b=EdgeRange(piece="back", start="hem_l", end="hem_r"),
+    )
     with pytest.raises(InputError, match="nowhere"):
         mesh_pattern(dataclasses.replace(tshirt, seams=(*tshirt.seams, bad)))
 
 
 def test_unknown_seam_piece_is_an_input_error(tshirt):
-    bad = Seam(id="bad", a=EdgeRange(piece="pocket", start="a", end="b"), b=EdgeRange(piece="back", start="hem_l", end="hem_r"))
+    bad = Seam(
+        id="bad",
+        a=EdgeRange(piece="pocket", start="a", end="b"),
+        b=EdgeRange(piece="back", start="hem_l", end="hem_r"),
+    )
     with pytest.raises(InputError, match="pocket"):
         mesh_pattern(dataclasses.replace(tshirt, seams=(*tshirt.seams, bad)))
