@@ -5,16 +5,13 @@ from __future__ import annotations
 import argparse
 import sys
 
+from .export import add_pattern_arguments, load_pattern_args
+
 HELP = "check that every seam sews to equal length (or its declared ease) in every size"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument(
-        "pattern", help="pattern .json/.dxf file or library garment name"
-    )
-    parser.add_argument(
-        "--rul", help="grade-rule file for a .dxf (default: the .rul beside it)"
-    )
+    add_pattern_arguments(parser)
     parser.add_argument(
         "--sidecar",
         help="bridge-data sidecar (default: <pattern>.seams.json beside a .dxf)",
@@ -36,25 +33,20 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def load_with_sidecar(spec: str, rul: str | None = None, sidecar: str | None = None):
-    """Load a pattern (file or library name) and apply its bridge-data sidecar.
+def load_with_sidecar(args: argparse.Namespace):
+    """``(pattern, report)`` of PATTERN with its bridge-data sidecar applied.
 
-    The sidecar is ``sidecar`` when given, else ``<stem>.seams.json`` beside a
-    ``.dxf`` when that exists. Returns ``(pattern, report)``.
+    The sidecar is ``args.sidecar`` when given, else the one beside a ``.dxf``
+    (:func:`patternbridge.library.sidecar.sidecar_beside`).
     """
     from pathlib import Path
 
-    from ..io.load import load_pattern
-    from ..library.sidecar import apply_sidecar
+    from ..library.sidecar import apply_sidecar, sidecar_beside
 
-    pattern, report = load_pattern(spec, rul=rul)
-    path = Path(spec)
-    if sidecar is None and path.suffix.lower() == ".dxf":
-        beside = path.with_name(
-            path.stem.removesuffix("_aama").removesuffix("_astm") + ".seams.json"
-        )
-        own = path.with_suffix(".seams.json")
-        sidecar = next((str(p) for p in (own, beside) if p.is_file()), None)
+    pattern, report = load_pattern_args(args)
+    sidecar = args.sidecar
+    if sidecar is None and Path(args.pattern).suffix.lower() == ".dxf":
+        sidecar = sidecar_beside(args.pattern)
     if sidecar is not None:
         pattern = apply_sidecar(pattern, sidecar)
     return pattern, report
@@ -64,7 +56,7 @@ def run(args: argparse.Namespace) -> int:
     from ..library.seams import check_seams
     from ._common import print_findings, print_json
 
-    pattern, report = load_with_sidecar(args.pattern, args.rul, args.sidecar)
+    pattern, report = load_with_sidecar(args)
     print_findings(report)
     if not pattern.seams:
         print(

@@ -8,15 +8,64 @@ from pathlib import Path
 
 HELP = "export a pattern as DXF-AAMA or DXF-ASTM: sample size + .RUL, or a graded nest"
 
-__all__ = ["HELP", "add_arguments", "run"]
+__all__ = [
+    "HELP",
+    "add_arguments",
+    "add_output_arguments",
+    "add_pattern_arguments",
+    "export_pattern",
+    "load_pattern_args",
+    "run",
+]
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    add_pattern_arguments(parser, rul_flag="--in-rul", units=False)
+    add_output_arguments(parser)
+
+
+def add_pattern_arguments(
+    parser: argparse.ArgumentParser, *, rul_flag: str = "--rul", units: bool = True
+) -> None:
+    """PATTERN (file or library name), its ``.RUL`` and a ``--units`` override.
+
+    Shared by every command that reads a pattern; read them back with
+    :func:`load_pattern_args`.
+    """
+    dest = rul_flag.lstrip("-").replace("-", "_")
     parser.add_argument(
         "pattern",
         metavar="PATTERN",
         help="pattern: .json, .dxf or a library garment name",
     )
+    parser.add_argument(
+        rul_flag,
+        metavar="FILE.rul",
+        dest=dest,
+        help="grade-rule table of a sample-size DXF (default: the .rul beside it)",
+    )
+    parser.set_defaults(pattern_rul_dest=dest, pattern_units=units)
+    if units:
+        parser.add_argument(
+            "--units",
+            choices=("METRIC", "ENGLISH"),
+            type=str.upper,
+            help="override a DXF's Units: text (METRIC = mm, ENGLISH = inch)",
+        )
+
+
+def load_pattern_args(args: argparse.Namespace):
+    """``(pattern, report)`` of the PATTERN given by :func:`add_pattern_arguments`."""
+    from ..io.load import load_pattern
+
+    units = args.units if args.pattern_units else None
+    return load_pattern(
+        args.pattern, rul=getattr(args, args.pattern_rul_dest), units=units
+    )
+
+
+def add_output_arguments(parser: argparse.ArgumentParser) -> None:
+    """``-o OUT.dxf`` and the options of a DXF export (``export``, ``library export``)."""
     parser.add_argument(
         "-o", "--output", required=True, metavar="OUT.dxf", help="DXF file to write"
     )
@@ -49,27 +98,29 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="units of the written file (default: the pattern's source units)",
     )
     parser.add_argument(
-        "--in-rul",
-        metavar="FILE.rul",
-        dest="in_rul",
-        help="grade-rule table of a sample-size DXF given as PATTERN",
-    )
-    parser.add_argument(
         "--strict", action="store_true", help="treat every warning as an error"
     )
 
 
 def run(args: argparse.Namespace) -> int:
+    pattern, report = load_pattern_args(args)
+    return export_pattern(pattern, report, args)
+
+
+def export_pattern(pattern, report, args: argparse.Namespace) -> int:
+    """Write ``pattern`` as DXF (+ ``.RUL``) by the options of :func:`add_output_arguments`.
+
+    ``report`` holds the findings of loading the pattern; they are printed with
+    the export's own and, with ``--strict``, block the export like them.
+    """
     from ..errors import InputError
     from ..io.dxf_aama.write import format_dxf, write_dxf
-    from ..io.load import load_pattern
     from ..report import Report
     from ._common import print_findings
 
     out = Path(args.output)
     if out.suffix.lower() != ".dxf":
         raise InputError(f"{out}: the output must be a .dxf file")
-    pattern, report = load_pattern(args.pattern, rul=args.in_rul)
     sizes = args.sizes.strip()
     sample_only = sizes.lower() == "sample"
     rul = None

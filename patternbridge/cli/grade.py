@@ -6,17 +6,15 @@ import argparse
 import sys
 from pathlib import Path
 
+from .export import add_pattern_arguments, load_pattern_args
+
 HELP = "grade a pattern to another size of its size list (rules from its .RUL or nest)"
 
 __all__ = ["HELP", "add_arguments", "run"]
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument(
-        "pattern",
-        metavar="PATTERN",
-        help="pattern: .json, .dxf or a library garment name",
-    )
+    add_pattern_arguments(parser)
     parser.add_argument(
         "--size", required=True, help="target size (one of the pattern's sizes)"
     )
@@ -28,20 +26,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="graded pattern: .json (canonical), .dxf (sample-size DXF-AAMA) "
         "or .svg/.png (picture)",
     )
-    parser.add_argument(
-        "--rul", metavar="FILE.rul", help="grade-rule table of a sample-size DXF"
-    )
-    parser.add_argument(
-        "--units",
-        choices=("METRIC", "ENGLISH"),
-        type=str.upper,
-        help="override a DXF's Units: text",
-    )
 
 
 def run(args: argparse.Namespace) -> int:
     from ..errors import InputError
-    from ..io.load import load_pattern
     from ._common import print_findings
 
     out = Path(args.output)
@@ -50,7 +38,7 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(
             f"{out}: unknown output type {out.suffix!r}; give .json, .dxf, .svg or .png"
         )
-    pattern, report = load_pattern(args.pattern, rul=args.rul, units=args.units)
+    pattern, report = load_pattern_args(args)
     print_findings(report)
     size = str(args.size)
     sizes = list(pattern.sizes) or [pattern.sample_size]

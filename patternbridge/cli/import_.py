@@ -59,13 +59,11 @@ def _sidecar(args: argparse.Namespace, dxf: Path) -> tuple[Path | None, bool]:
     """(sidecar path, given explicitly) or (None, False)."""
     if args.seams:
         return Path(args.seams), True
-    for candidate in (
-        dxf.with_name(f"{dxf.stem}.seams.json"),
-        dxf.with_name(f"{dxf.stem}.SEAMS.json"),
-    ):
-        if candidate.is_file():
-            return candidate, False
-    return None, False
+    try:
+        from ..library.sidecar import sidecar_beside
+    except ImportError:
+        return None, False
+    return sidecar_beside(dxf), False
 
 
 def run(args: argparse.Namespace) -> int:

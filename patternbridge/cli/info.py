@@ -13,6 +13,8 @@ import argparse
 import sys
 from typing import Any
 
+from .export import add_pattern_arguments, load_pattern_args
+
 HELP = (
     "show a pattern's style, units, sizes and pieces (--json: the documented contract)"
 )
@@ -23,20 +25,9 @@ _DUPLICATE_CM = 1e-6  # consecutive vertices closer than this count once
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument(
-        "file", metavar="FILE", help="pattern: .dxf, .json or a library garment name"
-    )
+    add_pattern_arguments(parser)
     parser.add_argument(
         "--json", action="store_true", help="print the info as JSON (formats/info.md)"
-    )
-    parser.add_argument(
-        "--rul", metavar="FILE.rul", help="grade-rule table for a sample-size DXF"
-    )
-    parser.add_argument(
-        "--units",
-        choices=("METRIC", "ENGLISH"),
-        type=str.upper,
-        help="override a DXF's Units: text",
     )
 
 
@@ -113,10 +104,9 @@ def _table(info: dict[str, Any]) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..io.load import load_pattern
     from ._common import print_findings, print_json
 
-    pattern, report = load_pattern(args.file, rul=args.rul, units=args.units)
+    pattern, report = load_pattern_args(args)
     print_findings(report)
     info = pattern_info(pattern)
     if args.json:

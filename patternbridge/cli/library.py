@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import argparse
 
+from .export import add_output_arguments, export_pattern
+
 HELP = "list, show and export the library garments (shirt, trousers, skirt, dress, tshirt, shorts)"
 
 
@@ -30,21 +32,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="write a garment as DXF-AAMA/ASTM (+ RUL) and its bridge-data sidecar",
     )
     p.add_argument("name", help="library garment name")
-    p.add_argument("-o", "--output", required=True, help="the .dxf to write")
-    p.add_argument(
-        "--flavor",
-        choices=("aama", "astm"),
-        default="aama",
-        help="DXF dialect (default aama)",
-    )
-    p.add_argument(
-        "--rul", help="also write the grade rules to this .rul (sample size in the DXF)"
-    )
-    p.add_argument(
-        "--sizes",
-        default=None,
-        help="write a graded nest of these sizes ('all' or comma-separated) instead of a RUL",
-    )
+    add_output_arguments(p)
 
 
 def _load(name: str):
@@ -112,24 +100,14 @@ def run(args: argparse.Namespace) -> int:
         for m in pattern.measurements:
             print(f"  {m.id:<22} ease {m.ease_cm:+g} cm  ({len(m.legs)} legs)")
         return 0
-    # export
+    # export: the DXF (+ .RUL) as 'patternbridge export' writes it, and the sidecar
     from pathlib import Path
 
-    from ..io.dxf_aama import write_dxf
     from ..library.sidecar import write_sidecar
     from ..report import Report
-    from ._common import print_findings
 
-    out = Path(args.output)
-    report = Report()
-    sizes = "sample" if args.sizes is None else args.sizes
-    write_dxf(
-        pattern, out, flavor=args.flavor, sizes=sizes, rul_path=args.rul, report=report
-    )
-    sidecar = write_sidecar(pattern, out.with_suffix(".seams.json"))
-    print_findings(report)
-    print(out)
-    if args.rul:
-        print(args.rul)
-    print(sidecar)
-    return 0
+    code = export_pattern(pattern, Report(), args)
+    sidecar = write_sidecar(pattern, Path(args.output).with_suffix(".seams.json"))
+    if args.quiet <= 0:
+        print(f"wrote {sidecar} (seams, landmarks, measurements, placement)")
+    return code

@@ -5,17 +5,15 @@ from __future__ import annotations
 import argparse
 import sys
 
+from .export import add_pattern_arguments, load_pattern_args
+
 HELP = "draw every piece with grain lines, notches, internal lines and labels (SVG/PNG)"
 
 __all__ = ["HELP", "add_arguments", "run"]
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument(
-        "pattern",
-        metavar="PATTERN",
-        help="pattern: .json, .dxf or a library garment name",
-    )
+    add_pattern_arguments(parser)
     parser.add_argument(
         "-o",
         "--output",
@@ -32,20 +30,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--title", help="figure title (default: style, piece count and sizes)"
     )
-    parser.add_argument(
-        "--rul", metavar="FILE.rul", help="grade-rule table of a sample-size DXF"
-    )
-    parser.add_argument(
-        "--units",
-        choices=("METRIC", "ENGLISH"),
-        type=str.upper,
-        help="override a DXF's Units: text",
-    )
 
 
 def run(args: argparse.Namespace) -> int:
     from ..errors import InputError
-    from ..io.load import load_pattern
     from ..io.plot import plot_pattern
     from ._common import print_findings
 
@@ -53,7 +41,7 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(
             f"{args.output}: unknown picture type; give a .svg or .png file name"
         )
-    pattern, report = load_pattern(args.pattern, rul=args.rul, units=args.units)
+    pattern, report = load_pattern_args(args)
     print_findings(report)
     sizes = args.sizes.strip()
     if (

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import argparse
 
+from .export import add_pattern_arguments, load_pattern_args
+
 HELP = "propose seam pairs for a pattern without bridge data, as an editable sidecar"
 
 
@@ -13,11 +15,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     p = sub.add_parser(
         "infer", help="match boundary stretches of equal length and shape"
     )
-    p.add_argument("pattern", help="pattern .json/.dxf file or library garment name")
+    add_pattern_arguments(p)
     p.add_argument(
         "-o", "--output", required=True, help="sidecar to write (e.g. style.seams.json)"
     )
-    p.add_argument("--rul", help="grade-rule file for a .dxf")
     p.add_argument(
         "--min-confidence", type=float, default=0.2, help="drop weaker proposals (0..1)"
     )
@@ -27,12 +28,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from dataclasses import replace
 
-    from ..io.load import load_pattern
     from ..library.infer import infer_seams, with_proposals
     from ..library.sidecar import write_sidecar
     from ._common import print_findings, print_json
 
-    pattern, report = load_pattern(args.pattern, rul=args.rul)
+    pattern, report = load_pattern_args(args)
     print_findings(report)
     proposals = infer_seams(pattern, min_confidence=args.min_confidence)
     marked = with_proposals(pattern, proposals)

@@ -27,6 +27,7 @@ __all__ = [
     "SIDECAR_FORMAT",
     "apply_sidecar",
     "read_sidecar",
+    "sidecar_beside",
     "sidecar_dict",
     "write_sidecar",
 ]
@@ -132,6 +133,26 @@ def write_sidecar(
         + "\n"
     )
     return write_text(path, text)
+
+
+def sidecar_beside(dxf: str | os.PathLike) -> Path | None:
+    """The bridge-data sidecar that goes with a DXF, or None.
+
+    Looks for ``<stem>.seams.json`` (any case of ``.seams``) beside the DXF, then
+    the same without an ``_aama``/``_astm`` flavour suffix on the stem (the
+    library ships ``shirt_aama.dxf`` and ``shirt_astm.dxf`` with one
+    ``shirt.seams.json``).
+    """
+    dxf = Path(dxf)
+    stems = [dxf.stem]
+    for flavour in ("_aama", "_astm"):
+        if dxf.stem.lower().endswith(flavour):
+            stems.append(dxf.stem[: -len(flavour)])
+    for stem in stems:
+        for name in (f"{stem}.seams.json", f"{stem}.SEAMS.json"):
+            if (dxf.parent / name).is_file():
+                return dxf.parent / name
+    return None
 
 
 def read_sidecar(path: str | os.PathLike) -> dict[str, Any]:

@@ -69,6 +69,17 @@ def test_library_export_then_check_the_dxf(tmp_path, capsys):
     assert "0 failed" in capsys.readouterr().out
 
 
+def test_library_export_keeps_the_grading_by_default(tmp_path, capsys):
+    # a sample-size DXF without its .RUL would come back as one size only
+    dxf = tmp_path / "skirt.dxf"
+    assert main(["library", "export", "skirt", "-o", str(dxf)]) == 0
+    assert (tmp_path / "skirt.rul").is_file()
+    capsys.readouterr()
+    assert main(["info", str(dxf), "--json"]) == 0
+    info = json.loads(capsys.readouterr().out)
+    assert info["sizes"] == list(load_garment("skirt").sizes)
+
+
 def test_unknown_garment_exits_2(capsys):
     assert main(["library", "show", "cape"]) == 2
     assert "not a library garment" in capsys.readouterr().err

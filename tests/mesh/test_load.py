@@ -201,6 +201,8 @@ def test_vertex_id_landmarks_on_an_stl_are_refused(tmp_path, b_mesh):
     lm.write_text(json.dumps({"landmarks": {"crotch_point": {"vertex": 6431}}}))
     with pytest.raises(LandmarkError, match=r"lm\.json: .*no vertex ids.*position"):
         load_character(stl, landmarks=lm)
-    lm.write_text(json.dumps({"landmarks": {"crotch_point": {"position": v[6431].tolist()}}}))
+    lm.write_text(
+        json.dumps({"landmarks": {"crotch_point": {"position": v[6431].tolist()}}})
+    )
     c, _ = load_character(stl, landmarks=lm)
     np.testing.assert_allclose(c.landmarks["crotch_point"].position, v[6431], atol=1e-6)
