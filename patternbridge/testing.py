@@ -23,7 +23,25 @@ from .pattern.model import (
     Polyline,
 )
 
-__all__ = ["assert_patterns_equal", "example_pattern", "pattern_differences"]
+__all__ = [
+    "NOT_IN_DXF",
+    "assert_patterns_equal",
+    "example_pattern",
+    "pattern_differences",
+]
+
+#: fields a DXF cannot carry (bridge data, provenance details, the source's
+#: notch angle): pass as ``ignore`` when comparing a pattern with its DXF round trip
+NOT_IN_DXF = (
+    "provenance",
+    "description",
+    "seams",
+    "measurements",
+    "marks",
+    "landmarks",
+    "placement",
+    "source_angle_deg",
+)
 
 
 class _Diff:

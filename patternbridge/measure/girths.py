@@ -57,6 +57,16 @@ def _hull_centroid_uv(uv: np.ndarray) -> np.ndarray:
     return np.array([((x + xn) * cross).sum(), ((y + yn) * cross).sum()]) / (6 * a)
 
 
+
+def _hull_cut(sec, loops) -> _Cut:
+    """Convex-hull girth of ``loops`` of a section; an empty cut when there are none."""
+    if not loops:
+        return _Cut(
+            value_cm=0.0, polyline=np.zeros((0, 3)), origin=sec.origin, normal=sec.normal
+        )
+    g, ring = hull_girth(sec, loops)
+    return _Cut(value_cm=g, polyline=ring, origin=sec.origin, normal=sec.normal)
+
 class BodyFrame:
     """The mesh, its datum points and the search helpers shared by all girths.
 
@@ -148,16 +158,7 @@ class BodyFrame:
 
     def torso_cut(self, y: float) -> _Cut:
         sec = self.horizontal(y)
-        loops = self.torso_loops(sec)
-        if not loops:
-            return _Cut(
-                value_cm=0.0,
-                polyline=np.zeros((0, 3)),
-                origin=sec.origin,
-                normal=sec.normal,
-            )
-        g, ring = hull_girth(sec, loops)
-        return _Cut(value_cm=g, polyline=ring, origin=sec.origin, normal=sec.normal)
+        return _hull_cut(sec, self.torso_loops(sec))
 
     def crossing(
         self, candidates: np.ndarray, origin: np.ndarray, normal: np.ndarray
@@ -186,16 +187,7 @@ class BodyFrame:
             normal,
             candidates=self.crossing(candidates, origin, normal),
         )
-        loops = self.part_loops(sec, ref)
-        if not loops:
-            return _Cut(
-                value_cm=0.0,
-                polyline=np.zeros((0, 3)),
-                origin=sec.origin,
-                normal=sec.normal,
-            )
-        g, ring = hull_girth(sec, loops)
-        return _Cut(value_cm=g, polyline=ring, origin=sec.origin, normal=sec.normal)
+        return _hull_cut(sec, self.part_loops(sec, ref))
 
     def refine_axis(
         self,

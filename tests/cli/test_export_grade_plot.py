@@ -11,18 +11,7 @@ import pytest
 from patternbridge.io.dxf_aama import read_dxf
 from patternbridge.io.pattern_json import load_pattern_json
 from patternbridge.pattern.grading import grade
-from patternbridge.testing import assert_patterns_equal
-
-DXF_ONLY = (
-    "provenance",
-    "description",
-    "seams",
-    "measurements",
-    "marks",
-    "landmarks",
-    "placement",
-    "source_angle_deg",
-)
+from patternbridge.testing import NOT_IN_DXF, assert_patterns_equal
 
 
 @pytest.mark.parametrize("flavor", ["aama", "astm"])
@@ -33,7 +22,7 @@ def test_export_sample_writes_rul_beside(cli, tee, tee_json, tmp_path, flavor):
     assert out.is_file() and out.with_suffix(".rul").is_file()
     assert str(out) in stdout
     back, _ = read_dxf(out)
-    assert_patterns_equal(tee, back, ignore=DXF_ONLY)
+    assert_patterns_equal(tee, back, ignore=NOT_IN_DXF)
     assert (b"ASTM/D13Proposal" in out.read_bytes()) == (flavor == "astm")
 
 

@@ -8,25 +8,14 @@ import numpy as np
 import pytest
 
 from patternbridge.io.pattern_json import load_pattern_json
-from patternbridge.testing import assert_patterns_equal
-
-DXF_ONLY = (
-    "provenance",
-    "description",
-    "seams",
-    "measurements",
-    "marks",
-    "landmarks",
-    "placement",
-    "source_angle_deg",
-)
+from patternbridge.testing import NOT_IN_DXF, assert_patterns_equal
 
 
 def test_import_sample_dxf_with_rul_beside(cli, tee, tee_dxf, tmp_path):
     out = tmp_path / "t.json"
     code, stdout, _err = cli("import", tee_dxf, "-o", out)
     assert code == 0 and str(out) in stdout and "sizes S, M, L, XL" in stdout
-    assert_patterns_equal(tee, load_pattern_json(out), ignore=DXF_ONLY)
+    assert_patterns_equal(tee, load_pattern_json(out), ignore=NOT_IN_DXF)
 
 
 def test_import_with_explicit_rul_and_units(cli, tee, tee_dxf, tmp_path):
@@ -100,7 +89,9 @@ def test_import_applies_sidecar_beside_or_given(cli, tee, tee_dxf, tmp_path):
 def test_import_strict_accepts_a_clean_file(cli, tee_dxf, tmp_path):
     out = tmp_path / "t.json"
     code, _, err = cli("import", tee_dxf, "--strict", "-o", out)
-    assert code == 0 and out.is_file(), err  # finding the .rul beside is only informational
+    assert code == 0 and out.is_file(), (
+        err
+    )  # finding the .rul beside is only informational
 
 
 def test_import_strict_turns_warnings_into_errors(cli, tee_dxf, tmp_path):

@@ -31,7 +31,7 @@ from patternbridge.pattern.model import (
     Units,
 )
 from patternbridge.report import Report
-from patternbridge.testing import assert_patterns_equal, example_pattern
+from patternbridge.testing import NOT_IN_DXF, assert_patterns_equal, example_pattern
 
 SHARED_AAMA = Path(__file__).resolve().parents[2] / ".." / "shared" / "aama"
 REAL_FILES = [
@@ -448,16 +448,6 @@ def _reader():
     return read_dxf
 
 
-DXF_ONLY = (
-    "provenance",
-    "description",
-    "seams",
-    "measurements",
-    "marks",
-    "landmarks",
-    "placement",
-    "source_angle_deg",
-)
 # rule ids of elements that share a point with an earlier graded point: a DXF
 # attaches rule texts by position, so the first id there names them all
 SHARED_POINT_IDS = ("line.rules", "polyline.rules", "notch.rule", "drill.rule")
@@ -473,7 +463,7 @@ def assert_same_grading(a: Pattern, b: Pattern, atol: float, ignore=()) -> None:
             grade(b, size),
             atol_cm=atol,
             atol_rad=1e-3,
-            ignore=DXF_ONLY + ALL_IDS + tuple(ignore),
+            ignore=NOT_IN_DXF + ALL_IDS + tuple(ignore),
         )
 
 
@@ -491,7 +481,7 @@ def test_example_round_trip(pattern, flavor, sizes, tmp_path):
     )
     back, _ = read_dxf(dxf, rul=rul if sizes == "sample" else None)
     # the example gives coincident points the same rule, so ids survive a RUL export
-    ignore = DXF_ONLY if sizes == "sample" else DXF_ONLY + ALL_IDS
+    ignore = NOT_IN_DXF if sizes == "sample" else NOT_IN_DXF + ALL_IDS
     assert_patterns_equal(pattern, back, atol_cm=1e-4, atol_rad=1e-6, ignore=ignore)
     assert_same_grading(pattern, back, 1e-4)
 
@@ -516,7 +506,11 @@ def test_real_files_round_trip(name, flavor, tmp_path):
     )
     back, _ = read_dxf(dxf, rul=rul if has_rules else None)
     assert_patterns_equal(
-        original, back, atol_cm=atol, atol_rad=1e-3, ignore=DXF_ONLY + SHARED_POINT_IDS
+        original,
+        back,
+        atol_cm=atol,
+        atol_rad=1e-3,
+        ignore=NOT_IN_DXF + SHARED_POINT_IDS,
     )
     # internal lines that touch in the sample size but grade apart (GLX4802S19's
     # sleeve plackets) cannot keep both rules in a positional '# n' file: reported
@@ -536,7 +530,7 @@ def test_real_files_round_trip(name, flavor, tmp_path):
         assert not auditor.has_errors and not doc.audit().has_errors
     back, _ = read_dxf(nest)
     assert_patterns_equal(
-        original, back, atol_cm=atol, atol_rad=1e-3, ignore=DXF_ONLY + ALL_IDS
+        original, back, atol_cm=atol, atol_rad=1e-3, ignore=NOT_IN_DXF + ALL_IDS
     )
     if has_rules:
         assert_same_grading(original, back, atol)
@@ -613,7 +607,7 @@ def test_hypothesis_dxf_round_trip(pattern, flavor, tmp_path):
     write_dxf(pattern, dxf, flavor=flavor)
     back, _ = read_dxf(dxf)
     atol = 3e-4 if pattern.units is Units.ENGLISH else 1e-4
-    assert_patterns_equal(pattern, back, atol_cm=atol, atol_rad=1e-3, ignore=DXF_ONLY)
+    assert_patterns_equal(pattern, back, atol_cm=atol, atol_rad=1e-3, ignore=NOT_IN_DXF)
 
 
 def test_rule_conflicts_reported_for_sample_exports_only(pattern):
