@@ -86,9 +86,14 @@ def subdivide(v: np.ndarray, f: np.ndarray):
     mid = n + inv.reshape(3, -1).T  # (F, 3) midpoint ids of edges 01, 12, 20
     v2 = np.vstack([v, 0.5 * (v[a] + v[b])])
     m01, m12, m20 = mid[:, 0], mid[:, 1], mid[:, 2]
-    f2 = np.concatenate([
-        np.c_[f[:, 0], m01, m20], np.c_[m01, f[:, 1], m12],
-        np.c_[m20, m12, f[:, 2]], np.c_[m01, m12, m20]])
+    f2 = np.concatenate(
+        [
+            np.c_[f[:, 0], m01, m20],
+            np.c_[m01, f[:, 1], m12],
+            np.c_[m20, m12, f[:, 2]],
+            np.c_[m01, m12, m20],
+        ]
+    )
     return v2, f2
 
 
@@ -140,8 +145,20 @@ def section_spheres(args, rng):
     import trimesh
 
     print("\n### Spheres: path length vs great circle (R = 10 cm)\n")
-    row(["subdiv", "V", "pairs", "ours mean err %", "ours max err %", "ours s (prep+paths)",
-         "pp3d mean err %", "pp3d flip s", "ratio ours/pp3d", "peak RSS MB"])
+    row(
+        [
+            "subdiv",
+            "V",
+            "pairs",
+            "ours mean err %",
+            "ours max err %",
+            "ours s (prep+paths)",
+            "pp3d mean err %",
+            "pp3d flip s",
+            "ratio ours/pp3d",
+            "peak RSS MB",
+        ]
+    )
     row(["---"] * 10)
     for sub in args.sphere_subdiv:
         s = trimesh.creation.icosphere(subdivisions=sub, radius=10.0)
@@ -157,9 +174,20 @@ def section_spheres(args, rng):
         t_ours, ours = run_ours(v, f, pairs)
         t_flip, flip = run_flip(v, f, pairs)
         e, ef = rel_err(ours, gc), rel_err(flip, gc)
-        row([sub, len(v), len(pairs), f"{100 * e.mean():.4f}", f"{100 * e.max():.4f}",
-             f"{t_ours:.2f}", f"{100 * ef.mean():.4f}", f"{t_flip:.2f}",
-             f"{t_ours / t_flip:.2f}", f"{peak_rss_mb():.0f}"])
+        row(
+            [
+                sub,
+                len(v),
+                len(pairs),
+                f"{100 * e.mean():.4f}",
+                f"{100 * e.max():.4f}",
+                f"{t_ours:.2f}",
+                f"{100 * ef.mean():.4f}",
+                f"{t_flip:.2f}",
+                f"{t_ours / t_flip:.2f}",
+                f"{peak_rss_mb():.0f}",
+            ]
+        )
 
 
 def _character_table(name, v, f, pairs, mmp: bool):
@@ -169,19 +197,41 @@ def _character_table(name, v, f, pairs, mmp: bool):
         t_mmp, ref_mmp = run_mmp(v, f, pairs)
         e_mmp = rel_err(ours, ref_mmp)
     e_flip = rel_err(ours, flip)
-    row([name, len(v), len(pairs), f"{t_ours:.2f}", f"{t_flip:.2f}",
-         f"{t_mmp:.1f}" if mmp else "-",
-         f"{t_ours / t_flip:.2f}", f"{t_ours / t_mmp:.4f}" if mmp else "-",
-         f"{100 * e_mmp.mean():.4f} / {100 * e_mmp.max():.4f}" if mmp else "-",
-         f"{100 * e_flip.mean():.4f} / {100 * e_flip.max():.4f}", f"{peak_rss_mb():.0f}"])
+    row(
+        [
+            name,
+            len(v),
+            len(pairs),
+            f"{t_ours:.2f}",
+            f"{t_flip:.2f}",
+            f"{t_mmp:.1f}" if mmp else "-",
+            f"{t_ours / t_flip:.2f}",
+            f"{t_ours / t_mmp:.4f}" if mmp else "-",
+            f"{100 * e_mmp.mean():.4f} / {100 * e_mmp.max():.4f}" if mmp else "-",
+            f"{100 * e_flip.mean():.4f} / {100 * e_flip.max():.4f}",
+            f"{peak_rss_mb():.0f}",
+        ]
+    )
     return ours, flip
 
 
 def _character_header(title):
     print(f"\n### {title}\n")
-    row(["mesh", "V", "paths", "ours s (prep+paths)", "pp3d flip s", "MMP s",
-         "ours/pp3d", "ours/MMP", "err vs MMP mean/max %", "err vs flip mean/max %",
-         "peak RSS MB"])
+    row(
+        [
+            "mesh",
+            "V",
+            "paths",
+            "ours s (prep+paths)",
+            "pp3d flip s",
+            "MMP s",
+            "ours/pp3d",
+            "ours/MMP",
+            "err vs MMP mean/max %",
+            "err vs flip mean/max %",
+            "peak RSS MB",
+        ]
+    )
     row(["---"] * 11)
 
 
@@ -200,19 +250,42 @@ def section_hires(args, rng):
     ours, flip = _character_table("E_hires", v, f, pairs, mmp=args.mmp_hires)
     if args.mmp_disputed and not args.mmp_hires:
         # exact MMP only where ours and the edge-flip path disagree
-        print("\nPairs where ours and the edge-flip path differ by more than 0.01 %, "
-              "settled by exact MMP:\n")
-        row(["pair", "ours cm", "pp3d flip cm", "MMP cm", "MMP s", "ours err %", "flip err %"])
+        print(
+            "\nPairs where ours and the edge-flip path differ by more than 0.01 %, "
+            "settled by exact MMP:\n"
+        )
+        row(
+            [
+                "pair",
+                "ours cm",
+                "pp3d flip cm",
+                "MMP cm",
+                "MMP s",
+                "ours err %",
+                "flip err %",
+            ]
+        )
         row(["---"] * 7)
         for (na, nb), (a, b), x, y in zip(PAIRS, pairs, ours, flip):
             if abs(x - y) / y <= 1e-4:
                 continue
             t, (z,) = run_mmp(v, f, [(a, b)])
-            row([f"{na} -> {nb}", f"{x:.4f}", f"{y:.4f}", f"{z:.4f}", f"{t:.0f}",
-                 f"{100 * (x - z) / z:+.4f}", f"{100 * (y - z) / z:+.4f}"])
+            row(
+                [
+                    f"{na} -> {nb}",
+                    f"{x:.4f}",
+                    f"{y:.4f}",
+                    f"{z:.4f}",
+                    f"{t:.0f}",
+                    f"{100 * (x - z) / z:+.4f}",
+                    f"{100 * (y - z) / z:+.4f}",
+                ]
+            )
     if args.verbose:
         for (a, b), x, y in zip(PAIRS, ours, flip):
-            print(f"    {a:26s} {b:22s} ours {x:9.4f}  flip {y:9.4f}  {100 * (x - y) / y:+.4f} %")
+            print(
+                f"    {a:26s} {b:22s} ours {x:9.4f}  flip {y:9.4f}  {100 * (x - y) / y:+.4f} %"
+            )
 
 
 def section_subdiv(args, rng):
@@ -229,8 +302,19 @@ def section_propagate(args, rng):
     from patternbridge.geodesic import SurfaceMesh, geodesic_distances
 
     print("\n### Single source, all destinations (windowed propagation)\n")
-    row(["mesh", "V", "window", "ours s (prep+run)", "MMP s", "ours/MMP",
-         "mean err %", "p95 err %", "peak RSS MB"])
+    row(
+        [
+            "mesh",
+            "V",
+            "window",
+            "ours s (prep+run)",
+            "MMP s",
+            "ours/MMP",
+            "mean err %",
+            "p95 err %",
+            "peak RSS MB",
+        ]
+    )
     row(["---"] * 9)
     src = 857  # back neck point
     meshes = [("E_average_male", *load_mesh(SHARED / "E_average_male.obj"))]
@@ -243,13 +327,27 @@ def section_propagate(args, rng):
         t_mmp = time.perf_counter() - t0
         for w in args.windows:
             t0 = time.perf_counter()
-            d = geodesic_distances(SurfaceMesh(v, f), src, window=w)
+            mesh = SurfaceMesh(v, f)
+            w = w or None  # 0: automatic
+            d = geodesic_distances(mesh, src, window=w)
+            if w is None:
+                w = f"auto ({min(64, max(12, int(np.ceil(5.5 / mesh.edge_mean))))})"
             t = time.perf_counter() - t0
             ok = exact > 1.0
             e = np.abs(d[ok] - exact[ok]) / exact[ok]
-            row([name, len(v), w, f"{t:.2f}", f"{t_mmp:.2f}", f"{t / t_mmp:.2f}",
-                 f"{100 * e.mean():.3f}", f"{100 * np.percentile(e, 95):.3f}",
-                 f"{peak_rss_mb():.0f}"])
+            row(
+                [
+                    name,
+                    len(v),
+                    w,
+                    f"{t:.2f}",
+                    f"{t_mmp:.2f}",
+                    f"{t / t_mmp:.2f}",
+                    f"{100 * e.mean():.3f}",
+                    f"{100 * np.percentile(e, 95):.3f}",
+                    f"{peak_rss_mb():.0f}",
+                ]
+            )
 
 
 SECTIONS = {
@@ -263,19 +361,34 @@ SECTIONS = {
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--sections", default="spheres,characters,hires,subdiv,propagate")
+    parser.add_argument(
+        "--sections", default="spheres,characters,hires,subdiv,propagate"
+    )
     parser.add_argument("--pairs", type=int, default=10, help="random pairs per sphere")
-    parser.add_argument("--sphere-subdiv", type=lambda s: [int(x) for x in s.split(",")],
-                        default=[4, 5, 6, 7, 8])
-    parser.add_argument("--windows", type=lambda s: [int(x) for x in s.split(",")],
-                        default=[8, 12])
-    parser.add_argument("--mmp-hires", action="store_true",
-                        help="also run exact MMP on the 334K mesh (minutes per path)")
-    parser.add_argument("--mmp-disputed", action="store_true",
-                        help="on the 334K mesh, run exact MMP for the pairs where ours and "
-                        "the edge-flip path disagree")
-    parser.add_argument("--propagate-hires", action="store_true",
-                        help="also propagate on the 334K mesh (MMP takes minutes)")
+    parser.add_argument(
+        "--sphere-subdiv",
+        type=lambda s: [int(x) for x in s.split(",")],
+        default=[4, 5, 6, 7, 8],
+    )
+    parser.add_argument(
+        "--windows", type=lambda s: [int(x) for x in s.split(",")], default=[8, 12]
+    )
+    parser.add_argument(
+        "--mmp-hires",
+        action="store_true",
+        help="also run exact MMP on the 334K mesh (minutes per path)",
+    )
+    parser.add_argument(
+        "--mmp-disputed",
+        action="store_true",
+        help="on the 334K mesh, run exact MMP for the pairs where ours and "
+        "the edge-flip path disagree",
+    )
+    parser.add_argument(
+        "--propagate-hires",
+        action="store_true",
+        help="also propagate on the 334K mesh (MMP takes minutes)",
+    )
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("-v", "--verbose", action="store_true")
     args = parser.parse_args(argv)
@@ -285,12 +398,18 @@ def main(argv: list[str] | None = None) -> int:
 
     from patternbridge import __version__
 
-    versions = {"patternbridge": __version__, "numpy": np.__version__, "scipy": scipy.__version__,
-                "potpourri3d": getattr(potpourri3d, "__version__", "?"),
-                "pygeodesic": getattr(pygeodesic, "__version__", "?")}
+    versions = {
+        "patternbridge": __version__,
+        "numpy": np.__version__,
+        "scipy": scipy.__version__,
+        "potpourri3d": getattr(potpourri3d, "__version__", "?"),
+        "pygeodesic": getattr(pygeodesic, "__version__", "?"),
+    }
     print(f"# geodesic benchmark  {time.strftime('%Y-%m-%d %H:%M:%S')}")
-    print(f"# {platform.platform()}  {platform.processor() or platform.machine()}  "
-          f"python {platform.python_version()}  cores {__import__('os').cpu_count()}")
+    print(
+        f"# {platform.platform()}  {platform.processor() or platform.machine()}  "
+        f"python {platform.python_version()}  cores {__import__('os').cpu_count()}"
+    )
     print("# " + "  ".join(f"{k} {v}" for k, v in versions.items()))
     rng = np.random.default_rng(args.seed)
     for name in args.sections.split(","):

@@ -11,8 +11,12 @@ by the edge; then the path is relaxed by the least-squares curvature flow.
   re-solved, the rest is frozen, so each vertex costs a constant and the whole
   propagation is linear in the number of vertices. The windows of one band are
   independent and solved together as a stack of small dense systems.
-* full form (``window=None``): every path is re-solved whole (slow; small
+* full form (``window="full"``): every path is re-solved whole (slow; small
   meshes only).
+
+``window=None`` (default) sizes the window from the mesh resolution: the
+error comes from the kink where a window starts, so the window has to span a
+length (about 5.5 cm), not a fixed number of samples.
 """
 
 from __future__ import annotations
@@ -30,6 +34,8 @@ __all__ = ["geodesic_distances", "solve_windows"]
 log = logging.getLogger(__name__)
 
 _FIX_WEIGHT = 1e4
+#: automatic windows span about this much path, cm
+WINDOW_CM = 5.5
 _NEAR = 0.05  # candidate parents: distance estimate within this many edge lengths of the best
 
 
@@ -152,7 +158,7 @@ def geodesic_distances(
     source,
     *,
     r_max: float | None = None,
-    window: int | None = 12,
+    window: int | str | None = None,
     progress: Callable[[str, int, int], None] | None = None,
 ) -> np.ndarray:
     """Geodesic distance from one source vertex to every vertex.
@@ -164,8 +170,11 @@ def geodesic_distances(
         to its nearest corner)
     r_max : float, cm, or None
         Stop the propagation at this radius; vertices beyond get ``inf``.
-    window : int or None
-        Samples re-solved per new vertex (>= 3); ``None`` re-solves whole paths.
+    window : int, ``"full"`` or None
+        Samples re-solved per new vertex (>= 3). ``None`` picks the window from
+        the mesh resolution so that it spans about ``WINDOW_CM`` of path (at
+        least 12 samples); ``"full"`` re-solves whole paths (the full form:
+        slow, small meshes only).
     progress : optional ``progress(stage, done, total)``
 
     Returns
@@ -181,17 +190,19 @@ def geodesic_distances(
     if sp_.vertex_id is None:
         sp_ = SurfacePoint.vertex(int(mesh.faces[sp_.face, int(np.argmax(sp_.bary))]))
     src = sp_.vertex_id
-    if window is not None and window < 3:
+    if window is None:
+        window = int(min(64, max(12, np.ceil(WINDOW_CM / max(mesh.edge_mean, 1e-12)))))
+    full = isinstance(window, str)
+    if full and window != "full" or not full and int(window) < 3:
         raise MeshError(
-            f"geodesic: window {window} is too small (need >= 3 samples); "
-            "pass window >= 3 or None for the full form"
+            f"geodesic: window {window!r} is not a sample count >= 3 or 'full'; "
+            "pass window >= 3, 'full' for the full form, or None for automatic"
         )
     if r_max is not None and not r_max > 0:
         raise MeshError(
             f"geodesic: r_max {r_max} is not a positive length in cm; "
             "pass r_max > 0 or None"
         )
-    full = window is None
     w = 3 if full else int(window)
     g = mesh.graph
     indptr, indices = g.indptr, g.indices

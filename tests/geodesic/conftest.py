@@ -13,7 +13,9 @@ def grid(n: int = 21, size: float = 20.0, jitter: float = 0.0, seed: int = 0):
     x, y = np.meshgrid(t, t)
     v = np.c_[x.ravel(), y.ravel(), np.zeros(n * n)]
     if jitter:
-        inner = (x.ravel() > 0) & (x.ravel() < size) & (y.ravel() > 0) & (y.ravel() < size)
+        inner = (
+            (x.ravel() > 0) & (x.ravel() < size) & (y.ravel() > 0) & (y.ravel() < size)
+        )
         step = size / (n - 1)
         v[inner, :2] += rng.uniform(-jitter, jitter, (int(inner.sum()), 2)) * step
     idx = np.arange(n * n).reshape(n, n)
@@ -23,7 +25,9 @@ def grid(n: int = 21, size: float = 20.0, jitter: float = 0.0, seed: int = 0):
     return v, f, idx
 
 
-def cylinder(radius: float = 5.0, height: float = 20.0, n_around: int = 48, n_up: int = 25):
+def cylinder(
+    radius: float = 5.0, height: float = 20.0, n_around: int = 48, n_up: int = 25
+):
     """Open cylinder around the z axis: (V, 3), (F, 3), index grid (up, around)."""
     th = np.linspace(0.0, 2 * np.pi, n_around, endpoint=False)
     z = np.linspace(0.0, height, n_up)

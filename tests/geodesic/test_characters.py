@@ -40,7 +40,9 @@ def test_lengths_match_exact_geodesics(character_e):
 def test_tape_is_never_longer_than_the_skin(character_e):
     mesh, lm = character_e
     skin = geodesic_path(mesh, lm["axilla_back_left"], lm["axilla_back_right"])
-    tape = geodesic_path(mesh, lm["axilla_back_left"], lm["axilla_back_right"], tape=True)
+    tape = geodesic_path(
+        mesh, lm["axilla_back_left"], lm["axilla_back_right"], tape=True
+    )
     assert tape.length <= skin.length + 1e-9
     assert tape.length >= np.linalg.norm(skin.points[0] - skin.points[-1])
     # the back between the shoulder blades is hollow: the tape bridges part of it

@@ -14,8 +14,17 @@ pytestmark = pytest.mark.shared
 
 def test_json_output_between_landmarks(characters_dir, capsys):
     obj = characters_dir / "E_average_male.obj"
-    rc = main(["geodesic", str(obj), "--from", "back_neck_point", "--to", "waist_back",
-               "--json"])
+    rc = main(
+        [
+            "geodesic",
+            str(obj),
+            "--from",
+            "back_neck_point",
+            "--to",
+            "waist_back",
+            "--json",
+        ]
+    )
     assert rc == 0
     out = json.loads(capsys.readouterr().out)
     assert set(out) >= {"length_cm", "points", "seconds"}
@@ -30,7 +39,10 @@ def test_json_output_between_landmarks(characters_dir, capsys):
 
 def test_text_output_with_vertex_ids(characters_dir, capsys):
     obj = characters_dir / "E_average_male.obj"
-    assert main(["geodesic", str(obj), "--from", "8276", "--to", "10025", "--no-tape"]) == 0
+    assert (
+        main(["geodesic", str(obj), "--from", "8276", "--to", "10025", "--no-tape"])
+        == 0
+    )
     line = capsys.readouterr().out.strip()
     assert line.startswith("8276 -> 10025: ")
     value = float(line.split(": ")[1].split(" cm")[0])
@@ -52,8 +64,20 @@ def test_landmarks_file_for_the_hires_mesh(characters_dir, tmp_path, capsys):
     lm = tmp_path / "lm.json"
     lm.write_text(json.dumps({"landmarks": side["landmarks"]}))
     ply = characters_dir / "E_average_male_hires.ply"
-    rc = main(["geodesic", str(ply), "--from", "neck_shoulder_point_left", "--to",
-               "shoulder_point_left", "--landmarks", str(lm), "--json", "--no-tape"])
+    rc = main(
+        [
+            "geodesic",
+            str(ply),
+            "--from",
+            "neck_shoulder_point_left",
+            "--to",
+            "shoulder_point_left",
+            "--landmarks",
+            str(lm),
+            "--json",
+            "--no-tape",
+        ]
+    )
     assert rc == 0
     out = json.loads(capsys.readouterr().out)
     assert out["length_cm"] == pytest.approx(13.585, abs=0.01)

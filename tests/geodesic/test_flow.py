@@ -54,7 +54,9 @@ def test_flow_and_walk_on_a_sphere(sphere):
     gc = 10.0 * np.arccos(np.clip(v[a] @ v[b] / 100.0, -1, 1))
     assert graph_len > gc * 1.01
     fl = flow_path(mesh, vp, ea, eb)
-    assert np.linalg.norm(np.diff(fl, axis=0), axis=1).sum() == pytest.approx(gc, rel=0.01)
+    assert np.linalg.norm(np.diff(fl, axis=0), axis=1).sum() == pytest.approx(
+        gc, rel=0.01
+    )
     walk = project_walk(mesh, fl, ea, eb)
     assert walk is not None
     r = np.linalg.norm(walk.points, axis=1)
@@ -73,4 +75,6 @@ def test_tangent_step_equals_the_stacked_least_squares():
     n = rng.normal(size=(30, 3))
     n /= np.linalg.norm(n, axis=1, keepdims=True)
     pbar = p + rng.normal(scale=0.1, size=p.shape)
-    np.testing.assert_allclose(tangent_step(p, n, pbar), lsq_step(p, n, pbar), atol=1e-7)
+    np.testing.assert_allclose(
+        tangent_step(p, n, pbar), lsq_step(p, n, pbar), atol=1e-7
+    )

@@ -33,13 +33,15 @@ def _check_on_surface(mesh, path):
 
 @pytest.mark.parametrize("method", EXACT_METHODS)
 def test_plane_paths_are_straight_lines(shapes, method):
-    v, f, idx = shapes.grid(21, jitter=0.3, seed=1)
+    v, f, _ = shapes.grid(21, jitter=0.3, seed=1)
     mesh = SurfaceMesh(v, f)
     rng = np.random.default_rng(2)
     for _ in range(6):
         a, b = (int(x) for x in rng.integers(0, len(v), 2))
         path = geodesic_path(mesh, a, b, method=method)
-        assert path.length == pytest.approx(np.linalg.norm(v[a] - v[b]), rel=1e-9, abs=1e-9)
+        assert path.length == pytest.approx(
+            np.linalg.norm(v[a] - v[b]), rel=1e-9, abs=1e-9
+        )
         np.testing.assert_allclose(path.points[[0, -1]], v[[a, b]])
         _check_on_surface(mesh, path)
 
@@ -63,7 +65,11 @@ def test_cylinder_unrolls_to_straight_lines(shapes):
     v, f, idx = shapes.cylinder(radius=r, height=20.0, n_around=n_around, n_up=25)
     mesh = SurfaceMesh(v, f)
     chord = 2 * r * np.sin(np.pi / n_around)
-    for (i0, j0), (i1, j1) in [((0, 0), (24, 10)), ((3, 5), (20, 20)), ((12, 40), (12, 2))]:
+    for (i0, j0), (i1, j1) in [
+        ((0, 0), (24, 10)),
+        ((3, 5), (20, 20)),
+        ((12, 40), (12, 2)),
+    ]:
         k = min((j1 - j0) % n_around, (j0 - j1) % n_around)
         dz = abs(v[idx[i1, j1], 2] - v[idx[i0, j0], 2])
         want = np.hypot(k * chord, dz)
@@ -92,8 +98,12 @@ def test_methods_rank_as_expected(sphere):
     mesh = SurfaceMesh(v, f)
     exact = geodesic_path(mesh, 0, 1500, method="exact").length
     assert geodesic_path(mesh, 0, 1500, method="dijkstra").length > exact * 1.01
-    assert geodesic_path(mesh, 0, 1500, method="flow").length == pytest.approx(exact, rel=0.02)
-    assert geodesic_path(mesh, 0, 1500, method="euler").length == pytest.approx(exact, rel=1e-6)
+    assert geodesic_path(mesh, 0, 1500, method="flow").length == pytest.approx(
+        exact, rel=0.02
+    )
+    assert geodesic_path(mesh, 0, 1500, method="euler").length == pytest.approx(
+        exact, rel=1e-6
+    )
 
 
 def test_unknown_method_and_mesh_type(shapes):
@@ -151,7 +161,9 @@ def test_zero_area_faces_are_ignored(shapes):
     # collinear triples along a straight column and a face with a repeated vertex
     w = v.copy()
     w[row, 0] = 10.0
-    extra = np.r_[np.c_[row[:-2], row[1:-1], row[2:]], [[idx[3, 3], idx[3, 3], idx[4, 4]]]]
+    extra = np.r_[
+        np.c_[row[:-2], row[1:-1], row[2:]], [[idx[3, 3], idx[3, 3], idx[4, 4]]]
+    ]
     mesh = SurfaceMesh(w, np.r_[f, extra])
     assert mesh.degenerate.sum() == len(extra)
     a, b = int(idx[2, 1]), int(idx[19, 17])

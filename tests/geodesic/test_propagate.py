@@ -14,7 +14,7 @@ def test_full_form_is_exact_on_a_plane(shapes):
     v, f, idx = shapes.grid(15, size=14.0, jitter=0.2, seed=7)
     mesh = SurfaceMesh(v, f)
     src = int(idx[7, 7])
-    d = geodesic_distances(mesh, src, window=None)
+    d = geodesic_distances(mesh, src, window="full")
     np.testing.assert_allclose(d, np.linalg.norm(v - v[src], axis=1), atol=1e-9)
 
 
@@ -37,7 +37,7 @@ def test_windowed_error_on_a_sphere(sphere):
     v, f = sphere
     mesh = SurfaceMesh(v, f)
     gc = 10.0 * np.arccos(np.clip(v @ v[0] / 100.0, -1, 1))
-    d = geodesic_distances(mesh, 0, window=8)
+    d = geodesic_distances(mesh, 0)
     ok = gc > 1.0
     assert d[0] == 0.0
     assert np.mean(np.abs(d[ok] - gc[ok]) / gc[ok]) < 0.02
@@ -56,7 +56,7 @@ def test_other_component_is_unreached(shapes):
     v, f, _ = shapes.grid(6)
     mesh = SurfaceMesh(np.r_[v, v + [0, 0, 5.0]], np.r_[f, f + len(v)])
     d = geodesic_distances(mesh, 0, window=5)
-    assert np.all(np.isfinite(d[: len(v)])) and np.all(np.isinf(d[len(v):]))
+    assert np.all(np.isfinite(d[: len(v)])) and np.all(np.isinf(d[len(v) :]))
 
 
 def test_bad_arguments(shapes):
@@ -64,6 +64,8 @@ def test_bad_arguments(shapes):
     mesh = SurfaceMesh(v, f)
     with pytest.raises(MeshError, match="window"):
         geodesic_distances(mesh, 0, window=2)
+    with pytest.raises(MeshError, match="window"):
+        geodesic_distances(mesh, 0, window="half")
     with pytest.raises(MeshError, match="r_max"):
         geodesic_distances(mesh, 0, r_max=-1.0)
     with pytest.raises(MeshError, match="SurfaceMesh"):
