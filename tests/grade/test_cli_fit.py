@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 
 import pytest
-from conftest import BODY, skirt_pattern
+from grade_fixtures import BODY, skirt_pattern
 
 from patternbridge.cli.main import main
 from patternbridge.io.pattern_json import load_pattern_json, save_pattern_json

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import skirt_pattern
+from grade_fixtures import skirt_pattern
 
 from patternbridge.grade.grid import (
     bilinear_weights,

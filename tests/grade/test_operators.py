@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import BODY, skirt_pattern
+from grade_fixtures import BODY, skirt_pattern
 
 from patternbridge.grade.grid import build_grid
 from patternbridge.grade.objectives import objective_data

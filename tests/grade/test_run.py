@@ -6,7 +6,7 @@ import json
 
 import numpy as np
 import pytest
-from conftest import BODY, skirt_pattern
+from grade_fixtures import BODY, skirt_pattern
 
 from patternbridge.errors import InputError
 from patternbridge.grade.report import fit_report

@@ -1,9 +1,8 @@
-"""Hand-made two-piece skirt with bridge data, for the grader tests."""
+"""Hand-made two-piece skirt with bridge data, for the grader tests (imported by them)."""
 
 from __future__ import annotations
 
 import numpy as np
-import pytest
 
 from patternbridge.pattern.model import (
     EdgeRange,
@@ -60,14 +59,5 @@ def skirt_pattern(*, links: bool = True, seams: bool = True) -> Pattern:
     return Pattern(style="skirt", pieces=(front, back), seams=seam_list, measurements=link_list)
 
 
-@pytest.fixture
-def skirt() -> Pattern:
-    return skirt_pattern()
-
-
 BODY = {"waist_girth": 84.0, "hip_girth": 104.0, "waist_to_knee": 55.0}
 
-
-@pytest.fixture
-def body() -> dict[str, float]:
-    return dict(BODY)
