@@ -1,0 +1,117 @@
+"""Export time of the real DXF-AAMA/ASTM files and the library garments, both flavours.
+
+Usage: ``python benchmarks/bench_export.py [--repeat N] [--no-library] [FILE ...]``
+
+Each pattern is read once (not timed), then written four ways into a temporary
+directory: AAMA and ASTM, each as the sample size + ``.RUL`` (``sizes="sample"``)
+and as a graded nest (``sizes="all"``). The table gives the best-of-N time of
+``patternbridge.io.dxf_aama.write_dxf`` (format, atomic write of the DXF and the
+``.RUL``), the written size, and the time of ezdxf's ``readfile`` of the same
+file as a reference for what a DXF of that size costs to parse.
+"""
+
+from __future__ import annotations
+
+import argparse
+import platform
+import resource
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import ezdxf
+import numpy as np
+
+from patternbridge import __version__
+from patternbridge.io.dxf_aama import read_dxf, write_dxf
+from patternbridge.report import Report
+
+SHARED = Path(__file__).resolve().parents[1] / ".." / "shared" / "aama"
+LIBRARY = ("shirt", "trousers", "skirt", "dress", "tshirt", "shorts")
+
+
+def best_of(fn, repeat: int) -> float:
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return min(times)
+
+
+def peak_rss_mb() -> float:
+    rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    return rss / 1024.0 if sys.platform != "darwin" else rss / 1024.0 / 1024.0
+
+
+def _patterns(files: list[Path], library: bool):
+    for path in files:
+        yield path.name, read_dxf(path)[0]
+    if library:
+        from patternbridge.library import load_garment
+
+        for name in LIBRARY:
+            yield f"library:{name}", load_garment(name)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("files", nargs="*", type=Path)
+    parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument(
+        "--no-library", action="store_true", help="only the DXF files, not the garments"
+    )
+    args = parser.parse_args(argv)
+    files = args.files or sorted(
+        p for p in SHARED.glob("*") if p.suffix.lower() == ".dxf"
+    )
+    print(  # noqa: T201
+        f"# patternbridge {__version__}, ezdxf {ezdxf.__version__}, numpy "
+        f"{np.__version__}, python {platform.python_version()}, {platform.machine()}, "
+        f"best of {args.repeat}"
+    )
+    header = (
+        f"{'pattern':24s} {'pieces':>6s} {'sizes':>5s} {'flavour':>7s} {'form':>6s} "
+        f"{'KiB':>6s} {'write_dxf s':>11s} {'ezdxf read s':>12s}"
+    )
+    print(header)  # noqa: T201
+    print("-" * len(header))  # noqa: T201
+    worst = 0.0
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, pattern in _patterns(files, not args.no_library):
+            graded = bool(pattern.rules.deltas) and len(pattern.rules.sizes) > 1
+            for flavor in ("aama", "astm"):
+                for sizes in ("sample", "all"):
+                    dxf = Path(tmp) / f"out_{flavor}_{sizes}.dxf"
+                    rul = (
+                        dxf.with_suffix(".rul")
+                        if sizes == "sample" and graded
+                        else None
+                    )
+
+                    def run(dxf=dxf, rul=rul, flavor=flavor, sizes=sizes):
+                        write_dxf(
+                            pattern,
+                            dxf,
+                            flavor=flavor,
+                            sizes=sizes,
+                            rul_path=rul,
+                            report=Report(),
+                        )
+
+                    ours = best_of(run, args.repeat)
+                    ref = best_of(lambda dxf=dxf: ezdxf.readfile(dxf), 1)
+                    form = "s+RUL" if rul is not None else sizes
+                    worst = max(worst, ours)
+                    print(  # noqa: T201
+                        f"{name:24s} {len(pattern.pieces):6d} "
+                        f"{len(pattern.sizes) or 1:5d} {flavor:>7s} {form:>6s} "
+                        f"{dxf.stat().st_size / 1024:6.0f} {ours:11.3f} {ref:12.3f}"
+                    )
+    print(f"slowest export {worst:.3f} s; peak RSS {peak_rss_mb():.0f} MiB")  # noqa: T201
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
