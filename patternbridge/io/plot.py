@@ -45,6 +45,17 @@ _MIN_TICK_PT = 5.0  # notch ticks are drawn at least this long (points) to stay 
 # ---------------------------------------------------------------------------
 
 
+def _laid_out(boxes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Offsets of :func:`layout_offsets` and the drawing extent (x0, y0, x1, y1) with a 3 % margin."""
+    offsets = layout_offsets(boxes)
+    moved = boxes + np.hstack([offsets, offsets])
+    margin = 0.03 * float(max(np.ptp(moved[:, [0, 2]]), np.ptp(moved[:, [1, 3]]), 1.0))
+    extent = np.concatenate(
+        [moved[:, :2].min(axis=0) - margin, moved[:, 2:].max(axis=0) + margin]
+    )
+    return offsets, extent
+
+
 def layout_offsets(
     boxes: np.ndarray, *, gap: float | None = None, aspect: float = 1.5
 ) -> np.ndarray:
@@ -537,17 +548,7 @@ def plot_pattern(
             for name in names
         ]
     ).reshape(-1, 4)
-    offsets = layout_offsets(boxes)
-    moved = boxes + np.hstack([offsets, offsets])
-    margin = 0.03 * float(max(np.ptp(moved[:, [0, 2]]), np.ptp(moved[:, [1, 3]]), 1.0))
-    extent = np.array(
-        [
-            moved[:, 0].min() - margin,
-            moved[:, 1].min() - margin,
-            moved[:, 2].max() + margin,
-            moved[:, 3].max() + margin,
-        ]
-    )
+    offsets, extent = _laid_out(boxes)
     fig, ax, cm_to_pt = _figure(extent, legend_rows=1 if overlay else 0)
     colours = dict(zip(size_list, _size_colours(len(size_list)), strict=True))
 
@@ -663,17 +664,7 @@ def plot_overlay(
         for a, b in zip(original_pieces, graded_pieces, strict=True)
     ]
     boxes = np.array([_bbox(pair) for pair in pairs]).reshape(-1, 4)
-    offsets = layout_offsets(boxes)
-    moved = boxes + np.hstack([offsets, offsets])
-    margin = 0.03 * float(max(np.ptp(moved[:, [0, 2]]), np.ptp(moved[:, [1, 3]]), 1.0))
-    extent = np.array(
-        [
-            moved[:, 0].min() - margin,
-            moved[:, 1].min() - margin,
-            moved[:, 2].max() + margin,
-            moved[:, 3].max() + margin,
-        ]
-    )
+    offsets, extent = _laid_out(boxes)
     fig, ax, cm_to_pt = _figure(extent, legend_rows=1)
     colour = "#c0392b"
     for (a, b), off in zip(pairs, offsets, strict=True):

@@ -664,20 +664,10 @@ def load_character(
                 )
 
     # -- landmarks: sidecar first, then the given file (overrides by name)
-    marks: dict[str, Landmark] = {}
+    tables: list[tuple[Mapping[str, Any], str]] = []
     if sidecar is not None and isinstance(sidecar.get("landmarks"), dict):
-        table = _check_landmark_table(sidecar["landmarks"], sidecar["_path"])
-        marks.update(
-            _place_landmarks(
-                table,
-                new_vertices,
-                new_faces,
-                old_to_new,
-                lambda p: transform(p) + shift,
-                sidecar["_path"],
-                "file",
-            )
-        )
+        path_ = sidecar["_path"]
+        tables.append((_check_landmark_table(sidecar["landmarks"], path_), path_))
     if landmarks is not None:
         if isinstance(landmarks, Mapping):
             lm_where = "landmarks"
@@ -697,6 +687,9 @@ def load_character(
                 f"has no vertex ids (its triangles repeat their corners; {path.name}); "
                 'give {"position": [x, y, z]} for STL meshes'
             )
+        tables.append((table, lm_where))
+    marks: dict[str, Landmark] = {}
+    for table, lm_where in tables:
         marks.update(
             _place_landmarks(
                 table,
