@@ -88,10 +88,7 @@ def run(args: argparse.Namespace) -> int:
         )
     else:
         for r in failed:
-            print(
-                f"FAIL {r.seam} size {r.size}: mismatch {r.mismatch_cm * 10:+.1f} mm; "
-                + "; ".join(r.problems)
-            )
+            print(f"FAIL {r.seam} size {r.size}: " + "; ".join(r.problems))
         sizes = len({r.size for r in results})
         print(
             f"{pattern.style}: {len(pattern.seams)} seams x {sizes} sizes: "

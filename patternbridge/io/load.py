@@ -35,7 +35,7 @@ def load_pattern(
         if suffix == ".json":
             from .pattern_json import load_pattern_json
 
-            return load_pattern_json(path), Report()
+            return load_pattern_json(path), _ignored(path.name, rul, units)
         if suffix == ".dxf":
             from .dxf_aama import read_dxf
 
@@ -46,7 +46,21 @@ def load_pattern(
     from ..library import load_garment, garment_names
 
     try:
-        return load_garment(str(spec)), Report()
+        return load_garment(str(spec)), _ignored(str(spec), rul, units)
     except KeyError:
         names = ", ".join(garment_names())
         raise InputError(f"{spec}: neither a file nor a library garment (library: {names})") from None
+
+
+def _ignored(where: str, rul, units) -> Report:
+    """Findings for DXF-only options given with a pattern that is not a DXF."""
+    report = Report()
+    for flag, value in (("--rul", rul), ("--units", units)):
+        if value is not None:
+            report.add(
+                "option-ignored",
+                f"{flag} {value} applies to a DXF only; this pattern already has its "
+                "grade rules and is in centimetres",
+                where=where,
+            )
+    return report

@@ -100,3 +100,17 @@ def test_info_on_missing_file_is_one_line_exit_2(cli, tmp_path):
         and "nope.dxf" in err
         and err.startswith("patternbridge: error: ")
     )
+
+
+def test_dxf_options_on_a_json_pattern_are_reported(tmp_path, capsys):
+    # --units / --rul mean nothing for canonical JSON: say so instead of ignoring them
+    from patternbridge.cli.main import main as cli_main
+    from patternbridge.io.pattern_json import save_pattern_json
+    from patternbridge.testing import example_pattern
+
+    path = save_pattern_json(example_pattern(), tmp_path / "tee.json")
+    assert cli_main(["info", str(path), "--units", "ENGLISH"]) == 0
+    err = capsys.readouterr().err
+    assert "--units ENGLISH applies to a DXF only" in err and "[option-ignored]" in err
+    assert cli_main(["info", "shirt", "--rul", "x.rul"]) == 0
+    assert "--rul x.rul applies to a DXF only" in capsys.readouterr().err
