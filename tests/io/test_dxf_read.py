@@ -667,3 +667,12 @@ def test_rul_with_a_nest_is_checked_against_the_nest(tmp_path):
     rul.write_text("UNITS: METRIC\nSIZE LIST: S M L\nSAMPLE SIZE: M\nRULE: DELTA 1\n-10,0 0,0 12,0\nEND\n")
     _, report = read_dxf(path, rul=rul)
     assert "rul-nest-mismatch" in report.codes()
+
+
+@pytest.mark.shared
+def test_unfold_without_mirror_lines_says_so():
+    # --unfold on a file with no layer-6 line must not pass silently
+    pattern, report = read_dxf(real("clo-pattern.dxf"), unfold=True)
+    assert "nothing-to-unfold" in report.codes()
+    plain, _ = read_dxf(real("clo-pattern.dxf"))
+    assert [p.n_vertices for p in pattern.pieces] == [p.n_vertices for p in plain.pieces]

@@ -1135,6 +1135,10 @@ def _unfold_pattern(pattern: Pattern, report: Report) -> Pattern:
         counter[0] += 1
         return rid
 
+    if all(piece.mirror_line is None for piece in pattern.pieces):
+        report.add("nothing-to-unfold", "unfold asked for, but no piece has a mirror line (layer 6); "
+                   "pieces kept as drawn", pattern.provenance.source_file, severity="info")
+        return pattern
     pieces = []
     extra: dict[str, np.ndarray] = {}
     for piece in pattern.pieces:
