@@ -20,7 +20,14 @@ import numpy as np
 
 from patternbridge.library.blocks import armhole_controls, neckline_controls
 from patternbridge.library.draft import OutlineBuilder, bezier, hermite
-from patternbridge.library.garment import PieceDraft, build_pattern, leg, link, seam
+from patternbridge.library.garment import (
+    PieceDraft,
+    build_pattern,
+    fold_front_skirt,
+    leg,
+    link,
+    seam,
+)
 from patternbridge.library.sizes import WOMEN
 from patternbridge.pattern.model import Placement, Quantity, VertexKind
 
@@ -185,27 +192,7 @@ def skirt_front(b, g) -> PieceDraft:
     )
     o.line((-hf + 1.0, g["y_hem"]), "side_hem_right")
     net = o.close(allowance_cm=HEM_ALLOWANCE)
-    return PieceDraft(
-        name="skirt_front",
-        net=net,
-        quantity=Quantity(right=1, left=0),
-        grain=((0.0, g["y_hem"] + 10), (0.0, g["y_hip"])),
-        placement=Placement(
-            body_part="torso",
-            side="front",
-            anchor="waist_front",
-            anchor_mark="cf_waist",
-        ),
-        landmarks={
-            "waist_front": "cf_waist",
-            "waist_side_right": "side_waist_right",
-            "waist_side_left": "side_waist_left",
-            "hip_side_right": "side_hip_right",
-            "hip_side_left": "side_hip_left",
-        },
-        category="FRONT",
-        annotation="SKIRT FRONT (CUT 1 ON FOLD)",
-    )
+    return fold_front_skirt("skirt_front", net, g["y_hem"], g["y_hip"])
 
 
 def skirt_back(b, g) -> PieceDraft:

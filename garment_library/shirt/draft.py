@@ -30,7 +30,14 @@ from patternbridge.library.draft import (
     bezier_split,
     bezier_t_at,
 )
-from patternbridge.library.garment import PieceDraft, build_pattern, leg, link, seam
+from patternbridge.library.garment import (
+    PieceDraft,
+    build_pattern,
+    leg,
+    link,
+    seam,
+    set_in_sleeve,
+)
 from patternbridge.library.sizes import MEN
 from patternbridge.pattern.model import Placement, Quantity, VertexKind
 
@@ -277,21 +284,7 @@ def sleeve(b, g, fr: PieceDraft, bk: PieceDraft, yk: PieceDraft) -> PieceDraft:
     o.line((xt, y_hem), "hem_mid", notch=True)
     o.line((hem_w / 2, y_hem), "hem_front")
     net = o.close()
-    return PieceDraft(
-        name="sleeve",
-        net=net,
-        quantity=Quantity(right=1, left=1),
-        grain=((xt, y_hem + 8.0), (xt, h - 8.0)),
-        placement=Placement(
-            body_part="right_arm",
-            side="around",
-            anchor="shoulder_point_right",
-            anchor_mark="cap_top",
-        ),
-        landmarks={"shoulder_point_right": "cap_top"},
-        category="SLEEVE",
-        annotation="SLEEVE",
-    ), (ef, ey, eb)
+    return set_in_sleeve(net, ((xt, y_hem + 8.0), (xt, h - 8.0))), (ef, ey, eb)
 
 
 def cuff(b, g, sl: PieceDraft) -> PieceDraft:

@@ -19,6 +19,7 @@ from patternbridge.library.garment import (
     PieceDraft,
     band_draft,
     build_pattern,
+    fold_front_skirt,
     leg,
     link,
     seam,
@@ -72,27 +73,7 @@ def front(b, g) -> PieceDraft:
     )
     o.line((-hf, g["y_hem"]), "side_hem_right")
     net = o.close(allowance_cm=HEM_ALLOWANCE)
-    return PieceDraft(
-        name="front",
-        net=net,
-        quantity=Quantity(right=1, left=0),
-        grain=((0.0, g["y_hem"] + 10), (0.0, g["y_hip"])),
-        placement=Placement(
-            body_part="torso",
-            side="front",
-            anchor="waist_front",
-            anchor_mark="cf_waist",
-        ),
-        landmarks={
-            "waist_front": "cf_waist",
-            "waist_side_right": "side_waist_right",
-            "waist_side_left": "side_waist_left",
-            "hip_side_right": "side_hip_right",
-            "hip_side_left": "side_hip_left",
-        },
-        category="FRONT",
-        annotation="SKIRT FRONT (CUT 1 ON FOLD)",
-    )
+    return fold_front_skirt("front", net, g["y_hem"], g["y_hip"])
 
 
 def back(b, g) -> PieceDraft:

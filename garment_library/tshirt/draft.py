@@ -28,6 +28,7 @@ from patternbridge.library.garment import (
     leg,
     link,
     seam,
+    set_in_sleeve,
 )
 from patternbridge.library.sizes import MEN
 from patternbridge.pattern.model import Placement, Quantity, VertexKind
@@ -177,21 +178,7 @@ def sleeve(b, g, fr, bk):
     o.line((xt, y_hem), "hem_mid", allowance_cm=SLEEVE_HEM)
     o.line((hem_half, y_hem), "hem_front", allowance_cm=SLEEVE_HEM)
     net = o.close()
-    return PieceDraft(
-        name="sleeve",
-        net=net,
-        quantity=Quantity(right=1, left=1),
-        grain=((xt, y_hem + 4), (xt, h - 5)),
-        placement=Placement(
-            body_part="right_arm",
-            side="around",
-            anchor="shoulder_point_right",
-            anchor_mark="cap_top",
-        ),
-        landmarks={"shoulder_point_right": "cap_top"},
-        category="SLEEVE",
-        annotation="SLEEVE",
-    )
+    return set_in_sleeve(net, ((xt, y_hem + 4), (xt, h - 5)))
 
 
 def _neckband(fr, bk):

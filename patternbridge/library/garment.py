@@ -36,7 +36,16 @@ from ..pattern.model import (
 from .draft import NetOutline, offset_outline
 from .sizes import SizeChart
 
-__all__ = ["PieceDraft", "band_draft", "build_pattern", "leg", "link", "seam"]
+__all__ = [
+    "PieceDraft",
+    "band_draft",
+    "build_pattern",
+    "fold_front_skirt",
+    "leg",
+    "link",
+    "seam",
+    "set_in_sleeve",
+]
 
 NOTCH_DEPTH_CM = 0.6
 
@@ -61,6 +70,59 @@ class PieceDraft:
     fabric: str = "SELF"
     internal: list = field(default_factory=list)
     mirror_line: tuple | None = None
+
+
+def set_in_sleeve(net: NetOutline, grain: tuple) -> PieceDraft:
+    """A set-in sleeve cut as a pair, placed by its cap top on the shoulder point.
+
+    ``net`` must name the mark ``cap_top``; drafted as the right sleeve.
+    """
+    return PieceDraft(
+        name="sleeve",
+        net=net,
+        quantity=Quantity(right=1, left=1),
+        grain=grain,
+        placement=Placement(
+            body_part="right_arm",
+            side="around",
+            anchor="shoulder_point_right",
+            anchor_mark="cap_top",
+        ),
+        landmarks={"shoulder_point_right": "cap_top"},
+        category="SLEEVE",
+        annotation="SLEEVE",
+    )
+
+
+def fold_front_skirt(
+    name: str, net: NetOutline, y_hem: float, y_hip: float
+) -> PieceDraft:
+    """A skirt front cut once on the fold (drawn whole), hung from the centre-front waist.
+
+    ``net`` must name ``cf_waist``, ``side_waist_*`` and ``side_hip_*``; the grain
+    line runs up the centre front from 10 cm above the hem to the hip line.
+    """
+    return PieceDraft(
+        name=name,
+        net=net,
+        quantity=Quantity(right=1, left=0),
+        grain=((0.0, y_hem + 10), (0.0, y_hip)),
+        placement=Placement(
+            body_part="torso",
+            side="front",
+            anchor="waist_front",
+            anchor_mark="cf_waist",
+        ),
+        landmarks={
+            "waist_front": "cf_waist",
+            "waist_side_right": "side_waist_right",
+            "waist_side_left": "side_waist_left",
+            "hip_side_right": "side_hip_right",
+            "hip_side_left": "side_hip_left",
+        },
+        category="FRONT",
+        annotation="SKIRT FRONT (CUT 1 ON FOLD)",
+    )
 
 
 def seam(
