@@ -51,10 +51,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     import sys
 
+    from ..errors import InputError
     from ..measure import measure, write_measurements
     from ..mesh.load import load_character
     from ._common import print_findings, progress_printer
 
+    if args.png and not str(args.png).lower().endswith(".png"):
+        raise InputError(
+            f"{args.png}: --png writes a PNG picture; give a file name ending in .png"
+        )
     character, report = load_character(
         args.mesh, units=args.units, up=args.up, landmarks=args.landmarks
     )
@@ -66,12 +71,15 @@ def run(args: argparse.Namespace) -> int:
         partial=args.partial,
         detect=not args.no_detect,
     )
-    write_measurements(args.output, result)
-    if args.png:
+    picture = None
+    if args.png:  # drawn before anything is written: a failure leaves no JSON behind
         from ..measure.picture import measurement_picture
         from ..mesh.render import save_png
 
-        save_png(args.png, measurement_picture(character, result))
+        picture = measurement_picture(character, result)
+    write_measurements(args.output, result)
+    if picture is not None:
+        save_png(args.png, picture)
     if not quiet:
         sources: dict[str, int] = {}
         for lm in result.landmarks.values():

@@ -305,6 +305,21 @@ def test_cli(characters_dir, tmp_path, capsys):
         ["measure", str(tmp_path / "missing.obj"), "-o", str(tmp_path / "x.json")]
     )
     assert code == 2
+    # a picture name that is not .png: refused before anything is measured or written
+    capsys.readouterr()
+    code = main(
+        [
+            "measure",
+            str(characters_dir / "E_average_male.obj"),
+            "-o",
+            str(tmp_path / "x.json"),
+            "--png",
+            str(tmp_path / "x.jpg"),
+        ]
+    )
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and "x.jpg" in err[0]
+    assert not (tmp_path / "x.json").exists() and not (tmp_path / "x.jpg").exists()
 
 
 def test_detection_in_t_pose(characters):
