@@ -75,7 +75,14 @@ def run(args: argparse.Namespace) -> int:
     pattern = _load(args.name)
     if args.action == "show":
         if args.output:
+            from ..errors import InputError
             from ..io.plot_library import plot_library_garment
+
+            if not str(args.output).lower().endswith((".png", ".svg", ".pdf")):
+                raise InputError(
+                    f"{args.output}: unknown picture type; give a .png, .svg or .pdf "
+                    "file name"
+                )
 
             print(plot_library_garment(pattern, args.output))
             return 0

@@ -46,6 +46,14 @@ def test_library_show_picture(tmp_path):
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+def test_library_show_unknown_picture_type_exits_2(tmp_path, capsys):
+    out = tmp_path / "skirt.txt"
+    assert main(["library", "show", "skirt", "-o", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "skirt.txt: unknown picture type" in err[0]
+    assert not out.exists()
+
+
 def test_library_export_then_check_the_dxf(tmp_path, capsys):
     dxf = tmp_path / "tr.dxf"
     assert (
