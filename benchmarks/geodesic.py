@@ -330,9 +330,9 @@ def section_propagate(args, rng):
             mesh = SurfaceMesh(v, f)
             w = w or None  # 0: automatic
             d = geodesic_distances(mesh, src, window=w)
+            t = time.perf_counter() - t0
             if w is None:
                 w = f"auto ({min(64, max(12, int(np.ceil(5.5 / mesh.edge_mean))))})"
-            t = time.perf_counter() - t0
             ok = exact > 1.0
             e = np.abs(d[ok] - exact[ok]) / exact[ok]
             row(
@@ -371,7 +371,10 @@ def main(argv: list[str] | None = None) -> int:
         default=[4, 5, 6, 7, 8],
     )
     parser.add_argument(
-        "--windows", type=lambda s: [int(x) for x in s.split(",")], default=[8, 12]
+        "--windows",
+        type=lambda s: [int(x) for x in s.split(",")],
+        default=[12, 0],
+        help="window sizes to run, 0 = automatic (from the mesh resolution)",
     )
     parser.add_argument(
         "--mmp-hires",
