@@ -18,19 +18,26 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--tol-mm",
-        type=float,
+        type=_non_negative,
         default=1.0,
         help="allowed seam length mismatch (default 1 mm)",
     )
     parser.add_argument(
         "--notch-tol-mm",
-        type=float,
+        type=_non_negative,
         default=1.5,
         help="allowed notch misalignment (default 1.5 mm)",
     )
     parser.add_argument(
         "--json", action="store_true", help="print every seam result as JSON"
     )
+
+
+def _non_negative(text: str) -> float:
+    value = float(text)
+    if not value >= 0:
+        raise argparse.ArgumentTypeError(f"{text}: a tolerance must be >= 0")
+    return value
 
 
 def load_with_sidecar(args: argparse.Namespace):

@@ -20,9 +20,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "-o", "--output", required=True, help="sidecar to write (e.g. style.seams.json)"
     )
     p.add_argument(
-        "--min-confidence", type=float, default=0.2, help="drop weaker proposals (0..1)"
+        "--min-confidence",
+        type=_fraction,
+        default=0.2,
+        help="drop weaker proposals (0..1)",
     )
     p.add_argument("--json", action="store_true", help="print the proposals as JSON")
+
+
+def _fraction(text: str) -> float:
+    value = float(text)
+    if not 0.0 <= value <= 1.0:
+        raise argparse.ArgumentTypeError(f"{text}: a confidence lies in 0..1")
+    return value
 
 
 def run(args: argparse.Namespace) -> int:

@@ -41,6 +41,10 @@ def load_pattern(
 
             return read_dxf(path, rul=rul, units=units)
         raise InputError(f"{path}: unknown pattern file type {suffix!r}; give a .dxf or .json file")
+    if path.is_dir():
+        raise InputError(
+            f"{path}: is a directory; give a pattern file (.json, .dxf) or a library name"
+        )
     if path.suffix or os.sep in str(spec):
         raise InputError(f"{path}: no such file")
     from ..library import load_garment, garment_names

@@ -166,3 +166,26 @@ def test_check_without_seams_warns(tmp_path, capsys):
     path = save_pattern_json(replace(shirt, seams=()), tmp_path / "plain.json")
     assert main(["check", str(path)]) == 0
     assert "no seams" in capsys.readouterr().err
+
+
+def test_out_of_range_tolerance_and_confidence_exit_2(tmp_path, capsys):
+    import pytest
+
+    for argv in (
+        ["check", "shirt", "--tol-mm", "-1"],
+        [
+            "seams",
+            "infer",
+            "shirt",
+            "-o",
+            str(tmp_path / "s.json"),
+            "--min-confidence",
+            "2",
+        ],
+    ):
+        with pytest.raises(SystemExit) as exc:
+            main(argv)
+        assert exc.value.code == 2
+    assert not (tmp_path / "s.json").exists()
+    assert main(["check", str(tmp_path)]) == 2
+    assert "is a directory" in capsys.readouterr().err
