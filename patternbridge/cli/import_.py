@@ -34,6 +34,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="override the file's Units: text (METRIC = mm, ENGLISH = inch)",
     )
     parser.add_argument(
+        "--json",
+        action="store_true",
+        help="print a summary of the imported pattern as JSON (the 'info --json' "
+        "contract, formats/info.md) instead of the 'wrote' line",
+    )
+    parser.add_argument(
         "--unfold",
         action="store_true",
         help="unfold half pieces about their mirror line into whole pieces",
@@ -117,7 +123,12 @@ def run(args: argparse.Namespace) -> int:
     if args.strict and "sidecar-skipped" in report.codes():
         raise InputError(f"{sidecar}: sidecar not applied and --strict was given")
     out = save_pattern_json(pattern, args.output)
-    if args.quiet <= 0:
+    if args.json:
+        from ._common import print_json
+        from .info import pattern_info
+
+        print_json(pattern_info(pattern))
+    elif args.quiet <= 0:
         sizes = ", ".join(pattern.sizes) if pattern.sizes else pattern.sample_size
         extra = f"; seams from {applied}" if applied is not None else ""
         print(  # noqa: T201

@@ -126,3 +126,14 @@ def test_import_real_exports(
 def test_import_refuses_non_dxf(cli, tee_json, tmp_path):
     code, _, err = cli("import", tee_json, "-o", tmp_path / "x.json")
     assert code == 2 and "not a .dxf" in err and not (tmp_path / "x.json").exists()
+
+
+def test_import_json_prints_the_info_contract(cli, tee, tee_dxf, tmp_path):
+    import json
+
+    out = tmp_path / "t.json"
+    code, stdout, _err = cli("import", tee_dxf, "-o", out, "--json")
+    assert code == 0 and out.is_file()
+    info = json.loads(stdout)
+    assert info["style"] == tee.style and info["sizes"] == list(tee.sizes)
+    assert [p["name"] for p in info["pieces"]] == [p.name for p in tee.pieces]
