@@ -54,7 +54,7 @@ def bezier(p0, p1, p2, p3, n: int) -> np.ndarray:
 
     Examples
     --------
-    >>> bezier((0, 0), (1, 0), (2, 0), (3, 0), 3)[:, 0].tolist()
+    >>> bezier((0, 0), (1, 0), (2, 0), (3, 0), 3)[:, 0].round(12).tolist()
     [0.0, 1.0, 2.0, 3.0]
     """
     t = np.linspace(0.0, 1.0, n + 1)[:, None]
