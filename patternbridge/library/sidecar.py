@@ -21,7 +21,14 @@ import numpy as np
 
 from ..atomic import write_text
 from ..errors import InputError
-from ..pattern.model import EdgeRange, Leg, MeasurementLink, Pattern, Placement, Seam
+from ..pattern.json import (
+    measurement_link_from_dict,
+    measurement_link_to_dict,
+    placement_to_dict,
+    seam_from_dict,
+    seam_to_dict,
+)
+from ..pattern.model import Pattern, Placement
 
 __all__ = [
     "SIDECAR_FORMAT",
@@ -56,38 +63,10 @@ def sidecar_dict(
                 for m, i in p.marks.items()
             },
             "landmarks": dict(p.landmarks),
-            "placement": None
-            if p.placement is None
-            else {
-                "body_part": str(p.placement.body_part),
-                "side": str(p.placement.side),
-                "anchor": p.placement.anchor,
-                "anchor_mark": p.placement.anchor_mark,
-            },
+            "placement": placement_to_dict(p.placement),
         }
         pieces.append(entry)
-    seams = [
-        {
-            "id": s.id,
-            "kind": str(s.kind),
-            "reverse": s.reverse,
-            "ease_cm": s.ease_cm,
-            "status": "confirmed",
-            "a": {
-                "piece": s.a.piece,
-                "start": s.a.start,
-                "end": s.a.end,
-                "copy": str(s.a.copy),
-            },
-            "b": {
-                "piece": s.b.piece,
-                "start": s.b.start,
-                "end": s.b.end,
-                "copy": str(s.b.copy),
-            },
-        }
-        for s in pattern.seams
-    ]
+    seams = [{**seam_to_dict(s), "status": "confirmed"} for s in pattern.seams]
     seams.extend(proposals or [])
     return {
         "format": SIDECAR_FORMAT,
@@ -98,24 +77,7 @@ def sidecar_dict(
         "sample_size": pattern.sample_size,
         "pieces": pieces,
         "seams": seams,
-        "measurements": [
-            {
-                "id": m.id,
-                "measurement": m.measurement,
-                "ease_cm": m.ease_cm,
-                "legs": [
-                    {
-                        "piece": g.piece,
-                        "start": g.start,
-                        "end": g.end,
-                        "along": g.along,
-                        "factor": g.factor,
-                    }
-                    for g in m.legs
-                ],
-            }
-            for m in pattern.measurements
-        ],
+        "measurements": [measurement_link_to_dict(m) for m in pattern.measurements],
     }
 
 
@@ -261,24 +223,9 @@ def apply_sidecar(
         for s in data.get("seams", []):
             if confirmed_only and s.get("status", "confirmed") != "confirmed":
                 continue
-            seams.append(
-                Seam(
-                    id=s["id"],
-                    a=EdgeRange(**s["a"]),
-                    b=EdgeRange(**s["b"]),
-                    kind=s.get("kind", "seam"),
-                    reverse=bool(s.get("reverse", True)),
-                    ease_cm=float(s.get("ease_cm", 0.0)),
-                )
-            )
+            seams.append(seam_from_dict(s))
         links = tuple(
-            MeasurementLink(
-                id=m.get("id", ""),
-                measurement=m["measurement"],
-                ease_cm=m.get("ease_cm", 0.0),
-                legs=tuple(Leg(**g) for g in m["legs"]),
-            )
-            for m in data.get("measurements", [])
+            measurement_link_from_dict(m) for m in data.get("measurements", [])
         )
     except (KeyError, TypeError, ValueError) as exc:
         raise InputError(

@@ -30,7 +30,16 @@ from .model import (
     Seam,
 )
 
-__all__ = ["FORMAT_VERSION", "pattern_from_dict", "pattern_to_dict"]
+__all__ = [
+    "FORMAT_VERSION",
+    "measurement_link_from_dict",
+    "measurement_link_to_dict",
+    "pattern_from_dict",
+    "pattern_to_dict",
+    "placement_to_dict",
+    "seam_from_dict",
+    "seam_to_dict",
+]
 
 FORMAT_VERSION = "1.0"
 _FORMAT_ID = "patternbridge.pattern"
@@ -118,14 +127,7 @@ def _piece_to_dict(p: Piece) -> dict[str, Any]:
         ],
         "marks": dict(p.marks),
         "landmarks": dict(p.landmarks),
-        "placement": None
-        if p.placement is None
-        else {
-            "body_part": str(p.placement.body_part),
-            "side": str(p.placement.side),
-            "anchor": p.placement.anchor,
-            "anchor_mark": p.placement.anchor_mark,
-        },
+        "placement": placement_to_dict(p.placement),
         "extra_text": dict(p.extra_text),
     }
     return out
@@ -187,6 +189,65 @@ def _edge_to_dict(e: EdgeRange) -> dict[str, Any]:
     return {"piece": e.piece, "start": e.start, "end": e.end, "copy": str(e.copy)}
 
 
+def placement_to_dict(placement: Placement | None) -> dict[str, Any] | None:
+    """JSON form of a piece's placement hint (``None`` stays ``None``)."""
+    if placement is None:
+        return None
+    return {
+        "body_part": str(placement.body_part),
+        "side": str(placement.side),
+        "anchor": placement.anchor,
+        "anchor_mark": placement.anchor_mark,
+    }
+
+
+def seam_to_dict(seam: Seam) -> dict[str, Any]:
+    """JSON form of a seam (also used by the bridge-data sidecar)."""
+    return {
+        "id": seam.id,
+        "a": _edge_to_dict(seam.a),
+        "b": _edge_to_dict(seam.b),
+        "kind": str(seam.kind),
+        "reverse": seam.reverse,
+        "ease_cm": seam.ease_cm,
+    }
+
+
+def seam_from_dict(d: dict[str, Any]) -> Seam:
+    """Inverse of :func:`seam_to_dict` (``kind``, ``reverse``, ``ease_cm`` optional)."""
+    return Seam(
+        id=d["id"],
+        a=EdgeRange(**d["a"]),
+        b=EdgeRange(**d["b"]),
+        kind=d.get("kind", "seam"),
+        reverse=bool(d.get("reverse", True)),
+        ease_cm=float(d.get("ease_cm", 0.0)),
+    )
+
+
+def measurement_link_to_dict(link: MeasurementLink) -> dict[str, Any]:
+    """JSON form of a measurement link (also used by the bridge-data sidecar)."""
+    return {
+        "id": link.id,
+        "measurement": link.measurement,
+        "ease_cm": link.ease_cm,
+        "legs": [
+            {"piece": g.piece, "start": g.start, "end": g.end, "along": g.along, "factor": g.factor}
+            for g in link.legs
+        ],
+    }
+
+
+def measurement_link_from_dict(d: dict[str, Any]) -> MeasurementLink:
+    """Inverse of :func:`measurement_link_to_dict`."""
+    return MeasurementLink(
+        id=d.get("id", ""),
+        measurement=d["measurement"],
+        ease_cm=d.get("ease_cm", 0.0),
+        legs=tuple(Leg(**g) for g in d["legs"]),
+    )
+
+
 def pattern_to_dict(pattern: Pattern) -> dict[str, Any]:
     """Return the canonical JSON-ready dict of ``pattern`` (units: cm, radians)."""
     prov = pattern.provenance
@@ -216,29 +277,8 @@ def pattern_to_dict(pattern: Pattern) -> dict[str, Any]:
             "deltas": {k: _xy(v) for k, v in pattern.rules.deltas.items()},
         },
         "pieces": [_piece_to_dict(p) for p in pattern.pieces],
-        "seams": [
-            {
-                "id": s.id,
-                "a": _edge_to_dict(s.a),
-                "b": _edge_to_dict(s.b),
-                "kind": str(s.kind),
-                "reverse": s.reverse,
-                "ease_cm": s.ease_cm,
-            }
-            for s in pattern.seams
-        ],
-        "measurements": [
-            {
-                "id": m.id,
-                "measurement": m.measurement,
-                "ease_cm": m.ease_cm,
-                "legs": [
-                    {"piece": g.piece, "start": g.start, "end": g.end, "along": g.along, "factor": g.factor}
-                    for g in m.legs
-                ],
-            }
-            for m in pattern.measurements
-        ],
+        "seams": [seam_to_dict(s) for s in pattern.seams],
+        "measurements": [measurement_link_to_dict(m) for m in pattern.measurements],
     }
 
 
@@ -279,24 +319,8 @@ def pattern_from_dict(d: dict[str, Any]) -> Pattern:
             deltas=rules.get("deltas", {}),
         ),
         pieces=tuple(_piece_from_dict(p) for p in d["pieces"]),
-        seams=tuple(
-            Seam(
-                id=s["id"],
-                a=EdgeRange(**s["a"]),
-                b=EdgeRange(**s["b"]),
-                kind=s.get("kind", "seam"),
-                reverse=bool(s.get("reverse", True)),
-                ease_cm=s.get("ease_cm", 0.0),
-            )
-            for s in d.get("seams", ())
-        ),
+        seams=tuple(seam_from_dict(s) for s in d.get("seams", ())),
         measurements=tuple(
-            MeasurementLink(
-                id=m.get("id", ""),
-                measurement=m["measurement"],
-                ease_cm=m.get("ease_cm", 0.0),
-                legs=tuple(Leg(**g) for g in m["legs"]),
-            )
-            for m in d.get("measurements", ())
+            measurement_link_from_dict(m) for m in d.get("measurements", ())
         ),
     )
