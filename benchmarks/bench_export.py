@@ -14,10 +14,8 @@ from __future__ import annotations
 
 import argparse
 import platform
-import resource
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 import ezdxf
@@ -27,22 +25,11 @@ from patternbridge import __version__
 from patternbridge.io.dxf_aama import read_dxf, write_dxf
 from patternbridge.report import Report
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_import import best_of, peak_rss_mb  # noqa: E402  (the script beside this one)
+
 SHARED = Path(__file__).resolve().parents[1] / ".." / "shared" / "aama"
 LIBRARY = ("shirt", "trousers", "skirt", "dress", "tshirt", "shorts")
-
-
-def best_of(fn, repeat: int) -> float:
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return min(times)
-
-
-def peak_rss_mb() -> float:
-    rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    return rss / 1024.0 if sys.platform != "darwin" else rss / 1024.0 / 1024.0
 
 
 def _patterns(files: list[Path], library: bool):
