@@ -1,7 +1,8 @@
-"""Benchmark: geodesic paths and distances against pygeodesic (exact MMP) and potpourri3d.
+"""Benchmark: geodesic paths and distances against pygeodesic (MMP) and potpourri3d.
 
-Run:  .venv/bin/python benchmarks/geodesic.py [--sections spheres,characters,hires,subdiv,propagate]
-                                              [--pairs N] [--mmp-hires] [--seed S]
+Run:  .venv/bin/python benchmarks/geodesic.py
+          [--sections spheres,characters,hires,subdiv,propagate]
+          [--pairs N] [--mmp-hires] [--mmp-disputed] [--propagate-hires] [--seed S]
 
 Sections (one table per run, all measured in the same process):
 
@@ -284,7 +285,8 @@ def section_hires(args, rng):
     if args.verbose:
         for (a, b), x, y in zip(PAIRS, ours, flip):
             print(
-                f"    {a:26s} {b:22s} ours {x:9.4f}  flip {y:9.4f}  {100 * (x - y) / y:+.4f} %"
+                f"    {a:26s} {b:22s} ours {x:9.4f}  flip {y:9.4f}  "
+                f"{100 * (x - y) / y:+.4f} %"
             )
 
 

@@ -4,28 +4,56 @@ from __future__ import annotations
 
 import argparse
 
-HELP = "geodesic (tape) length between two vertices or landmarks of a character mesh, in cm"
+HELP = "tape (geodesic) length between two vertices or landmarks of a character, in cm"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("mesh", metavar="MESH", help="character mesh: OBJ, PLY, STL, GLB or glTF")
-    parser.add_argument("--from", dest="source", required=True, metavar="A",
-                        help="start: a vertex id of the loaded mesh or a landmark name")
-    parser.add_argument("--to", dest="target", required=True, metavar="B",
-                        help="end: a vertex id of the loaded mesh or a landmark name")
-    parser.add_argument("--landmarks", metavar="FILE",
-                        help='landmark JSON: {"landmarks": {name: {"vertex": id} | '
-                        '{"position": [x, y, z]}}}')
-    parser.add_argument("--no-tape", action="store_true",
-                        help="follow the skin over concave stretches (no tape correction)")
-    parser.add_argument("--json", action="store_true",
-                        help="print {length_cm, points, seconds, ...} as JSON")
-    parser.add_argument("--units", help="source length unit (m, cm, mm, in); detected by default")
-    parser.add_argument("--up", help="up axis of the file (Y, Z, -Y, -Z); detected by default")
-    parser.add_argument("--method", default="lsq",
-                        choices=("lsq", "euler", "exact", "flow", "dijkstra"),
-                        help="path method (default lsq: curvature flow, projection and "
-                        "exact straightening)")
+    parser.add_argument(
+        "mesh", metavar="MESH", help="character mesh: OBJ, PLY, STL, GLB or glTF"
+    )
+    parser.add_argument(
+        "--from",
+        dest="source",
+        required=True,
+        metavar="A",
+        help="start: a vertex id of the loaded mesh or a landmark name",
+    )
+    parser.add_argument(
+        "--to",
+        dest="target",
+        required=True,
+        metavar="B",
+        help="end: a vertex id of the loaded mesh or a landmark name",
+    )
+    parser.add_argument(
+        "--landmarks",
+        metavar="FILE",
+        help='landmark JSON: {"landmarks": {name: {"vertex": id} | '
+        '{"position": [x, y, z]}}}',
+    )
+    parser.add_argument(
+        "--no-tape",
+        action="store_true",
+        help="follow the skin over concave stretches (no tape correction)",
+    )
+    parser.add_argument(
+        "--json",
+        action="store_true",
+        help="print {length_cm, points, seconds, ...} as JSON",
+    )
+    parser.add_argument(
+        "--units", help="source length unit (m, cm, mm, in); detected by default"
+    )
+    parser.add_argument(
+        "--up", help="up axis of the file (Y, Z, -Y, -Z); detected by default"
+    )
+    parser.add_argument(
+        "--method",
+        default="lsq",
+        choices=("lsq", "euler", "exact", "flow", "dijkstra"),
+        help="path method (default lsq: curvature flow, projection and "
+        "exact straightening)",
+    )
 
 
 def _resolve(spec: str, character, what: str) -> int:
@@ -39,14 +67,18 @@ def _resolve(spec: str, character, what: str) -> int:
         v = int(text)
         n = len(character.vertices)
         if not 0 <= v < n:
-            raise LandmarkError(f"--{what} {spec}: vertex id out of range (the loaded mesh has "
-                                f"{n} vertices); pass 0..{n - 1} or a landmark name")
+            raise LandmarkError(
+                f"--{what} {spec}: vertex id out of range (the loaded mesh has "
+                f"{n} vertices); pass 0..{n - 1} or a landmark name"
+            )
         return v
     lm = character.landmarks.get(text)
     if lm is None:
         known = ", ".join(sorted(character.landmarks)) or "none"
-        raise LandmarkError(f"--{what} {spec}: no such landmark (known: {known}); "
-                            "pass a vertex id, a known name, or --landmarks FILE")
+        raise LandmarkError(
+            f"--{what} {spec}: no such landmark (known: {known}); "
+            "pass a vertex id, a known name, or --landmarks FILE"
+        )
     if lm.vertex is not None:
         return int(lm.vertex)
     d = np.linalg.norm(character.vertices - lm.position, axis=1)
@@ -60,8 +92,9 @@ def run(args: argparse.Namespace) -> int:
     from ..mesh.load import load_character
     from ._common import print_findings, print_json
 
-    character, report = load_character(args.mesh, units=args.units, up=args.up,
-                                       landmarks=args.landmarks)
+    character, report = load_character(
+        args.mesh, units=args.units, up=args.up, landmarks=args.landmarks
+    )
     print_findings(report)
     a = _resolve(args.source, character, "from")
     b = _resolve(args.target, character, "to")
@@ -70,24 +103,29 @@ def run(args: argparse.Namespace) -> int:
     path = geodesic_path(mesh, a, b, tape=not args.no_tape, method=args.method)
     seconds = time.perf_counter() - t0
     if args.json:
-        print_json({
-            "mesh": str(args.mesh),
-            "from": args.source,
-            "to": args.target,
-            "from_vertex": a,
-            "to_vertex": b,
-            "length_cm": round(path.length, 6),
-            "surface_length_cm": round(path.surface_length, 6),
-            "tape": not args.no_tape,
-            "method": args.method,
-            "points": [[round(x, 6) for x in p] for p in path.points.tolist()],
-            "seconds": round(seconds, 4),
-            "assumed": dict(character.assumed),
-        })
+        print_json(
+            {
+                "mesh": str(args.mesh),
+                "from": args.source,
+                "to": args.target,
+                "from_vertex": a,
+                "to_vertex": b,
+                "length_cm": round(path.length, 6),
+                "surface_length_cm": round(path.surface_length, 6),
+                "tape": not args.no_tape,
+                "method": args.method,
+                "points": [[round(x, 6) for x in p] for p in path.points.tolist()],
+                "seconds": round(seconds, 4),
+                "assumed": dict(character.assumed),
+            }
+        )
     elif args.quiet <= 0:
         tape = "tape" if not args.no_tape else "skin"
-        print(f"{args.source} -> {args.target}: {path.length:.2f} cm ({tape}; on the skin "
-              f"{path.surface_length:.2f} cm; {len(path.points)} points; {seconds:.2f} s)")
+        print(
+            f"{args.source} -> {args.target}: {path.length:.2f} cm ({tape}; "
+            f"on the skin "
+            f"{path.surface_length:.2f} cm; {len(path.points)} points; {seconds:.2f} s)"
+        )
     else:
         print(f"{path.length:.4f}")
     return 0

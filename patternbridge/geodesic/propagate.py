@@ -36,7 +36,8 @@ log = logging.getLogger(__name__)
 _FIX_WEIGHT = 1e4
 #: automatic windows span about this much path, cm
 WINDOW_CM = 5.5
-_NEAR = 0.05  # candidate parents: distance estimate within this many edge lengths of the best
+#: candidate parents: distance estimate within this many edge lengths of the best
+_NEAR = 0.05
 
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -193,7 +194,7 @@ def geodesic_distances(
     if window is None:
         window = int(min(64, max(12, np.ceil(WINDOW_CM / max(mesh.edge_mean, 1e-12)))))
     full = isinstance(window, str)
-    if full and window != "full" or not full and int(window) < 3:
+    if (full and window != "full") or (not full and int(window) < 3):
         raise MeshError(
             f"geodesic: window {window!r} is not a sample count >= 3 or 'full'; "
             "pass window >= 3, 'full' for the full form, or None for automatic"
@@ -248,7 +249,6 @@ def geodesic_distances(
         firsts[1:] = own[1:] != own[:-1]
         grp = np.cumsum(firsts) - 1
         best = dest[firsts]
-        best_own = own[firsts]
         lo = best.min()
         if lo > limit:
             break

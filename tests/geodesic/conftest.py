@@ -7,7 +7,7 @@ import pytest
 
 
 def grid(n: int = 21, size: float = 20.0, jitter: float = 0.0, seed: int = 0):
-    """Triangulated square [0, size]^2 in the z = 0 plane: (V, 3), (F, 3), index grid."""
+    """Triangulated square [0, size]^2 at z = 0: (V, 3), (F, 3), index grid."""
     rng = np.random.default_rng(seed)
     t = np.linspace(0.0, size, n)
     x, y = np.meshgrid(t, t)
