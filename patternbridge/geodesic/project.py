@@ -52,20 +52,23 @@ def _crs(a, b):
     )
 
 
-def _inside(loc: _Local, f: int, q, tol: float = 1e-9) -> bool:
-    a, b, c = (loc.pos(v) for v in loc.face(f))
-    n = _crs(_sub(b, a), _sub(c, a))
-    return (
-        _dot(_crs(_sub(b, a), _sub(q, a)), n) >= -tol * _dot(n, n)
-        and _dot(_crs(_sub(c, b), _sub(q, b)), n) >= -tol * _dot(n, n)
-        and _dot(_crs(_sub(a, c), _sub(q, c)), n) >= -tol * _dot(n, n)
-    )
-
-
-def _onto_face(loc: _Local, f: int, q):
-    a, b, c = (loc.pos(v) for v in loc.face(f))
-    n = _crs(_sub(b, a), _sub(c, a))
-    nn = _dot(n, n)
+def _project_into(loc: _Local, f: int, q, cache: dict, tol: float = 1e-9):
+    """``q`` projected onto the plane of face ``f`` if it falls inside the face,
+    else None (the normal offset of ``q`` does not change the inside test)."""
+    g = cache.get(f)
+    if g is None:
+        a, b, c = (loc.pos(v) for v in loc.face(f))
+        n = _crs(_sub(b, a), _sub(c, a))
+        g = (a, b, c, _sub(b, a), _sub(c, b), _sub(a, c), n, _dot(n, n))
+        cache[f] = g
+    a, b, c, eab, ebc, eca, n, nn = g
+    lim = -tol * nn
+    if (
+        _dot(_crs(eab, _sub(q, a)), n) < lim
+        or _dot(_crs(ebc, _sub(q, b)), n) < lim
+        or _dot(_crs(eca, _sub(q, c)), n) < lim
+    ):
+        return None
     d = _dot(_sub(q, a), n) / nn
     return (q[0] - d * n[0], q[1] - d * n[1], q[2] - d * n[2])
 
@@ -123,6 +126,7 @@ def project_walk(
     i = 1
     entry = None  # edge we came in through
     at_vertex = start.vertex  # vertex the walk stands on, if any
+    planes: dict = {}  # per-face corners, edges and normal
     limit = max_steps or 40 * len(Q) + 2000
 
     def arrived(face):
@@ -142,8 +146,9 @@ def project_walk(
                 strip=np.array(strip, dtype=np.int64),
             )
         q = Q[min(i, len(Q) - 1)]
-        if i < len(Q) - 1 and _inside(loc, f, _onto_face(loc, f, q)):
-            x = _onto_face(loc, f, q)
+        inside = _project_into(loc, f, q, planes) if i < len(Q) - 1 else None
+        if inside is not None:
+            x = inside
             pts.append(x)
             fcs.append(f)
             eds.append((-1, -1))
