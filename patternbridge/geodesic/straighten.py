@@ -321,14 +321,12 @@ class _StripError(Exception):
     pass
 
 
-def _cross(o, a, b) -> float:
-    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-
-
 def _funnel(portals, s2, e2):
     """Simple funnel: returns apexes as (xy, portal_index, vertex_id or -1).
 
-    Portal index 0 is the start and ``len(portals) + 1`` the end.
+    Portal index 0 is the start and ``len(portals) + 1`` the end. The cross
+    products are written out inline: this loop runs for every portal of every
+    straightening round.
     """
     P = [(-1, -1, s2, s2), *portals, (-1, -1, e2, e2)]
     n = len(P)
@@ -343,10 +341,16 @@ def _funnel(portals, s2, e2):
         if guard > 20 * n + 100:
             break
         lid, rid, pl, pr = P[i]
+        ax, ay = apex[0], apex[1]
         # tighten the right side
         if rid != apex_v or rid < 0:
-            if (right_i == apex_i and right is apex) or _cross(apex, right, pr) >= 0.0:
-                if (left is apex and left_i == apex_i) or _cross(apex, left, pr) < 0.0:
+            rx, ry = pr[0] - ax, pr[1] - ay
+            if (right_i == apex_i and right is apex) or (
+                (right[0] - ax) * ry - (right[1] - ay) * rx >= 0.0
+            ):
+                if (left is apex and left_i == apex_i) or (
+                    (left[0] - ax) * ry - (left[1] - ay) * rx < 0.0
+                ):
                     right, right_i, right_v = pr, i, rid
                 else:
                     apex, apex_i, apex_v = left, left_i, left_v
@@ -357,10 +361,13 @@ def _funnel(portals, s2, e2):
                     i = apex_i + 1
                     continue
         if lid != apex_v or lid < 0:
-            if (left_i == apex_i and left is apex) or _cross(apex, left, pl) <= 0.0:
-                if (right is apex and right_i == apex_i) or _cross(
-                    apex, right, pl
-                ) > 0.0:
+            lx, ly = pl[0] - ax, pl[1] - ay
+            if (left_i == apex_i and left is apex) or (
+                (left[0] - ax) * ly - (left[1] - ay) * lx <= 0.0
+            ):
+                if (right is apex and right_i == apex_i) or (
+                    (right[0] - ax) * ly - (right[1] - ay) * lx > 0.0
+                ):
                     left, left_i, left_v = pl, i, lid
                 else:
                     apex, apex_i, apex_v = right, right_i, right_v
