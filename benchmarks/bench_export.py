@@ -77,9 +77,9 @@ def main(argv: list[str] | None = None) -> int:
                         else None
                     )
 
-                    def run(dxf=dxf, rul=rul, flavor=flavor, sizes=sizes):
+                    def run(dxf=dxf, rul=rul, flavor=flavor, sizes=sizes, p=pattern):
                         write_dxf(
-                            pattern,
+                            p,
                             dxf,
                             flavor=flavor,
                             sizes=sizes,

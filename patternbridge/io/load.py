@@ -47,7 +47,7 @@ def load_pattern(
         )
     if path.suffix or os.sep in str(spec):
         raise InputError(f"{path}: no such file")
-    from ..library import load_garment, garment_names
+    from ..library import garment_names, load_garment
 
     try:
         return load_garment(str(spec)), _ignored(str(spec), rul, units)
