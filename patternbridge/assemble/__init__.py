@@ -17,6 +17,7 @@ Public entry points: :func:`assemble` returns a :class:`Garment`;
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import os
 import time
@@ -36,6 +37,10 @@ __all__ = ["Garment", "assemble", "dress"]
 log = logging.getLogger(__name__)
 
 Progress = Callable[[str, int, int], None] | None
+
+POSE_STAGES = 1  # stages of the T-pose -> rest-pose return
+POSE_STEPS = 8  # cloth steps per stage
+CLOSE_STEPS = 12  # steps with stiff seams before welding
 
 
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)
@@ -349,23 +354,47 @@ def assemble(
         seam_gaps(cloth.x, cloth.seams).max(),
     )
     if rotvecs:
-        # back to the rest pose: the cloth follows the skin (weights of the
-        # nearest body points), then a few steps without gravity settle it
-        joints, weights = transfer_weights(collider, character, cloth.x)
-        blend = _blend(character, _rotations(rotvecs, 1.0), joints, weights)
-        cloth.x = _unapply(blend, cloth.x)
-        cloth.v[:] = 0.0
-        collider = BodyCollider(character.vertices, character.faces)
-        drape(
-            cloth,
-            collider,
-            steps=8,
-            sew_steps=0,
-            settings=settings,
-            solver=solver,
-            gravity_scale=0.0,
-            stage="pose",
-        )
+        # back to the rest pose in a few stages: at each the cloth follows the
+        # skin (weights of the nearest body points) from the previous pose to
+        # the next, then settles against the body in that pose
+        from ..mesh.skinning import pose_vertices
+
+        levels = np.linspace(1.0, 0.0, POSE_STAGES + 1)
+        for k, (s0, s1) in enumerate(zip(levels[:-1], levels[1:], strict=True)):
+            joints, weights = transfer_weights(collider, character, cloth.x)
+            b0 = _blend(character, _rotations(rotvecs, s0), joints, weights)
+            b1 = _blend(character, _rotations(rotvecs, s1), joints, weights)
+            cloth.x = _apply(b1, _unapply(b0, cloth.x))
+            cloth.v[:] = 0.0
+            posed = (
+                np.array(character.vertices)
+                if s1 == 0.0
+                else pose_vertices(character, _rotations(rotvecs, s1))
+            )
+            collider = BodyCollider(posed, character.faces)
+            drape(
+                cloth,
+                collider,
+                steps=POSE_STEPS,
+                sew_steps=0,
+                settings=settings,
+                solver=solver,
+                gravity_scale=0.0,
+                stage="pose",
+            )
+            if progress:
+                progress("pose", k + 1, POSE_STAGES)
+    # close the seams: a few steps with stiff seam springs (a new factorisation)
+    stiff = dataclasses.replace(settings, seam_weight=settings.seam_weight * 40.0)
+    drape(
+        cloth,
+        collider,
+        steps=CLOSE_STEPS,
+        sew_steps=0,
+        settings=stiff,
+        gravity_scale=0.0,
+        stage="close",
+    )
     gaps_before = seam_gaps(cloth.x, cloth.seams)
 
     # weld the seams, then make sure nothing is left inside the skin
@@ -401,6 +430,7 @@ def assemble(
     worst = sorted(per.items(), key=lambda kv: -kv[1])[:3]
     report = {
         "penetrating_vertices": int(np.count_nonzero(inside)),
+        "crossing_triangles": int(np.count_nonzero(collider.crossing_triangles(x, cloth.faces))),
         "max_seam_gap_mm": float(seam_gaps(x, cloth.seams).max(initial=0.0) * 10.0),
         "max_seam_gap_before_weld_mm": float(gaps_before.max(initial=0.0) * 10.0),
         "stretch": {

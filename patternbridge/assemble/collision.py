@@ -111,6 +111,37 @@ class BodyCollider:
             .astype(np.float64)
         )
 
+    def crossing_edges(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """(n,) bool: the segment from ``a[i]`` to ``b[i]`` (n, 3) meets the skin.
+
+        A ray is cast from ``a`` toward ``b``; the segment crosses the skin
+        when the ray hits it before reaching ``b``.
+        """
+        d = np.asarray(b, dtype=np.float64) - np.asarray(a, dtype=np.float64)
+        ln = np.linalg.norm(d, axis=1)
+        ok = ln > 1e-9
+        out = np.zeros(len(d), dtype=bool)
+        if not ok.any():
+            return out
+        rays = np.concatenate([a[ok], d[ok] / ln[ok, None]], axis=1)
+        t = self.scene.cast_rays(self._t(rays))["t_hit"].numpy().astype(np.float64)
+        out[ok] = np.isfinite(t) & (t < ln[ok])
+        return out
+
+    def crossing_triangles(self, vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+        """(F,) bool: a triangle of the mesh ``vertices`` (V, 3) / ``faces`` (F, 3) crosses the skin.
+
+        The test runs on the triangle edges (each cast as a ray in both
+        directions): an edge that enters or leaves the body marks both
+        triangles beside it.
+        """
+        v = np.asarray(vertices, dtype=np.float64)
+        f = np.asarray(faces, dtype=np.int64)
+        a = v[f].reshape(-1, 3)
+        b = v[np.roll(f, -1, axis=1)].reshape(-1, 3)
+        hit = self.crossing_edges(a, b) | self.crossing_edges(b, a)
+        return hit.reshape(-1, 3).any(axis=1)
+
     def inside(self, points: np.ndarray) -> np.ndarray:
         """(n,) bool, True where the point is inside the body."""
         return self.scene.compute_occupancy(self._t(points)).numpy() > 0.5

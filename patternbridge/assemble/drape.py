@@ -215,6 +215,44 @@ class _Solver:
         self.lu = splu(A)
         self.seam_start = seam_gaps(cloth.x, cloth.seams)
 
+    def _push_edges(
+        self, collider: BodyCollider, x: np.ndarray, ni: np.ndarray
+    ) -> np.ndarray:
+        """Push edge midpoints and triangle centroids near ``ni`` to ``offset_cm`` outside the skin.
+
+        The vertices alone do not keep a long edge or a triangle out of a thin
+        limb; a sample point that is too close moves all the vertices it is
+        made of by its correction (averaged over the samples sharing a vertex).
+        """
+        s = self.s
+        if len(ni) == 0:
+            return x
+        touch = np.zeros(len(x), dtype=bool)
+        touch[ni] = True
+        e = self.c.edges[touch[self.c.edges[:, 0]] | touch[self.c.edges[:, 1]]]
+        f = self.c.faces[touch[self.c.faces].any(axis=1)]
+        samples = [(e, 0.5 * (x[e[:, 0]] + x[e[:, 1]])), (f, x[f].mean(axis=1))]
+        delta = np.zeros_like(x)
+        cnt = np.zeros(len(x))
+        for idx, m in samples:
+            if len(idx) == 0:
+                continue
+            q, n, si, _, _ = collider.closest(m)
+            close = si < s.offset_cm + 0.5
+            if not close.any():
+                continue
+            idx, m, q, n, si = idx[close], m[close], q[close], n[close], si[close]
+            si = np.where(collider.inside(m), -np.abs(si), np.abs(si))
+            fix = si < s.offset_cm
+            if not fix.any():
+                continue
+            idx, m, q, n, si = idx[fix], m[fix], q[fix], n[fix], si[fix]
+            corr = q + s.offset_cm * _push_direction(m, q, n, si < 0) - m
+            for k in range(idx.shape[1]):
+                np.add.at(delta, idx[:, k], corr)
+                np.add.at(cnt, idx[:, k], 1.0)
+        return x + delta / np.maximum(cnt, 1.0)[:, None]
+
     def step(
         self,
         collider: BodyCollider,
@@ -276,6 +314,8 @@ class _Solver:
                 if it == s.iterations - 1:
                     contact[ni[si < s.offset_cm + 0.05]] = True
                     nrm[ni] = ni_n
+                if it % 2 == 1 or it == s.iterations - 1:
+                    x = self._push_edges(collider, x, ni)
         v = (x - x0) / h
         if contact.any():  # inelastic contact: no bounce off the skin
             nn = nrm[contact]

@@ -278,4 +278,67 @@ def place_instances(
         if scene is not None:
             r = scene.radial_clearance(cyl, theta, h, r, CLEARANCE_CM)
         out[inst.key] = cyl.points(theta, h, r)
+    _follow_seams(pattern, pmesh, cylinders, out, scene)
     return out
+
+
+def _follow_seams(
+    pattern: Pattern,
+    pmesh: PatternMesh,
+    cylinders: dict[str, Cylinder],
+    out: dict[str, np.ndarray],
+    scene,
+) -> None:
+    """Place small pieces on their larger partner's seam (in place).
+
+    A piece sewn to a larger piece of the same body part (a cuff on the
+    sleeve hem) is laid on the cylinder where its seam meets the partner's
+    edge, as drawn or turned half round (pattern rotated by 180°, still
+    facing out), whichever lies nearer: its anchor landmark alone may put it
+    a hand's width away from the edge it is sewn to.
+    """
+    size = {k: len(pmesh.pieces[k].points) for k in pmesh.pieces}
+    for inst in pmesh.instances:
+        part = instance_part(pattern, inst)
+        pl = pattern.piece(inst.piece).placement
+        if str(pl.side) != "around":
+            continue
+        cyl = cylinders[part]
+        mine, theirs = [], []
+        for sp in pmesh.seams:
+            for me, va, other, vb in (
+                (sp.a, sp.a_vertices, sp.b, sp.b_vertices),
+                (sp.b, sp.b_vertices, sp.a, sp.a_vertices),
+            ):
+                if (
+                    me.key == inst.key
+                    and other.key != inst.key
+                    and instance_part(pattern, other) == part
+                    and size[other.piece] > size[inst.piece]
+                ):
+                    mine.append(instance_points2d(pmesh, inst)[va])
+                    theirs.append(out[other.key][vb])
+        if not mine:
+            continue
+        p2 = instance_points2d(pmesh, inst)
+        m2, target = np.concatenate(mine), np.concatenate(theirs)
+        th_t, h_t, _ = cyl.coordinates(target)
+        R = cyl.radius_cm
+        best = None
+        for sign in (1.0, -1.0):  # as drawn, turned half round
+            d = th_t - sign * m2[:, 0] / R
+            th0 = float(np.angle(np.mean(np.exp(1j * d))))
+            h0 = float(np.mean(h_t - sign * m2[:, 1]))
+            th = th0 + sign * m2[:, 0] / R
+            h = h0 + sign * m2[:, 1]
+            cost = float(np.linalg.norm(cyl.points(th, h) - target, axis=1).sum())
+            if best is None or cost < best[0]:
+                best = (cost, sign, th0, h0)
+        _, sign, th0, h0 = best
+        theta = th0 + sign * p2[:, 0] / R
+        h = h0 + sign * p2[:, 1]
+        r = np.full(len(p2), R)
+        if scene is not None:
+            r = scene.radial_clearance(cyl, theta, h, r, CLEARANCE_CM)
+        log.debug("%s placed on its seam (%s)", inst.key, "turned" if sign < 0 else "as drawn")
+        out[inst.key] = cyl.points(theta, h, r)
