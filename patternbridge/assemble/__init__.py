@@ -408,6 +408,9 @@ def assemble(
         wx, moved = collider.push_out(wx, 0.5 * settings.offset_cm, robust=True)
         if not moved.any():
             break
+    # no triangle may cut the skin either (a long edge over a thin limb)
+    wx = collider.clear_triangles(wx, inv[cloth.faces], settings.offset_cm)
+    wx, _ = collider.push_out(wx, 0.5 * settings.offset_cm, robust=True)
     x = wx[inv]
     inside = collider.inside(wx)
     seconds = time.perf_counter() - t0
@@ -430,7 +433,9 @@ def assemble(
     worst = sorted(per.items(), key=lambda kv: -kv[1])[:3]
     report = {
         "penetrating_vertices": int(np.count_nonzero(inside)),
-        "crossing_triangles": int(np.count_nonzero(collider.crossing_triangles(x, cloth.faces))),
+        "crossing_triangles": int(
+            np.count_nonzero(collider.crossing_triangles(wx, inv[cloth.faces]))
+        ),
         "max_seam_gap_mm": float(seam_gaps(x, cloth.seams).max(initial=0.0) * 10.0),
         "max_seam_gap_before_weld_mm": float(gaps_before.max(initial=0.0) * 10.0),
         "stretch": {

@@ -142,6 +142,67 @@ class BodyCollider:
         hit = self.crossing_edges(a, b) | self.crossing_edges(b, a)
         return hit.reshape(-1, 3).any(axis=1)
 
+    def clear_triangles(
+        self,
+        vertices: np.ndarray,
+        faces: np.ndarray,
+        offset_cm: float,
+        *,
+        rounds: int = 8,
+    ) -> np.ndarray:
+        """Move the corners of triangles that cross the skin until none does (or ``rounds`` run out).
+
+        Points at a quarter, half and three quarters of every edge of a
+        crossing triangle, and its centroid, that lie inside the skin or
+        closer than ``offset_cm`` are pushed to ``offset_cm`` outside; each
+        push moves the corners the point is made of (averaged per vertex).
+
+        Returns
+        -------
+        (V, 3) float64, the moved copy
+        """
+        x = np.array(vertices, dtype=np.float64)
+        f = np.asarray(faces, dtype=np.int64)
+        w = np.array(
+            [
+                [0.75, 0.25, 0.0],
+                [0.5, 0.5, 0.0],
+                [0.25, 0.75, 0.0],
+                [1 / 3, 1 / 3, 1 / 3],
+            ]
+        )
+        for _ in range(rounds):
+            bad = f[self.crossing_triangles(x, f)]
+            if len(bad) == 0:
+                break
+            # the three edges of each bad triangle (rolled corners) and its centroid
+            corners = np.concatenate([bad, np.roll(bad, -1, axis=1), np.roll(bad, -2, axis=1)])
+            wts = np.concatenate([np.tile(w[:3], (len(bad), 1)) for _ in range(3)])
+            idx = np.repeat(corners, 3, axis=0)
+            wts = wts.reshape(-1, 3)
+            idx = np.concatenate([idx, bad])
+            wts = np.concatenate([wts, np.tile(w[3], (len(bad), 1))])
+            m = np.einsum("sk,skj->sj", wts, x[idx])
+            q, n, _, _, _ = self.closest(m)
+            ins = self.inside(m)
+            away = m - q
+            dist = np.linalg.norm(away, axis=1)
+            fix = ins | (dist < offset_cm)
+            if not fix.any():
+                break
+            direction = np.where(
+                (ins | (dist < 1e-6))[:, None], n, away / np.maximum(dist, 1e-12)[:, None]
+            )
+            corr = q + offset_cm * direction - m
+            corr, idx, wts = corr[fix], idx[fix], wts[fix]
+            delta = np.zeros_like(x)
+            cnt = np.zeros(len(x))
+            for k in range(3):
+                np.add.at(delta, idx[:, k], corr * (wts[:, k] > 0)[:, None])
+                np.add.at(cnt, idx[:, k], (wts[:, k] > 0).astype(float))
+            x += delta / np.maximum(cnt, 1.0)[:, None]
+        return x
+
     def inside(self, points: np.ndarray) -> np.ndarray:
         """(n,) bool, True where the point is inside the body."""
         return self.scene.compute_occupancy(self._t(points)).numpy() > 0.5
