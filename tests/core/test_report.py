@@ -26,3 +26,20 @@ def test_strict_refuses_warnings_but_not_notes(capsys):
 def test_unknown_severity_is_rejected():
     with pytest.raises(ValueError, match="severity"):
         Finding(code="x", message="y", severity="fatal")
+
+
+
+def test_closed_pipe_is_not_a_traceback(aama_dir, monkeypatch):
+    import os
+    import sys
+
+    from patternbridge.cli.main import main
+
+    read_end, write_end = os.pipe()
+    os.close(read_end)  # the reader has gone, like `| head` after its lines
+    stdout = open(write_end, "w")
+    monkeypatch.setattr(sys, "stdout", stdout)
+    try:
+        assert main(["info", str(aama_dir / "simple.DXF"), "--json"]) == 0
+    finally:
+        stdout.close()
