@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import json
 import sys
 import time
@@ -9,7 +10,13 @@ from collections.abc import Callable
 
 from ..report import Report
 
-__all__ = ["print_findings", "progress_printer", "print_json"]
+__all__ = [
+    "add_pattern_arguments",
+    "load_pattern_args",
+    "print_findings",
+    "print_json",
+    "progress_printer",
+]
 
 
 def print_findings(report: Report, *, strict: bool = False) -> None:
@@ -65,3 +72,43 @@ def print_json(obj) -> None:
     """Print ``obj`` as indented JSON on stdout."""
     json.dump(obj, sys.stdout, indent=2, ensure_ascii=False)
     sys.stdout.write("\n")
+
+
+def add_pattern_arguments(
+    parser: argparse.ArgumentParser, *, rul_flag: str = "--rul", units: bool = True
+) -> None:
+    """PATTERN (file or library name), its ``.RUL`` and a ``--units`` override.
+
+    Shared by every command that reads a pattern; read them back with
+    :func:`load_pattern_args`.
+    """
+    dest = rul_flag.lstrip("-").replace("-", "_")
+    parser.add_argument(
+        "pattern",
+        metavar="PATTERN",
+        help="pattern: .json, .dxf or a library garment name",
+    )
+    parser.add_argument(
+        rul_flag,
+        metavar="FILE.rul",
+        dest=dest,
+        help="grade-rule table of a sample-size DXF (default: the .rul beside it)",
+    )
+    parser.set_defaults(pattern_rul_dest=dest, pattern_units=units)
+    if units:
+        parser.add_argument(
+            "--units",
+            choices=("METRIC", "ENGLISH"),
+            type=str.upper,
+            help="override a DXF's Units: text (METRIC = mm, ENGLISH = inch)",
+        )
+
+
+def load_pattern_args(args: argparse.Namespace):
+    """``(pattern, report)`` of the PATTERN given by :func:`add_pattern_arguments`."""
+    from ..io.load import load_pattern
+
+    units = args.units if args.pattern_units else None
+    return load_pattern(
+        args.pattern, rul=getattr(args, args.pattern_rul_dest), units=units
+    )

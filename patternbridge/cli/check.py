@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from .export import add_pattern_arguments, load_pattern_args
+from ._common import add_pattern_arguments, load_pattern_args
 
 HELP = "check that every seam sews to equal length (or its declared ease) in every size"
 

@@ -6,15 +6,15 @@ import argparse
 import sys
 from pathlib import Path
 
+from ._common import add_pattern_arguments, load_pattern_args
+
 HELP = "export a pattern as DXF-AAMA or DXF-ASTM: sample size + .RUL, or a graded nest"
 
 __all__ = [
     "HELP",
     "add_arguments",
     "add_output_arguments",
-    "add_pattern_arguments",
     "export_pattern",
-    "load_pattern_args",
     "run",
 ]
 
@@ -22,46 +22,6 @@ __all__ = [
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_pattern_arguments(parser, rul_flag="--in-rul", units=False)
     add_output_arguments(parser)
-
-
-def add_pattern_arguments(
-    parser: argparse.ArgumentParser, *, rul_flag: str = "--rul", units: bool = True
-) -> None:
-    """PATTERN (file or library name), its ``.RUL`` and a ``--units`` override.
-
-    Shared by every command that reads a pattern; read them back with
-    :func:`load_pattern_args`.
-    """
-    dest = rul_flag.lstrip("-").replace("-", "_")
-    parser.add_argument(
-        "pattern",
-        metavar="PATTERN",
-        help="pattern: .json, .dxf or a library garment name",
-    )
-    parser.add_argument(
-        rul_flag,
-        metavar="FILE.rul",
-        dest=dest,
-        help="grade-rule table of a sample-size DXF (default: the .rul beside it)",
-    )
-    parser.set_defaults(pattern_rul_dest=dest, pattern_units=units)
-    if units:
-        parser.add_argument(
-            "--units",
-            choices=("METRIC", "ENGLISH"),
-            type=str.upper,
-            help="override a DXF's Units: text (METRIC = mm, ENGLISH = inch)",
-        )
-
-
-def load_pattern_args(args: argparse.Namespace):
-    """``(pattern, report)`` of the PATTERN given by :func:`add_pattern_arguments`."""
-    from ..io.load import load_pattern
-
-    units = args.units if args.pattern_units else None
-    return load_pattern(
-        args.pattern, rul=getattr(args, args.pattern_rul_dest), units=units
-    )
 
 
 def add_output_arguments(parser: argparse.ArgumentParser) -> None:

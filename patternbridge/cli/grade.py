@@ -6,7 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from .export import add_pattern_arguments, load_pattern_args
+from ._common import add_pattern_arguments, load_pattern_args
 
 HELP = "grade a pattern to another size of its size list (rules from its .RUL or nest)"
 

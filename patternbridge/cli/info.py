@@ -13,7 +13,7 @@ import argparse
 import sys
 from typing import Any
 
-from .export import add_pattern_arguments, load_pattern_args
+from ._common import add_pattern_arguments, load_pattern_args
 
 HELP = (
     "show a pattern's style, units, sizes and pieces (--json: the documented contract)"

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from .export import add_pattern_arguments, load_pattern_args
+from ._common import add_pattern_arguments, load_pattern_args
 
 HELP = "draw every piece with grain lines, notches, internal lines and labels (SVG/PNG)"
 

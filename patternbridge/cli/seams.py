@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from .export import add_pattern_arguments, load_pattern_args
+from ._common import add_pattern_arguments, load_pattern_args
 
 HELP = "propose seam pairs for a pattern without bridge data, as an editable sidecar"
 
