@@ -1,6 +1,6 @@
 """Import time of the real DXF-AAMA/ASTM exports, with ezdxf's own ``readfile`` as reference.
 
-Usage: ``python benchmarks/bench_import.py [--repeat N] [FILE ...]``
+Usage: ``python benchmarks/dxf_import.py [--repeat N] [FILE ...]``
 
 For each file: blocks, pieces, sizes, the best-of-N time of
 ``patternbridge.io.dxf_aama.read_dxf`` (parse, pieces, grade-rule derivation

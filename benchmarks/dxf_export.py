@@ -1,6 +1,6 @@
 """Export time of the real DXF-AAMA/ASTM files and the library garments, both flavours.
 
-Usage: ``python benchmarks/bench_export.py [--repeat N] [--no-library] [FILE ...]``
+Usage: ``python benchmarks/dxf_export.py [--repeat N] [--no-library] [FILE ...]``
 
 Each pattern is read once (not timed), then written four ways into a temporary
 directory: AAMA and ASTM, each as the sample size + ``.RUL`` (``sizes="sample"``)
@@ -26,7 +26,7 @@ from patternbridge.io.dxf_aama import read_dxf, write_dxf
 from patternbridge.report import Report
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from bench_import import best_of, peak_rss_mb  # noqa: E402  (the script beside this one)
+from dxf_import import best_of, peak_rss_mb  # noqa: E402  (the script beside this one)
 
 SHARED = Path(__file__).resolve().parents[1] / ".." / "shared" / "aama"
 LIBRARY = ("shirt", "trousers", "skirt", "dress", "tshirt", "shorts")
