@@ -139,28 +139,32 @@ class SurfaceMesh:
         fw.flags.writeable = False
         self.vertices = v
         self.faces = fw
-        e1 = v[fw[:, 1]] - v[fw[:, 0]]
-        e2 = v[fw[:, 2]] - v[fw[:, 0]]
-        cr = np.zeros_like(e1)  # np.cross is several times slower on (F, 3)
-        cr[:, 0] = e1[:, 1] * e2[:, 2] - e1[:, 2] * e2[:, 1]
-        cr[:, 1] = e1[:, 2] * e2[:, 0] - e1[:, 0] * e2[:, 2]
-        cr[:, 2] = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
+        # column gathers and products: several times faster than row gathers
+        # and np.cross on (F, 3)
+        f0, f1, f2 = (np.ascontiguousarray(fw[:, c]) for c in range(3))
+        e1 = []
+        e2 = []
+        for c in range(3):
+            col = np.ascontiguousarray(v[:, c])
+            base = col[f0]
+            e1.append(col[f1] - base)
+            e2.append(col[f2] - base)
+        cr = np.empty((len(fw), 3))
+        cr[:, 0] = e1[1] * e2[2] - e1[2] * e2[1]
+        cr[:, 1] = e1[2] * e2[0] - e1[0] * e2[2]
+        cr[:, 2] = e1[0] * e2[1] - e1[1] * e2[0]
         dbl_area = np.sqrt(np.einsum("ij,ij->i", cr, cr))
-        scale = float(np.mean(np.einsum("ij,ij->i", e1, e1))) or 1.0
-        degenerate = (
-            (dbl_area <= _AREA_EPS * scale)
-            | (fw[:, 0] == fw[:, 1])
-            | (fw[:, 1] == fw[:, 2])
-            | (fw[:, 0] == fw[:, 2])
-        )
+        scale = float(np.mean(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2])) or 1.0
+        del e1, e2
+        degenerate = (dbl_area <= _AREA_EPS * scale) | (f0 == f1) | (f1 == f2) | (f0 == f2)
         if degenerate.all():
             raise MeshError(
                 f"mesh: all {len(f)} faces have zero area; "
                 "the mesh has no usable surface"
             )
-        with np.errstate(invalid="ignore", divide="ignore"):
-            fn = cr / np.where(dbl_area > 0, dbl_area, 1.0)[:, None]
-        fn[degenerate] = 0.0
+        inv = np.divide(1.0, dbl_area, out=np.zeros_like(dbl_area), where=~degenerate)
+        fn = cr
+        fn *= inv[:, None]
         degenerate.flags.writeable = False
         fn.flags.writeable = False
         self.degenerate = degenerate
@@ -174,13 +178,14 @@ class SurfaceMesh:
         # function is mostly first-touch page faults of fresh arrays
         f = self.faces if not self.degenerate.any() else self.faces[~self.degenerate]
         n = self.n_vertices
+        shift = max(int(n).bit_length(), 1)
         a = f.ravel()
-        b = np.roll(f, -1, axis=1).ravel()
-        fwd = a * n
-        fwd += b
+        b = f[:, [1, 2, 0]].ravel()
+        fwd = a << shift
+        fwd |= b
         fwd.sort()
-        rev = b * n
-        rev += a
+        rev = b << shift
+        rev |= a
         rev.sort()
         if np.array_equal(fwd, rev) and not np.any(fwd[1:] == fwd[:-1]):
             key = fwd  # closed, consistently wound: half-edges already pair up
@@ -190,8 +195,8 @@ class SurfaceMesh:
             keep[1:] = key[1:] != key[:-1]
             key = key[keep]
         del rev, b
-        src = key // n
-        key -= src * n
+        src = key >> shift
+        key &= (1 << shift) - 1
         dst = key
         v = self.vertices
         w = np.zeros(len(dst))
@@ -372,8 +377,12 @@ def _weld_map(v: np.ndarray) -> np.ndarray:
     """(V,) int64 map to the lowest vertex id at exactly the same position."""
     n = len(v)
     rep = np.arange(n, dtype=np.int64)
-    order = np.argsort(v[:, 0], kind="stable")
-    xs = v[order, 0]
+    x = np.ascontiguousarray(v[:, 0])
+    xs = np.sort(x)
+    if not np.any(xs[1:] == xs[:-1]):  # no two vertices share even an x
+        return rep
+    order = np.argsort(x)  # ties are grouped whatever the order among them
+    xs = x[order]
     tie = np.zeros(n, dtype=bool)
     tie[1:] = xs[1:] == xs[:-1]
     tie[:-1] |= tie[1:]
