@@ -47,6 +47,24 @@ def _rss_mb() -> float:
         return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
+def _graded(pattern, character, cname: str, gname: str, cache: str | None):
+    """The garment graded to the character (measure + NSGA-II, small budget), cached as JSON in ``cache``."""
+    from patternbridge.io.pattern_json import load_pattern_json, save_pattern_json
+
+    path = Path(cache) / f"{gname}_{cname}.json" if cache else None
+    if path is not None and path.exists():
+        return load_pattern_json(path)
+    from patternbridge.grade.run import fit_pattern
+    from patternbridge.measure.run import measure
+
+    values = measure(character, partial=True).values_cm()
+    graded = fit_pattern(pattern, values, pop_size=40, n_gen=40, size=cname).pattern
+    if path is not None:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        save_pattern_json(graded, path)
+    return graded
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--characters", nargs="*", default=list(CHARACTERS))
@@ -57,6 +75,11 @@ def main(argv: list[str] | None = None) -> int:
         "--sample",
         action="store_true",
         help="dress the sample size instead of grading each garment to the character first",
+    )
+    ap.add_argument(
+        "--graded-cache",
+        metavar="DIR",
+        help="keep the graded patterns in DIR (pattern JSON) and reuse them on the next run",
     )
     ap.add_argument(
         "--graded",
@@ -86,13 +109,7 @@ def main(argv: list[str] | None = None) -> int:
         for gname in args.garments:
             pattern = load_garment(gname)
             if not args.sample:
-                from patternbridge.grade.run import fit_pattern
-                from patternbridge.measure.run import measure
-
-                values = measure(character, partial=True).values_cm()
-                pattern = fit_pattern(
-                    pattern, values, pop_size=40, n_gen=40, size=cname
-                ).pattern
+                pattern = _graded(pattern, character, cname, gname, args.graded_cache)
             out = Path(args.out) / f"{gname}_{cname}"
             t = time.perf_counter()
             r = dress(character, pattern, out)

@@ -17,7 +17,6 @@ Public entry points: :func:`assemble` returns a :class:`Garment`;
 
 from __future__ import annotations
 
-import dataclasses
 import logging
 import os
 import time
@@ -40,7 +39,6 @@ Progress = Callable[[str, int, int], None] | None
 
 POSE_STAGES = 1  # stages of the T-pose -> rest-pose return
 POSE_STEPS = 8  # cloth steps per stage
-CLOSE_STEPS = 12  # steps with stiff seams before welding
 
 
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)
@@ -384,17 +382,6 @@ def assemble(
             )
             if progress:
                 progress("pose", k + 1, POSE_STAGES)
-    # close the seams: a few steps with stiff seam springs (a new factorisation)
-    stiff = dataclasses.replace(settings, seam_weight=settings.seam_weight * 40.0)
-    drape(
-        cloth,
-        collider,
-        steps=CLOSE_STEPS,
-        sew_steps=0,
-        settings=stiff,
-        gravity_scale=0.0,
-        stage="close",
-    )
     gaps_before = seam_gaps(cloth.x, cloth.seams)
 
     # weld the seams, then make sure nothing is left inside the skin

@@ -266,7 +266,8 @@ def place_instances(
             a2 = 0.5 * (p2.min(axis=0) + p2.max(axis=0))
         # pattern +x runs to the right as seen from outside (docs/library.md conventions)
         sigma = 1.0
-        theta = th_a + sigma * (p2[:, 0] - a2[0]) / R
+        Rv = _row_radii(pmesh, inst, part, R)
+        theta = th_a + sigma * (p2[:, 0] - a2[0]) / Rv
         if part == "torso" and str(pl.side) in ("front", "back"):
             # torso fronts and backs are drawn with the body midline at x = 0
             # (docs/library.md): x = 0 goes on the centre front / back, the
@@ -274,12 +275,48 @@ def place_instances(
             # axis to give a reliable angle)
             theta = (0.0 if str(pl.side) == "front" else np.pi) + p2[:, 0] / R
         h = h_a + (p2[:, 1] - a2[1])
-        r = np.full(len(p2), R)
+        r = Rv.copy()
         if scene is not None:
             r = scene.radial_clearance(cyl, theta, h, r, CLEARANCE_CM)
         out[inst.key] = cyl.points(theta, h, r)
     _follow_seams(pattern, pmesh, cylinders, out, scene)
     return out
+
+
+def _row_radii(pmesh: PatternMesh, inst: Instance, part: str, radius_cm: float) -> np.ndarray:
+    """(n,) float64, cm: the wrapping radius of every vertex of ``inst``.
+
+    A piece on a limb that is sewn to itself (a sleeve, a cuff) is wrapped
+    as a tube: every row of the pattern (a height y) goes once round, on the
+    radius ``width(y) / 2π``, so its seam edges start side by side instead
+    of across the limb. Rows beyond the widest row toward the body (a
+    sleeve cap) keep the radius of the widest row below them, and sit on top
+    of the limb. Other pieces use the cylinder's ``radius_cm``.
+    """
+    pts = pmesh.pieces[inst.piece].points
+    n = len(pts)
+    closes = any(sp.a.key == inst.key and sp.b.key == inst.key for sp in pmesh.seams)
+    if part not in ("left_arm", "right_arm", "left_leg", "right_leg") or not closes:
+        return np.full(n, float(radius_cm))
+    b = pts[: pmesh.pieces[inst.piece].n_boundary]
+    a, c = b, np.roll(b, -1, axis=0)
+    y0, y1 = float(b[:, 1].min()), float(b[:, 1].max())
+    grid = np.linspace(y0, y1, 200)
+    grid[0] += 1e-6 * (y1 - y0)
+    grid[-1] -= 1e-6 * (y1 - y0)
+    ya, yc = a[:, 1][None, :], c[:, 1][None, :]
+    g = grid[:, None]
+    cross = ((ya - g) * (yc - g) <= 0) & (ya != yc)
+    t = np.where(cross, (g - ya) / np.where(ya != yc, yc - ya, 1.0), 0.0)
+    xs = a[:, 0][None, :] + t * (c[:, 0] - a[:, 0])[None, :]
+    width = np.where(
+        cross.any(axis=1),
+        np.where(cross, xs, -np.inf).max(axis=1) - np.where(cross, xs, np.inf).min(axis=1),
+        0.0,
+    )
+    width = np.maximum.accumulate(width)  # the cap keeps the widest row's radius
+    w = np.interp(pts[:, 1], grid, width)
+    return np.maximum(w / (2 * np.pi), 1.0)
 
 
 def _follow_seams(
@@ -304,7 +341,7 @@ def _follow_seams(
         if str(pl.side) != "around":
             continue
         cyl = cylinders[part]
-        mine, theirs = [], []
+        mine, theirs, mine_ids = [], [], []
         for sp in pmesh.seams:
             for me, va, other, vb in (
                 (sp.a, sp.a_vertices, sp.b, sp.b_vertices),
@@ -317,27 +354,29 @@ def _follow_seams(
                     and size[other.piece] > size[inst.piece]
                 ):
                     mine.append(instance_points2d(pmesh, inst)[va])
+                    mine_ids.append(va)
                     theirs.append(out[other.key][vb])
         if not mine:
             continue
         p2 = instance_points2d(pmesh, inst)
         m2, target = np.concatenate(mine), np.concatenate(theirs)
         th_t, h_t, _ = cyl.coordinates(target)
-        R = cyl.radius_cm
+        Rv = _row_radii(pmesh, inst, part, cyl.radius_cm)
+        Rm = Rv[np.concatenate(mine_ids)]
         best = None
         for sign in (1.0, -1.0):  # as drawn, turned half round
-            d = th_t - sign * m2[:, 0] / R
+            d = th_t - sign * m2[:, 0] / Rm
             th0 = float(np.angle(np.mean(np.exp(1j * d))))
             h0 = float(np.mean(h_t - sign * m2[:, 1]))
-            th = th0 + sign * m2[:, 0] / R
+            th = th0 + sign * m2[:, 0] / Rm
             h = h0 + sign * m2[:, 1]
-            cost = float(np.linalg.norm(cyl.points(th, h) - target, axis=1).sum())
+            cost = float(np.linalg.norm(cyl.points(th, h, Rm) - target, axis=1).sum())
             if best is None or cost < best[0]:
                 best = (cost, sign, th0, h0)
         _, sign, th0, h0 = best
-        theta = th0 + sign * p2[:, 0] / R
+        theta = th0 + sign * p2[:, 0] / Rv
         h = h0 + sign * p2[:, 1]
-        r = np.full(len(p2), R)
+        r = Rv.copy()
         if scene is not None:
             r = scene.radial_clearance(cyl, theta, h, r, CLEARANCE_CM)
         log.debug("%s placed on its seam (%s)", inst.key, "turned" if sign < 0 else "as drawn")

@@ -95,3 +95,48 @@ def test_segmentation_without_rig_or_landmarks_is_a_landmark_error(character_e):
     bare = dataclasses.replace(character_e, skeleton=None, skin=None, landmarks={})
     with pytest.raises(LandmarkError, match="crotch_point"):
         segment_body(bare)
+
+
+@pytest.fixture(scope="module")
+def limb() -> BodyCollider:
+    # a thin limb: a cylinder of radius 3 cm along x
+    m = trimesh.creation.cylinder(radius=3.0, height=40.0, sections=48)
+    m.apply_transform(trimesh.transformations.rotation_matrix(np.pi / 2, [0, 1, 0]))
+    return BodyCollider(m.vertices, m.faces)
+
+
+def test_crossing_triangles_finds_a_triangle_through_a_limb(limb):
+    # corners outside the limb (above and below it), the triangle cuts through it
+    v = np.array(
+        [
+            [0.0, 4.0, 0.0],
+            [2.0, -4.0, 0.0],
+            [-2.0, -4.0, 0.0],  # crosses
+            [0.0, 8.0, 0.0],
+            [4.0, 8.0, 0.0],
+            [0.0, 8.0, 4.0],  # clear of it
+        ]
+    )
+    f = np.array([[0, 1, 2], [3, 4, 5]])
+    assert not limb.inside(v).any()  # the vertex test alone sees nothing
+    np.testing.assert_array_equal(limb.crossing_triangles(v, f), [True, False])
+    np.testing.assert_array_equal(
+        limb.crossing_edges(v[[0, 3]], v[[1, 4]]), [True, False]
+    )
+
+
+def test_clear_triangles_lifts_a_strip_off_a_limb(limb):
+    # a strip of long triangles across the limb: the corners lie beside it
+    # (z = ±3.5) at a height of 1.5 cm, the edges between them cut through it
+    xs = np.linspace(-6.0, 6.0, 4)
+    v = np.concatenate(
+        [
+            np.stack([xs, np.full(4, 1.5), np.full(4, -3.5)], axis=1),
+            np.stack([xs, np.full(4, 1.5), np.full(4, 3.5)], axis=1),
+        ]
+    )
+    f = np.array([[0, 1, 4], [1, 5, 4], [1, 2, 5], [2, 6, 5], [2, 3, 6], [3, 7, 6]])
+    assert limb.crossing_triangles(v, f).any()
+    out = limb.clear_triangles(v, f, 0.6, rounds=20)
+    assert not limb.crossing_triangles(out, f).any()
+    assert not limb.inside(out).any()

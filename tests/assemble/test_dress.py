@@ -60,6 +60,7 @@ def test_dress_writes_every_file_and_a_json_report(dressed):
 def test_no_vertex_inside_the_body_and_seams_closed(dressed, character_e):
     out, report = dressed
     assert report["penetrating_vertices"] == 0
+    assert report["crossing_triangles"] == 0
     assert report["max_seam_gap_mm"] <= 1.0
     doc, binary = read_glb((out / "garment.glb").read_bytes())
     pos = []
@@ -101,3 +102,25 @@ def test_same_seed_same_garment(character_e, tshirt):
     a = assemble(character_e, tshirt, seed=3, max_edge_cm=5.0, steps=20)
     b = assemble(character_e, tshirt, seed=3, max_edge_cm=5.0, steps=20)
     np.testing.assert_array_equal(a.vertices, b.vertices)
+
+
+@pytest.mark.shared
+def test_cuff_is_placed_on_the_sleeve_hem_it_is_sewn_to(character_e):
+    from patternbridge.assemble.bodyparts import segment_body
+    from patternbridge.assemble.placement import bounding_cylinders, place_instances
+    from patternbridge.library import load_garment
+    from patternbridge.report import Report
+
+    shirt = load_garment("shirt")
+    pm = mesh_pattern(shirt, max_edge_cm=3.0)
+    body = np.asarray(character_e.vertices)
+    cylinders = bounding_cylinders(body, segment_body(character_e))
+    placed = place_instances(character_e, body, shirt, pm, cylinders, Report())
+    for sp in pm.seams:
+        if sp.seam.startswith("cuff_") and "closure" not in sp.seam:
+            gap = np.linalg.norm(
+                placed[sp.a.key][sp.a_vertices] - placed[sp.b.key][sp.b_vertices], axis=1
+            )
+            # the cuff's anchor (its corner on the wrist point) alone left it
+            # about 20 cm from the hem; on the hem the pairs start close
+            assert np.median(gap) < 5.0, (sp.seam, np.median(gap))
