@@ -288,7 +288,7 @@ class SurfaceMesh:
     def all_vertex_normals(self) -> np.ndarray:
         """(V, 3) float64 tangent-plane normals of every vertex (cached)."""
         if "vn" not in self._cache:
-            self._cache["vn"] = self.vertex_normals(np.arange(self.n_vertices))
+            self._cache["vn"] = self._pca_normals(np.arange(self.n_vertices))
         return self._cache["vn"]
 
     def faces_of(self, v: int) -> np.ndarray:
@@ -308,8 +308,29 @@ class SurfaceMesh:
         -------
         (n, 3) float64 unit normals: the principal direction of the area-weighted
         scatter of the surrounding face normals, oriented like their mean.
+
+        Notes
+        -----
+        Computed once per vertex and kept: the flow asks for the same vertices
+        at every outer iteration, and paths on one character share vertices.
         """
         vids = np.asarray(vids, dtype=np.int64)
+        if "vn" in self._cache:
+            return self._cache["vn"][vids]
+        if "vn_some" not in self._cache:
+            self._cache["vn_some"] = (
+                np.zeros((self.n_vertices, 3)),
+                np.zeros(self.n_vertices, dtype=bool),
+            )
+        known, have = self._cache["vn_some"]
+        miss = vids[~have[vids]]
+        if len(miss):
+            miss = np.unique(miss)
+            known[miss] = self._pca_normals(miss)
+            have[miss] = True
+        return known[vids]
+
+    def _pca_normals(self, vids: np.ndarray) -> np.ndarray:
         indptr, fl = self.vertex_faces
         counts = indptr[vids + 1] - indptr[vids]
         owner = np.repeat(np.arange(len(vids)), counts)
