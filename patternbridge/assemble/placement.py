@@ -266,14 +266,18 @@ def place_instances(
             a2 = 0.5 * (p2.min(axis=0) + p2.max(axis=0))
         # pattern +x runs to the right as seen from outside (docs/library.md conventions)
         sigma = 1.0
-        Rv = _row_radii(pmesh, inst, part, R)
+        Rv = _row_radii(pmesh, inst, part, str(pl.side), R)
         theta = th_a + sigma * (p2[:, 0] - a2[0]) / Rv
         if part == "torso" and str(pl.side) in ("front", "back"):
             # torso fronts and backs are drawn with the body midline at x = 0
             # (docs/library.md): x = 0 goes on the centre front / back, the
             # anchor only fixes the height (a neck point lies too near the
-            # axis to give a reliable angle)
-            theta = (0.0 if str(pl.side) == "front" else np.pi) + p2[:, 0] / R
+            # axis to give a reliable angle). A piece sewn to its own mirror
+            # copy (a centre front seam) puts that seam on the centre, row by
+            # row: grading can move it off x = 0
+            theta = (0.0 if str(pl.side) == "front" else np.pi) + (
+                p2[:, 0] - _centre_line(pmesh, inst, p2)
+            ) / R
         h = h_a + (p2[:, 1] - a2[1])
         r = Rv.copy()
         if scene is not None:
@@ -283,10 +287,29 @@ def place_instances(
     return out
 
 
-def _row_radii(pmesh: PatternMesh, inst: Instance, part: str, radius_cm: float) -> np.ndarray:
+def _centre_line(pmesh: PatternMesh, inst: Instance, p2: np.ndarray) -> np.ndarray:
+    """(n,) float64, cm: x of the seam to the instance's own mirror copy at each vertex's height.
+
+    Zero when the piece has no such seam (the midline convention x = 0).
+    """
+    for sp in pmesh.seams:
+        if sp.a.piece == sp.b.piece == inst.piece and sp.a.copy is not sp.b.copy:
+            va = sp.a_vertices if sp.a.key == inst.key else sp.b_vertices
+            ys, xs = p2[va, 1], p2[va, 0]
+            if np.ptp(ys) < 1.0:
+                continue
+            order = np.argsort(ys)
+            return np.interp(p2[:, 1], ys[order], xs[order])
+    return np.zeros(len(p2))
+
+
+def _row_radii(
+    pmesh: PatternMesh, inst: Instance, part: str, side: str, radius_cm: float
+) -> np.ndarray:
     """(n,) float64, cm: the wrapping radius of every vertex of ``inst``.
 
-    A piece on a limb that is sewn to itself (a sleeve, a cuff) is wrapped
+    A piece going round a limb (side ``around``) that is sewn to itself (a
+    sleeve, a cuff) is wrapped
     as a tube: every row of the pattern (a height y) goes once round, on the
     radius ``width(y) / 2π``, so its seam edges start side by side instead
     of across the limb. Rows beyond the widest row toward the body (a
@@ -296,7 +319,9 @@ def _row_radii(pmesh: PatternMesh, inst: Instance, part: str, radius_cm: float) 
     pts = pmesh.pieces[inst.piece].points
     n = len(pts)
     closes = any(sp.a.key == inst.key and sp.b.key == inst.key for sp in pmesh.seams)
-    if part not in ("left_arm", "right_arm", "left_leg", "right_leg") or not closes:
+    if part not in ("left_arm", "right_arm", "left_leg", "right_leg") or not (
+        closes and side == "around"
+    ):
         return np.full(n, float(radius_cm))
     b = pts[: pmesh.pieces[inst.piece].n_boundary]
     a, c = b, np.roll(b, -1, axis=0)
@@ -361,7 +386,7 @@ def _follow_seams(
         p2 = instance_points2d(pmesh, inst)
         m2, target = np.concatenate(mine), np.concatenate(theirs)
         th_t, h_t, _ = cyl.coordinates(target)
-        Rv = _row_radii(pmesh, inst, part, cyl.radius_cm)
+        Rv = _row_radii(pmesh, inst, part, str(pl.side), cyl.radius_cm)
         Rm = Rv[np.concatenate(mine_ids)]
         best = None
         for sign in (1.0, -1.0):  # as drawn, turned half round
