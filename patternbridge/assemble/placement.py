@@ -236,6 +236,7 @@ def place_instances(
         A piece has no placement hint, or its body part has no vertices.
     """
     out: dict[str, np.ndarray] = {}
+    rows = []
     for inst in pmesh.instances:
         piece = pattern.piece(inst.piece)
         pl = piece.placement
@@ -264,9 +265,14 @@ def place_instances(
             th_a = {"front": 0.0, "back": np.pi}.get(str(pl.side), np.pi / 2)
             h_a = 0.5 * (cyl.h_min + cyl.h_max)
             a2 = 0.5 * (p2.min(axis=0) + p2.max(axis=0))
+        rows.append((inst, pl, part, cyl, p2, R, th_a, h_a, a2))
+    shared = _shared_row_radii(pmesh, rows)
+    for inst, pl, part, cyl, p2, R, th_a, h_a, a2 in rows:
         # pattern +x runs to the right as seen from outside (docs/library.md conventions)
         sigma = 1.0
-        Rv = _row_radii(pmesh, inst, part, str(pl.side), R)
+        Rv = shared.get(inst.key)
+        if Rv is None:
+            Rv = _row_radii(pmesh, inst, part, str(pl.side), R)
         theta = th_a + sigma * (p2[:, 0] - a2[0]) / Rv
         if part == "torso" and str(pl.side) in ("front", "back"):
             # torso fronts and backs are drawn with the body midline at x = 0
@@ -303,6 +309,58 @@ def _centre_line(pmesh: PatternMesh, inst: Instance, p2: np.ndarray) -> np.ndarr
     return np.zeros(len(p2))
 
 
+def _widths(boundary: np.ndarray, ys: np.ndarray) -> np.ndarray:
+    """(k,) float64, cm: width of the closed outline ``boundary`` (n, 2) along the rows ``ys`` (0 outside)."""
+    a, c = boundary, np.roll(boundary, -1, axis=0)
+    ya, yc = a[:, 1][None, :], c[:, 1][None, :]
+    g = np.asarray(ys, dtype=np.float64)[:, None]
+    cross = ((ya - g) * (yc - g) <= 0) & (ya != yc)
+    t = np.where(cross, (g - ya) / np.where(ya != yc, yc - ya, 1.0), 0.0)
+    xs = a[:, 0][None, :] + t * (c[:, 0] - a[:, 0])[None, :]
+    return np.where(
+        cross.any(axis=1),
+        np.where(cross, xs, -np.inf).max(axis=1) - np.where(cross, xs, np.inf).min(axis=1),
+        0.0,
+    )
+
+
+def _shared_row_radii(pmesh: PatternMesh, rows: list) -> dict[str, np.ndarray]:
+    """Wrapping radii of the pieces side by side round a limb (a trouser leg's front and back).
+
+    At every height the pieces on one limb together go once round: the
+    radius is the sum of their widths at that height / 2π (kept from the
+    widest height below it, toward the body). Returns instance key -> (n,)
+    radii, cm, for the limbs carrying two or more such pieces.
+    """
+    groups: dict[str, list] = {}
+    for row in rows:
+        inst, pl, part = row[0], row[1], row[2]
+        if part in ("left_arm", "right_arm", "left_leg", "right_leg") and str(pl.side) in (
+            "front",
+            "back",
+        ):
+            groups.setdefault(part, []).append(row)
+    out: dict[str, np.ndarray] = {}
+    for members in groups.values():
+        if len(members) < 2:
+            continue
+        spans = []
+        for inst, _, _, _, p2, _, _, h_a, a2 in members:
+            spans.append((h_a - a2[1], p2))
+        lo = min(off + p2[:, 1].min() for off, p2 in spans)
+        hi = max(off + p2[:, 1].max() for off, p2 in spans)
+        grid = np.linspace(lo, hi, 300)
+        total = np.zeros_like(grid)
+        for (off, p2), (inst, *_) in zip(spans, members, strict=True):
+            b = p2[: pmesh.pieces[inst.piece].n_boundary]
+            total += _widths(b, grid - off)
+        total = np.maximum.accumulate(total)
+        for (off, p2), (inst, _, _, _, _, R, *_rest) in zip(spans, members, strict=True):
+            radius = np.interp(off + p2[:, 1], grid, total) / (2 * np.pi)
+            out[inst.key] = np.maximum(radius, 1.0)
+    return out
+
+
 def _row_radii(
     pmesh: PatternMesh, inst: Instance, part: str, side: str, radius_cm: float
 ) -> np.ndarray:
@@ -324,21 +382,11 @@ def _row_radii(
     ):
         return np.full(n, float(radius_cm))
     b = pts[: pmesh.pieces[inst.piece].n_boundary]
-    a, c = b, np.roll(b, -1, axis=0)
     y0, y1 = float(b[:, 1].min()), float(b[:, 1].max())
     grid = np.linspace(y0, y1, 200)
     grid[0] += 1e-6 * (y1 - y0)
     grid[-1] -= 1e-6 * (y1 - y0)
-    ya, yc = a[:, 1][None, :], c[:, 1][None, :]
-    g = grid[:, None]
-    cross = ((ya - g) * (yc - g) <= 0) & (ya != yc)
-    t = np.where(cross, (g - ya) / np.where(ya != yc, yc - ya, 1.0), 0.0)
-    xs = a[:, 0][None, :] + t * (c[:, 0] - a[:, 0])[None, :]
-    width = np.where(
-        cross.any(axis=1),
-        np.where(cross, xs, -np.inf).max(axis=1) - np.where(cross, xs, np.inf).min(axis=1),
-        0.0,
-    )
+    width = _widths(b, grid)
     width = np.maximum.accumulate(width)  # the cap keeps the widest row's radius
     w = np.interp(pts[:, 1], grid, width)
     return np.maximum(w / (2 * np.pi), 1.0)
