@@ -120,7 +120,11 @@ def solve_windows(
     rhs = np.zeros((B, w, 2))
     rhs[:, 1:-1] = -np.einsum("bwki,bwk->bwi", T[:, 1:-1], lap)
     rhs *= fr[..., None]
-    u = _block_dense(lo, diag, up, rhs) if w <= _DENSE_W else _block_thomas(lo, diag, up, rhs)
+    u = (
+        _block_dense(lo, diag, up, rhs)
+        if w <= _DENSE_W
+        else _block_thomas(lo, diag, up, rhs)
+    )
     return base + np.einsum("bwki,bwi->bwk", T, u) * fr[..., None]
 
 

@@ -156,7 +156,9 @@ class SurfaceMesh:
         dbl_area = np.sqrt(np.einsum("ij,ij->i", cr, cr))
         scale = float(np.mean(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2])) or 1.0
         del e1, e2
-        degenerate = (dbl_area <= _AREA_EPS * scale) | (f0 == f1) | (f1 == f2) | (f0 == f2)
+        degenerate = (
+            (dbl_area <= _AREA_EPS * scale) | (f0 == f1) | (f1 == f2) | (f0 == f2)
+        )
         if degenerate.all():
             raise MeshError(
                 f"mesh: all {len(f)} faces have zero area; "

@@ -87,3 +87,32 @@ def test_batched_window_solve_matches_lsq():
     out = solve_windows(pts, nrm, pts, free)
     for b in range(3):
         np.testing.assert_allclose(out[b], lsq_step(pts[b], nrm[b], pts[b]), atol=1e-8)
+
+
+@pytest.mark.parametrize("w", [7, 30])
+def test_block_solvers_agree_and_match_lsq(w):
+    """Short windows are solved densely, long ones by block elimination: both
+    give the least-squares flow step, with given or derived tangent bases."""
+    from patternbridge.geodesic import propagate
+    from patternbridge.geodesic.flow import lsq_step
+
+    rng = np.random.default_rng(w)
+    pts = np.cumsum(rng.normal(size=(4, w, 3)), axis=1)
+    nrm = rng.normal(size=(4, w, 3))
+    nrm /= np.linalg.norm(nrm, axis=2, keepdims=True)
+    free = np.ones((4, w), dtype=bool)
+    free[:, [0, -1]] = False
+    free[1, : w // 2] = False  # a window still filling up
+    t1, t2 = propagate._tangent_bases(nrm)
+    tng = np.stack([t1, t2], axis=-1)
+    out = solve_windows(pts, nrm, pts, free)
+    np.testing.assert_allclose(solve_windows(pts, nrm, pts, free, tangents=tng), out)
+    old = propagate._DENSE_W
+    try:
+        propagate._DENSE_W = 0 if w <= old else 10_000  # the other solver
+        other = solve_windows(pts, nrm, pts, free)
+    finally:
+        propagate._DENSE_W = old
+    np.testing.assert_allclose(other, out, atol=1e-9)
+    np.testing.assert_allclose(out[0], lsq_step(pts[0], nrm[0], pts[0]), atol=1e-8)
+    np.testing.assert_array_equal(out[1, : w // 2], pts[1, : w // 2])  # fixed stay

@@ -90,3 +90,26 @@ def test_vertex_normals_by_pca(sphere):
     radial = v[ids] / np.linalg.norm(v[ids], axis=1)[:, None]
     assert np.all(np.einsum("ij,ij->i", n, radial) > 0.999)
     np.testing.assert_allclose(np.linalg.norm(n, axis=1), 1.0)
+
+
+def test_vertex_normals_are_kept_and_agree_with_the_full_table(sphere):
+    v, f = sphere
+    m = SurfaceMesh(v, f)
+    first = m.vertex_normals([5, 3, 5, 11])  # repeated ids, any order
+    later = m.vertex_normals(np.arange(20))  # part known, part new
+    np.testing.assert_array_equal(first, later[[5, 3, 5, 11]])
+    full = SurfaceMesh(v, f).all_vertex_normals
+    np.testing.assert_allclose(later, full[:20], atol=1e-12)
+    np.testing.assert_allclose(m.all_vertex_normals[[5, 3]], first[:2], atol=1e-12)
+
+
+def test_graph_of_an_open_inconsistently_wound_mesh(shapes):
+    """Edge keys pair up only on closed, consistently wound meshes; otherwise
+    every edge still appears once in each direction."""
+    v, f, _ = shapes.grid(4, size=3.0, jitter=0.0, seed=1)
+    f = f.copy()
+    f[::3] = f[::3, ::-1]  # flip every third face
+    g = SurfaceMesh(v, f).graph
+    assert (g != g.T).nnz == 0
+    n_edges = len({tuple(sorted(e)) for t in f.tolist() for e in zip(t, t[1:] + t[:1])})
+    assert g.nnz == 2 * n_edges
