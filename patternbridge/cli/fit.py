@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import re
 import shutil
 import sys
@@ -56,7 +55,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--generations", type=int, default=None, help="NSGA-II generations"
     )
     parser.add_argument(
-        "--no-repair", action="store_true", help="skip the least-squares repair step"
+        "--no-repair", action="store_true", help="skip the final step (least shape change under the fit); keep the NSGA-II choice"
     )
     parser.add_argument(
         "--no-drape", action="store_true", help="do not assemble/drape the garment"
@@ -228,8 +227,6 @@ def run(args: argparse.Namespace) -> int:
 
     out_dir.mkdir(parents=True, exist_ok=True)
     tmp_dir = Path(tempfile.mkdtemp(prefix=".fit-", dir=out_dir))
-    umask = os.umask(0)
-    os.umask(umask)
     try:
         written = _write_outputs(
             tmp_dir,
@@ -254,7 +251,6 @@ def run(args: argparse.Namespace) -> int:
                 src.replace(dst)
             else:
                 src.replace(dst)
-                os.chmod(dst, 0o666 & ~umask)  # temporary files are created private
             final.append(dst)
     finally:
         shutil.rmtree(tmp_dir, ignore_errors=True)
@@ -338,15 +334,20 @@ def _write_outputs(
             stage("assembling and draping")
             drape_dir = tmp / "drape"
             drape_dir.mkdir()
-            before = set()
             drape_dict = dress(
                 character, result.pattern, drape_dir, seed=args.seed, progress=progress
             )
+            moved = []
             for f in sorted(drape_dir.iterdir()):
-                if f.name not in before and not f.name.startswith("."):
+                if not f.name.startswith("."):
                     f.replace(tmp / f.name)
                     names.append(f.name)
+                    moved.append(f.name)
             drape_dir.rmdir()
+            # the assembler names the files where it wrote them (the temporary
+            # folder); the report names them where they end up, relative to OUT/
+            drape_dict = dict(drape_dict)
+            drape_dict["files"] = _relative_files(drape_dict.get("files"), moved)
     elif character is None and not args.no_drape:
         rep["drape"] = {"skipped": "measurements given without a character mesh"}
     if drape_dict is not None:
@@ -378,6 +379,13 @@ def _write_outputs(
     )
     names.append("fit_report.json")
     return names
+
+
+def _relative_files(files, moved: list[str]) -> list[str]:
+    """File names of the drape outputs relative to OUT/ (they land at its top level)."""
+    if not files:
+        return sorted(moved)
+    return [Path(str(f)).name for f in files if Path(str(f)).name in moved] or sorted(moved)
 
 
 def _json_default(obj):

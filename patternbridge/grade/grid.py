@@ -44,6 +44,7 @@ __all__ = [
     "grid_lines",
     "piece_grid",
     "reference_line",
+    "split_lines",
 ]
 
 
@@ -196,8 +197,23 @@ class PieceGrid:
         return self.nu * self.nv
 
 
-def piece_grid(piece: Piece, *, max_lines: int = 6, min_gap_frac: float = 0.06) -> PieceGrid:
-    """Build the control grid of ``piece`` through its critical points."""
+def split_lines(lines: np.ndarray, max_gap_cm: float) -> np.ndarray:
+    """``lines`` with every gap wider than ``max_gap_cm`` split into equal parts."""
+    out = [lines[:1]]
+    for a, b in zip(lines[:-1], lines[1:]):
+        n = int(np.ceil((b - a) / max_gap_cm - 1e-9)) if max_gap_cm > 0 else 1
+        out.append(np.linspace(a, b, max(n, 1) + 1)[1:])
+    return np.concatenate(out)
+
+
+def piece_grid(piece: Piece, *, max_lines: int = 6, min_gap_frac: float = 0.06,
+               max_cell_frac: float | None = None) -> PieceGrid:
+    """Build the control grid of ``piece`` through its critical points.
+
+    ``max_cell_frac`` (optional) splits every grid interval wider than that
+    fraction of the piece's extent into equal parts, so long stretches
+    between critical points get control points too.
+    """
     outline = piece.outline
     line = reference_line(piece)
     both = np.vstack([outline, line])
@@ -208,6 +224,9 @@ def piece_grid(piece: Piece, *, max_lines: int = 6, min_gap_frac: float = 0.06) 
     gap = max(min_gap_frac * extent, 1e-6)
     xs = grid_lines(line[crit, 0], lo[0], hi[0], max_lines=max_lines, min_gap_cm=gap)
     ys = grid_lines(line[crit, 1], lo[1], hi[1], max_lines=max_lines, min_gap_cm=gap)
+    if max_cell_frac:
+        xs = split_lines(xs, max_cell_frac * extent)
+        ys = split_lines(ys, max_cell_frac * extent)
     gx, gy = np.meshgrid(xs, ys)
     control = np.stack([gx.ravel(), gy.ravel()], axis=1)
     _, w_out = bilinear_weights(line, xs, ys)
@@ -297,6 +316,25 @@ class PatternGrid:
             out = np.minimum(out, _min_corner_ratio(c, c0))
         return out
 
+    def corner_ratios(self, X: np.ndarray, *, relative: bool = True) -> np.ndarray:
+        """Every cell corner cross product relative to the original, ``(n_pop, n_corners)``.
+
+        With ``relative`` each piece's ratios are divided by their median, so
+        a piece that grows or shrinks as a whole keeps ratios near 1 and only
+        cells squeezed against the rest of the piece fall below.
+        """
+        X = np.atleast_2d(np.asarray(X, dtype=np.float64))
+        parts = []
+        for k in range(len(self.pieces)):
+            c = self.control(X, k)
+            c0 = self.control(self.x0[None, :], k)
+            r = _corner_cross(c) / _corner_cross(c0)
+            r = r.reshape(len(X), -1)
+            if relative:
+                r = r / np.maximum(np.median(r, axis=1, keepdims=True), 1e-9)
+            parts.append(r)
+        return np.concatenate(parts, axis=1)
+
     def bending(self, X: np.ndarray) -> np.ndarray:
         """Change of the displacement gradient between neighbouring cells, cm.
 
@@ -373,6 +411,18 @@ class PatternGrid:
         return x
 
 
+def _corner_cross(a: np.ndarray) -> np.ndarray:
+    """(n_pop, nv-1, nu-1, 4) corner cross products of every grid cell (CCW corners)."""
+    quad = [a[:, :-1, :-1], a[:, :-1, 1:], a[:, 1:, 1:], a[:, 1:, :-1]]
+    res = []
+    for q in range(4):
+        cur, nxt, prv = quad[q], quad[(q + 1) % 4], quad[(q - 1) % 4]
+        e1 = nxt - cur
+        e2 = prv - cur
+        res.append(e1[..., 0] * e2[..., 1] - e1[..., 1] * e2[..., 0])
+    return np.stack(res, axis=-1)
+
+
 def _min_corner_ratio(c: np.ndarray, c0: np.ndarray) -> np.ndarray:
     """(n_pop,) min over cells and corners of cross(c) / cross(c0)."""
 
@@ -396,9 +446,9 @@ def _min_corner_ratio(c: np.ndarray, c0: np.ndarray) -> np.ndarray:
     return ratio.reshape(len(c), -1).min(axis=1)
 
 
-def build_grid(pattern: Pattern, *, max_lines: int = 6) -> PatternGrid:
-    """Control grids for every piece of ``pattern`` and the gene layout."""
-    grids = tuple(piece_grid(p, max_lines=max_lines) for p in pattern.pieces)
+def build_grid(pattern: Pattern, *, max_lines: int = 6, max_cell_frac: float | None = None) -> PatternGrid:
+    """Control grids for every piece of ``pattern`` and the gene layout (see :func:`piece_grid`)."""
+    grids = tuple(piece_grid(p, max_lines=max_lines, max_cell_frac=max_cell_frac) for p in pattern.pieces)
     var_offsets = np.concatenate([[0], np.cumsum([2 * g.n_control for g in grids])]).astype(np.int64)
     point_offsets = np.concatenate([[0], np.cumsum([len(g.outline_weights) for g in grids])]).astype(np.int64)
     x0 = np.concatenate([g.control.ravel() for g in grids])

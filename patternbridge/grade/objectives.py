@@ -22,9 +22,10 @@ Objectives (all minimised)
    order, keep their original offset along the seam).
    The sum over both parts divided by the number of points follows eq. 4.8.
 3. **Shape error**, rad: mean ``|Δ inner angle|`` at the critical points
-   (turn points, marks, notches, extremes) plus mean ``|Δ inner angle|`` at
-   every outline vertex, halved — Kendall's shape: invariant to moving,
-   rotating and uniformly scaling a piece.
+   (turn points, marks, notches, extremes), averaged per piece and then over
+   the pieces — Kendall's shape: invariant to moving, rotating and uniformly
+   scaling a piece. :func:`shape_error_all` (every outline vertex) is
+   reported beside it.
 
 Constraint: ``G = 0.05 - fold_margin <= 0``; every grid cell stays a convex
 quad with at least 5 % of its original corner cross products, so no piece
@@ -53,6 +54,8 @@ __all__ = [
     "residuals",
     "seam_error",
     "shape_error",
+    "shape_error_all",
+    "angle_change",
 ]
 
 FOLD_MARGIN = 0.05
@@ -128,6 +131,7 @@ class Evaluation:
     notch_cm: np.ndarray  # (n_pop, M) misalignment per notch pair
     seam_error: np.ndarray  # (n_pop,)
     shape_error: np.ndarray  # (n_pop,)
+    shape_error_all: np.ndarray  # (n_pop,) mean |Δ angle| over all vertices
 
     @property
     def F(self) -> np.ndarray:
@@ -478,11 +482,33 @@ def seam_error(data: ObjectiveData, points: np.ndarray) -> dict[str, np.ndarray]
             "error": per_seam.mean(axis=1)}
 
 
-def shape_error(data: ObjectiveData, points: np.ndarray) -> np.ndarray:
-    """(n_pop,) mean inner-angle change at critical points and at all vertices, halved (rad)."""
+def angle_change(data: ObjectiveData, points: np.ndarray) -> np.ndarray:
+    """Signed inner-angle change at every outline vertex, ``(n_pop, N)`` rad in [-π, π)."""
     d = _angles(points, data.prv, data.nxt) - data.angle0
-    d = np.abs((d + np.pi) % (2 * np.pi) - np.pi)
-    return 0.5 * (d[:, data.critical].mean(axis=1) + d.mean(axis=1))
+    return (d + np.pi) % (2 * np.pi) - np.pi
+
+
+def shape_error(data: ObjectiveData, points: np.ndarray) -> np.ndarray:
+    """(n_pop,) mean ``|Δ inner angle|`` at the critical points, averaged per piece (rad).
+
+    Each piece's critical points are averaged first and the pieces weigh the
+    same, so a piece with many marks (a shirt front) does not outweigh a
+    small one (a cuff), and the figure does not depend on how finely the
+    curves between critical points are sampled.
+    """
+    d = np.abs(angle_change(data, points))[:, data.critical]
+    P = len(data.centre0)
+    piece = data.piece_of_point[data.critical]
+    counts = np.bincount(piece, minlength=P).astype(np.float64)
+    sums = np.zeros((len(points), P))
+    np.add.at(sums.T, piece, d.T)
+    has = counts > 0
+    return (sums[:, has] / counts[has]).mean(axis=1)
+
+
+def shape_error_all(data: ObjectiveData, points: np.ndarray) -> np.ndarray:
+    """(n_pop,) mean ``|Δ inner angle|`` over every outline vertex (rad; a secondary figure)."""
+    return np.abs(angle_change(data, points)).mean(axis=1)
 
 
 def evaluate(data: ObjectiveData, points: np.ndarray) -> Evaluation:
@@ -495,6 +521,7 @@ def evaluate(data: ObjectiveData, points: np.ndarray) -> Evaluation:
         seam_mismatch_cm=seams["mismatch_cm"], seam_edge_cm=seams["edge_cm"],
         seam_angle=seams["angle"], notch_cm=seams["notch_cm"], seam_error=seams["error"],
         shape_error=shape_error(data, points),
+        shape_error_all=shape_error_all(data, points),
     )
 
 

@@ -58,6 +58,7 @@ def scores_dict(result: FitResult, scores: Scores) -> dict[str, Any]:
         "seams": seams,
         "max_seam_mm": _r(max(seam_mm) if seam_mm else 0.0),
         "shape_error": _r(scores.shape_error, 5),
+        "shape_error_all_vertices": _r(scores.shape_error_all, 5),
         "objectives": {
             "measurement_cm": _r(scores.measurement_error),
             "seam": _r(scores.seam_error),

@@ -13,10 +13,13 @@
    (:mod:`.operators`) on :class:`~.problem.GradingProblem`;
 4. choose, on the final Pareto front, the solution with the least shape error
    among those within tolerance on measurements and seams;
-5. **repair**: a deterministic Gauss–Newton/trust-region least-squares
-   correction of the chosen grid (:func:`repair`) that closes the residual
-   measurement and seam errors while penalising inner-angle changes; it is
-   kept only when it leaves no fold and no self-intersection.
+5. **final step** (:mod:`.refine`): from a least-squares repair of the
+   proportional seed (which also seeds NSGA-II) and of the NSGA-II choice,
+   a constrained Gauss–Newton method minimises the change of shape subject
+   to every seam and notch closed, every measurement within a band around
+   its target and the straight grain-parallel edges kept straight; the
+   fitted result with the least shape error wins. A result is kept only
+   when it leaves no fold and no self-intersection.
 """
 
 from __future__ import annotations
@@ -60,7 +63,7 @@ class Scores:
     seam_mismatch_cm : (S,) ``L_b - L_a - ease`` per seam
     notch_cm : (M,) notch misalignment per notch pair ; notch_seam : (M,) seam index
     measurement_error : mean |error| cm (objective 1) ; seam_error : objective 2 ;
-    shape_error : objective 3 (rad)
+    shape_error : objective 3 (rad) ; shape_error_all : mean |Δ angle| over all vertices
     fold_margin : smallest relative cell corner cross product (> 0: no fold)
     is_simple : every piece outline free of self-intersections
     """
@@ -74,6 +77,7 @@ class Scores:
     seam_error: float
     shape_error: float
     fold_margin: float
+    shape_error_all: float = 0.0
     is_simple: bool
 
     @property
@@ -153,6 +157,7 @@ def score_points(data: ObjectiveData, points: np.ndarray, *, fold_margin: float,
         measurement_error=float(ev.measurement_error[0]),
         seam_error=float(ev.seam_error[0]),
         shape_error=float(ev.shape_error[0]),
+        shape_error_all=float(ev.shape_error_all[0]),
         fold_margin=float(fold_margin),
         is_simple=_is_simple(pattern),
     )
@@ -391,17 +396,18 @@ def fit_pattern(
     pop_size: int = 80,
     n_gen: int = 120,
     max_lines: int = 6,
+    max_cell_frac: float | None = 0.2,
     tol_measure_cm: float = 0.5,
     tol_seam: float = 0.5,
     size: str = "fit",
     do_repair: bool = True,
-    accept_measure_cm: float = 0.3,
-    accept_max_cm: float = 1.0,
-    accept_seam_cm: float = 0.05,
+    measure_band_cm: float = 0.45,
+    keep_straight: bool = True,
+    refine_iter: int = 40,
     source: str = "pattern",
     progress: Progress | None = None,
 ) -> FitResult:
-    """Grade ``pattern`` to ``measurements`` with NSGA-II and a repair step.
+    """Grade ``pattern`` to ``measurements``: NSGA-II, then least shape change under the fit.
 
     Parameters
     ----------
@@ -409,13 +415,17 @@ def fit_pattern(
     measurements : body measurement id -> cm (e.g. ``Measurements.values_cm()``)
     seed : every random draw derives from it; same seed, same result
     pop_size, n_gen : NSGA-II population size and generations
-    max_lines : grid lines per direction per piece (control grid resolution)
+    max_lines, max_cell_frac : control grid resolution (:func:`~.grid.piece_grid`)
     tol_measure_cm, tol_seam : tolerances on objectives 1 and 2 for the choice
+        on the Pareto front
     size : size name of the graded pieces (e.g. the character's name)
-    do_repair : run the least-squares repair on the chosen solution
-    accept_measure_cm, accept_max_cm, accept_seam_cm : a repair with raised
-        angle weights is kept only when its mean / max measurement error and
-        worst seam or notch mismatch stay within these
+    do_repair : run the final constrained step (:func:`~.refine.refine`);
+        without it the NSGA-II choice is the result
+    measure_band_cm : the final step keeps every measurement within this of
+        its target (seams and notches are closed exactly)
+    keep_straight : straight grain-parallel edges (centre front, folds,
+        straight hems) stay straight and keep their direction
+    refine_iter : iterations of each constrained Gauss–Newton run
     source : pattern name for error messages
     progress : ``progress(stage, done, total)`` callback
 
@@ -431,16 +441,37 @@ def fit_pattern(
     SolverError
         No feasible (fold-free) solution was found.
     """
+    from .blas import single_blas_thread
+
+    with single_blas_thread():
+        return _fit_pattern(
+            pattern, measurements, seed=seed, pop_size=pop_size, n_gen=n_gen, max_lines=max_lines,
+            max_cell_frac=max_cell_frac, tol_measure_cm=tol_measure_cm, tol_seam=tol_seam, size=size,
+            do_repair=do_repair, measure_band_cm=measure_band_cm, keep_straight=keep_straight,
+            refine_iter=refine_iter, source=source, progress=progress,
+        )
+
+
+def _meets(sol: Solution, *, mean_cm: float, max_cm: float, seam_cm: float) -> bool:
+    sc = sol.scores
+    return (_valid(sol) and sc.measurement_error <= mean_cm and sc.max_measurement_error <= max_cm
+            and sc.max_seam_mismatch_cm <= seam_cm)
+
+
+def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max_cell_frac, tol_measure_cm,
+                 tol_seam, size, do_repair, measure_band_cm, keep_straight, refine_iter, source, progress):
     from pymoo.algorithms.moo.nsga2 import NSGA2
     from pymoo.optimize import minimize
 
     from .operators import GridCrossover, GridMutation, SeedSampling
     from .problem import GradingProblem
+    from .refine import refine, straight_constraints, straight_edges
 
     t0 = time.perf_counter()
     measurements = {str(k): float(v) for k, v in measurements.items()}
-    grid = build_grid(pattern, max_lines=max_lines)
+    grid = build_grid(pattern, max_lines=max_lines, max_cell_frac=max_cell_frac)
     data = objective_data(grid, measurements, source=source)
+    straight = straight_constraints(grid, straight_edges(grid)) if keep_straight else None
     if progress is not None:
         progress("seed", 0, 1)
 
@@ -474,6 +505,31 @@ def fit_pattern(
                                              seconds=time.perf_counter() - t_near)
         seeds.append(x_near)
     seeds.append(grid.x0.copy())
+
+    accept = {"mean_cm": min(tol_measure_cm, 0.5), "max_cm": 1.5, "seam_cm": 0.1}
+
+    def finish(start_name: str, x_start: np.ndarray) -> Solution | None:
+        """Penalty repair to get near the fit, then the constrained step; None if it fails."""
+        x_rep, _ = repair(grid, data, x_start, progress=progress)
+        res = refine(grid, data, x_rep, measure_tol_cm=measure_band_cm, straight=straight,
+                     max_iter=refine_iter, progress=progress)
+        cand = _solution(grid, data, "nsga2+refine", res.x, size,
+                         f"least shape change under the fit, started from the {start_name}")
+        if _meets(cand, **accept):
+            return cand
+        log.info("%s: final step from the %s missed the fit (violation %.3g cm)", source, start_name,
+                 res.max_violation_cm)
+        rep = _solution(grid, data, "nsga2+repair", x_rep, size, f"least-squares repair of the {start_name}")
+        return rep if _valid(rep) else None
+
+    candidates: list[Solution] = []
+    if do_repair:
+        # the proportional seed finished first: a fitted, low-shape individual
+        # seeds the population beside the proportional one
+        first = finish("proportional seed", x_axis)
+        if first is not None:
+            candidates.append(first)
+            seeds.insert(1, first.x)
     if progress is not None:
         progress("seed", 1, 1)
 
@@ -501,32 +557,14 @@ def fit_pattern(
     ga_choice = _solution(grid, data, "nsga2", front_X[idx], size, "least shape error within tolerance")
     chosen = ga_choice
     if do_repair:
-        # repair the chosen front member, and the best proportional seed as a
-        # second start; the lower least-squares cost wins
-        best = None
-        for start_name, x_start in (("NSGA-II choice", front_X[idx]), ("proportional seed", x_axis)):
-            x_rep, cost = repair(grid, data, x_start, progress=progress)
-            cand = _solution(grid, data, "nsga2+repair", x_rep, size,
-                             f"least-squares repair started from the {start_name}")
-            if not _valid(cand):
-                log.warning("%s: repair from the %s folded a piece; discarded", source, start_name)
-                continue
-            if best is None or cost < best[0]:
-                best = (cost, cand)
-        if best is not None:
-            chosen = best[1]
-            # spend the tolerance on the design: raise the weight of the
-            # inner angles while the fit stays well inside the targets
-            for scale in (4.0, 2.0):
-                x_rep, _ = repair(grid, data, chosen.x, shape_scale=scale, max_nfev=30, progress=progress)
-                cand = _solution(grid, data, "nsga2+repair", x_rep, size,
-                                 f"{chosen.note}, angle weights x{scale:g}")
-                sc = cand.scores
-                if (_valid(cand) and sc.measurement_error <= accept_measure_cm
-                        and sc.max_measurement_error <= accept_max_cm
-                        and sc.max_seam_mismatch_cm <= accept_seam_cm):
-                    chosen = cand
-                    break
+        second = finish("NSGA-II choice", front_X[idx])
+        if second is not None:
+            candidates.append(second)
+        fitted = [c for c in candidates if _meets(c, **accept)]
+        pool = fitted or candidates
+        if pool:
+            key = (lambda c: c.scores.shape_error) if fitted else (lambda c: c.scores.measurement_error)
+            chosen = min(pool, key=key)
     seconds = time.perf_counter() - t0
     return FitResult(
         pattern=chosen.pattern, original=pattern, chosen=chosen, ga_choice=ga_choice,

@@ -61,3 +61,44 @@ def skirt_pattern(*, links: bool = True, seams: bool = True) -> Pattern:
 
 BODY = {"waist_girth": 84.0, "hip_girth": 104.0, "waist_to_knee": 55.0}
 
+
+
+def half_panel(name: str, *, waist: float = 36.0, hem: float = 50.0, length: float = 60.0,
+               hip_drop: float = 20.0, hip: float = 48.0) -> Piece:
+    """Half a skirt panel with a straight centre edge on x = 0 (a centre front or back on the grain).
+
+    CCW: centre hem, side hem, up the side, side waist, centre waist, down the centre line.
+    """
+    pts = [
+        (0.0, 0.0), (hem / 4, 0.0), (hem / 2, 0.0),
+        ((hem / 2 + hip / 2) / 2, (length - hip_drop) / 2), (hip / 2, length - hip_drop),
+        ((hip / 2 + waist / 2) / 2 + 0.8, length - hip_drop / 2), (waist / 2, length),
+        (0.0, length), (0.0, length - hip_drop), (0.0, (length - hip_drop) / 2),
+    ]
+    kinds = ["turn", "plain", "turn", "plain", "curve", "curve", "turn", "turn", "plain", "plain"]
+    marks = {"centre_hem": 0, "side_hem": 2, "side_hip": 4, "side_waist": 6, "centre_waist": 7, "centre_hip": 8}
+    return Piece(
+        name=name, outline=np.array(pts), kinds=[VertexKind(k) for k in kinds], marks=marks,
+        notches=(Notch(vertex=4),), grain_line=Line(points=[[5.0, 10.0], [5.0, length - 10.0]]),
+    )
+
+
+def half_skirt_pattern() -> Pattern:
+    """Front and back halves cut with a straight centre edge; same measurements as :func:`skirt_pattern`."""
+    front = half_panel("front")
+    back = half_panel("back")
+    seams = (
+        Seam(id="side", a=EdgeRange(piece="front", start="side_hem", end="side_waist"),
+             b=EdgeRange(piece="back", start="side_hem", end="side_waist")),
+    )
+    links = (
+        MeasurementLink(measurement="waist_girth", ease_cm=2.0, legs=(
+            Leg(piece="front", start="side_waist", end="centre_waist", factor=2.0),
+            Leg(piece="back", start="side_waist", end="centre_waist", factor=2.0))),
+        MeasurementLink(measurement="hip_girth", ease_cm=4.0, legs=(
+            Leg(piece="front", start="side_hip", end="centre_hip", along="chord", factor=2.0),
+            Leg(piece="back", start="side_hip", end="centre_hip", along="chord", factor=2.0))),
+        MeasurementLink(measurement="waist_to_knee", legs=(
+            Leg(piece="front", start="side_hem", end="side_waist"),)),
+    )
+    return Pattern(style="half_skirt", pieces=(front, back), seams=seams, measurements=links)

@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import json
+import os
 
+import numpy as np
 import pytest
 from grade_fixtures import BODY, skirt_pattern
 
@@ -40,6 +42,22 @@ def test_fit_writes_every_output(inputs, tmp_path, capsys):
     assert "hero" in rul
     err = capsys.readouterr()
     assert "[grade]" in err.err and "wrote" in err.out
+    # files get the mode a plain open() gives under the umask (not mkstemp's 0600)
+    umask = os.umask(0)
+    os.umask(umask)
+    for f in out.iterdir():
+        assert f.stat().st_mode & 0o777 == 0o666 & ~umask, f.name
+    # the final step keeps the skirt's straight hem straight
+    for piece in graded.pieces:
+        assert np.ptp(piece.outline[[0, 1, 2], 1]) < 0.01
+
+
+def test_drape_files_are_named_relative_to_out():
+    from patternbridge.cli.fit import _relative_files
+
+    files = ["/x/OUT/.fit-abc/drape/garment.glb", "/x/OUT/.fit-abc/drape/garment.obj", "/elsewhere/not_moved.png"]
+    assert _relative_files(files, ["garment.glb", "garment.mtl", "garment.obj"]) == ["garment.glb", "garment.obj"]
+    assert _relative_files(None, ["b.png", "a.png"]) == ["a.png", "b.png"]
 
 
 def test_fit_pattern_without_links_exits_2(inputs, tmp_path, capsys):

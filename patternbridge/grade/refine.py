@@ -1,0 +1,381 @@
+"""The grader's final step: least change of shape subject to the fit.
+
+NSGA-II (:mod:`.run`) finds the trade-off between the three objectives and the
+basin of good solutions; it does not close seams to a tenth of a millimetre.
+:func:`refine` finishes a solution with a deterministic **constrained**
+Gauss–Newton method (sequential quadratic programming):
+
+    minimise    ½‖s(x)‖²                      (shape: inner-angle changes, grid smoothness, ...)
+    subject to  c(x) = 0                       (seam length mismatches, notch offsets)
+                A x = 0                        (straight grain-parallel edges stay straight, no tilt)
+                |m(x) − t| ≤ tol               (every measurement within a band around its target)
+
+Every iteration linearises ``s``, ``c`` and ``m`` (forward differences, the
+perturbed individuals evaluated as one population) and solves the quadratic
+sub-problem ``min ½‖s + J_s d‖² + ½μ‖d‖²`` under the linearised constraints
+with a small primal active set for the measurement band, each solve one KKT
+system. The damping ``μ`` adapts (Levenberg–Marquardt) on an exact-penalty
+merit function. Unlike a penalty repair, the fit residuals are not traded
+against the shape: the fit is a constraint, and all the remaining freedom goes
+to keeping the design.
+
+:func:`straight_edges` finds the edges a pattern maker keeps straight: runs of
+the reference line that are straight and parallel or perpendicular to the
+grain (the drawing axes), such as a centre front, a fold, a straight hem or a
+waistband edge. They stay straight and keep their direction exactly (linear
+equality constraints on the genes).
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from .grid import PatternGrid
+from .objectives import (
+    FOLD_MARGIN,
+    ObjectiveData,
+    _edge_lengths,
+    _seam_terms,
+    angle_change,
+    measurement_error,
+    residuals,
+)
+
+__all__ = ["RefineResult", "StraightEdge", "refine", "straight_constraints", "straight_edges"]
+
+log = logging.getLogger(__name__)
+
+Progress = Callable[[str, int, int], None]
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class StraightEdge:
+    """A straight run of a piece's reference line parallel to a drawing axis.
+
+    piece : piece name ; points : (r,) int64 local outline indices, in order ;
+    axis : 0 when the run is parallel to y (constant x, e.g. a centre front
+    along the grain), 1 when parallel to x (constant y, e.g. a straight hem) ;
+    length_cm : its length in the original pattern
+    """
+
+    piece: str
+    points: np.ndarray
+    axis: int
+    length_cm: float
+
+
+def straight_edges(
+    grid: PatternGrid,
+    *,
+    tol_deg: float = 0.5,
+    min_length_frac: float = 0.15,
+    max_offset_cm: float = 0.02,
+) -> tuple[StraightEdge, ...]:
+    """Straight, axis-parallel runs of every piece's reference line.
+
+    A run is a maximal sequence of consecutive outline edges, each within
+    ``tol_deg`` of the same drawing axis, whose vertices all lie within
+    ``max_offset_cm`` of one line parallel to that axis, and which is at least
+    ``min_length_frac`` of the piece's extent long.
+    """
+    out = []
+    tan = np.tan(np.radians(tol_deg))
+    for k, g in enumerate(grid.pieces):
+        pts = g.outline_weights @ g.control
+        n = len(pts)
+        d = np.roll(pts, -1, axis=0) - pts
+        for axis in (0, 1):
+            along, across = d[:, 1 - axis], d[:, axis]
+            flag = (np.abs(along) > 1e-9) & (np.abs(across) <= tan * np.abs(along))
+            if flag.all() or not flag.any():
+                continue
+            start = int(np.flatnonzero(~flag)[0])
+            order = (start + 1 + np.arange(n)) % n  # begin right after a non-flagged edge
+            runs, cur = [], []
+            for e in order:
+                if flag[e] and (not cur or np.sign(along[e]) == np.sign(along[cur[0]])):
+                    cur.append(int(e))
+                else:
+                    if cur:
+                        runs.append(cur)
+                    cur = [int(e)] if flag[e] else []
+            if cur:
+                runs.append(cur)
+            for run in runs:
+                idx = np.array(run + [(run[-1] + 1) % n], dtype=np.int64)
+                c = pts[idx, axis]
+                length = float(np.abs(along[run]).sum())
+                if np.ptp(c) <= max_offset_cm and length >= min_length_frac * g.extent_cm:
+                    out.append(StraightEdge(piece=g.name, points=idx, axis=axis, length_cm=length))
+    return tuple(out)
+
+
+def straight_constraints(grid: PatternGrid, edges: tuple[StraightEdge, ...]) -> np.ndarray:
+    """Linear constraints ``A x = 0`` keeping ``edges`` straight and axis-parallel.
+
+    For every edge, the constant coordinate of each vertex minus that of its
+    first vertex; redundant rows are removed (orthonormal row basis).
+
+    Returns
+    -------
+    (n_c, n_var) float64
+    """
+    rows = []
+    for e in edges:
+        k = grid.piece_index(e.piece)
+        g = grid.pieces[k]
+        w = g.outline_weights[e.points[1:]] - g.outline_weights[e.points[0]][None, :]
+        r = np.zeros((len(w), grid.n_var))
+        r[:, grid.var_offsets[k] + 2 * np.arange(g.n_control) + e.axis] = w
+        rows.append(r)
+    if not rows:
+        return np.zeros((0, grid.n_var))
+    a = np.concatenate(rows)
+    _, s, vt = np.linalg.svd(a, full_matrices=False)
+    keep = s > 1e-9 * max(s.max(), 1.0)
+    return vt[keep]
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class RefineResult:
+    """Outcome of :func:`refine`.
+
+    x : (n_var,) refined genes ; iterations : outer iterations run ;
+    shape_cost : ½‖s‖² at ``x`` ; max_violation_cm : worst remaining
+    violation of the seam, notch and measurement-band constraints ;
+    converged : the last step was below the step tolerance with every
+    constraint met
+    """
+
+    x: np.ndarray
+    iterations: int
+    shape_cost: float
+    max_violation_cm: float
+    converged: bool
+
+
+def _solve_qp(H, g, A_eq, b_eq, Jm, lo, hi, *, max_active: int = 30):
+    """``min ½dᵀHd + gᵀd`` s.t. ``A_eq d = b_eq``, ``lo ≤ Jm d ≤ hi`` (primal active set)."""
+    n = len(g)
+    active: dict[int, float] = {}  # link -> bound value (in d-space)
+    d = np.zeros(n)
+    for _ in range(max_active):
+        idx = sorted(active)
+        A = np.vstack([A_eq, Jm[idx]]) if idx else A_eq
+        b = np.concatenate([b_eq, [active[i] for i in idx]]) if idx else b_eq
+        m = len(A)
+        K = np.zeros((n + m, n + m))
+        K[:n, :n] = H
+        K[:n, n:] = A.T
+        K[n:, :n] = A
+        # a tiny negative diagonal makes the KKT matrix quasi-definite, so
+        # repeated constraints (a seam and its mirror copy) do not make it
+        # singular
+        K[n:, n:] = -1e-10 * np.eye(m)
+        rhs = np.concatenate([-g, b])
+        try:
+            sol = np.linalg.solve(K, rhs)
+        except np.linalg.LinAlgError:
+            sol = np.linalg.lstsq(K, rhs, rcond=1e-12)[0]
+        d = sol[:n]
+        lam = sol[n + len(b_eq):]
+        changed = False
+        # release bounds whose multiplier pushes the wrong way
+        for i, li in zip(idx, lam):
+            upper = active[i] >= hi[i] - 1e-12
+            if (upper and li < -1e-9) or (not upper and li > 1e-9):
+                del active[i]
+                changed = True
+        lin = Jm @ d
+        for i in range(len(lo)):
+            if i in active:
+                continue
+            if lin[i] > hi[i] + 1e-9:
+                active[i] = hi[i]
+                changed = True
+            elif lin[i] < lo[i] - 1e-9:
+                active[i] = lo[i]
+                changed = True
+        if not changed:
+            break
+    return d
+
+
+def refine(
+    grid: PatternGrid,
+    data: ObjectiveData,
+    x: np.ndarray,
+    *,
+    measure_tol_cm: float = 0.45,
+    straight: np.ndarray | None = None,
+    max_iter: int = 40,
+    w_shape: float = 1.0,
+    w_all: float = 1.0,
+    w_interval: float = 0.01,
+    w_turn: float = 0.005,
+    w_direction: float = 0.0,
+    w_proportion: float = 0.0,
+    w_rotation: float = 0.05,
+    w_shift: float = 0.01,
+    w_bend: float = 0.02,
+    irls_eps: float = 1e-3,
+    min_cell_ratio: float = 0.4,
+    w_cell: float = 0.3,
+    max_push_cm: float = 2.0,
+    progress: Progress | None = None,
+) -> RefineResult:
+    """Least change of shape subject to the fit, from the individual ``x``.
+
+    Parameters
+    ----------
+    grid, data : the grading problem
+    x : (n_var,) start (e.g. the NSGA-II choice)
+    measure_tol_cm : half-width of the band around every measurement target
+    straight : (n_c, n_var) linear constraints ``A x = 0``
+        (:func:`straight_constraints`), or None
+    max_iter : outer Gauss–Newton iterations
+    w_* : weights of the shape terms: the inner-angle changes at the critical
+        points and at every vertex (``w_shape``; weighted so that ``½‖s‖²``
+        is the squared counterpart of the shape objective), stitch-interval
+        differences and turning-angle disagreement along seams, direction of
+        the spans between critical points, their proportions, each piece's
+        rotation and drift, and the grid smoothness term
+    progress : ``progress("refine", i, max_iter)``
+
+    Returns
+    -------
+    RefineResult
+    """
+    x = np.asarray(x, dtype=np.float64).copy()
+    n_var = len(x)
+    scale = np.concatenate([np.full(2 * g.n_control, g.extent_cm) for g in grid.pieces])
+    h = 1e-6 * scale
+    A_st = np.zeros((0, n_var)) if straight is None else np.asarray(straight, dtype=np.float64)
+    P = len(data.centre0)
+    crit_piece = data.piece_of_point[data.critical]
+    per_piece = np.bincount(crit_piece, minlength=P).astype(np.float64)
+    n_pieces = max(int((per_piece > 0).sum()), 1)
+    # ½‖s‖² of the critical-point terms is the squared counterpart of the
+    # shape objective (per-piece means, pieces weighted alike)
+    wc0 = w_shape * np.sqrt(1.0 / (n_pieces * np.maximum(per_piece[crit_piece], 1.0)))
+    wa0 = w_all * np.sqrt(1.0 / max(len(data.points0), 1))
+    ext = float(np.mean(data.extent_cm))
+
+    def parts(X, wc, wa):
+        pts = grid.outlines(X)
+        d = angle_change(data, pts)
+        s = residuals(data, pts, w_measure=0.0, w_seam=0.0, w_notch=0.0, w_interval=w_interval,
+                      w_turn=w_turn, w_critical=0.0, w_angle=0.0, w_rotation=w_rotation, w_shift=w_shift,
+                      w_proportion=w_proportion, w_direction=w_direction)
+        squeeze = np.maximum(0.0, min_cell_ratio - grid.corner_ratios(X))
+        s = np.concatenate([wc * d[:, data.critical], wa * d, s, (w_bend / ext) * grid.bending(X),
+                            w_cell * squeeze], axis=1)
+        achieved, _ = measurement_error(data, pts)
+        c = [X @ A_st.T]  # straight edges: linear, cm
+        if data.n_seams:
+            mismatch, _, _, notch, _ = _seam_terms(data, pts, _edge_lengths(data, pts))
+            c = [mismatch, notch, *c]
+        c = np.concatenate(c, axis=1)
+        return s, c, achieved
+
+    def irls_weights(x):
+        # iteratively reweighted least squares: w = 1/sqrt(|d| + eps) makes
+        # the squared residual |d|, so ½‖s‖² follows the shape objective
+        # (a mean of |Δ angle|, which prefers a few clear changes to many
+        # small ones) rather than its square
+        d = np.abs(angle_change(data, grid.outlines(x[None, :]))[0])
+        if irls_eps <= 0:
+            return wc0, wa0
+        return wc0 / np.sqrt(d[data.critical] + irls_eps), wa0 / np.sqrt(d + irls_eps)
+
+    def violation(c, m):
+        over = np.maximum(np.abs(m - data.target_cm) - measure_tol_cm, 0.0)
+        v = np.concatenate([np.abs(c), over])
+        return v
+
+    def band(m, alpha):
+        lo = data.target_cm - measure_tol_cm - m
+        hi = data.target_cm + measure_tol_cm - m
+        lo = np.where(lo > 0, alpha * lo, lo)  # below the band: move up by alpha of the way
+        hi = np.where(hi < 0, alpha * hi, hi)
+        return lo, hi
+
+    def merit(s, c, m, rho):
+        return 0.5 * float(s @ s) + rho * float(violation(c, m).sum())
+
+    wc, wa = irls_weights(x)
+    s, c, m = (a[0] for a in parts(x[None, :], wc, wa))
+    rho = 10.0 * max(1.0, float(np.sqrt(s @ s)))
+    mu = 1e-4
+    damp = np.diag((scale.mean() / scale) ** 2)
+    it = 0
+    converged = False
+    history: list[float] = []
+    for it in range(1, max_iter + 1):
+        if progress is not None:
+            progress("refine", it, max_iter)
+        if irls_eps > 0 and it > 1:
+            wc, wa = irls_weights(x)
+            s = parts(x[None, :], wc, wa)[0][0]
+        Xp = x[None, :] + np.diag(h)
+        sp, cp, mp = parts(Xp, wc, wa)
+        Js = ((sp - s[None, :]) / h[:, None]).T
+        Jc = ((cp - c[None, :]) / h[:, None]).T
+        Jm = ((mp - m[None, :]) / h[:, None]).T
+        H = Js.T @ Js
+        gvec = Js.T @ s
+        A_eq = Jc
+        # continuation: far from feasible, ask the linear model for at most
+        # max_push_cm of correction per iteration
+        v0 = violation(c, m)
+        alpha = min(1.0, max_push_cm / max(float(v0.max(initial=0.0)), 1e-12))
+        f0 = merit(s, c, m, rho)
+        sn, cn, mn, xn = s, c, m, x
+        accepted = False
+        for _ in range(10):
+            Hd = H + (mu * float(np.trace(H) / n_var + 1e-12)) * damp
+            b_eq = -alpha * c
+            lo, hi = band(m, alpha)
+            d = _solve_qp(Hd, gvec, A_eq, b_eq, Jm, lo, hi)
+            for soc in (False, True):
+                if soc:
+                    # second-order correction: pull the trial point back onto
+                    # the constraints with the same linearisation (Maratos)
+                    lo2, hi2 = band(mn, 1.0)
+                    d = d + _solve_qp(Hd, np.zeros(n_var), A_eq, -cn, Jm, lo2, hi2)
+                xn = x + d
+                if grid.fold_margin(xn[None, :])[0] < FOLD_MARGIN:
+                    break
+                sn, cn, mn = (a[0] for a in parts(xn[None, :], wc, wa))
+                fn = merit(sn, cn, mn, rho)
+                if fn <= f0 + 1e-12 or (alpha == 1.0 and violation(cn, mn).max(initial=0.0) < 2e-4
+                                        and sn @ sn < s @ s):
+                    accepted = True
+                    break
+            if accepted:
+                break
+            # rejected (merit up, or a cell folds): damp the shape step and
+            # ask for less of the constraint correction
+            mu *= 8.0
+            alpha *= 0.5
+        if not accepted:
+            break
+        step = float(np.max(np.abs(d) / scale))
+        x, s, c, m = xn, sn, cn, mn
+        mu = max(mu / 4.0, 1e-8)
+        log.debug("refine %d: shape cost %.3g, violation %.3g, mu %.2g, step %.2g",
+                  it, 0.5 * float(s @ s), violation(c, m).max(initial=0.0), mu, step)
+        history.append(0.5 * float(s @ s))
+        feasible = violation(c, m).max(initial=0.0) < 1e-4
+        # converged: a tiny step, or the shape cost has stopped falling
+        # (under 0.5 % in the last five iterations) with the fit met
+        if feasible and (step < 1e-7 or (len(history) > 5 and history[-6] - history[-1] < 5e-3 * history[-6])):
+            converged = True
+            break
+    viol = violation(c, m)
+    return RefineResult(x=x, iterations=it, shape_cost=0.5 * float(s @ s),
+                        max_violation_cm=float(viol.max(initial=0.0)), converged=converged)
