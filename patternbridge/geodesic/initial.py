@@ -17,7 +17,7 @@ from scipy.spatial import cKDTree
 from ..errors import MeshError
 from .surface import SurfaceMesh
 
-__all__ = ["edge_path", "edge_paths"]
+__all__ = ["edge_path", "edge_paths", "start_radius"]
 
 #: graph routes up to this much longer than the best one are searched for a
 #: second way around (e.g. front or back of the neck)
@@ -81,14 +81,12 @@ def edge_paths(
     g = mesh.graph
     emax = mesh.edge_max
     V = mesh.vertices
-    chord = float(np.linalg.norm(V[a] - V[b]))
     cover = (1.0 + _ALT_SLACK) if alternative else 1.0
-    r = 0.5 * cover * 1.24 * chord + 2.0 * emax
+    r = start_radius(mesh, a, b, alternative=alternative)
     reached_before = -1
+    rows = mesh._cache.get("search_rows")  # kept searches, see geodesic_paths
     while True:
-        dist, pred = dijkstra(
-            g, directed=True, indices=[a, b], limit=r, return_predecessors=True
-        )
+        dist, pred = _searches(g, (a, b), r, rows)
         total = dist[0] + dist[1]
         m = int(np.argmin(total))
         best = float(total[m])
@@ -116,6 +114,54 @@ def edge_paths(
             m2 = int(far[np.argmin(total[far])])
             out.append((_route(pred, m2), float(total[m2])))
     return out
+
+
+def start_radius(mesh: SurfaceMesh, a: int, b: int, *, alternative: bool) -> float:
+    """First search radius, cm, of :func:`edge_paths` between vertices a and b:
+    enough when the edge path is at most 1.24 times the chord."""
+    cover = (1.0 + _ALT_SLACK) if alternative else 1.0
+    chord = float(np.linalg.norm(mesh.vertices[a] - mesh.vertices[b]))
+    return 0.5 * cover * 1.24 * chord + 2.0 * mesh.edge_max
+
+
+def _searches(g, ends: tuple[int, int], r: float, rows: dict | None):
+    """Dijkstra rows (distances, predecessors) from both ends within ``r``.
+
+    ``rows`` (or None) maps a vertex to ``(radius, dist, pred)`` of a search
+    kept for a later path from the same vertex, plus ``"keep"``: a map from
+    the vertices worth keeping to the least radius to search them with (the
+    largest first radius of their paths). A kept search of at least radius
+    ``r`` is exact within ``r``; it is cut to ``r`` and reused, so the result
+    is the same as searching again.
+    """
+    if rows is None:
+        return dijkstra(
+            g, directed=True, indices=list(ends), limit=r, return_predecessors=True
+        )
+    keep = rows["keep"]
+    got: dict[int, tuple] = {}
+    plain = []
+    for x in dict.fromkeys(ends):
+        kept = rows.get(x)
+        if kept is None and x in keep:
+            rx = max(r, keep[x])
+            d, p = dijkstra(
+                g, directed=True, indices=x, limit=rx, return_predecessors=True
+            )
+            kept = rows[x] = (rx, d, p)
+        if kept is not None and kept[0] >= r:
+            d = kept[1] if kept[0] == r else np.where(kept[1] <= r, kept[1], np.inf)
+            got[x] = (d, kept[2])
+        else:
+            plain.append(x)
+    if plain:
+        d, p = dijkstra(
+            g, directed=True, indices=plain, limit=r, return_predecessors=True
+        )
+        for k, x in enumerate(plain):
+            got[x] = (d[k], p[k])
+    (da, pa), (db, pb) = got[ends[0]], got[ends[1]]
+    return (da, db), (pa, pb)
 
 
 def _route(pred: np.ndarray, m: int) -> np.ndarray:

@@ -220,3 +220,37 @@ def test_path_arrays_are_read_only(shapes):
     path = geodesic_path(SurfaceMesh(v, f), 0, 24)
     with pytest.raises(ValueError):
         path.points[0, 0] = 1.0
+
+
+def test_batch_with_shared_end_points_reuses_searches_exactly(sphere):
+    """Pairs sharing an end point reuse one (larger) Dijkstra search, cut to
+    each pair's radius: the paths are those of single calls, bit for bit."""
+    from patternbridge.geodesic import initial
+
+    v, f = sphere
+    mesh = SurfaceMesh(v, f)
+    rng = np.random.default_rng(5)
+    hub = 0
+    others = rng.choice(np.arange(1, len(v)), size=5, replace=False).tolist()
+    pairs = [(hub, o) for o in others] + [(others[0], others[1]), (others[1], hub)]
+    calls = []
+    real = initial.dijkstra
+
+    def counting(g, **kw):
+        calls.append(np.atleast_1d(kw["indices"]).tolist())
+        return real(g, **kw)
+
+    initial.dijkstra = counting
+    try:
+        batch = geodesic_paths(mesh, pairs)
+        n_batch = sum(len(c) for c in calls)
+        calls.clear()
+        single = [geodesic_path(mesh, a, b) for a, b in pairs]
+        n_single = sum(len(c) for c in calls)
+    finally:
+        initial.dijkstra = real
+    assert "search_rows" not in mesh._cache  # nothing kept after the batch
+    assert n_batch < n_single
+    for p, q in zip(batch, single):
+        np.testing.assert_array_equal(p.points, q.points)
+        assert p.length == q.length
