@@ -104,23 +104,71 @@ def test_same_seed_same_garment(character_e, tshirt):
     np.testing.assert_array_equal(a.vertices, b.vertices)
 
 
-@pytest.mark.shared
-def test_cuff_is_placed_on_the_sleeve_hem_it_is_sewn_to(character_e):
+@pytest.fixture(scope="module")
+def placed_library(character_e):
+    """The library shirt and trousers wrapped on E's cylinders (no draping)."""
     from patternbridge.assemble.bodyparts import segment_body
     from patternbridge.assemble.placement import bounding_cylinders, place_instances
     from patternbridge.library import load_garment
     from patternbridge.report import Report
 
-    shirt = load_garment("shirt")
-    pm = mesh_pattern(shirt, max_edge_cm=3.0)
     body = np.asarray(character_e.vertices)
     cylinders = bounding_cylinders(body, segment_body(character_e))
-    placed = place_instances(character_e, body, shirt, pm, cylinders, Report())
+    out = {}
+    for name in ("shirt", "trousers"):
+        pattern = load_garment(name)
+        pm = mesh_pattern(pattern, max_edge_cm=3.0)
+        out[name] = (pm, place_instances(character_e, body, pattern, pm, cylinders, Report()))
+    return out
+
+
+def _seam_gaps(pm, placed, prefix):
     for sp in pm.seams:
-        if sp.seam.startswith("cuff_") and "closure" not in sp.seam:
-            gap = np.linalg.norm(
+        if sp.seam.startswith(prefix):
+            yield sp.seam, np.linalg.norm(
                 placed[sp.a.key][sp.a_vertices] - placed[sp.b.key][sp.b_vertices], axis=1
             )
-            # the cuff's anchor (its corner on the wrist point) alone left it
-            # about 20 cm from the hem; on the hem the pairs start close
-            assert np.median(gap) < 5.0, (sp.seam, np.median(gap))
+
+
+@pytest.mark.shared
+def test_cuff_is_placed_on_the_sleeve_hem_it_is_sewn_to(placed_library):
+    pm, placed = placed_library["shirt"]
+    found = 0
+    for seam, gap in _seam_gaps(pm, placed, "cuff_"):
+        if "closure" in seam:
+            continue
+        found += 1
+        # the cuff's anchor (its corner on the wrist point) alone left it
+        # about 20 cm from the hem; on the hem the pairs start close
+        assert np.median(gap) < 5.0, (seam, np.median(gap))
+    assert found == 2
+
+
+@pytest.mark.shared
+def test_sleeves_start_as_tubes_round_the_arm(placed_library):
+    pm, placed = placed_library["shirt"]
+    # the underarm seam's two edges start side by side all along the sleeve
+    # (on one radius for the whole sleeve they were up to 25 cm apart at the wrist)
+    gaps = dict(_seam_gaps(pm, placed, "sleeve_"))
+    assert set(gaps) == {"sleeve_right", "sleeve_left"}
+    for seam, gap in gaps.items():
+        assert gap.max() < 4.0, (seam, gap.max())
+
+
+@pytest.mark.shared
+def test_trouser_legs_front_and_back_go_once_round_together(placed_library):
+    pm, placed = placed_library["trousers"]
+    gaps = dict(_seam_gaps(pm, placed, "side_"))
+    gaps.update(_seam_gaps(pm, placed, "inside_leg_"))
+    assert len(gaps) == 4
+    for seam, gap in gaps.items():
+        assert np.median(gap) < 6.0, (seam, np.median(gap))
+
+
+def test_widths_of_a_trapezoid():
+    from patternbridge.assemble.placement import _widths
+
+    trapezoid = np.array([[-10.0, 0.0], [10.0, 0.0], [5.0, 10.0], [-5.0, 10.0]])
+    np.testing.assert_allclose(
+        _widths(trapezoid, np.array([0.5, 5.0, 9.5, 12.0])), [19.5, 15.0, 10.5, 0.0]
+    )
