@@ -64,6 +64,8 @@ class _Local:
         self.fv: dict[int, tuple[int, int, int]] = {}
         self.xyz: dict[int, tuple[float, float, float]] = {}
         self.fan: dict[int, dict[int, list[int]]] = {}
+        # (previous face, face) -> (p, q, d, previous third corner, |pd|, |qd|)
+        self.hinge: dict[tuple[int, int], tuple] = {}
 
     def face(self, f: int) -> tuple[int, int, int]:
         t = self.fv.get(f)
@@ -253,30 +255,36 @@ def _unfold(loc: _Local, strip, s: Endpoint, e: Endpoint, cache: dict | None = N
         face_xy = [coords]
         portals = []  # (left_id, right_id, left_xy, right_xy)
         k0 = 1
-    prev = face(strip[k0 - 1])
+    hinge = loc.hinge
     for k in range(k0, len(strip)):
-        cur = face(strip[k])
-        c0, c1, c2 = cur
-        if c0 in coords:
-            if c1 in coords:
-                p, q, d = c0, c1, c2
+        # corners and 3D lengths of each (previous face, face) step are the
+        # same in every round: only the 2D placement changes
+        key = (strip[k - 1], strip[k])
+        step = hinge.get(key)
+        if step is None:
+            prev = face(strip[k - 1])
+            c0, c1, c2 = face(strip[k])
+            pv = set(prev)
+            if c0 in pv:
+                p, q, d = (c0, c1, c2) if c1 in pv else (c0, c2, c1)
             else:
-                p, q, d = c0, c2, c1
-        else:
-            p, q, d = c1, c2, c0
-        if p not in coords or q not in coords or d in coords:
+                p, q, d = c1, c2, c0
+            if p not in pv or q not in pv or d in pv:
+                raise _StripError(f"faces {strip[k - 1]} and {strip[k]} share no edge")
+            p0, p1, p2 = prev
+            cprev = p0 if p0 != p and p0 != q else (p1 if p1 != p and p1 != q else p2)
+            pd = pos(d)
+            step = (p, q, d, cprev, dist(pos(p), pd), dist(pos(q), pd))
+            hinge[key] = step
+        p, q, d, cprev, lpd, lqd = step
+        if p not in coords or q not in coords:
             raise _StripError(f"faces {strip[k - 1]} and {strip[k]} share no edge")
-        p0, p1, p2 = prev
-        cprev = p0 if p0 != p and p0 != q else (p1 if p1 != p and p1 != q else p2)
         P, Q, C = coords[p], coords[q], coords[cprev]
         ex, ey = Q[0] - P[0], Q[1] - P[1]
         lpq = sqrt(ex * ex + ey * ey)
         if lpq == 0.0:
             raise _StripError(f"edge ({p}, {q}) has zero length")
         ux, uy = ex / lpq, ey / lpq
-        pd = pos(d)
-        lpd = dist(pos(p), pd)
-        lqd = dist(pos(q), pd)
         t = (lpd * lpd - lqd * lqd + lpq * lpq) / (2 * lpq)
         h = sqrt(max(lpd * lpd - t * t, 0.0))
         cr = (P[0] - C[0]) * (Q[1] - C[1]) - (P[1] - C[1]) * (Q[0] - C[0])
@@ -289,7 +297,6 @@ def _unfold(loc: _Local, strip, s: Endpoint, e: Endpoint, cache: dict | None = N
             portals.append((p, q, P, Q))
         coords = {p: P, q: Q, d: D}
         face_xy.append(coords)
-        prev = cur
     if cache is not None:
         cache["strip"] = list(strip)
         cache["face_xy"] = face_xy
