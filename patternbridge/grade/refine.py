@@ -59,13 +59,16 @@ class StraightEdge:
     piece : piece name ; points : (r,) int64 local outline indices, in order ;
     axis : 0 when the run is parallel to y (constant x, e.g. a centre front
     along the grain), 1 when parallel to x (constant y, e.g. a straight hem) ;
-    length_cm : its length in the original pattern
+    length_cm : its length in the original pattern ;
+    cut : the run is on the cut outline (else on the reference line, the
+    sew line when the piece has one)
     """
 
     piece: str
     points: np.ndarray
     axis: int
     length_cm: float
+    cut: bool = False
 
 
 def straight_edges(
@@ -80,12 +83,17 @@ def straight_edges(
     A run is a maximal sequence of consecutive outline edges, each within
     ``tol_deg`` of the same drawing axis, whose vertices all lie within
     ``max_offset_cm`` of one line parallel to that axis, and which is at least
-    ``min_length_frac`` of the piece's extent long.
+    ``min_length_frac`` of the piece's extent long. Both the reference line
+    and (when it differs) the cut outline are searched, so a straight centre
+    front stays straight on the stitching line and on the cutting line.
     """
     out = []
     tan = np.tan(np.radians(tol_deg))
-    for k, g in enumerate(grid.pieces):
-        pts = g.outline_weights @ g.control
+    lines = [(k, g, False) for k, g in enumerate(grid.pieces)]
+    lines += [(k, g, True) for k, g in enumerate(grid.pieces) if g.cut_weights is not g.outline_weights
+              and not np.array_equal(g.cut_weights, g.outline_weights)]
+    for _k, g, cut in lines:
+        pts = (g.cut_weights if cut else g.outline_weights) @ g.control
         n = len(pts)
         d = np.roll(pts, -1, axis=0) - pts
         for axis in (0, 1):
@@ -110,7 +118,7 @@ def straight_edges(
                 c = pts[idx, axis]
                 length = float(np.abs(along[run]).sum())
                 if np.ptp(c) <= max_offset_cm and length >= min_length_frac * g.extent_cm:
-                    out.append(StraightEdge(piece=g.name, points=idx, axis=axis, length_cm=length))
+                    out.append(StraightEdge(piece=g.name, points=idx, axis=axis, length_cm=length, cut=cut))
     return tuple(out)
 
 
@@ -128,7 +136,8 @@ def straight_constraints(grid: PatternGrid, edges: tuple[StraightEdge, ...]) -> 
     for e in edges:
         k = grid.piece_index(e.piece)
         g = grid.pieces[k]
-        w = g.outline_weights[e.points[1:]] - g.outline_weights[e.points[0]][None, :]
+        weights = g.cut_weights if e.cut else g.outline_weights
+        w = weights[e.points[1:]] - weights[e.points[0]][None, :]
         r = np.zeros((len(w), grid.n_var))
         r[:, grid.var_offsets[k] + 2 * np.arange(g.n_control) + e.axis] = w
         rows.append(r)

@@ -30,8 +30,8 @@ def plot_pareto(
     Parameters
     ----------
     F : (n, 3) objectives of the Pareto front
-    chosen : (3,) the front member chosen (before repair)
-    final : (3,) the solution after the repair step
+    chosen : (3,) the front member chosen (before the final step)
+    final : (3,) the solution after the final constrained step
     baselines : name -> (3,) objectives of each baseline
     """
     import matplotlib
@@ -49,7 +49,7 @@ def plot_pareto(
             ax.scatter([chosen[i]], [chosen[j]], s=90, facecolors="none", edgecolors="#dd8452",
                        linewidths=2, label="chosen (NSGA-II)")
         if final is not None:
-            ax.scatter([final[i]], [final[j]], s=90, marker="*", c="#c44e52", label="after repair")
+            ax.scatter([final[i]], [final[j]], s=90, marker="*", c="#c44e52", label="final (least shape under the fit)")
         for k, (name, f) in enumerate((baselines or {}).items()):
             ax.scatter([f[i]], [f[j]], s=50, marker=markers[k % len(markers)], c="#555555",
                        alpha=0.8, label=name)

@@ -131,3 +131,25 @@ def test_single_blas_thread_restores_and_computes():
         x = np.linalg.solve(M, b)
     np.testing.assert_allclose(M @ x, b, atol=1e-9)
     np.testing.assert_allclose(np.linalg.solve(M, b), x, atol=1e-12)
+
+
+def test_centre_edge_straight_on_the_cut_and_the_sew_line():
+    import dataclasses
+
+    from patternbridge.pattern.model import Polyline
+
+    pattern = half_skirt_pattern()
+    pieces = []
+    for p in pattern.pieces:
+        centre = p.outline.mean(axis=0)
+        sew = centre + 0.9 * (p.outline - centre)  # stands in for the line inside the allowance
+        pieces.append(dataclasses.replace(p, sew_lines=(Polyline(points=sew, closed=True),)))
+    pattern = dataclasses.replace(pattern, pieces=tuple(pieces))
+    grid = build_grid(pattern, max_cell_frac=0.2)
+    found = {(e.piece, e.axis, e.cut) for e in straight_edges(grid)}
+    assert ("front", 0, True) in found and ("front", 0, False) in found
+    result = fit_pattern(pattern, BODY, seed=2, size="hero", **SMALL)
+    assert result.chosen.scores.measurement_error <= 0.5
+    for p in result.pattern.pieces:
+        assert np.ptp(p.outline[[7, 8, 9, 0], 0]) < 0.01, p.name
+        assert np.ptp(p.sew_lines[0].points[[7, 8, 9, 0], 0]) < 0.01, p.name
