@@ -251,6 +251,6 @@ def test_batch_with_shared_end_points_reuses_searches_exactly(sphere):
         initial.dijkstra = real
     assert "search_rows" not in mesh._cache  # nothing kept after the batch
     assert n_batch < n_single
-    for p, q in zip(batch, single):
+    for p, q in zip(batch, single, strict=True):
         np.testing.assert_array_equal(p.points, q.points)
         assert p.length == q.length
