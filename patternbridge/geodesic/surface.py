@@ -341,16 +341,20 @@ class SurfaceMesh:
         fidx = fl[starts + within]
         nrm = self.face_normals[fidx]
         outer = (nrm[:, :, None] * nrm[:, None, :]).reshape(-1, 9)
-        scatter = np.zeros((len(vids), 9))
-        np.add.at(scatter, owner, outer)
-        mean = np.zeros((len(vids), 3))
-        np.add.at(mean, owner, nrm)
+        # each vertex's faces are contiguous: segment sums (np.add.at is slow)
+        lonely = counts == 0
+        if len(nrm):
+            first = np.minimum(np.cumsum(counts) - counts, len(nrm) - 1)
+            both = np.add.reduceat(np.hstack([outer, nrm]), first, axis=0)
+            both[lonely] = 0.0
+        else:
+            both = np.zeros((len(vids), 12))
+        scatter, mean = both[:, :9], both[:, 9:]
         _, vecs = np.linalg.eigh(scatter.reshape(-1, 3, 3) + 1e-15 * np.eye(3))
         n = vecs[:, :, 2]
         sign = np.sign(np.einsum("ij,ij->i", n, mean))
         sign[sign == 0] = 1.0
         n = n * sign[:, None]
-        lonely = counts == 0
         if lonely.any():
             n[lonely] = (0.0, 0.0, 1.0)
         return n
