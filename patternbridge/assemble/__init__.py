@@ -231,6 +231,36 @@ def transfer_weights(
     return joints.astype(np.int64), weights
 
 
+def _thigh_fill(
+    character: Character, body: np.ndarray, parts, pattern: Pattern
+) -> tuple[tuple[np.ndarray, np.ndarray], ...]:
+    """A closed volume filling the space between the thighs, for tops that reach below the crotch.
+
+    A shirt hangs straight down from the hips; without it the hem is drawn
+    in between the legs like a bodysuit. The volume is the convex hull of
+    the leg vertices from 2 cm above the crotch to 30 cm below it. Garments
+    with pieces on the legs get none.
+    """
+    import trimesh
+
+    if any("leg" in str(p.placement.body_part) for p in pattern.pieces):
+        return ()
+    legs = parts.mask("left_leg") | parts.mask("right_leg")
+    if not legs.any():
+        return ()
+    lm = character.landmarks.get("crotch_point")
+    crotch_y = (
+        float(body[lm.vertex][1])
+        if lm is not None and lm.vertex is not None
+        else float(body[legs, 1].max())
+    )
+    band = body[legs & (body[:, 1] > crotch_y - 30.0) & (body[:, 1] < crotch_y + 2.0)]
+    if len(band) < 10:
+        return ()
+    hull = trimesh.convex.convex_hull(band)
+    return ((np.asarray(hull.vertices), np.asarray(hull.faces)),)
+
+
 # --------------------------------------------------------------------------- main
 def assemble(
     character: Character,
@@ -312,6 +342,8 @@ def assemble(
         widths[part] = widths.get(part, 0.0) + float(np.ptp(p2[:, 0])) + 1.0
     cylinders = bounding_cylinders(body, parts, widths)
     collider = BodyCollider(body, character.faces)
+    proxies = _thigh_fill(character, body, parts, pattern)
+    cloth_collider = BodyCollider(body, character.faces, proxies=proxies) if proxies else collider
     placed = place_instances(
         character, body, pattern, pmesh, cylinders, findings, scene=collider
     )
@@ -337,7 +369,7 @@ def assemble(
     sew_steps = int(0.55 * steps)
     solver = drape(
         cloth,
-        collider,
+        cloth_collider,
         steps=steps,
         sew_steps=sew_steps,
         settings=settings,
@@ -372,7 +404,7 @@ def assemble(
             collider = BodyCollider(posed, character.faces)
             drape(
                 cloth,
-                collider,
+                BodyCollider(posed, character.faces, proxies=proxies) if proxies else collider,
                 steps=POSE_STEPS,
                 sew_steps=0,
                 settings=settings,

@@ -25,17 +25,34 @@ class BodyCollider:
     faces : (F, 3) int64
     """
 
-    def __init__(self, vertices: np.ndarray, faces: np.ndarray) -> None:
+    def __init__(
+        self,
+        vertices: np.ndarray,
+        faces: np.ndarray,
+        *,
+        proxies: tuple[tuple[np.ndarray, np.ndarray], ...] = (),
+    ) -> None:
         import open3d as o3d
 
         self._o3c = o3d.core
         self.vertices = np.asarray(vertices, dtype=np.float64)
         self.faces = np.asarray(faces, dtype=np.int64)
-        self.scene = o3d.t.geometry.RaycastingScene()
-        self.scene.add_triangles(
-            o3d.core.Tensor(self.vertices.astype(np.float32)),
-            o3d.core.Tensor(self.faces.astype(np.uint32)),
+        self.scene = self._scene(self.vertices, self.faces)
+        # closed helper volumes the cloth also stays out of (the space between
+        # the thighs under a shirt); closest() and inside() see them, the
+        # other queries see the body only
+        self._proxies = [self._scene(np.asarray(v), np.asarray(f)) for v, f in proxies]
+
+    @staticmethod
+    def _scene(vertices: np.ndarray, faces: np.ndarray):
+        import open3d as o3d
+
+        scene = o3d.t.geometry.RaycastingScene()
+        scene.add_triangles(
+            o3d.core.Tensor(np.asarray(vertices, dtype=np.float32)),
+            o3d.core.Tensor(np.asarray(faces, dtype=np.uint32)),
         )
+        return scene
 
     def _t(self, a: np.ndarray):
         return self._o3c.Tensor(np.ascontiguousarray(a, dtype=np.float32))
@@ -59,6 +76,16 @@ class BodyCollider:
         n = res["primitive_normals"].numpy().astype(np.float64)
         tri = res["primitive_ids"].numpy().astype(np.int64)
         uv = res["primitive_uvs"].numpy().astype(np.float64)
+        for scene in self._proxies:  # a nearer helper surface wins (triangle -1)
+            r = scene.compute_closest_points(self._t(points))
+            qp = r["points"].numpy().astype(np.float64)
+            nearer = np.einsum("ij,ij->i", points - qp, points - qp) < np.einsum(
+                "ij,ij->i", points - q, points - q
+            )
+            q[nearer] = qp[nearer]
+            n[nearer] = r["primitive_normals"].numpy().astype(np.float64)[nearer]
+            tri[nearer] = -1
+            uv[nearer] = 0.0
         signed = np.einsum("ij,ij->i", points - q, n)
         return q, n, signed, tri, uv
 
@@ -204,8 +231,12 @@ class BodyCollider:
         return x
 
     def inside(self, points: np.ndarray) -> np.ndarray:
-        """(n,) bool, True where the point is inside the body."""
-        return self.scene.compute_occupancy(self._t(points)).numpy() > 0.5
+        """(n,) bool, True where the point is inside the body (or a helper volume)."""
+        t = self._t(points)
+        out = self.scene.compute_occupancy(t).numpy() > 0.5
+        for scene in self._proxies:
+            out |= scene.compute_occupancy(t).numpy() > 0.5
+        return out
 
     def radial_clearance(
         self, cyl, theta: np.ndarray, h: np.ndarray, r: np.ndarray, clearance_cm: float

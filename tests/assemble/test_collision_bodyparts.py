@@ -140,3 +140,22 @@ def test_clear_triangles_lifts_a_strip_off_a_limb(limb):
     out = limb.clear_triangles(v, f, 0.6, rounds=20)
     assert not limb.crossing_triangles(out, f).any()
     assert not limb.inside(out).any()
+
+
+def test_helper_volume_is_seen_by_closest_and_inside_only():
+    ball = trimesh.creation.icosphere(subdivisions=3, radius=5.0)
+    box = trimesh.creation.box(extents=(4.0, 4.0, 4.0))
+    box.apply_translation((20.0, 0.0, 0.0))
+    plain = BodyCollider(ball.vertices, ball.faces)
+    filled = BodyCollider(
+        ball.vertices, ball.faces, proxies=((box.vertices, box.faces),)
+    )
+    p = np.array([[20.0, 0.0, 0.0], [23.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
+    np.testing.assert_array_equal(plain.inside(p), [False, False, True])
+    np.testing.assert_array_equal(filled.inside(p), [True, False, True])
+    q, _, signed, tri, _ = filled.closest(p)
+    np.testing.assert_allclose(q[1], [22.0, 0.0, 0.0], atol=1e-4)
+    np.testing.assert_allclose(signed[1], 1.0, atol=1e-4)
+    assert tri[1] == -1 and tri[2] >= 0  # helper hits carry no body triangle
+    # the skin checks of the report see the body only
+    assert not filled.crossing_edges(p[[0]] + [0, 5, 0], p[[0]] - [0, 5, 0]).any()
