@@ -6,8 +6,8 @@ the triangulated pieces (:mod:`.mesh2d`) are wrapped onto it by their
 placement hints (:mod:`.placement`); a cloth solver sews and drapes them
 against the body (:mod:`.drape`, :mod:`.collision`). A rigged character is
 dressed in a T-pose (upper arms raised, elbows straight) so that the arms are
-clear of the torso, then brought back to its rest pose step by step while the
-cloth follows. The result carries skin weights transferred from the nearest
+clear of the torso, then the cloth is carried back to the rest pose by the skin
+weights of the nearest body points and settled there. The result carries skin weights transferred from the nearest
 body points (:mod:`.export_gltf` writes it).
 
 Public entry points: :func:`assemble` returns a :class:`Garment`;
@@ -17,6 +17,7 @@ Public entry points: :func:`assemble` returns a :class:`Garment`;
 
 from __future__ import annotations
 
+import itertools
 import logging
 import os
 import time
@@ -37,7 +38,7 @@ log = logging.getLogger(__name__)
 
 Progress = Callable[[str, int, int], None] | None
 
-POSE_STAGES = 1  # stages of the T-pose -> rest-pose return
+POSE_STAGES = 1  # stages of the T-pose -> rest-pose return (more stages with gravity let sleeves slide up)
 POSE_STEPS = 8  # cloth steps per stage
 
 
@@ -343,7 +344,9 @@ def assemble(
     cylinders = bounding_cylinders(body, parts, widths)
     collider = BodyCollider(body, character.faces)
     proxies = _thigh_fill(character, body, parts, pattern)
-    cloth_collider = BodyCollider(body, character.faces, proxies=proxies) if proxies else collider
+    cloth_collider = (
+        BodyCollider(body, character.faces, proxies=proxies) if proxies else collider
+    )
     placed = place_instances(
         character, body, pattern, pmesh, cylinders, findings, scene=collider
     )
@@ -384,13 +387,13 @@ def assemble(
         seam_gaps(cloth.x, cloth.seams).max(),
     )
     if rotvecs:
-        # back to the rest pose in a few stages: at each the cloth follows the
+        # back to the rest pose in POSE_STAGES stages: at each the cloth follows the
         # skin (weights of the nearest body points) from the previous pose to
         # the next, then settles against the body in that pose
         from ..mesh.skinning import pose_vertices
 
         levels = np.linspace(1.0, 0.0, POSE_STAGES + 1)
-        for k, (s0, s1) in enumerate(zip(levels[:-1], levels[1:], strict=True)):
+        for k, (s0, s1) in enumerate(itertools.pairwise(levels)):
             joints, weights = transfer_weights(collider, character, cloth.x)
             b0 = _blend(character, _rotations(rotvecs, s0), joints, weights)
             b1 = _blend(character, _rotations(rotvecs, s1), joints, weights)
@@ -404,7 +407,9 @@ def assemble(
             collider = BodyCollider(posed, character.faces)
             drape(
                 cloth,
-                BodyCollider(posed, character.faces, proxies=proxies) if proxies else collider,
+                BodyCollider(posed, character.faces, proxies=proxies)
+                if proxies
+                else collider,
                 steps=POSE_STEPS,
                 sew_steps=0,
                 settings=settings,
@@ -440,11 +445,16 @@ def assemble(
         joints = np.zeros((len(x), 0), np.int64)
         weights = np.zeros((len(x), 0))
     names = tuple(keys)
+    # edges shorter than 1 mm in the pattern (a corner collapsed by grading)
+    # would make any ratio meaningless: they are counted, not measured
+    measured = cloth.rest >= 0.1
+    if not measured.any():
+        measured[:] = True
     ratio = np.linalg.norm(
-        x[cloth.edges[:, 0]] - x[cloth.edges[:, 1]], axis=1
-    ) / np.maximum(cloth.rest, 1e-9)
+        x[cloth.edges[measured, 0]] - x[cloth.edges[measured, 1]], axis=1
+    ) / np.maximum(cloth.rest[measured], 1e-9)
     per = {}
-    egroup = cloth.group[cloth.edges[:, 0]]
+    egroup = cloth.group[cloth.edges[measured, 0]]
     for i, n in enumerate(names):
         r = ratio[egroup == i]
         if len(r):
@@ -463,6 +473,7 @@ def assemble(
             },
             "max": float(ratio.max()),
             "worst_pieces": [{"piece": n, "p95": v} for n, v in worst],
+            "short_edges": int(np.count_nonzero(~measured)),
         },
         "seconds": round(seconds, 2),
         "vertices": len(ids),

@@ -203,7 +203,9 @@ class BodyCollider:
             if len(bad) == 0:
                 break
             # the three edges of each bad triangle (rolled corners) and its centroid
-            corners = np.concatenate([bad, np.roll(bad, -1, axis=1), np.roll(bad, -2, axis=1)])
+            corners = np.concatenate(
+                [bad, np.roll(bad, -1, axis=1), np.roll(bad, -2, axis=1)]
+            )
             wts = np.concatenate([np.tile(w[:3], (len(bad), 1)) for _ in range(3)])
             idx = np.repeat(corners, 3, axis=0)
             wts = wts.reshape(-1, 3)
@@ -218,7 +220,9 @@ class BodyCollider:
             if not fix.any():
                 break
             direction = np.where(
-                (ins | (dist < 1e-6))[:, None], n, away / np.maximum(dist, 1e-12)[:, None]
+                (ins | (dist < 1e-6))[:, None],
+                n,
+                away / np.maximum(dist, 1e-12)[:, None],
             )
             corr = q + offset_cm * direction - m
             corr, idx, wts = corr[fix], idx[fix], wts[fix]

@@ -9,7 +9,10 @@ piece is laid on the unrolled cylinder with its anchor mark on the anchor
 landmark: pattern +x runs around the cylinder (to the right as seen from
 outside), pattern +y along the axis toward the body (up for the torso and
 legs, toward the shoulder for a sleeve), then it is wrapped. Points that
-would still fall inside the body are moved out along their radius.
+would still fall inside the body are moved out along their radius. Pieces
+going round a limb and sewn to themselves (sleeves) are wrapped as tubes, one
+turn per pattern row; the fronts and backs of a trouser leg share one radius
+per height; a cuff is laid on the sleeve hem it is sewn to.
 
 Frame of a cylinder: ``axis`` (proximal direction), ``e0`` (angle 0, the
 front), ``e1 = axis x e0`` (angle +π/2, the right as seen from outside).
@@ -319,7 +322,8 @@ def _widths(boundary: np.ndarray, ys: np.ndarray) -> np.ndarray:
     xs = a[:, 0][None, :] + t * (c[:, 0] - a[:, 0])[None, :]
     return np.where(
         cross.any(axis=1),
-        np.where(cross, xs, -np.inf).max(axis=1) - np.where(cross, xs, np.inf).min(axis=1),
+        np.where(cross, xs, -np.inf).max(axis=1)
+        - np.where(cross, xs, np.inf).min(axis=1),
         0.0,
     )
 
@@ -335,7 +339,9 @@ def _shared_row_radii(pmesh: PatternMesh, rows: list) -> dict[str, np.ndarray]:
     groups: dict[str, list] = {}
     for row in rows:
         inst, pl, part = row[0], row[1], row[2]
-        if part in ("left_arm", "right_arm", "left_leg", "right_leg") and str(pl.side) in (
+        if part in ("left_arm", "right_arm", "left_leg", "right_leg") and str(
+            pl.side
+        ) in (
             "front",
             "back",
         ):
@@ -344,9 +350,7 @@ def _shared_row_radii(pmesh: PatternMesh, rows: list) -> dict[str, np.ndarray]:
     for members in groups.values():
         if len(members) < 2:
             continue
-        spans = []
-        for inst, _, _, _, p2, _, _, h_a, a2 in members:
-            spans.append((h_a - a2[1], p2))
+        spans = [(h_a - a2[1], p2) for _, _, _, _, p2, _, _, h_a, a2 in members]
         lo = min(off + p2[:, 1].min() for off, p2 in spans)
         hi = max(off + p2[:, 1].max() for off, p2 in spans)
         grid = np.linspace(lo, hi, 300)
@@ -355,7 +359,7 @@ def _shared_row_radii(pmesh: PatternMesh, rows: list) -> dict[str, np.ndarray]:
             b = p2[: pmesh.pieces[inst.piece].n_boundary]
             total += _widths(b, grid - off)
         total = np.maximum.accumulate(total)
-        for (off, p2), (inst, _, _, _, _, R, *_rest) in zip(spans, members, strict=True):
+        for (off, p2), (inst, *_) in zip(spans, members, strict=True):
             radius = np.interp(off + p2[:, 1], grid, total) / (2 * np.pi)
             out[inst.key] = np.maximum(radius, 1.0)
     return out
@@ -452,5 +456,7 @@ def _follow_seams(
         r = Rv.copy()
         if scene is not None:
             r = scene.radial_clearance(cyl, theta, h, r, CLEARANCE_CM)
-        log.debug("%s placed on its seam (%s)", inst.key, "turned" if sign < 0 else "as drawn")
+        log.debug(
+            "%s placed on its seam (%s)", inst.key, "turned" if sign < 0 else "as drawn"
+        )
         out[inst.key] = cyl.points(theta, h, r)

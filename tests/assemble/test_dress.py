@@ -118,15 +118,22 @@ def placed_library(character_e):
     for name in ("shirt", "trousers"):
         pattern = load_garment(name)
         pm = mesh_pattern(pattern, max_edge_cm=3.0)
-        out[name] = (pm, place_instances(character_e, body, pattern, pm, cylinders, Report()))
+        out[name] = (
+            pm,
+            place_instances(character_e, body, pattern, pm, cylinders, Report()),
+        )
     return out
 
 
 def _seam_gaps(pm, placed, prefix):
     for sp in pm.seams:
         if sp.seam.startswith(prefix):
-            yield sp.seam, np.linalg.norm(
-                placed[sp.a.key][sp.a_vertices] - placed[sp.b.key][sp.b_vertices], axis=1
+            yield (
+                sp.seam,
+                np.linalg.norm(
+                    placed[sp.a.key][sp.a_vertices] - placed[sp.b.key][sp.b_vertices],
+                    axis=1,
+                ),
             )
 
 
