@@ -1,7 +1,7 @@
 """``patternbridge fit``: measure a character, grade a garment to it, write everything.
 
 Stages: load the pattern → measure the character (or read its measurements
-JSON) → grade with NSGA-II and the repair step → drape (when the assembler is
+JSON) → grade with NSGA-II and the final constrained step → drape (when the assembler is
 available) → write ``measurements.json``, the graded pattern (canonical JSON),
 DXF-AAMA and DXF-ASTM files with a ``.RUL`` in which the character is one more
 size beside the original sizes, ``fit_report.json``, ``pattern.png`` and

@@ -83,7 +83,7 @@ def fit_report(result: FitResult, *, character: str = "", garment: str = "") -> 
     ``shape_error``, ``seconds`` (the whole grading), ``baseline``
     (proportional scaling along/across the grain, same figures),
     ``baselines`` (every baseline by name), ``nsga2`` (the front member
-    chosen before the repair step), ``pareto_front`` and run settings.
+    chosen before the final step), ``pareto_front`` and run settings.
     """
     out: dict[str, Any] = {"character": character, "garment": garment or result.original.style}
     out.update(scores_dict(result, result.chosen.scores))

@@ -1,4 +1,4 @@
-"""Grade a pattern to a character's measurements: seeds, NSGA-II, choice, repair.
+"""Grade a pattern to a character's measurements: seeds, NSGA-II, choice, final constrained step.
 
 :func:`fit_pattern` is the grader's entry point:
 
@@ -111,8 +111,8 @@ class Solution:
 class FitResult:
     """Everything :func:`fit_pattern` found.
 
-    pattern : the graded pattern (chosen solution after the repair step)
-    chosen : the same as a :class:`Solution`; ``ga_choice`` is it before repair
+    pattern : the graded pattern (the chosen solution after the final step)
+    chosen : the same as a :class:`Solution`; ``ga_choice`` is the NSGA-II choice before it
     front_F : (n_front, 3) objectives of the final Pareto front
     front_X : (n_front, n_var) its genes ; chosen_index : row of ``ga_choice``
     baselines : ``"proportional"`` (along/across the grain),
