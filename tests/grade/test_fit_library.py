@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from patternbridge.grade.run import fit_pattern
@@ -26,6 +27,11 @@ def test_trousers_fit_the_cartoon_child(characters_dir):
     prop = result.baselines["proportional"].scores
     assert s.measurement_error < prop.measurement_error
     assert s.max_seam_mismatch_cm < prop.max_seam_mismatch_cm
+    assert s.shape_error < prop.shape_error  # less change of design than scaling, with the fit met
+    for piece in result.pattern.pieces:  # straight hems stay straight and level
+        if piece.name in ("front", "back"):
+            hem = [piece.marks["side_hem"], piece.marks["hem_crease"], piece.marks["inside_hem"]]
+            assert np.ptp(piece.outline[hem, 1]) < 0.01, piece.name
     # a child is far smaller than the sample size: the graded waist follows the body, not the chart
     waist = dict(zip(result.data.link_ids, s.achieved_cm))["waist_girth"]
     ease = next(lk.ease_cm for lk in pattern.measurements if lk.id == "waist_girth")
