@@ -127,8 +127,13 @@ def test_keep_straight_off_lets_the_centre_edge_move(half_fit):
 def test_single_blas_thread_restores_and_computes():
     M = np.random.default_rng(3).normal(size=(50, 50)) + 50 * np.eye(50)
     b = np.ones(50)
+    from threadpoolctl import threadpool_info
+
+    before = [p["num_threads"] for p in threadpool_info() if p["user_api"] == "blas"]
     with single_blas_thread():
+        assert all(p["num_threads"] == 1 for p in threadpool_info() if p["user_api"] == "blas")
         x = np.linalg.solve(M, b)
+    assert [p["num_threads"] for p in threadpool_info() if p["user_api"] == "blas"] == before
     np.testing.assert_allclose(M @ x, b, atol=1e-9)
     np.testing.assert_allclose(np.linalg.solve(M, b), x, atol=1e-12)
 
