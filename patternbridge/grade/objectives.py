@@ -48,6 +48,7 @@ __all__ = [
     "Evaluation",
     "ObjectiveData",
     "evaluate",
+    "link_shares",
     "measurement_error",
     "objective_data",
     "piece_pose",
@@ -429,6 +430,45 @@ def measurement_error(data: ObjectiveData, points: np.ndarray) -> tuple[np.ndarr
         chord = np.linalg.norm(points[:, data.chord_b, :] - points[:, data.chord_a, :], axis=-1)
         achieved = achieved + chord @ data.link_chords
     return achieved, np.mean(np.abs(achieved - data.target_cm), axis=1)
+
+
+def link_shares(data: ObjectiveData, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each piece's share of every measurement link.
+
+    A girth measured over a front and a back, or an arm length over a sleeve
+    and a cuff, fixes the total; how it is split between the pieces is the
+    design's. The share of piece ``p`` in link ``l`` is the part of the
+    achieved value the legs on ``p`` contribute, divided by the whole.
+
+    Parameters
+    ----------
+    points : (n_pop, N, 2) float64, cm
+
+    Returns
+    -------
+    shares : (n_pop, P, L) float64 — zero where a link has no leg on a piece
+    shared : (L,) bool — links with legs on two or more pieces (the ones
+        whose split the fit leaves free)
+    """
+    n_pop = points.shape[0]
+    P, L = len(data.centre0), len(data.target_cm)
+    edges = _edge_lengths(data, points)
+    part = np.zeros((n_pop, P, L))
+    on_piece = np.zeros((P, L), dtype=bool)
+    for p in range(P):
+        mask = data.piece_of_point == p
+        part[:, p] = edges[:, mask] @ data.link_edges[mask]
+        on_piece[p] |= np.any(data.link_edges[mask] != 0, axis=0)
+    if len(data.chord_a):
+        chord = np.linalg.norm(points[:, data.chord_b, :] - points[:, data.chord_a, :], axis=-1)
+        cp = data.piece_of_point[data.chord_a]
+        for p in range(P):
+            mask = cp == p
+            part[:, p] += chord[:, mask] @ data.link_chords[mask]
+            on_piece[p] |= np.any(data.link_chords[mask] != 0, axis=0)
+    total = part.sum(axis=1, keepdims=True)
+    shares = part / np.where(np.abs(total) > 1e-12, total, 1.0)
+    return shares, on_piece.sum(axis=0) >= 2
 
 
 def _seam_terms(data: ObjectiveData, points: np.ndarray, edges: np.ndarray):

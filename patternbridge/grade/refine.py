@@ -41,11 +41,12 @@ from .objectives import (
     _edge_lengths,
     _seam_terms,
     angle_change,
+    link_shares,
     measurement_error,
     residuals,
 )
 
-__all__ = ["RefineResult", "StraightEdge", "refine", "straight_constraints", "straight_edges"]
+__all__ = ["RefineResult", "StraightEdge", "design_deviation", "refine", "straight_constraints", "straight_edges"]
 
 log = logging.getLogger(__name__)
 
@@ -149,6 +150,56 @@ def straight_constraints(grid: PatternGrid, edges: tuple[StraightEdge, ...]) -> 
     return vt[keep]
 
 
+def design_deviation(grid: PatternGrid, X: np.ndarray, x_ref: np.ndarray, *, slack: float = 0.0) -> np.ndarray:
+    """Log-ratio of every grid interval's length to the same interval of ``x_ref``.
+
+    For every piece, the distance between each pair of neighbouring control
+    points (along both grid directions) divided by that distance in the
+    reference individual, as a natural logarithm, times
+    ``1 / sqrt(n_intervals · n_pieces)`` so every piece weighs alike and
+    ``‖·‖²`` is a mean over pieces of per-piece means. Invariant to moving and
+    rotating a piece. With ``x_ref`` the proportional (per-axis scaled)
+    solution it measures how far the piece's dimensions have left the
+    proportions of the design: a few per cent of stretch costs little, a cuff
+    that loses its height or a front that gives its hem width to the back
+    costs a lot (the logarithm grows without bound as an interval
+    collapses), while the angles at the critical points may not change.
+
+    Parameters
+    ----------
+    X : (n_pop, n_var) genes ; x_ref : (n_var,) reference genes
+
+    Returns
+    -------
+    (n_pop, n_terms) float64, dimensionless
+    """
+    X = np.atleast_2d(np.asarray(X, dtype=np.float64))
+    ref = np.asarray(x_ref, dtype=np.float64)[None, :]
+    parts = []
+    n_pieces = max(len(grid.pieces), 1)
+    for k, g in enumerate(grid.pieces):
+        c, c_ref = grid.control(X, k), grid.control(ref, k)
+        eps2 = (1e-3 * g.extent_cm) ** 2
+        lengths = []
+        for axis in (1, 2):
+            if c.shape[axis] < 2:
+                continue
+            v = np.diff(c, axis=axis).reshape(len(X), -1, 2)
+            v_ref = np.diff(c_ref, axis=axis).reshape(1, -1, 2)
+            r = 0.5 * np.log(((v ** 2).sum(axis=-1) + eps2) / ((v_ref ** 2).sum(axis=-1) + eps2))
+            lengths.append(np.sign(r) * np.maximum(np.abs(r) - slack, 0.0))
+            # turn of the interval against the reference: a sheared grid
+            # (a tilted grain line) keeps its lengths but not its directions
+            lengths.append(np.arctan2(v_ref[..., 0] * v[..., 1] - v_ref[..., 1] * v[..., 0],
+                                      (v_ref * v).sum(axis=-1)))
+        if lengths:
+            t = np.concatenate(lengths, axis=1)
+            parts.append(t / np.sqrt(t.shape[1] * n_pieces))
+    if not parts:
+        return np.zeros((len(X), 0))
+    return np.concatenate(parts, axis=1)
+
+
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)
 class RefineResult:
     """Outcome of :func:`refine`.
@@ -235,6 +286,10 @@ def refine(
     min_cell_ratio: float = 0.4,
     w_cell: float = 0.3,
     max_push_cm: float = 2.0,
+    x_design: np.ndarray | None = None,
+    w_design: float = 0.7,
+    design_slack: float = 0.0,
+    w_share: float = 3.0,
     progress: Progress | None = None,
 ) -> RefineResult:
     """Least change of shape subject to the fit, from the individual ``x``.
@@ -253,6 +308,12 @@ def refine(
         differences and turning-angle disagreement along seams, direction of
         the spans between critical points, their proportions, each piece's
         rotation and drift, and the grid smoothness term
+    x_design : (n_var,) design-preservation reference, normally the
+        proportional (per-axis scaled) solution, or None for no such term
+    w_design : weight of :func:`design_deviation` from ``x_design``: the
+        dimensions no measurement or seam fixes (a cuff's height, the split
+        of a girth between front and back) follow the proportional solution
+        instead of drifting where the angle terms cannot see them
     progress : ``progress("refine", i, max_iter)``
 
     Returns
@@ -273,6 +334,10 @@ def refine(
     wc0 = w_shape * np.sqrt(1.0 / (n_pieces * np.maximum(per_piece[crit_piece], 1.0)))
     wa0 = w_all * np.sqrt(1.0 / max(len(data.points0), 1))
     ext = float(np.mean(data.extent_cm))
+    if x_design is not None:
+        share_ref, shared = link_shares(data, grid.outlines(np.asarray(x_design, dtype=np.float64)[None, :]))
+        share_ref = share_ref[:, :, shared]
+        w_sh = w_share / np.sqrt(max(int(shared.sum()), 1))
 
     def parts(X, wc, wa):
         pts = grid.outlines(X)
@@ -281,8 +346,13 @@ def refine(
                       w_turn=w_turn, w_critical=0.0, w_angle=0.0, w_rotation=w_rotation, w_shift=w_shift,
                       w_proportion=w_proportion, w_direction=w_direction)
         squeeze = np.maximum(0.0, min_cell_ratio - grid.corner_ratios(X))
-        s = np.concatenate([wc * d[:, data.critical], wa * d, s, (w_bend / ext) * grid.bending(X),
-                            w_cell * squeeze], axis=1)
+        terms = [wc * d[:, data.critical], wa * d, s, (w_bend / ext) * grid.bending(X), w_cell * squeeze]
+        if x_design is not None and w_design > 0:
+            terms.append(w_design * design_deviation(grid, X, x_design, slack=design_slack))
+        if x_design is not None and w_share > 0:
+            sh = link_shares(data, pts)[0][:, :, shared]
+            terms.append(w_sh * (sh - share_ref).reshape(len(X), -1))
+        s = np.concatenate(terms, axis=1)
         achieved, _ = measurement_error(data, pts)
         c = [X @ A_st.T]  # straight edges: linear, cm
         if data.n_seams:

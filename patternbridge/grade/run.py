@@ -512,7 +512,7 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
         """Penalty repair to get near the fit, then the constrained step; None if it fails."""
         x_rep, _ = repair(grid, data, x_start, progress=progress)
         res = refine(grid, data, x_rep, measure_tol_cm=measure_band_cm, straight=straight,
-                     max_iter=refine_iter, progress=progress)
+                     max_iter=refine_iter, x_design=x_axis, progress=progress)
         cand = _solution(grid, data, "nsga2+refine", res.x, size,
                          f"least shape change under the fit, started from the {start_name}")
         if _meets(cand, **accept):
