@@ -83,50 +83,6 @@ def _is_measurements_json(path: Path) -> bool:
     )
 
 
-def _standalone(pattern, size: str):
-    """The graded pattern as its own sample size: no grade rules left to follow."""
-    import dataclasses
-
-    from ..pattern.model import GradeRuleTable
-
-    pieces = []
-    for p in pattern.pieces:
-        pieces.append(
-            dataclasses.replace(
-                p,
-                size=size,
-                rules=None,
-                notches=tuple(dataclasses.replace(n, rule=None) for n in p.notches),
-                internal_lines=tuple(
-                    dataclasses.replace(pl, rules=None) for pl in p.internal_lines
-                ),
-                cutouts=tuple(dataclasses.replace(pl, rules=None) for pl in p.cutouts),
-                sew_lines=tuple(
-                    dataclasses.replace(pl, rules=None) for pl in p.sew_lines
-                ),
-                grain_line=None
-                if p.grain_line is None
-                else dataclasses.replace(p.grain_line, rules=(None, None)),
-                grade_reference=None
-                if p.grade_reference is None
-                else dataclasses.replace(p.grade_reference, rules=(None, None)),
-                mirror_line=None
-                if p.mirror_line is None
-                else dataclasses.replace(p.mirror_line, rules=(None, None)),
-                drill_holes=tuple(
-                    dataclasses.replace(h, rule=None) for h in p.drill_holes
-                ),
-            )
-        )
-    return dataclasses.replace(
-        pattern,
-        pieces=tuple(pieces),
-        sample_size=size,
-        sizes=(size,),
-        rules=GradeRuleTable(sizes=(size,), sample_size=size),
-    )
-
-
 def run(args: argparse.Namespace) -> int:
     from ..errors import InputError
     from ..io.load import load_pattern
@@ -284,6 +240,7 @@ def _write_outputs(
     from ..io.pattern_json import save_pattern_json
     from ..io.plot_fit import plot_fit_overlay, plot_pareto
     from ..measure.model import write_measurements
+    from ..pattern.grading import add_size, single_size
     from ..report import Report
     from ._common import print_findings
 
@@ -291,7 +248,7 @@ def _write_outputs(
     write_measurements(tmp / "measurements.json", meas)
     names.append("measurements.json")
 
-    graded = _standalone(result.pattern, size)
+    graded = single_size(result.pattern, size)
     stem = _safe_name(garment)
     save_pattern_json(graded, tmp / f"{stem}_{size}.json")
     names.append(f"{stem}_{size}.json")
@@ -299,7 +256,6 @@ def _write_outputs(
     # DXF + RUL: the character as one more size beside the original sizes
     stage("writing DXF-AAMA / DXF-ASTM with the character as one more size")
     from ..io.dxf_aama.write import write_dxf
-    from ..pattern.grading import add_size
 
     base = pattern
     if not base.sizes:
@@ -326,28 +282,25 @@ def _write_outputs(
 
     drape_dict = None
     if not args.no_drape and character is not None:
-        try:
-            from ..assemble import dress
-        except ImportError:
-            dress = None
-        if dress is not None:
-            stage("assembling and draping")
-            drape_dir = tmp / "drape"
-            drape_dir.mkdir()
-            drape_dict = dress(
-                character, result.pattern, drape_dir, seed=args.seed, progress=progress
-            )
-            moved = []
-            for f in sorted(drape_dir.iterdir()):
-                if not f.name.startswith("."):
-                    f.replace(tmp / f.name)
-                    names.append(f.name)
-                    moved.append(f.name)
-            drape_dir.rmdir()
-            # the assembler names the files where it wrote them (the temporary
-            # folder); the report names them where they end up, relative to OUT/
-            drape_dict = dict(drape_dict)
-            drape_dict["files"] = _relative_files(drape_dict.get("files"), moved)
+        from ..assemble import dress
+
+        stage("assembling and draping")
+        drape_dir = tmp / "drape"
+        drape_dir.mkdir()
+        drape_dict = dress(
+            character, result.pattern, drape_dir, seed=args.seed, progress=progress
+        )
+        moved = []
+        for f in sorted(drape_dir.iterdir()):
+            if not f.name.startswith("."):
+                f.replace(tmp / f.name)
+                names.append(f.name)
+                moved.append(f.name)
+        drape_dir.rmdir()
+        # the assembler names the files where it wrote them (the temporary
+        # folder); the report names them where they end up, relative to OUT/
+        drape_dict = dict(drape_dict)
+        drape_dict["files"] = _relative_files(drape_dict.get("files"), moved)
     elif character is None and not args.no_drape:
         rep["drape"] = {"skipped": "measurements given without a character mesh"}
     if drape_dict is not None:

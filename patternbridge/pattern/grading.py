@@ -39,6 +39,7 @@ __all__ = [
     "inward_angles",
     "rebase_rules",
     "rules_from_nest",
+    "single_size",
 ]
 
 _SAME_RULE_CM = 5e-4  # cm (0.005 mm): two points share a rule id when their deltas agree this well
@@ -323,6 +324,47 @@ def grade(pattern: Pattern, size: str) -> Pattern:
     k = table.size_index(size)
     pieces = tuple(_apply(p, _piece_displacements(p, table), k, size) for p in pattern.pieces)
     return dataclasses.replace(pattern, pieces=pieces, sample_size=size, rules=rebase_rules(table, size))
+
+
+def single_size(pattern: Pattern, size: str) -> Pattern:
+    """``pattern`` as a one-size pattern named ``size``, with no grade rules left.
+
+    For a shape that grading did not produce (a pattern fitted to a character):
+    the rule ids would otherwise promise a grading the shape no longer follows.
+    Geometry is unchanged; every rule reference (outline, notches, lines,
+    polylines, drill holes) is cleared and the rule table holds ``size`` only.
+    """
+    size = str(size)
+
+    def plain(polylines: tuple[Polyline, ...]) -> tuple[Polyline, ...]:
+        return tuple(dataclasses.replace(pl, rules=None) for pl in polylines)
+
+    def plain_line(line):
+        return None if line is None else dataclasses.replace(line, rules=(None, None))
+
+    pieces = tuple(
+        dataclasses.replace(
+            p,
+            size=size,
+            rules=None,
+            notches=tuple(dataclasses.replace(n, rule=None) for n in p.notches),
+            internal_lines=plain(p.internal_lines),
+            cutouts=plain(p.cutouts),
+            sew_lines=plain(p.sew_lines),
+            grain_line=plain_line(p.grain_line),
+            grade_reference=plain_line(p.grade_reference),
+            mirror_line=plain_line(p.mirror_line),
+            drill_holes=tuple(dataclasses.replace(h, rule=None) for h in p.drill_holes),
+        )
+        for p in pattern.pieces
+    )
+    return dataclasses.replace(
+        pattern,
+        pieces=pieces,
+        sample_size=size,
+        sizes=(size,),
+        rules=GradeRuleTable(sizes=(size,), sample_size=size),
+    )
 
 
 def graded_outlines(pattern: Pattern) -> dict[str, dict[str, np.ndarray]]:

@@ -18,6 +18,7 @@ from patternbridge.pattern.grading import (
     inward_angles,
     rebase_rules,
     rules_from_nest,
+    single_size,
 )
 from patternbridge.pattern.model import (
     DrillHole,
@@ -197,6 +198,29 @@ def test_add_size_on_a_pattern_without_rules():
     assert out.sizes == ("M", "HERO")
     np.testing.assert_allclose(grade(out, "HERO").pieces[0].outline, pat.pieces[0].outline * 1.1, atol=1e-9)
     np.testing.assert_allclose(grade(out, "M").pieces[0].outline, pat.pieces[0].outline)
+
+
+def test_single_size_keeps_geometry_and_drops_every_rule():
+    from patternbridge.pattern.json import pattern_from_dict, pattern_to_dict
+    from patternbridge.testing import example_pattern
+
+    pat = example_pattern()
+    assert any(r is not None for p in pat.pieces for r in (p.rules or ()))
+    one = single_size(pat, "HERO")
+    assert one.sizes == ("HERO",) and one.sample_size == "HERO" and not one.rules.deltas
+    for before, after in zip(pat.pieces, one.pieces, strict=True):
+        assert after.size == "HERO" and not any(after.rules or ())
+        np.testing.assert_array_equal(after.outline, before.outline)
+        assert [n.vertex for n in after.notches] == [n.vertex for n in before.notches]
+        assert all(n.rule is None for n in after.notches)
+        assert all(h.rule is None for h in after.drill_holes)
+        for pl in (*after.internal_lines, *after.cutouts, *after.sew_lines):
+            assert not any(pl.rules or ())
+        for line in (after.grain_line, after.grade_reference, after.mirror_line):
+            assert line is None or not any(line.rules)
+    # still a valid canonical pattern: it round trips through JSON unchanged
+    assert pattern_to_dict(pattern_from_dict(pattern_to_dict(one))) == pattern_to_dict(one)
+    assert grade(one, "HERO").pieces[0].outline.shape == pat.pieces[0].outline.shape
 
 
 def test_inward_angles_on_a_square_and_with_repeated_vertices():
