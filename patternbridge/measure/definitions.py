@@ -95,6 +95,20 @@ DEFINITIONS: dict[str, Definition] = {
                 "back_neck_point",
                 "neck_shoulder_point_left",
                 "neck_shoulder_point_right",
+                "top_of_head",
+            ),
+            text="neck girth (EN 13402-1): snuggest neck section through the back neck point "
+            "(C7), square to the neck; the collar size",
+        ),
+        Definition(
+            id="neck_base_girth",
+            kind="girth",
+            method="hull",
+            landmarks=(
+                "front_neck_point",
+                "back_neck_point",
+                "neck_shoulder_point_left",
+                "neck_shoulder_point_right",
             ),
             text="neck-base girth in the plane through the front, back and side neck points",
         ),

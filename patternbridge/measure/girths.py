@@ -26,7 +26,7 @@ from ..errors import LandmarkError
 from .model import Measurement
 from .section import Section, SlabIndex, hull_girth, plane_loops
 
-__all__ = ["BodyFrame", "GirthError", "measure_girths", "torso_levels"]
+__all__ = ["BodyFrame", "GirthError", "measure_girths", "neck_frame", "torso_levels"]
 
 
 class GirthError(LandmarkError):
@@ -333,14 +333,20 @@ def _torso_girths(body: BodyFrame) -> dict[str, Measurement]:
     return out
 
 
-def _neck_girth(body: BodyFrame) -> Measurement:
-    names = (
-        "front_neck_point",
-        "back_neck_point",
-        "neck_shoulder_point_left",
-        "neck_shoulder_point_right",
-    )
-    pts = np.stack([body.mark(n) for n in names])
+NECK_POINTS = (
+    "front_neck_point",
+    "back_neck_point",
+    "neck_shoulder_point_left",
+    "neck_shoulder_point_right",
+)
+
+#: forward tilts of the collar plane tried around the head chord, radians
+NECK_TILTS = np.radians(np.arange(-10.0, 35.0 + 1e-9, 1.0))
+
+
+def _neck_base_girth(body: BodyFrame) -> Measurement:
+    """Neck-base girth: least-squares plane through the four neck points."""
+    pts = np.stack([body.mark(n) for n in NECK_POINTS])
     centre = pts.mean(axis=0)
     _, _, vt = np.linalg.svd(pts - centre)
     normal = vt[2] if vt[2][1] >= 0 else -vt[2]
@@ -349,7 +355,78 @@ def _neck_girth(body: BodyFrame) -> Measurement:
     cut = body.part_cut(centre, normal, centre, cands)
     if cut.value_cm <= 0:
         raise GirthError("no neck section through the neck points")
-    return _girth("neck_girth", cut, names)
+    return _girth("neck_base_girth", cut, NECK_POINTS)
+
+
+def neck_frame(body: BodyFrame) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Head chord and forward direction of the neck (both unit, in the mid-sagittal plane).
+
+    Returns
+    -------
+    base : (3,) cm, mean of the four neck points (centre of the neck base)
+    chord : (3,) unit vector from ``base`` toward ``top_of_head``
+    front : (3,) unit vector perpendicular to ``chord``, from the back neck point
+        toward the front neck point
+    """
+    base = np.stack([body.mark(n) for n in NECK_POINTS]).mean(axis=0)
+    chord = body.mark("top_of_head") - base
+    if np.linalg.norm(chord) < 1e-6:
+        raise GirthError("top_of_head coincides with the neck base")
+    chord /= np.linalg.norm(chord)
+    front = body.mark("front_neck_point") - body.mark("back_neck_point")
+    front -= (front @ chord) * chord
+    if np.linalg.norm(front) < 1e-6:
+        raise GirthError("the front and back neck points lie on the head chord")
+    return base, chord, front / np.linalg.norm(front)
+
+
+def _neck_girth(body: BodyFrame) -> Measurement:
+    """EN 13402-1 neck girth: the snuggest neck section through the back neck point (C7).
+
+    The plane passes through ``back_neck_point``; its normal lies in the
+    mid-sagittal plane, tilted forward by t from the head chord (neck base
+    centre -> top of head), t in ``NECK_TILTS``. Of these planes the one whose
+    neck loop has the smallest convex-hull perimeter is kept: a tape held at
+    the nape and drawn snug. For a tube this is the section square to its axis
+    (any other plane through the same point cuts a longer ellipse), so the
+    chosen normal is the neck axis at C7. Lower planes run into the shoulders
+    (trapezius), higher ones into the chin, both longer.
+    """
+    back = body.mark("back_neck_point")
+    base, chord, front = neck_frame(body)
+    cands = body.near_segment(back, back, 0.15 * body.stature)
+    best = None
+    for t in NECK_TILTS:
+        normal = np.cos(t) * chord + np.sin(t) * front
+        # the neck loop: the one around the chord line where it crosses the plane
+        s = float((back - base) @ normal) / float(chord @ normal)
+        ref = base + s * chord
+        sec = plane_loops(
+            body.v,
+            body.f,
+            back,
+            normal,
+            candidates=body.crossing(cands, back, normal),
+        )
+        loops = body.part_loops(sec, ref)
+        if not loops or not all(lp.closed for lp in loops):
+            continue  # an open arc (the cut leaves the searched region) is no girth
+        cut = _hull_cut(sec, loops)
+        if cut.value_cm > 0 and (best is None or cut.value_cm < best[1].value_cm - 1e-9):
+            best = (float(t), cut, ref)
+    if best is None:
+        raise GirthError("no neck section through the back neck point")
+    t, cut, ref = best
+    ring = cut.polyline[:-1]
+    tip = ring[int(np.argmax((ring - ref) @ front))]
+    return _girth(
+        "neck_girth",
+        cut,
+        NECK_POINTS + ("top_of_head",),
+        tilt_from_chord_deg=float(np.degrees(t)),
+        front_y_cm=float(tip[1]),
+        front_above_front_neck_cm=float(tip[1] - body.mark("front_neck_point")[1]),
+    )
 
 
 def _head_girth(body: BodyFrame) -> Measurement:
@@ -508,6 +585,10 @@ GROUPS: dict[
         _torso_girths,
     ),
     "neck": (("neck_girth",), lambda b: {"neck_girth": _neck_girth(b)}),
+    "neck_base": (
+        ("neck_base_girth",),
+        lambda b: {"neck_base_girth": _neck_base_girth(b)},
+    ),
     "head": (("head_girth",), lambda b: {"head_girth": _head_girth(b)}),
     **{
         f"arm_{s}": (

@@ -155,3 +155,72 @@ def test_cylinder_geodesic_lengths():
     dz = v[c, 2] - v[a, 2]
     arc = r * np.arctan2(v[c, 1], v[c, 0])
     assert out["front_length"].value_cm == pytest.approx(np.hypot(arc, dz), rel=5e-3)
+
+
+def _neck_mannequin(r: float = 6.0, tilt_deg: float = 20.0):
+    """A torso box, a cylinder neck leaning forward by ``tilt_deg`` and a sphere head.
+
+    Returns vertices, faces, the neck axis (unit) and the datum points.
+    """
+    t = np.radians(tilt_deg)
+    axis = np.array([0.0, np.cos(t), np.sin(t)])
+    foot = np.array([0.0, 150.0, 0.0])
+    neck = trimesh.creation.cylinder(radius=r, height=40.0, sections=720)
+    rot = trimesh.geometry.align_vectors([0, 0, 1.0], axis)
+    nv = np.asarray(neck.vertices) @ rot[:3, :3].T + foot + 10.0 * axis  # into the box
+    box = trimesh.creation.box(extents=[40.0, 151.0, 25.0])  # torso down to the floor
+    bv = np.asarray(box.vertices) + [0.0, 75.5, 0.0]
+    head = trimesh.creation.icosphere(subdivisions=3, radius=10.0)
+    hv = np.asarray(head.vertices) + foot + 30.0 * axis
+    parts = [(nv, neck.faces), (bv, box.faces), (hv, head.faces)]
+    v = np.vstack([p[0] for p in parts])
+    offs = np.cumsum([0] + [len(p[0]) for p in parts])
+    f = np.vstack([np.asarray(p[1]) + o for p, o in zip(parts, offs)])
+    back = np.cross([1.0, 0.0, 0.0], axis)  # unit, pointing backward (-z) and up
+    back = -back if back[2] > 0 else back
+    side = np.array([1.0, 0.0, 0.0])
+    marks = {
+        "back_neck_point": foot + 8.0 * axis + r * back,
+        "front_neck_point": foot + 3.0 * axis - r * back,
+        "neck_shoulder_point_left": foot + 5.0 * axis + r * side,
+        "neck_shoulder_point_right": foot + 5.0 * axis - r * side,
+        "top_of_head": foot + 40.0 * axis,
+    }
+    return v, f, axis, marks
+
+
+@pytest.mark.parametrize("tilt_deg", [0.0, 20.0])
+def test_neck_girth_is_the_square_section_of_a_cylinder_neck(tilt_deg):
+    """Through the back neck point the snuggest plane is square to the neck: 2 pi r."""
+    from patternbridge.measure.girths import _neck_base_girth, _neck_girth
+
+    r = 6.0
+    v, f, axis, marks = _neck_mannequin(r, tilt_deg)
+    body = BodyFrame(v, f, marks)
+    m = _neck_girth(body)
+    assert m.value_cm == pytest.approx(2 * np.pi * r * _ring(720), rel=2e-3)
+    n = np.asarray(m.details["plane_normal"])
+    assert abs(n @ axis) > np.cos(np.radians(1.0))  # the neck axis, to the 1 degree grid
+    np.testing.assert_allclose(m.details["plane_origin"], marks["back_neck_point"])
+    assert m.polyline[:, 1].min() > 148.0  # the torso box is not in the loop
+    # the neck-base plane through the four points is oblique: a longer ellipse
+    base = _neck_base_girth(body)
+    assert base.value_cm > m.value_cm + 0.5
+
+
+def test_neck_girth_bad_datum_points():
+    from patternbridge.errors import LandmarkError
+    from patternbridge.measure.girths import GirthError, _neck_girth
+
+    v, f, axis, marks = _neck_mannequin()
+    on_chord = dict(marks, back_neck_point=marks["top_of_head"] - 35.0 * axis)
+    on_chord["front_neck_point"] = marks["top_of_head"] - 30.0 * axis
+    with pytest.raises(GirthError, match="on the head chord"):
+        _neck_girth(BodyFrame(v, f, on_chord))
+    far = {k: p + [0.0, 0.0, 500.0] for k, p in marks.items()}
+    with pytest.raises(GirthError, match="no neck section"):
+        _neck_girth(BodyFrame(v, f, far))
+    with pytest.raises(LandmarkError, match="back_neck_point"):
+        _neck_girth(
+            BodyFrame(v, f, {k: p for k, p in marks.items() if k != "back_neck_point"})
+        )

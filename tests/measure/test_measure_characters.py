@@ -89,6 +89,26 @@ def test_values_follow_the_shapes(results):
         assert r["arm_length_left"] < r["neck_to_wrist_left"]
 
 
+def test_neck_girth_is_the_collar_girth(results):
+    """EN 13402-1 neck girth: collar-sized, under the neck-base girth, symmetric."""
+    v = {k: r.values_cm() for k, r in results.items()}
+    assert 38.0 <= v["E"]["neck_girth"] <= 42.5  # an average man's collar
+    assert v["A"]["neck_girth"] > 1.1 * v["E"]["neck_girth"]  # the superhero's neck
+    assert v["D"]["neck_girth"] < 0.85 * v["E"]["neck_girth"]  # the child's
+    for key, res in results.items():
+        neck, base = res["neck_girth"], res["neck_base_girth"]
+        assert neck.value_cm < base.value_cm - 3.0, key  # no trapezius slope
+        assert 25.0 < neck.value_cm < 55.0, key
+        # the plane holds the nape and stays in the mid-sagittal plane
+        np.testing.assert_allclose(
+            neck.details["plane_origin"], res.landmarks["back_neck_point"].position
+        )
+        assert abs(neck.details["plane_normal"][0]) < 1e-6, key
+        assert abs(neck.polyline[:, 0].max() + neck.polyline[:, 0].min()) < 0.01, key
+        # in front it passes above the jugular notch, below the chin
+        assert 1.0 < neck.details["front_above_front_neck_cm"] < 8.0, key
+
+
 def test_leg_tapes_stay_on_the_leg(characters, results):
     """Inside and outside leg follow the leg like a held tape, not a chord through the air."""
     from scipy.spatial import cKDTree
@@ -198,6 +218,8 @@ def test_pose_invariance(characters, results):
     ):
         vals = np.array([r[mid].value_cm for r in poses])
         assert np.ptp(vals) / vals.min() <= 0.01, mid
+    neck = np.array([r["neck_girth"].value_cm for r in poses])
+    assert np.ptp(neck) <= 1.0  # the neck barely moves (the neck base does: 2 cm)
 
 
 def test_detected_landmarks_near_reference(characters):
