@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["BodyCollider", "separate_layers"]
+__all__ = ["BodyCollider", "separate_layers", "thigh_fill"]
 
 
 class BodyCollider:
@@ -340,3 +340,35 @@ def separate_layers(
     np.add.at(delta, j, -corr)
     count = np.bincount(np.concatenate([i, j]), minlength=len(out))[:, None]
     return out + delta / np.maximum(count, 1)
+
+
+def thigh_fill(
+    body: np.ndarray, legs: np.ndarray, crotch_y: float | None
+) -> tuple[tuple[np.ndarray, np.ndarray], ...]:
+    """A closed volume filling the space between the thighs, for tops that reach below the crotch.
+
+    A shirt hangs straight down from the hips; without it the hem is drawn
+    in between the legs like a bodysuit. The volume is the convex hull of
+    the leg vertices from 2 cm above the crotch to 30 cm below it.
+
+    Parameters
+    ----------
+    body : (V, 3) float64, cm
+    legs : (V,) bool, the leg vertices
+    crotch_y : height of the crotch point, cm (None: the top of the legs)
+
+    Returns
+    -------
+    ``((vertices (n, 3), faces (m, 3)),)`` for :class:`BodyCollider`'s
+    ``proxies``, or ``()`` when the body has no legs.
+    """
+    import trimesh
+
+    if not legs.any():
+        return ()
+    top = float(body[legs, 1].max()) if crotch_y is None else float(crotch_y)
+    band = body[legs & (body[:, 1] > top - 30.0) & (body[:, 1] < top + 2.0)]
+    if len(band) < 10:
+        return ()
+    hull = trimesh.convex.convex_hull(band)
+    return ((np.asarray(hull.vertices), np.asarray(hull.faces)),)

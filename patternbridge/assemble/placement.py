@@ -276,7 +276,14 @@ def place_instances(
         Rv = shared.get(inst.key)
         if Rv is None:
             Rv = _row_radii(pmesh, inst, part, str(pl.side), R)
-        theta = th_a + sigma * (p2[:, 0] - a2[0]) / Rv
+        x_ref = a2[0]
+        if inst.key in shared:
+            # pieces side by side round a limb: the seam through the anchor
+            # (a trouser side seam) sits on the anchor's angle row by row, so
+            # that seam and the one on the far side (the inside leg) start
+            # closed even where the pattern's edges slant
+            x_ref = _anchor_line(pmesh, inst, p2, pl.anchor_mark, {r[0].key for r in rows if r[2] == part})
+        theta = th_a + sigma * (p2[:, 0] - x_ref) / Rv
         if part == "torso" and str(pl.side) in ("front", "back"):
             # torso fronts and backs are drawn with the body midline at x = 0
             # (docs/library.md): x = 0 goes on the centre front / back, the
@@ -310,6 +317,29 @@ def _centre_line(pmesh: PatternMesh, inst: Instance, p2: np.ndarray) -> np.ndarr
             order = np.argsort(ys)
             return np.interp(p2[:, 1], ys[order], xs[order])
     return np.zeros(len(p2))
+
+
+def _anchor_line(pmesh: PatternMesh, inst: Instance, p2: np.ndarray, mark: str, partners: set[str]) -> np.ndarray:
+    """(n,) float64, cm: x of the seam through ``mark`` at each vertex's height (y).
+
+    The seam is the one joining ``inst`` to another instance in
+    ``partners`` whose edge on ``inst`` contains the mark; without one, the
+    mark's x for every vertex.
+    """
+    marks = pmesh.pieces[inst.piece].marks
+    mv = marks.get(mark)
+    for sp in pmesh.seams:
+        for me, va, other in ((sp.a, sp.a_vertices, sp.b), (sp.b, sp.b_vertices, sp.a)):
+            if me.key != inst.key or other.key == inst.key or other.key not in partners:
+                continue
+            if mv is None or mv not in set(va.tolist()):
+                continue
+            ys, xs = p2[va, 1], p2[va, 0]
+            if np.ptp(ys) < 1.0:
+                continue
+            order = np.argsort(ys)
+            return np.interp(p2[:, 1], ys[order], xs[order])
+    return np.full(len(p2), p2[mv, 0] if mv is not None else float(p2[:, 0].mean()))
 
 
 def _widths(boundary: np.ndarray, ys: np.ndarray) -> np.ndarray:

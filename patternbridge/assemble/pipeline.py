@@ -1,0 +1,416 @@
+"""The dressing pipeline: pose, place, sew, drape, return to the rest pose, weld, report, write.
+
+:func:`prepare` builds the simulation (body in the dressing pose, colliders,
+meshed pattern wrapped on the bounding cylinders), :func:`simulate` sews and
+drapes it and brings it back to the rest pose, :func:`finish` welds the seams,
+clears the skin and measures; :func:`assemble` chains the three and
+:func:`dress` also writes the files.
+"""
+
+from __future__ import annotations
+
+import itertools
+import logging
+import os
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from ..mesh.character import Character
+from ..pattern.model import Copy, Pattern
+from ..report import Report
+from .garment import Garment
+
+__all__ = ["Simulation", "assemble", "dress", "finish", "prepare", "simulate"]
+
+log = logging.getLogger(__name__)
+
+Progress = Callable[[str, int, int], None] | None
+
+POSE_STAGES = 1  # stages of the T-pose -> rest-pose return
+POSE_STEPS = 8  # cloth steps per stage
+
+
+@dataclass(eq=False)
+class Simulation:
+    """Everything the sewing and draping work on (mutable: the cloth moves).
+
+    body : (V, 3) float64, cm — the body in the dressing pose
+    rotvecs : bone -> rotation vector of the dressing pose (empty: rest pose)
+    """
+
+    character: Character
+    pattern: Pattern
+    body: np.ndarray
+    parts: object
+    rotvecs: dict
+    pmesh: object
+    cloth: object
+    collider: object
+    cloth_collider: object
+    proxies: tuple
+    names: tuple[str, ...]
+    seam_ids: np.ndarray  # (S,) index into pmesh.seams of every sewn pair
+    x_placed: np.ndarray
+    findings: Report = field(default_factory=Report)
+    solver: object = None
+    settings: object = None
+    t0: float = 0.0
+
+
+def _on_legs(pattern: Pattern) -> bool:
+    return any("leg" in str(p.placement.body_part) for p in pattern.pieces)
+
+
+def prepare(
+    character: Character, pattern: Pattern, *, seed: int = 0, max_edge_cm: float = 2.5, progress: Progress = None
+) -> Simulation:
+    """Pose the body, mesh the pattern and wrap its pieces on the bounding cylinders.
+
+    Raises
+    ------
+    InputError
+        See :func:`assemble`.
+    """
+    from .bodyparts import segment_body
+    from .checks import check_pattern, limbs_touching
+    from .collision import BodyCollider, thigh_fill
+    from .drape import DrapeSettings, build_cloth
+    from .mesh2d import mesh_pattern
+    from .placement import bounding_cylinders, instance_part, place_instances
+    from .pose import rotations, tpose_rotvecs
+
+    t0 = time.perf_counter()
+    check_pattern(pattern)
+    findings = Report()
+    rng = np.random.default_rng(seed)
+    rigged = character.skeleton is not None and character.skin is not None
+    on_legs = _on_legs(pattern)
+    rotvecs: dict[str, np.ndarray] = {}
+    if rigged and not on_legs:
+        try:
+            rotvecs = tpose_rotvecs(character)
+        except InputError as exc:
+            findings.add("no-t-pose", f"dressed in the rest pose: {exc}", where=character.name)
+    elif not rigged and not on_legs:
+        findings.add("no-t-pose", "the character has no rig: dressed in its rest pose", where=character.name)
+    if rotvecs:
+        from ..mesh.skinning import pose_vertices
+
+        body = pose_vertices(character, rotations(rotvecs, 1.0))
+    else:
+        body = np.array(character.vertices, dtype=np.float64)
+    parts = segment_body(character, vertices=body)
+    limbs_touching(body, parts, findings, character.name)
+    for f in findings:
+        log.warning("%s", f)
+    if progress:
+        progress("mesh", 0, 1)
+    pmesh = mesh_pattern(pattern, max_edge_cm=max_edge_cm)
+    widths: dict[str, float] = {}
+    for inst in pmesh.instances:
+        p2 = pmesh.pieces[inst.piece].points
+        part = instance_part(pattern, inst)
+        widths[part] = widths.get(part, 0.0) + float(np.ptp(p2[:, 0])) + 1.0
+    cylinders = bounding_cylinders(body, parts, widths)
+    collider = BodyCollider(body, character.faces)
+    proxies: tuple = ()
+    if not on_legs:
+        legs = parts.mask("left_leg") | parts.mask("right_leg")
+        lm = character.landmarks.get("crotch_point")
+        crotch_y = float(body[lm.vertex][1]) if lm is not None and lm.vertex is not None else None
+        proxies = thigh_fill(body, legs, crotch_y)
+    cloth_collider = BodyCollider(body, character.faces, proxies=proxies) if proxies else collider
+    placed = place_instances(character, body, pattern, pmesh, cylinders, findings, scene=collider)
+    keys = [inst.key for inst in pmesh.instances]
+    index = {k: i for i, k in enumerate(keys)}
+    positions = [placed[k] + rng.normal(scale=1e-3, size=placed[k].shape) for k in keys]
+    points2d = [pmesh.pieces[inst.piece].points for inst in pmesh.instances]
+    faces = [
+        pmesh.pieces[inst.piece].faces[:, ::-1] if inst.copy is Copy.MIRROR else pmesh.pieces[inst.piece].faces
+        for inst in pmesh.instances
+    ]
+    seams = [(index[s.a.key], index[s.b.key], s.a_vertices, s.b_vertices) for s in pmesh.seams]
+    settings = DrapeSettings()
+    cloth = build_cloth(positions, points2d, faces, seams, density_kg_cm2=settings.density_kg_cm2)
+    # seam of every sewn pair (build_cloth drops the pairs of a vertex with itself, the tip of a dart)
+    offsets = np.concatenate([[0], np.cumsum([len(p) for p in positions])])
+    seam_ids = np.concatenate(
+        [
+            np.full(int(np.count_nonzero(a + offsets[ia] != b + offsets[ib])), i)
+            for i, (ia, ib, a, b) in enumerate(seams)
+        ]
+        or [np.zeros(0, np.int64)]
+    )
+    return Simulation(
+        character=character,
+        pattern=pattern,
+        body=body,
+        parts=parts,
+        rotvecs=rotvecs,
+        pmesh=pmesh,
+        cloth=cloth,
+        collider=collider,
+        cloth_collider=cloth_collider,
+        proxies=proxies,
+        names=tuple(keys),
+        seam_ids=seam_ids.astype(np.int64),
+        x_placed=cloth.x.copy(),
+        findings=findings,
+        settings=settings,
+        t0=t0,
+    )
+
+
+def simulate(sim: Simulation, *, steps: int = 160, progress: Progress = None) -> None:
+    """Sew and drape the cloth in the dressing pose, then bring it back to the rest pose (in place)."""
+    from .collision import BodyCollider
+    from .drape import drape, seam_gaps
+    from .pose import apply_transforms, blend_transforms, rotations, unapply_transforms
+    from .weights import transfer_weights
+
+    cloth, settings, character = sim.cloth, sim.settings, sim.character
+    sim.solver = drape(
+        cloth,
+        sim.cloth_collider,
+        steps=steps,
+        sew_steps=int(0.55 * steps),
+        settings=settings,
+        progress=progress,
+        stage="drape",
+    )
+    log.debug(
+        "draped: cloth y %.1f..%.1f gap %.2f",
+        cloth.x[:, 1].min(),
+        cloth.x[:, 1].max(),
+        seam_gaps(cloth.x, cloth.seams).max(initial=0.0),
+    )
+    if not sim.rotvecs:
+        return
+    from ..mesh.skinning import pose_vertices
+
+    # back to the rest pose: at each stage the cloth follows the skin (weights
+    # of the nearest body points) from the previous pose to the next, then
+    # settles against the body in that pose
+    levels = np.linspace(1.0, 0.0, POSE_STAGES + 1)
+    collider = sim.collider
+    for k, (s0, s1) in enumerate(itertools.pairwise(levels)):
+        joints, weights = transfer_weights(collider, character, cloth.x)
+        b0 = blend_transforms(character, rotations(sim.rotvecs, s0), joints, weights)
+        b1 = blend_transforms(character, rotations(sim.rotvecs, s1), joints, weights)
+        cloth.x = apply_transforms(b1, unapply_transforms(b0, cloth.x))
+        cloth.v[:] = 0.0
+        posed = (
+            np.array(character.vertices, dtype=np.float64)
+            if s1 == 0.0
+            else pose_vertices(character, rotations(sim.rotvecs, s1))
+        )
+        collider = BodyCollider(posed, character.faces)
+        drape(
+            cloth,
+            BodyCollider(posed, character.faces, proxies=sim.proxies) if sim.proxies else collider,
+            steps=POSE_STEPS,
+            sew_steps=0,
+            settings=settings,
+            solver=sim.solver,
+            gravity_scale=0.0,
+            stage="pose",
+        )
+        if progress:
+            progress("pose", k + 1, POSE_STAGES)
+    sim.collider = collider
+
+
+def seam_gap_table(sim: Simulation) -> list[dict]:
+    """Per seam: the largest gap between its sewn pairs now (mm) and where it is (pair index, height cm)."""
+    from .drape import seam_gaps
+
+    g = seam_gaps(sim.cloth.x, sim.cloth.seams)
+    out = []
+    for i, sp in enumerate(sim.pmesh.seams):
+        sel = np.flatnonzero(sim.seam_ids[: len(g)] == i) if len(sim.seam_ids) == len(g) else np.zeros(0, int)
+        if len(sel) == 0:
+            continue
+        j = sel[np.argmax(g[sel])]
+        a, b = sim.cloth.seams[j]
+        out.append(
+            {
+                "seam": sp.seam,
+                "max_mm": float(g[j] * 10.0),
+                "median_mm": float(np.median(g[sel]) * 10.0),
+                "at": (int(a), int(b)),
+                "position_cm": [round(float(v), 1) for v in 0.5 * (sim.cloth.x[a] + sim.cloth.x[b])],
+            }
+        )
+    return out
+
+
+def finish(sim: Simulation) -> Garment:
+    """Weld the seams, clear the skin, transfer skin weights and measure (the ``drape`` report)."""
+    from .drape import seam_gaps, weld_groups
+    from .weights import transfer_weights
+
+    cloth, collider, settings, character = sim.cloth, sim.collider, sim.settings, sim.character
+    gaps_before = seam_gaps(cloth.x, cloth.seams)
+    worst_seam = ""
+    if len(gaps_before):
+        table = seam_gap_table(sim)
+        if table:
+            worst_seam = max(table, key=lambda r: r["max_mm"])["seam"]
+
+    # weld the seams, then make sure nothing is left inside the skin
+    weld = weld_groups(len(cloth.x), cloth.seams)
+    ids, inv = np.unique(weld, return_inverse=True)
+    cnt = np.bincount(inv, minlength=len(ids))[:, None]
+    wx = np.zeros((len(ids), 3))
+    np.add.at(wx, inv, cloth.x)
+    wx /= cnt
+    for _ in range(3):
+        wx, moved = collider.push_out(wx, 0.5 * settings.offset_cm, robust=True)
+        if not moved.any():
+            break
+    # no triangle may cut the skin either (a long edge over a thin limb)
+    wx = collider.clear_triangles(wx, inv[cloth.faces], settings.offset_cm)
+    wx, _ = collider.push_out(wx, 0.5 * settings.offset_cm, robust=True)
+    x = wx[inv]
+    inside = collider.inside(wx)
+    seconds = time.perf_counter() - sim.t0
+
+    rigged = character.skeleton is not None and character.skin is not None
+    if rigged:
+        joints, weights = transfer_weights(collider, character, x)
+    else:
+        joints = np.zeros((len(x), 0), np.int64)
+        weights = np.zeros((len(x), 0))
+    names = sim.names
+    # edges shorter than 1 mm in the pattern (a corner collapsed by grading)
+    # would make any ratio meaningless: they are counted, not measured
+    measured = cloth.rest >= 0.1
+    if not measured.any():
+        measured[:] = True
+    ratio = np.linalg.norm(x[cloth.edges[measured, 0]] - x[cloth.edges[measured, 1]], axis=1) / np.maximum(
+        cloth.rest[measured], 1e-9
+    )
+    per = {}
+    egroup = cloth.group[cloth.edges[measured, 0]]
+    for i, n in enumerate(names):
+        r = ratio[egroup == i]
+        if len(r):
+            per[n] = float(np.percentile(r, 95))
+    worst = sorted(per.items(), key=lambda kv: -kv[1])[:3]
+    report = {
+        "penetrating_vertices": int(np.count_nonzero(inside)),
+        "crossing_triangles": int(np.count_nonzero(collider.crossing_triangles(wx, inv[cloth.faces]))),
+        "max_seam_gap_mm": float(seam_gaps(x, cloth.seams).max(initial=0.0) * 10.0),
+        "max_seam_gap_before_weld_mm": float(gaps_before.max(initial=0.0) * 10.0),
+        "worst_seam_before_weld": worst_seam,
+        "stretch": {
+            "percentiles": {f"p{q}": float(np.percentile(ratio, q)) for q in (1, 5, 50, 95, 99)},
+            "max": float(ratio.max()),
+            "worst_pieces": [{"piece": n, "p95": v} for n, v in worst],
+            "short_edges": int(np.count_nonzero(~measured)),
+        },
+        "seconds": round(seconds, 2),
+        "vertices": len(ids),
+        "triangles": len(cloth.faces),
+        "pieces": list(names),
+        "pose": "T-pose, then back to rest" if sim.rotvecs else "rest",
+        "max_placement_move_cm": float(np.linalg.norm(x - sim.x_placed, axis=1).max()),
+        "warnings": [str(f) for f in sim.findings],
+    }
+    return Garment(
+        vertices=x,
+        faces=cloth.faces,
+        uv=cloth.uv,
+        instance=cloth.group,
+        instance_names=names,
+        weld=weld,
+        joints=joints,
+        weights=weights,
+        skeleton=character.skeleton if rigged else None,
+        report=report,
+        findings=sim.findings,
+    )
+
+
+def assemble(
+    character: Character,
+    pattern: Pattern,
+    *,
+    seed: int = 0,
+    progress: Progress = None,
+    max_edge_cm: float = 2.5,
+    steps: int = 160,
+) -> Garment:
+    """Place, sew and drape ``pattern`` on ``character``.
+
+    Parameters
+    ----------
+    character : the body (cm, +Y up, facing +Z), rigged or with landmarks
+    pattern : pieces with placement hints and seams (bridge data)
+    seed : seeds the tiny jitter that breaks the symmetry of the start
+    progress : ``progress(stage, done, total)`` callback
+    max_edge_cm : cloth triangle edge length, cm
+    steps : time steps of the main drape
+
+    Returns
+    -------
+    :class:`~patternbridge.assemble.garment.Garment` in the character's rest pose.
+
+    Raises
+    ------
+    InputError
+        A piece has no placement hint, the pattern has no seams, a seam names
+        unknown marks, or the body lacks a part a piece goes on.
+    """
+    sim = prepare(character, pattern, seed=seed, max_edge_cm=max_edge_cm, progress=progress)
+    simulate(sim, steps=steps, progress=progress)
+    return finish(sim)
+
+
+def dress(
+    character: Character,
+    pattern: Pattern,
+    out_dir: str | os.PathLike,
+    *,
+    seed: int = 0,
+    progress: Progress = None,
+    max_edge_cm: float = 2.5,
+) -> dict:
+    """Dress ``character`` in ``pattern`` and write the results to ``out_dir``.
+
+    Writes (each atomically) ``garment.glb`` (skinned glTF 2.0, one primitive
+    per cut piece, UVs from the pattern), ``garment.obj`` + ``garment.mtl``
+    and ``fit_front.png``, ``fit_back.png``, ``fit_side.png``.
+
+    Returns
+    -------
+    dict, the ``drape`` report: ``penetrating_vertices`` (garment vertices
+    inside the skin), ``crossing_triangles``, ``max_seam_gap_mm`` (after
+    welding), ``max_seam_gap_before_weld_mm``, ``stretch`` (edge length /
+    rest length: ``percentiles``, ``max``, ``worst_pieces``), ``seconds``,
+    ``files``, and counts and warnings.
+
+    Raises
+    ------
+    InputError
+        See :func:`assemble`.
+    """
+    from .export_gltf import write_glb, write_obj
+    from .pictures import write_pictures
+
+    t0 = time.perf_counter()
+    garment = assemble(character, pattern, seed=seed, progress=progress, max_edge_cm=max_edge_cm)
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    write_glb(out / "garment.glb", garment, character)
+    write_obj(out / "garment.obj", garment)
+    pics = write_pictures(out, garment, character)
+    report = dict(garment.report)
+    report["seconds"] = round(time.perf_counter() - t0, 2)
+    report["files"] = [str(out / n) for n in ("garment.glb", "garment.obj", "garment.mtl", *pics)]
+    return report
