@@ -342,6 +342,8 @@ NECK_POINTS = (
 
 #: forward tilts of the collar plane tried around the head chord, radians
 NECK_TILTS = np.radians(np.arange(-10.0, 35.0 + 1e-9, 1.0))
+#: radius of the region searched around the back neck point, fraction of the stature
+NECK_REACH = 0.12
 
 
 def _neck_base_girth(body: BodyFrame) -> Measurement:
@@ -394,26 +396,41 @@ def _neck_girth(body: BodyFrame) -> Measurement:
     """
     back = body.mark("back_neck_point")
     base, chord, front = neck_frame(body)
-    cands = body.near_segment(back, back, 0.15 * body.stature)
-    best = None
-    for t in NECK_TILTS:
+    cands = body.near_segment(back, back, NECK_REACH * body.stature)
+    # signed distance to the plane of tilt t: cos t * a + sin t * b (per corner)
+    corners = body.v[body.f[cands]] - back  # (F', 3, 3)
+    a, b = corners @ chord, corners @ front
+    tried: dict[int, tuple] = {}
+
+    def snug(k: int):
+        if k in tried:
+            return tried[k]
+        t = float(NECK_TILTS[k])
         normal = np.cos(t) * chord + np.sin(t) * front
+        h = np.cos(t) * a + np.sin(t) * b
+        crossing = cands[(h.min(axis=1) <= 0.0) & (h.max(axis=1) >= 0.0)]
+        sec = plane_loops(body.v, body.f, back, normal, candidates=crossing)
         # the neck loop: the one around the chord line where it crosses the plane
         s = float((back - base) @ normal) / float(chord @ normal)
         ref = base + s * chord
-        sec = plane_loops(
-            body.v,
-            body.f,
-            back,
-            normal,
-            candidates=body.crossing(cands, back, normal),
-        )
         loops = body.part_loops(sec, ref)
-        if not loops or not all(lp.closed for lp in loops):
-            continue  # an open arc (the cut leaves the searched region) is no girth
-        cut = _hull_cut(sec, loops)
-        if cut.value_cm > 0 and (best is None or cut.value_cm < best[1].value_cm - 1e-9):
-            best = (float(t), cut, ref)
+        if loops and all(lp.closed for lp in loops):
+            cut = _hull_cut(sec, loops)
+            tried[k] = (t, cut, ref) if cut.value_cm > 0 else None
+        else:  # an open arc (the cut leaves the searched region) is no girth
+            tried[k] = None
+        return tried[k]
+
+    def length(k: int) -> float:
+        r = snug(k)
+        return np.inf if r is None else r[1].value_cm
+
+    # every 5th tilt, then every tilt within 4 of the best (the curve is smooth)
+    coarse = list(range(0, len(NECK_TILTS), 5))
+    k0 = min(coarse, key=length)
+    fine = range(max(k0 - 4, 0), min(k0 + 5, len(NECK_TILTS)))
+    k = min(sorted(set(coarse) | set(fine)), key=length)
+    best = tried[k]
     if best is None:
         raise GirthError("no neck section through the back neck point")
     t, cut, ref = best
