@@ -41,15 +41,12 @@ def corridor(mesh: SurfaceMesh, vids, rings: int = 3) -> np.ndarray:
 
     A breadth-first growth from the path that only expands the newest ring.
     """
-    g = mesh.graph
     seen = np.zeros(mesh.n_vertices, dtype=bool)
     front = np.unique(np.asarray(vids, dtype=np.int64))
     seen[front] = True
     for _ in range(rings):
-        starts = g.indptr[front]
-        cnt = g.indptr[front + 1] - starts
-        idx = np.repeat(starts - np.cumsum(cnt) + cnt, cnt) + np.arange(cnt.sum())
-        nb = g.indices[idx]
+        _, nxt, prv = mesh.ring_entries(front)
+        nb = np.concatenate([nxt, prv])
         nb = np.unique(nb[~seen[nb]])
         if len(nb) == 0:
             break

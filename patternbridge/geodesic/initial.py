@@ -11,6 +11,7 @@ from __future__ import annotations
 import logging
 
 import numpy as np
+import scipy.sparse as sp
 from scipy.sparse.csgraph import dijkstra
 from scipy.spatial import cKDTree
 
@@ -74,27 +75,43 @@ def edge_paths(
     Returns
     -------
     list of ``(vertices (k,) int64, length cm)``, the shortest first.
+
+    Notes
+    -----
+    Both searches run on the sub-graph of the vertices within ``r`` of an end
+    and inside the ellipsoid ``|x - a| + |x - b| <= 2 (r - e)`` (``e``: the
+    longest edge). Every edge path no longer than that bound stays inside it,
+    so the shortest route and every route within ``_ALT_SLACK`` of it are
+    found exactly once the bound covers them; the radius grows until it does.
     """
     a, b = int(a), int(b)
     if a == b:
         return [(np.array([a], dtype=np.int64), 0.0)]
-    g = mesh.graph
     emax = mesh.edge_max
     V = mesh.vertices
     cover = (1.0 + _ALT_SLACK) if alternative else 1.0
     r = start_radius(mesh, a, b, alternative=alternative)
     reached_before = -1
-    rows = mesh._cache.get("search_rows")  # kept searches, see geodesic_paths
+    bounded = True  # False: the whole balls, no ellipsoid
     while True:
-        dist, pred = _searches(g, (a, b), r, rows)
+        bound = 2.0 * (r - emax) if bounded else np.inf
+        keep, g, la, lb = _sub_graph(mesh, a, b, r, bound)
+        # half-edges: undirected, so that boundary edges and flipped faces
+        # are walked both ways
+        dist, pred = dijkstra(
+            g, directed=False, indices=[la, lb], limit=r, return_predecessors=True
+        )
         total = dist[0] + dist[1]
         m = int(np.argmin(total))
         best = float(total[m])
         if np.isfinite(best) and cover * best <= 2.0 * (r - emax):
             break
         reached = int(np.isfinite(dist[0]).sum())
-        if reached == reached_before:  # a's component is exhausted
-            if np.isfinite(best):
+        if reached == reached_before:
+            if bounded:  # perhaps only the ellipsoid stops it: search it all
+                bounded = False
+                continue
+            if np.isfinite(best):  # a's component is exhausted
                 break
             comp = mesh.components
             raise MeshError(
@@ -104,15 +121,15 @@ def edge_paths(
             )
         reached_before = reached
         r *= 1.6
-    out = [(_route(pred, m), best)]
+    out = [(keep[_route(pred, m)], best)]
     if alternative and best > 0:
         near = np.flatnonzero(total <= cover * best)
         tree = cKDTree(V[out[0][0]])
-        away, _ = tree.query(V[near], distance_upper_bound=_ALT_AWAY * best)
+        away, _ = tree.query(V[keep[near]], distance_upper_bound=_ALT_AWAY * best)
         far = near[np.isinf(away)]
         if len(far):
             m2 = int(far[np.argmin(total[far])])
-            out.append((_route(pred, m2), float(total[m2])))
+            out.append((keep[_route(pred, m2)], float(total[m2])))
     return out
 
 
@@ -124,44 +141,85 @@ def start_radius(mesh: SurfaceMesh, a: int, b: int, *, alternative: bool) -> flo
     return 0.5 * cover * 1.24 * chord + 2.0 * mesh.edge_max
 
 
-def _searches(g, ends: tuple[int, int], r: float, rows: dict | None):
-    """Dijkstra rows (distances, predecessors) from both ends within ``r``.
+def _sub_graph(mesh: SurfaceMesh, a: int, b: int, r: float, bound: float):
+    """The edge graph on the vertices within ``r`` of ``a`` or ``b`` and with
+    ``|x - a| + |x - b| <= bound``.
 
-    ``rows`` (or None) maps a vertex to ``(radius, dist, pred)`` of a search
-    kept for a later path from the same vertex, plus ``"keep"``: a map from
-    the vertices worth keeping to the least radius to search them with (the
-    largest first radius of their paths). A kept search of at least radius
-    ``r`` is exact within ``r``; it is cut to ``r`` and reused, so the result
-    is the same as searching again.
+    Returns
+    -------
+    keep : (n,) int64 vertex ids of the sub-graph's vertices
+    graph : (n, n) CSR edge lengths, cm: the half-edges of the usable faces
+        leaving each vertex (search it as undirected)
+    la, lb : local ids of ``a`` and ``b``
     """
-    if rows is None:
-        return dijkstra(
-            g, directed=True, indices=list(ends), limit=r, return_predecessors=True
-        )
-    keep = rows["keep"]
-    got: dict[int, tuple] = {}
-    plain = []
-    for x in dict.fromkeys(ends):
-        kept = rows.get(x)
-        if kept is None and x in keep:
-            rx = max(r, keep[x])
-            d, p = dijkstra(
-                g, directed=True, indices=x, limit=rx, return_predecessors=True
-            )
-            kept = rows[x] = (rx, d, p)
-        if kept is not None and kept[0] >= r:
-            d = kept[1] if kept[0] == r else np.where(kept[1] <= r, kept[1], np.inf)
-            got[x] = (d, kept[2])
-        else:
-            plain.append(x)
-    if plain:
-        d, p = dijkstra(
-            g, directed=True, indices=plain, limit=r, return_predecessors=True
-        )
-        for k, x in enumerate(plain):
-            got[x] = (d[k], p[k])
-    (da, pa), (db, pb) = got[ends[0]], got[ends[1]]
-    return (da, db), (pa, pb)
+    V = mesh.vertices
+    pa, pb = V[a], V[b]
+    lo = np.minimum(pa, pb) - r
+    hi = np.maximum(pa, pb) + r
+    finite = bool(np.isfinite(bound))
+    if finite:
+        # bounding box of the ellipsoid with foci a, b and major axis ``bound``
+        half = 0.5 * bound
+        c = 0.5 * float(np.linalg.norm(pb - pa))
+        u = (pb - pa) / (2.0 * c) if c > 0 else np.zeros(3)
+        minor2 = max(half * half - c * c, 0.0)
+        ext = np.sqrt(half * half * u * u + minor2 * (1.0 - u * u))
+        mid = 0.5 * (pa + pb)
+        lo = np.maximum(lo, mid - ext)
+        hi = np.minimum(hi, mid + ext)
+
+    def cell_test(centres, margin):
+        da = np.linalg.norm(centres - pa, axis=1)
+        db = np.linalg.norm(centres - pb, axis=1)
+        ok = (da <= r + margin) | (db <= r + margin)
+        if finite:
+            ok &= da + db <= bound + 2.0 * margin
+        return ok
+
+    cand, (x, y, z) = mesh.box_vertices(lo, hi, cell_test)
+    da = _dist(x, y, z, pa)
+    db = _dist(x, y, z, pb)
+    ok = (da <= r) | (db <= r)
+    if finite:
+        da += db
+        ok &= da <= bound
+    keep = cand[ok]
+    n = len(keep)
+    local = np.full(mesh.n_vertices, -1, dtype=np.int64)
+    local[keep] = np.arange(n)
+    counts, nxt, _ = mesh.ring_entries(keep, prev=False)
+    cols = local[nxt]
+    inside = cols >= 0
+    rows = np.repeat(np.arange(n), counts)[inside]
+    cols = cols[inside]
+    src = keep[rows]
+    dst = nxt[inside]
+    w = np.zeros(len(cols))
+    for c in range(3):
+        col = V[:, c]
+        d = col[src]
+        d -= col[dst]
+        d *= d
+        w += d
+    np.sqrt(w, out=w)
+    np.maximum(w, 1e-12, out=w)  # a zero weight would read as "no edge"
+    indptr = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(np.bincount(rows, minlength=n), out=indptr[1:])
+    g = sp.csr_matrix((w, cols, indptr), shape=(n, n))
+    return keep, g, int(local[a]), int(local[b])
+
+
+def _dist(x, y, z, p) -> np.ndarray:
+    """Distances, cm, of the points with coordinate columns x, y, z to p (3,)."""
+    d = x - p[0]
+    d *= d
+    t = y - p[1]
+    t *= t
+    d += t
+    t = z - p[2]
+    t *= t
+    d += t
+    return np.sqrt(d, out=d)
 
 
 def _route(pred: np.ndarray, m: int) -> np.ndarray:

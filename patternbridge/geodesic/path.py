@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import MeshError
-from .initial import edge_paths, start_radius
+from .initial import edge_paths
 from .straighten import Endpoint, _Local, straighten, strip_from_vertex_path
 from .surface import SurfaceMesh, SurfacePoint
 
@@ -229,52 +229,9 @@ def geodesic_paths(
     list of GeodesicPath, in the order of ``pairs``
     """
     pairs = list(pairs)
-    # a Dijkstra search from an end point that later pairs use again is kept
-    # until its last use (landmarks such as the shoulder point start several
-    # measurements)
-    ends = [[_search_vertex(mesh, p) for p in pair] for pair in pairs]
-    last: dict[int, int] = {}
-    radius: dict[int, list[float]] = {}
-    alternative = method not in ("dijkstra", "flow")
-    for i, (va, vb) in enumerate(ends):
-        if va is None or vb is None:
-            continue
-        r = start_radius(mesh, va, vb, alternative=alternative)
-        for v in (va, vb):
-            last[v] = i
-            radius.setdefault(v, []).append(r)
-    # searched once with the largest first radius of its paths: one ball of
-    # the largest radius covers less than the balls of all its paths
-    rows = {"keep": {v: max(rs) for v, rs in radius.items() if len(rs) > 1}}
     out = []
-    owns = isinstance(mesh, SurfaceMesh) and "search_rows" not in mesh._cache
-    if owns:
-        mesh._cache["search_rows"] = rows
-    try:
-        for i, (a, b) in enumerate(pairs):
-            out.append(geodesic_path(mesh, a, b, tape=tape, method=method))
-            for v in set(ends[i]) - {None}:
-                if last.get(v) == i:
-                    rows.pop(v, None)
-            if progress is not None:
-                progress("geodesic", i + 1, len(pairs))
-    finally:
-        if owns:
-            del mesh._cache["search_rows"]
+    for i, (a, b) in enumerate(pairs):
+        out.append(geodesic_path(mesh, a, b, tape=tape, method=method))
+        if progress is not None:
+            progress("geodesic", i + 1, len(pairs))
     return out
-
-
-def _search_vertex(mesh, p) -> int | None:
-    """The vertex the edge-path search starts from for end point ``p``; None
-    for anything :meth:`SurfaceMesh.check_point` would reject."""
-    if not isinstance(mesh, SurfaceMesh):
-        return None
-    try:
-        q = mesh.check_point(p, "point")
-    except MeshError:
-        return None
-    return (
-        q.vertex_id
-        if q.vertex_id is not None
-        else int(mesh.faces[q.face, int(np.argmax(q.bary))])
-    )

@@ -22,6 +22,11 @@ log = logging.getLogger(__name__)
 
 # a face whose area is below this fraction of (mean edge length)^2 is degenerate
 _AREA_EPS = 1e-12
+# offset from a face corner (3 f + k) to the next / previous corner of face f
+_NEXT = np.array([1, 1, -2], dtype=np.int64)
+_PREV = np.array([2, -1, -1], dtype=np.int64)
+#: cells of the vertex grid used to pick the vertices near a segment
+_GRID_CELLS = 1 << 15
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -91,6 +96,7 @@ class SurfaceMesh:
 
     __slots__ = (
         "_cache",
+        "_edge_stats",
         "degenerate",
         "face_normals",
         "faces",
@@ -154,8 +160,10 @@ class SurfaceMesh:
         cr[:, 1] = e1[2] * e2[0] - e1[0] * e2[2]
         cr[:, 2] = e1[0] * e2[1] - e1[1] * e2[0]
         dbl_area = np.sqrt(np.einsum("ij,ij->i", cr, cr))
-        scale = float(np.mean(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2])) or 1.0
-        del e1, e2
+        l01 = e1[0] * e1[0]
+        l01 += e1[1] * e1[1]
+        l01 += e1[2] * e1[2]
+        scale = float(np.mean(l01)) or 1.0
         degenerate = (
             (dbl_area <= _AREA_EPS * scale) | (f0 == f1) | (f1 == f2) | (f0 == f2)
         )
@@ -164,6 +172,18 @@ class SurfaceMesh:
                 f"mesh: all {len(f)} faces have zero area; "
                 "the mesh has no usable surface"
             )
+        # squared lengths of the other two sides, from the same differences
+        l02 = e2[0] * e2[0]
+        l02 += e2[1] * e2[1]
+        l02 += e2[2] * e2[2]
+        l12 = np.zeros(len(fw))
+        for c in range(3):
+            d = e2[c]
+            d -= e1[c]
+            d *= d
+            l12 += d
+        del e1, e2
+        self._edge_stats = _edge_stats(l01, l02, l12, degenerate)
         inv = np.divide(1.0, dbl_area, out=np.zeros_like(dbl_area), where=~degenerate)
         fn = cr
         fn *= inv[:, None]
@@ -216,8 +236,6 @@ class SurfaceMesh:
             (w, dst.astype(np.int32), indptr.astype(np.int32)), shape=(n, n)
         )
         self._cache["graph"] = graph
-        self._cache["edge_max"] = float(w.max()) if len(w) else 0.0
-        self._cache["edge_mean"] = float(w.mean()) if len(w) else 0.0
 
     @property
     def graph(self) -> sp.csr_matrix:
@@ -228,36 +246,158 @@ class SurfaceMesh:
 
     @property
     def edge_max(self) -> float:
-        """Longest edge, cm."""
-        if "graph" not in self._cache:
-            self._build_graph()
-        return self._cache["edge_max"]
+        """Longest edge of a usable face, cm."""
+        return self._edge_stats[0]
 
     @property
     def edge_mean(self) -> float:
-        """Mean edge length, cm."""
-        if "graph" not in self._cache:
-            self._build_graph()
-        return self._cache["edge_mean"]
+        """Mean edge length, cm, over the sides of the usable faces (an edge
+        counts once for each usable face it bounds)."""
+        return self._edge_stats[1]
+
+    @property
+    def corners(self) -> tuple[np.ndarray, np.ndarray]:
+        """CSR ``(indptr (V+1,), corners)`` of the usable face corners at each vertex.
+
+        A corner is ``3 * face + k`` (the k-th corner of ``faces[face]``), so
+        ``faces.ravel()[corner]`` is the vertex itself and the corners after it
+        give its neighbours. Sorted by vertex, then by face. Built on first use
+        by one sort of packed (vertex, corner) keys.
+        """
+        if "corners" not in self._cache:
+            self._build_corners()
+        return self._cache["corners"]
+
+    def _build_corners(self) -> None:
+        nf3 = 3 * self.n_faces
+        if self.degenerate.any():
+            good = np.flatnonzero(~self.degenerate)
+            j = (good[:, None] * 3 + np.arange(3)).ravel()
+            key = self.faces[good].ravel()
+        else:
+            j = np.arange(nf3, dtype=np.int64)
+            key = self.faces.ravel().copy()
+        shift = max(int(nf3).bit_length(), 1)
+        key <<= shift
+        key |= j
+        del j
+        key.sort()
+        vs = key >> shift
+        key &= (1 << shift) - 1
+        indptr = np.zeros(self.n_vertices + 1, dtype=np.int64)
+        np.cumsum(np.bincount(vs, minlength=self.n_vertices), out=indptr[1:])
+        key.flags.writeable = False
+        indptr.flags.writeable = False
+        self._cache["corners"] = (indptr, key)
+        nxt = key % 3
+        nxt = _NEXT[nxt]
+        nxt += key
+        nxt = self.faces.ravel()[nxt]
+        nxt.flags.writeable = False
+        self._cache["next"] = nxt
+
+    @property
+    def corner_next(self) -> np.ndarray:
+        """(C,) int64, aligned with :attr:`corners`: the vertex after each
+        corner's vertex in its face (the far end of its outgoing half-edge)."""
+        if "next" not in self._cache:
+            self._build_corners()
+        return self._cache["next"]
+
+    def ring_entries(
+        self, vids, *, prev: bool = True
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+        """The face corners around vertices ``vids`` and the vertices after them.
+
+        Parameters
+        ----------
+        vids : (n,) int
+
+        Returns
+        -------
+        counts : (n,) int64, usable faces around each vertex
+        nxt : (sum(counts),) int64, the vertex after ``vids[i]`` in each of its
+            faces (in face order, ``vids[0]``'s first)
+        prv : (sum(counts),) int64, the vertex before it (None unless ``prev``)
+
+        Notes
+        -----
+        ``nxt`` and ``prv`` together hold every one-ring neighbour; on a closed,
+        consistently wound mesh each of them alone does, once per edge.
+        """
+        indptr, cor = self.corners
+        vids = np.asarray(vids, dtype=np.int64)
+        starts = indptr[vids]
+        counts = indptr[vids + 1] - starts
+        idx = np.repeat(starts - np.cumsum(counts) + counts, counts)
+        idx += np.arange(len(idx))
+        nxt = self.corner_next[idx]
+        if not prev:
+            return counts, nxt, None
+        j = cor[idx]
+        j += _PREV[j % 3]
+        return counts, nxt, self.faces.ravel()[j]
+
+    def box_vertices(self, lo, hi, cell_test=None):
+        """Vertices in the grid cells that overlap the box ``[lo, hi]``.
+
+        Parameters
+        ----------
+        lo, hi : (3,) float, cm
+        cell_test : optional callable ``(centres (k, 3), margin) -> (k,) bool``
+            keeping only the cells that may hold wanted vertices (``margin``:
+            the distance from a cell centre to its corners, cm)
+
+        Returns
+        -------
+        ids : (k,) int64 vertex ids, every vertex inside the box (of the cells
+            kept) and some near it
+        xyz : tuple of three (k,) float64 coordinate columns, cm
+
+        Notes
+        -----
+        The grid (about 2^15 cubic cells over the bounding box, vertices sorted
+        by cell) is built on first use.
+        """
+        grid = self._cache.get("grid")
+        if grid is None:
+            grid = self._cache["grid"] = _cell_grid(self.vertices)
+        origin, h, dims, start, order, cols = grid
+        lo = np.asarray(lo, dtype=np.float64)
+        hi = np.asarray(hi, dtype=np.float64)
+        i0 = np.clip(np.floor((lo - origin) / h), 0, dims - 1).astype(np.int64)
+        i1 = np.clip(np.floor((hi - origin) / h), -1, dims - 1).astype(np.int64)
+        ix, iy, iz = (np.arange(i0[c], i1[c] + 1) for c in range(3))
+        cells = (
+            (ix[:, None, None] * dims[1] + iy[None, :, None]) * dims[2]
+            + iz[None, None, :]
+        ).ravel()
+        s = start[cells]
+        cnt = start[cells + 1] - s
+        if cell_test is not None and len(cells):
+            busy = cnt > 0
+            c3 = np.stack(
+                np.broadcast_arrays(
+                    ix[:, None, None], iy[None, :, None], iz[None, None, :]
+                ),
+                axis=-1,
+            ).reshape(-1, 3)[busy]
+            centres = origin + (c3 + 0.5) * h
+            ok = np.zeros(len(cells), dtype=bool)
+            ok[busy] = cell_test(centres, 0.5 * np.sqrt(3.0) * h)
+            s, cnt = s[ok], cnt[ok]
+        idx = np.repeat(s - np.cumsum(cnt) + cnt, cnt)
+        idx += np.arange(len(idx))
+        return order[idx], tuple(c[idx] for c in cols)
 
     @property
     def vertex_faces(self) -> tuple[np.ndarray, np.ndarray]:
         """CSR ``(indptr (V+1,), faces)`` of the usable faces around each vertex."""
         if "vf" not in self._cache:
-            m = max(self.n_faces, 1)
-            if self.degenerate.any():
-                good = np.flatnonzero(~self.degenerate)
-                key = self.faces[good].ravel() * m
-                key += np.repeat(good, 3)
-            else:
-                key = self.faces.ravel() * m
-                key += np.repeat(np.arange(self.n_faces, dtype=np.int64), 3)
-            key.sort()
-            vs = key // m
-            key -= vs * m
-            indptr = np.zeros(self.n_vertices + 1, dtype=np.int64)
-            np.cumsum(np.bincount(vs, minlength=self.n_vertices), out=indptr[1:])
-            self._cache["vf"] = (indptr, key)
+            indptr, cor = self.corners
+            fl = cor // 3
+            fl.flags.writeable = False
+            self._cache["vf"] = (indptr, fl)
         return self._cache["vf"]
 
     @property
@@ -343,12 +483,10 @@ class SurfaceMesh:
         outer = (nrm[:, :, None] * nrm[:, None, :]).reshape(-1, 9)
         # each vertex's faces are contiguous: segment sums (np.add.at is slow)
         lonely = counts == 0
+        both = np.zeros((len(vids), 12))
         if len(nrm):
-            first = np.minimum(np.cumsum(counts) - counts, len(nrm) - 1)
-            both = np.add.reduceat(np.hstack([outer, nrm]), first, axis=0)
-            both[lonely] = 0.0
-        else:
-            both = np.zeros((len(vids), 12))
+            first = (np.cumsum(counts) - counts)[~lonely]  # strictly increasing
+            both[~lonely] = np.add.reduceat(np.hstack([outer, nrm]), first, axis=0)
         scatter, mean = both[:, :9], both[:, 9:]
         _, vecs = np.linalg.eigh(scatter.reshape(-1, 3, 3) + 1e-15 * np.eye(3))
         n = vecs[:, :, 2]
@@ -422,3 +560,46 @@ def _weld_map(v: np.ndarray) -> np.ndarray:
     np.minimum.at(first, inv, cand)
     rep[cand] = first[inv]
     return rep
+
+
+def _edge_stats(l01, l02, l12, degenerate) -> tuple[float, float]:
+    """(longest, mean) side length, cm, of the usable faces from the squared
+    side lengths (F,) of all faces."""
+    if degenerate.any():
+        good = ~degenerate
+        l01, l02, l12 = l01[good], l02[good], l12[good]
+    top = float(np.sqrt(max(l01.max(), l02.max(), l12.max())))
+    n = 3 * len(l01)
+    np.sqrt(l01, out=l01)
+    np.sqrt(l02, out=l02)
+    np.sqrt(l12, out=l12)
+    mean = (float(l01.sum()) + float(l02.sum()) + float(l12.sum())) / n
+    return top, mean
+
+
+def _cell_grid(v: np.ndarray):
+    """A uniform grid over the bounding box of ``v`` (V, 3): origin (3,), cell
+    size h, dims (3,) int, CSR start (cells + 1,), the vertex ids ordered by
+    cell and their three coordinate columns in that order."""
+    cols = [np.ascontiguousarray(v[:, c]) for c in range(3)]
+    origin = np.array([c.min() for c in cols])
+    ext = np.maximum(np.array([c.max() for c in cols]) - origin, 1e-9)
+    h = float(np.cbrt(np.prod(ext) / _GRID_CELLS))
+    h = max(h, float(ext.max()) / 256.0)
+    dims = np.minimum((ext / h).astype(np.int64) + 1, 256)
+    cell = np.zeros(len(v), dtype=np.int64)
+    for c in range(3):
+        i = cols[c] - origin[c]
+        i /= h
+        i = i.astype(np.int64)  # >= 0: truncation is floor
+        np.minimum(i, dims[c] - 1, out=i)
+        cell *= dims[c]
+        cell += i
+    n_cells = int(np.prod(dims))
+    if n_cells <= 1 << 16:  # radix sort
+        order = np.argsort(cell.astype(np.uint16), kind="stable")
+    else:
+        order = np.argsort(cell, kind="stable")
+    start = np.zeros(n_cells + 1, dtype=np.int64)
+    np.cumsum(np.bincount(cell, minlength=n_cells), out=start[1:])
+    return origin, h, dims, start, order, tuple(c[order] for c in cols)

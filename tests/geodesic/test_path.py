@@ -222,35 +222,65 @@ def test_path_arrays_are_read_only(shapes):
         path.points[0, 0] = 1.0
 
 
-def test_batch_with_shared_end_points_reuses_searches_exactly(sphere):
-    """Pairs sharing an end point reuse one (larger) Dijkstra search, cut to
-    each pair's radius: the paths are those of single calls, bit for bit."""
-    from patternbridge.geodesic import initial
-
+def test_batch_with_shared_end_points_equals_single_calls(sphere):
+    """Pairs sharing end points give the paths of single calls, bit for bit,
+    and leave nothing behind in the mesh cache but its preparation."""
     v, f = sphere
     mesh = SurfaceMesh(v, f)
     rng = np.random.default_rng(5)
     hub = 0
     others = rng.choice(np.arange(1, len(v)), size=5, replace=False).tolist()
     pairs = [(hub, o) for o in others] + [(others[0], others[1]), (others[1], hub)]
-    calls = []
-    real = initial.dijkstra
-
-    def counting(g, **kw):
-        calls.append(np.atleast_1d(kw["indices"]).tolist())
-        return real(g, **kw)
-
-    initial.dijkstra = counting
-    try:
-        batch = geodesic_paths(mesh, pairs)
-        n_batch = sum(len(c) for c in calls)
-        calls.clear()
-        single = [geodesic_path(mesh, a, b) for a, b in pairs]
-        n_single = sum(len(c) for c in calls)
-    finally:
-        initial.dijkstra = real
-    assert "search_rows" not in mesh._cache  # nothing kept after the batch
-    assert n_batch < n_single
+    batch = geodesic_paths(mesh, pairs)
+    kept = set(mesh._cache)
+    single = [geodesic_path(SurfaceMesh(v, f), a, b) for a, b in pairs]
+    assert set(mesh._cache) == kept
     for p, q in zip(batch, single, strict=True):
         np.testing.assert_array_equal(p.points, q.points)
         assert p.length == q.length
+
+
+def _full_dijkstra(mesh, a, b):
+    from scipy.sparse.csgraph import dijkstra
+
+    return float(dijkstra(mesh.graph, indices=a)[b])
+
+
+def test_limited_search_finds_the_shortest_edge_path(sphere, shapes):
+    """The search on the ellipsoid sub-graph returns the exact edge distance
+    of a search over the whole graph, also on open, partly flipped meshes."""
+    from patternbridge.geodesic.initial import edge_path
+
+    rng = np.random.default_rng(11)
+    v, f = sphere
+    gv, gf, _ = shapes.grid(15, jitter=0.3, seed=4)
+    gf = gf.copy()
+    gf[::4] = gf[::4, ::-1]  # inconsistent winding and a boundary
+    for mesh in (SurfaceMesh(v, f), SurfaceMesh(gv, gf)):
+        for _ in range(8):
+            a, b = (int(x) for x in rng.integers(0, mesh.n_vertices, 2))
+            route, length = edge_path(mesh, a, b)
+            assert route[0] == a and route[-1] == b
+            steps = np.linalg.norm(np.diff(mesh.vertices[route], axis=0), axis=1)
+            assert length == pytest.approx(steps.sum(), rel=1e-12)
+            assert length == pytest.approx(_full_dijkstra(mesh, a, b), rel=1e-12)
+
+
+def test_search_around_a_long_way_round(shapes):
+    """Two arms of a U close in space but joined only far away: the ellipsoid
+    first holds no connection, the search widens until it finds the bend."""
+    from patternbridge.geodesic.initial import edge_path
+
+    v, f, idx = shapes.grid(41, size=40.0)
+    # cut a slot up the middle: drop the faces between x = 19.5 and 20.5 for
+    # y < 36, so the only way from one side to the other is around its top
+    c = v[f].mean(axis=1)
+    slot = (np.abs(c[:, 0] - 20.0) < 1.0) & (c[:, 1] < 36.0)
+    mesh = SurfaceMesh(v, f[~slot])
+    a, b = int(idx[0, 18]), int(idx[0, 22])  # rows are y, columns x
+    _, length = edge_path(mesh, a, b)
+    assert length == pytest.approx(_full_dijkstra(mesh, a, b), rel=1e-12)
+    assert length > 70.0  # up the slot, across and down again
+    path = geodesic_path(mesh, a, b)
+    assert path.length <= length + 1e-9
+    assert path.length > 70.0

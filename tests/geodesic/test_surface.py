@@ -113,3 +113,80 @@ def test_graph_of_an_open_inconsistently_wound_mesh(shapes):
     assert (g != g.T).nnz == 0
     n_edges = len({tuple(sorted(e)) for t in f.tolist() for e in zip(t, t[1:] + t[:1])})
     assert g.nnz == 2 * n_edges
+
+
+def _flipped_open_grid(shapes):
+    v, f, _ = shapes.grid(6, size=5.0, jitter=0.3, seed=3)
+    f = f.copy()
+    f[::3] = f[::3, ::-1]
+    return v, f
+
+
+def test_corners_and_rings_agree_with_the_edge_graph(sphere, shapes):
+    """Lazily built corner lists give each vertex's faces and, next and
+    previous corners together, exactly the neighbours of the edge graph."""
+    for v, f in (sphere, _flipped_open_grid(shapes)):
+        m = SurfaceMesh(v, f)
+        indptr, cor = m.corners
+        owner = np.repeat(np.arange(len(v)), np.diff(indptr))
+        assert np.array_equal(m.faces.ravel()[cor], owner)
+        vf_ptr, fl = m.vertex_faces
+        for i in (0, 7, len(v) // 2, len(v) - 1):
+            want = np.flatnonzero((f == i).any(axis=1))
+            np.testing.assert_array_equal(fl[vf_ptr[i] : vf_ptr[i + 1]], want)
+        g = m.graph
+        vids = np.arange(len(v))
+        counts, nxt, prv = m.ring_entries(vids)
+        owner = np.repeat(vids, counts)
+        got = set(zip(owner.tolist(), nxt.tolist(), strict=True))
+        got |= set(zip(owner.tolist(), prv.tolist(), strict=True))
+        coo = g.tocoo()
+        assert got == set(zip(coo.row.tolist(), coo.col.tolist(), strict=True))
+        _, nxt2, none = m.ring_entries(vids[::5], prev=False)
+        assert none is None
+        assert len(nxt2) == np.diff(indptr)[::5].sum()
+
+
+def test_edge_statistics_match_the_graph(sphere):
+    v, f = sphere
+    m = SurfaceMesh(v, f)
+    g = m.graph  # closed and consistently wound: one entry per half-edge
+    assert m.edge_max == pytest.approx(g.data.max(), rel=1e-12)
+    assert m.edge_mean == pytest.approx(g.data.mean(), rel=1e-12)
+
+
+def test_edge_statistics_skip_zero_area_faces():
+    v = np.array([[0.0, 0, 0], [3, 0, 0], [0, 4, 0], [6, 0, 0], [9, 0, 0]])
+    m = SurfaceMesh(v, [[0, 1, 2], [1, 3, 4]])  # the second face is a sliver
+    assert m.edge_max == pytest.approx(5.0)
+    assert m.edge_mean == pytest.approx(4.0)
+
+
+def test_box_vertices_cover_the_box(sphere):
+    v, f = sphere
+    m = SurfaceMesh(v, f)
+    lo, hi = np.array([-3.0, 1.0, -10.0]), np.array([4.0, 10.0, 2.5])
+    ids, (x, y, z) = m.box_vertices(lo, hi)
+    inside = np.flatnonzero(np.all((v >= lo) & (v <= hi), axis=1))
+    assert set(inside.tolist()) <= set(ids.tolist())
+    assert len(ids) < len(v)  # a part of the grid only
+    np.testing.assert_array_equal(np.c_[x, y, z], v[ids])
+    # a cell test that drops every cell
+    none, _ = m.box_vertices(lo, hi, lambda c, margin: np.zeros(len(c), dtype=bool))
+    assert len(none) == 0
+    far, _ = m.box_vertices(lo + 100.0, hi + 100.0)
+    assert not np.any(np.all((v[far] >= lo + 100.0) & (v[far] <= hi + 100.0), axis=1))
+
+
+def test_vertex_normals_of_vertices_without_faces_are_up():
+    v = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [5, 5, 5], [0, -1, 0.3]])
+    f = [[0, 1, 2], [0, 4, 1]]
+    m = SurfaceMesh(v, f)
+    n = m.vertex_normals([3, 2, 3])  # a lonely vertex first and last
+    np.testing.assert_allclose(n[[0, 2]], [[0, 0, 1], [0, 0, 1]])
+    np.testing.assert_allclose(n[1], [0, 0, 1], atol=1e-12)
+    # a vertex with two faces right before a lonely one keeps both faces
+    both = SurfaceMesh(v, f).vertex_normals([0, 3])[0]
+    alone = SurfaceMesh(v, f).vertex_normals([0])[0]
+    np.testing.assert_allclose(both, alone, atol=1e-12)
+    assert 0.0 < both[1] < both[2]  # between the two face normals
