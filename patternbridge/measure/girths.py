@@ -398,8 +398,8 @@ def _neck_girth(body: BodyFrame) -> Measurement:
     base, chord, front = neck_frame(body)
     cands = body.near_segment(back, back, NECK_REACH * body.stature)
     # signed distance to the plane of tilt t: cos t * a + sin t * b (per corner)
-    corners = body.v[body.f[cands]] - back  # (F', 3, 3)
-    a, b = corners @ chord, corners @ front
+    corners = body.v[body.f[cands].T] - back  # (3, F', 3): corner-major, contiguous
+    a, b = corners @ chord, corners @ front  # (3, F')
     tried: dict[int, tuple] = {}
 
     def snug(k: int):
@@ -408,7 +408,9 @@ def _neck_girth(body: BodyFrame) -> Measurement:
         t = float(NECK_TILTS[k])
         normal = np.cos(t) * chord + np.sin(t) * front
         h = np.cos(t) * a + np.sin(t) * b
-        crossing = cands[(h.min(axis=1) <= 0.0) & (h.max(axis=1) >= 0.0)]
+        lo = np.minimum(np.minimum(h[0], h[1]), h[2])
+        hi = np.maximum(np.maximum(h[0], h[1]), h[2])
+        crossing = cands[(lo <= 0.0) & (hi >= 0.0)]
         sec = plane_loops(body.v, body.f, back, normal, candidates=crossing)
         # the neck loop: the one around the chord line where it crosses the plane
         s = float((back - base) @ normal) / float(chord @ normal)
