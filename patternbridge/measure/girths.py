@@ -343,7 +343,7 @@ NECK_POINTS = (
 #: forward tilts of the collar plane tried around the head chord, radians
 NECK_TILTS = np.radians(np.arange(-10.0, 35.0 + 1e-9, 1.0))
 #: radius of the region searched around the back neck point, fraction of the stature
-NECK_REACH = 0.12
+NECK_REACH = 0.10
 
 
 def _neck_base_girth(body: BodyFrame) -> Measurement:
