@@ -635,7 +635,7 @@ def residuals(
     points = np.asarray(points, dtype=np.float64)
     achieved, _ = measurement_error(data, points)
     parts = [w_measure * _slack(achieved - data.target_cm, measure_slack_cm)]
-    if data.n_seams:
+    if data.n_seams and (w_seam or w_interval or w_notch or w_turn):  # all zero: no seam columns
         edges = _edge_lengths(data, points)
         mismatch, edge_dev, ang_dev, notch, _ = _seam_terms(data, points, edges)
         mismatch = _slack(mismatch, seam_slack_cm)

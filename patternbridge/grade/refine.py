@@ -290,6 +290,8 @@ def refine(
     w_design: float = 0.7,
     design_slack: float = 0.0,
     w_share: float = 3.0,
+    w_fit: float = 0.0,
+    fit_eps_cm: float = 0.01,
     progress: Progress | None = None,
 ) -> RefineResult:
     """Least change of shape subject to the fit, from the individual ``x``.
@@ -333,31 +335,37 @@ def refine(
     # shape objective (per-piece means, pieces weighted alike)
     wc0 = w_shape * np.sqrt(1.0 / (n_pieces * np.maximum(per_piece[crit_piece], 1.0)))
     wa0 = w_all * np.sqrt(1.0 / max(len(data.points0), 1))
+    wm0 = np.sqrt(w_fit / max(len(data.target_cm), 1))
     ext = float(np.mean(data.extent_cm))
     if x_design is not None:
         share_ref, shared = link_shares(data, grid.outlines(np.asarray(x_design, dtype=np.float64)[None, :]))
         share_ref = share_ref[:, :, shared]
         w_sh = w_share / np.sqrt(max(int(shared.sum()), 1))
 
-    def parts(X, wc, wa):
+    def parts(X, wc, wa, wm):
         pts = grid.outlines(X)
         d = angle_change(data, pts)
-        s = residuals(data, pts, w_measure=0.0, w_seam=0.0, w_notch=0.0, w_interval=w_interval,
-                      w_turn=w_turn, w_critical=0.0, w_angle=0.0, w_rotation=w_rotation, w_shift=w_shift,
+        # the seam terms are computed once: their lengths and notch offsets are
+        # constraints, their stitch intervals and turning angles shape terms
+        s = residuals(data, pts, w_measure=0.0, w_seam=0.0, w_notch=0.0, w_interval=0.0,
+                      w_turn=0.0, w_critical=0.0, w_angle=0.0, w_rotation=w_rotation, w_shift=w_shift,
                       w_proportion=w_proportion, w_direction=w_direction)
         squeeze = np.maximum(0.0, min_cell_ratio - grid.corner_ratios(X))
         terms = [wc * d[:, data.critical], wa * d, s, (w_bend / ext) * grid.bending(X), w_cell * squeeze]
+        c = [X @ A_st.T]  # straight edges: linear, cm
+        if data.n_seams:
+            mismatch, edge_dev, ang_dev, notch, _ = _seam_terms(data, pts, _edge_lengths(data, pts))
+            terms += [w_interval * edge_dev, w_turn * ang_dev]
+            c = [mismatch, notch, *c]
         if x_design is not None and w_design > 0:
             terms.append(w_design * design_deviation(grid, X, x_design, slack=design_slack))
         if x_design is not None and w_share > 0:
             sh = link_shares(data, pts)[0][:, :, shared]
             terms.append(w_sh * (sh - share_ref).reshape(len(X), -1))
-        s = np.concatenate(terms, axis=1)
         achieved, _ = measurement_error(data, pts)
-        c = [X @ A_st.T]  # straight edges: linear, cm
-        if data.n_seams:
-            mismatch, _, _, notch, _ = _seam_terms(data, pts, _edge_lengths(data, pts))
-            c = [mismatch, notch, *c]
+        if w_fit > 0:
+            terms.append(wm * (achieved - data.target_cm))
+        s = np.concatenate(terms, axis=1)
         c = np.concatenate(c, axis=1)
         return s, c, achieved
 
@@ -366,10 +374,13 @@ def refine(
         # the squared residual |d|, so ½‖s‖² follows the shape objective
         # (a mean of |Δ angle|, which prefers a few clear changes to many
         # small ones) rather than its square
-        d = np.abs(angle_change(data, grid.outlines(x[None, :]))[0])
+        pts = grid.outlines(x[None, :])
+        d = np.abs(angle_change(data, pts)[0])
+        e = np.abs(measurement_error(data, pts)[0][0] - data.target_cm)
+        wm = wm0 / np.sqrt(e + fit_eps_cm)
         if irls_eps <= 0:
-            return wc0, wa0
-        return wc0 / np.sqrt(d[data.critical] + irls_eps), wa0 / np.sqrt(d + irls_eps)
+            return wc0, wa0, wm
+        return wc0 / np.sqrt(d[data.critical] + irls_eps), wa0 / np.sqrt(d + irls_eps), wm
 
     def violation(c, m):
         over = np.maximum(np.abs(m - data.target_cm) - measure_tol_cm, 0.0)
@@ -386,8 +397,8 @@ def refine(
     def merit(s, c, m, rho):
         return 0.5 * float(s @ s) + rho * float(violation(c, m).sum())
 
-    wc, wa = irls_weights(x)
-    s, c, m = (a[0] for a in parts(x[None, :], wc, wa))
+    wc, wa, wm = irls_weights(x)
+    s, c, m = (a[0] for a in parts(x[None, :], wc, wa, wm))
     rho = 10.0 * max(1.0, float(np.sqrt(s @ s)))
     mu = 1e-4
     damp = np.diag((scale.mean() / scale) ** 2)
@@ -398,10 +409,10 @@ def refine(
         if progress is not None:
             progress("refine", it, max_iter)
         if irls_eps > 0 and it > 1:
-            wc, wa = irls_weights(x)
-            s = parts(x[None, :], wc, wa)[0][0]
+            wc, wa, wm = irls_weights(x)
+            s = parts(x[None, :], wc, wa, wm)[0][0]
         Xp = x[None, :] + np.diag(h)
-        sp, cp, mp = parts(Xp, wc, wa)
+        sp, cp, mp = parts(Xp, wc, wa, wm)
         Js = ((sp - s[None, :]) / h[:, None]).T
         Jc = ((cp - c[None, :]) / h[:, None]).T
         Jm = ((mp - m[None, :]) / h[:, None]).T
@@ -429,7 +440,7 @@ def refine(
                 xn = x + d
                 if grid.fold_margin(xn[None, :])[0] < FOLD_MARGIN:
                     break
-                sn, cn, mn = (a[0] for a in parts(xn[None, :], wc, wa))
+                sn, cn, mn = (a[0] for a in parts(xn[None, :], wc, wa, wm))
                 fn = merit(sn, cn, mn, rho)
                 if fn <= f0 + 1e-12 or (alpha == 1.0 and violation(cn, mn).max(initial=0.0) < 2e-4
                                         and sn @ sn < s @ s):

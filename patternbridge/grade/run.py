@@ -45,9 +45,12 @@ __all__ = [
     "choose",
     "fit_pattern",
     "nearest_size",
+    "non_dominated",
+    "refine_members",
     "repair",
     "score_points",
     "uniform_scaling",
+    "within_tolerance",
 ]
 
 log = logging.getLogger(__name__)
@@ -113,8 +116,10 @@ class FitResult:
 
     pattern : the graded pattern (the chosen solution after the final step)
     chosen : the same as a :class:`Solution`; ``ga_choice`` is the NSGA-II choice before it
-    front_F : (n_front, 3) objectives of the final Pareto front
-    front_X : (n_front, n_var) its genes ; chosen_index : row of ``ga_choice``
+    front_F : (n_front, 3) objectives of the final Pareto front: NSGA-II's
+        front and the solutions of the final step, dominated rows removed
+    front_X : (n_front, n_var) its genes ; chosen_index : row of ``chosen``
+    front_refined : (n_front,) bool, the rows the final step produced
     baselines : ``"proportional"`` (along/across the grain),
         ``"proportional_uniform"`` (Algorithm 4) and ``"nearest_size"`` when
         the pattern has grade rules
@@ -137,6 +142,7 @@ class FitResult:
     pop_size: int
     n_gen: int
     history: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
+    front_refined: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
 
 
 def _is_simple(pattern: Pattern) -> bool:
@@ -292,20 +298,68 @@ def nearest_size(pattern: Pattern, data: ObjectiveData, grid: PatternGrid) -> tu
     return sizes[best], pts[best]
 
 
-def choose(F: np.ndarray, *, tol_measure_cm: float, tol_seam: float) -> int:
+def choose(F: np.ndarray, *, tol_measure_cm: float, tol_seam: float, within: np.ndarray | None = None) -> int:
     """Row of ``F`` with the least shape error among those within tolerance.
 
-    When no row is within tolerance on both objective 1 and 2, the rows whose
-    worst normalised violation ``max(f1/tol1, f2/tol2)`` is within 25 % of the
-    best one compete instead.
+    ``within`` : (n,) bool, optional — which rows are within tolerance (e.g.
+    :func:`within_tolerance`: every target of the fit met); without it a row
+    is within tolerance when ``f1 <= tol_measure_cm`` and ``f2 <= tol_seam``.
+    When no row is, the rows whose worst normalised violation
+    ``max(f1/tol1, f2/tol2)`` is within 25 % of the best one compete instead.
     """
     F = np.asarray(F, dtype=np.float64)
     score = np.maximum(F[:, 0] / tol_measure_cm, F[:, 1] / tol_seam)
-    ok = score <= 1.0
+    ok = score <= 1.0 if within is None else np.asarray(within, dtype=bool)
     if not ok.any():
         ok = score <= score.min() * 1.25
     rows = np.flatnonzero(ok)
     return int(rows[np.argmin(F[rows, 2])])
+
+
+def non_dominated(F: np.ndarray) -> np.ndarray:
+    """(n,) bool: the rows of ``F (n, k)`` no other row dominates (all minimised).
+
+    Identical rows do not dominate each other, so duplicates are all kept.
+    """
+    F = np.asarray(F, dtype=np.float64)
+    le = np.all(F[:, None, :] <= F[None, :, :], axis=2)  # le[j, i]: row j no worse than row i
+    lt = np.any(F[:, None, :] < F[None, :, :], axis=2)
+    return ~np.any(le & lt, axis=0)
+
+
+def refine_members(F: np.ndarray, choice: int, n: int, *, tol_measure_cm: float = 0.5,
+                   tol_seam: float = 0.5) -> list[int]:
+    """Front rows the final step starts from: at most ``n``, distinct.
+
+    The NSGA-II choice first, then the row with the least normalised
+    violation ``max(f1/tol1, f2/tol2)``, then the least measurement error and
+    the least seam error.
+    """
+    F = np.asarray(F, dtype=np.float64)
+    score = np.maximum(F[:, 0] / tol_measure_cm, F[:, 1] / tol_seam)
+    order = [int(choice), int(np.argmin(score)), int(np.argmin(F[:, 0])), int(np.argmin(F[:, 1]))]
+    return list(dict.fromkeys(order))[:max(int(n), 0)]
+
+
+def within_tolerance(grid: PatternGrid, data: ObjectiveData, X: np.ndarray, *, mean_cm: float = 0.5,
+                     max_cm: float = 1.5, seam_cm: float = 0.1) -> np.ndarray:
+    """(n_pop,) bool: which individuals meet the fit (objectives 1 and 2 within tolerance).
+
+    Mean measurement error ≤ ``mean_cm``, every measurement within
+    ``max_cm``, every seam length mismatch and notch misalignment within
+    ``seam_cm``, no folded grid cell and every outline simple. Vectorised
+    over ``X (n_pop, n_var)``; the simplicity test runs only on the rows that
+    pass the rest.
+    """
+    X = np.atleast_2d(np.asarray(X, dtype=np.float64))
+    ev = evaluate(data, grid.outlines(X))
+    err = np.abs(ev.achieved_cm - data.target_cm)
+    seams = np.abs(np.concatenate([ev.seam_mismatch_cm, ev.notch_cm], axis=1))
+    ok = ((ev.measurement_error <= mean_cm) & (err.max(axis=1, initial=0.0) <= max_cm)
+          & (seams.max(axis=1, initial=0.0) <= seam_cm) & (grid.fold_margin(X) > 0))
+    for i in np.flatnonzero(ok):
+        ok[i] = _is_simple(deform_pattern(grid, X[i]))
+    return ok
 
 
 def repair(
@@ -404,6 +458,11 @@ def fit_pattern(
     measure_band_cm: float = 0.45,
     keep_straight: bool = True,
     refine_iter: int = 40,
+    w_fit: float = 0.02,
+    w_design: float = 0.7,
+    w_share: float = 3.0,
+    design_levels: tuple[float, ...] = (1.0, 1.0 / 3.0, 1.0 / 9.0, 0.0),
+    n_refine: int = 3,
     source: str = "pattern",
     progress: Progress | None = None,
 ) -> FitResult:
@@ -426,6 +485,12 @@ def fit_pattern(
     keep_straight : straight grain-parallel edges (centre front, folds,
         straight hems) stay straight and keep their direction
     refine_iter : iterations of each constrained Gauss–Newton run
+    w_fit : cost of the measurement errors inside the band, rad of shape
+        error per cm of mean measurement error (:func:`~.refine.refine`)
+    w_design, w_share : full weights of the design-preservation terms
+    design_levels : factors on those weights tried in turn until the result
+        changes the design less than proportional scaling
+    n_refine : NSGA-II front members the final step starts from
     source : pattern name for error messages
     progress : ``progress(stage, done, total)`` callback
 
@@ -448,7 +513,8 @@ def fit_pattern(
             pattern, measurements, seed=seed, pop_size=pop_size, n_gen=n_gen, max_lines=max_lines,
             max_cell_frac=max_cell_frac, tol_measure_cm=tol_measure_cm, tol_seam=tol_seam, size=size,
             do_repair=do_repair, measure_band_cm=measure_band_cm, keep_straight=keep_straight,
-            refine_iter=refine_iter, source=source, progress=progress,
+            refine_iter=refine_iter, w_fit=w_fit, w_design=w_design, w_share=w_share,
+            design_levels=tuple(design_levels), n_refine=n_refine, source=source, progress=progress,
         )
 
 
@@ -459,7 +525,8 @@ def _meets(sol: Solution, *, mean_cm: float, max_cm: float, seam_cm: float) -> b
 
 
 def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max_cell_frac, tol_measure_cm,
-                 tol_seam, size, do_repair, measure_band_cm, keep_straight, refine_iter, source, progress):
+                 tol_seam, size, do_repair, measure_band_cm, keep_straight, refine_iter, w_fit, w_design, w_share,
+                 design_levels, n_refine, source, progress):
     from pymoo.algorithms.moo.nsga2 import NSGA2
     from pymoo.optimize import minimize
 
@@ -507,28 +574,49 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
     seeds.append(grid.x0.copy())
 
     accept = {"mean_cm": min(tol_measure_cm, 0.5), "max_cm": 1.5, "seam_cm": 0.1}
+    shape_ref = baselines["proportional"].scores.shape_error
+    first_level = [0]
 
     def finish(start_name: str, x_start: np.ndarray) -> Solution | None:
-        """Penalty repair to get near the fit, then the constrained step; None if it fails."""
-        x_rep, _ = repair(grid, data, x_start, progress=progress)
-        res = refine(grid, data, x_rep, measure_tol_cm=measure_band_cm, straight=straight,
-                     max_iter=refine_iter, x_design=x_axis, progress=progress)
-        cand = _solution(grid, data, "nsga2+refine", res.x, size,
-                         f"least shape change under the fit, started from the {start_name}")
-        if _meets(cand, **accept):
-            return cand
-        log.info("%s: final step from the %s missed the fit (violation %.3g cm)", source, start_name,
-                 res.max_violation_cm)
-        rep = _solution(grid, data, "nsga2+repair", x_rep, size, f"least-squares repair of the {start_name}")
-        return rep if _valid(rep) else None
+        """The constrained final step from ``x_start`` with the design-weight continuation.
 
-    candidates: list[Solution] = []
+        The design terms run at full weight first; when the result changes the
+        design more than proportional scaling does (shape error not below
+        scaling's), the step is run again from the same start with a third of
+        the weight, and so on down to none. The first result below scaling's
+        shape error is taken, else the fitted one with the least shape error;
+        later starts begin at the level that worked. None when no run meets
+        the fit.
+        """
+        best: Solution | None = None
+        for j in range(first_level[0], len(design_levels)):
+            level = design_levels[j]
+            res = refine(grid, data, x_start, measure_tol_cm=measure_band_cm, straight=straight,
+                         max_iter=refine_iter, x_design=x_axis, w_design=w_design * level,
+                         w_share=w_share * level, w_fit=w_fit, progress=progress)
+            cand = _solution(grid, data, "nsga2+refine", res.x, size,
+                             f"least shape change under the fit, started from the {start_name}, "
+                             f"design weight x{level:.3g}")
+            if not _meets(cand, **accept):
+                log.info("%s: final step from the %s (design weight x%.3g) missed the fit (violation %.3g cm)",
+                         source, start_name, level, res.max_violation_cm)
+                continue
+            if best is None or cand.scores.shape_error < best.scores.shape_error:
+                best = cand
+            if cand.scores.shape_error < shape_ref:
+                # later starts begin at this level: it is a property of the
+                # garment and the character more than of the start
+                first_level[0] = j
+                break
+        return best
+
+    refined: list[Solution] = []
     if do_repair:
         # the proportional seed finished first: a fitted, low-shape individual
         # seeds the population beside the proportional one
         first = finish("proportional seed", x_axis)
         if first is not None:
-            candidates.append(first)
+            refined.append(first)
             seeds.insert(1, first.x)
     if progress is not None:
         progress("seed", 1, 1)
@@ -549,26 +637,43 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
     if opt is None:
         raise SolverError(f"{source}: NSGA-II found no fold-free solution in {n_gen} generations; "
                           "try more generations or a finer grid")
-    front_X = np.asarray(opt.get("X"), dtype=np.float64)
-    front_F = np.asarray(opt.get("F"), dtype=np.float64)
-    order = np.lexsort((front_F[:, 2], front_F[:, 1], front_F[:, 0]))
-    front_X, front_F = front_X[order], front_F[order]
-    idx = choose(front_F, tol_measure_cm=tol_measure_cm, tol_seam=tol_seam)
-    ga_choice = _solution(grid, data, "nsga2", front_X[idx], size, "least shape error within tolerance")
-    chosen = ga_choice
+    ga_X = np.asarray(opt.get("X"), dtype=np.float64)
+    ga_F = np.asarray(opt.get("F"), dtype=np.float64)
+    order = np.lexsort((ga_F[:, 2], ga_F[:, 1], ga_F[:, 0]))
+    ga_X, ga_F = ga_X[order], ga_F[order]
+    ga_idx = choose(ga_F, tol_measure_cm=tol_measure_cm, tol_seam=tol_seam)
+    ga_choice = _solution(grid, data, "nsga2", ga_X[ga_idx], size, "least shape error within tolerance")
     if do_repair:
-        second = finish("NSGA-II choice", front_X[idx])
-        if second is not None:
-            candidates.append(second)
-        fitted = [c for c in candidates if _meets(c, **accept)]
-        pool = fitted or candidates
-        if pool:
-            key = (lambda c: c.scores.shape_error) if fitted else (lambda c: c.scores.measurement_error)
-            chosen = min(pool, key=key)
+        # the final step from a few members of NSGA-II's front: its own choice
+        # and the members with the least measurement and seam error
+        for i in refine_members(ga_F, ga_idx, n_refine, tol_measure_cm=tol_measure_cm, tol_seam=tol_seam):
+            sol = finish("NSGA-II choice" if i == ga_idx else f"NSGA-II front member {i}", ga_X[i])
+            if sol is not None:
+                refined.append(sol)
+    # the final Pareto front: NSGA-II's front and the refined solutions, the
+    # dominated ones removed; the choice is the issue's rule on it
+    front_X = np.concatenate([ga_X] + [s.x[None, :] for s in refined])
+    front_F = np.concatenate([ga_F] + [s.scores.F[None, :] for s in refined])
+    is_refined = np.r_[np.zeros(len(ga_X), bool), np.ones(len(refined), bool)]
+    keep = non_dominated(front_F)
+    front_X, front_F, is_refined = front_X[keep], front_F[keep], is_refined[keep]
+    within = within_tolerance(grid, data, front_X, mean_cm=accept["mean_cm"], max_cm=accept["max_cm"],
+                              seam_cm=accept["seam_cm"])
+    idx = choose(front_F, tol_measure_cm=tol_measure_cm, tol_seam=tol_seam, within=within)
+    by_x = {s.x.tobytes(): s for s in refined}
+    chosen = by_x.get(front_X[idx].tobytes()) or _solution(grid, data, "nsga2", front_X[idx], size,
+                                                           "least shape error within tolerance")
+    if do_repair and not within[idx]:
+        # nothing on the front meets the fit: the penalty repair of the NSGA-II
+        # choice, when it gets closer
+        x_rep, _ = repair(grid, data, ga_X[ga_idx], progress=progress)
+        rep = _solution(grid, data, "nsga2+repair", x_rep, size, "least-squares repair of the NSGA-II choice")
+        if _valid(rep) and rep.scores.measurement_error < chosen.scores.measurement_error:
+            chosen = rep
     seconds = time.perf_counter() - t0
     return FitResult(
         pattern=chosen.pattern, original=pattern, chosen=chosen, ga_choice=ga_choice,
-        front_F=front_F, front_X=front_X, chosen_index=idx, baselines=baselines,
+        front_F=front_F, front_X=front_X, chosen_index=idx, front_refined=is_refined, baselines=baselines,
         measurements=measurements, grid=grid, data=data, seconds=seconds, seed=int(seed),
         pop_size=pop_size, n_gen=n_gen, history=np.array(callback.history, dtype=np.float64).reshape(-1, 4),
     )

@@ -1,0 +1,106 @@
+"""The issue's choice rule on the final front, the fit cost inside the band, the design-weight continuation."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from grade_fixtures import BODY, skirt_pattern
+
+from patternbridge.grade.blas import single_blas_thread
+from patternbridge.grade.grid import build_grid
+from patternbridge.grade.objectives import evaluate, objective_data
+from patternbridge.grade.refine import refine, straight_constraints, straight_edges
+from patternbridge.grade.run import (
+    axis_scaling,
+    choose,
+    fit_pattern,
+    non_dominated,
+    refine_members,
+    within_tolerance,
+)
+
+# the slim female character's trouser measurements (cm): her waist is 26.6 cm
+# under her hip, far from the pattern's proportions, so holding the front/back
+# split at full design weight costs more corner angle than scaling does
+SLIM_FEMALE = {
+    "waist_girth": 66.631, "hip_girth": 93.234, "thigh_girth_right": 51.828, "knee_girth_right": 34.587,
+    "waist_to_hip": 19.609, "crotch_length": 60.111, "inside_leg_right": 71.456, "outside_leg_right": 96.981,
+}
+
+
+def test_non_dominated_by_hand():
+    F = np.array([[1.0, 1.0, 1.0], [2.0, 2.0, 2.0], [0.5, 3.0, 1.0], [1.0, 1.0, 1.0], [1.0, 1.0, 0.9]])
+    # row 1 is dominated by row 0; rows 0 and 3 are equal (neither dominates
+    # the other) but both are dominated by row 4
+    np.testing.assert_array_equal(non_dominated(F), [False, False, True, False, True])
+    assert non_dominated(F[:1]).all()
+
+
+def test_refine_members_distinct_choice_first():
+    F = np.array([[0.2, 0.4, 0.01], [0.1, 0.9, 0.02], [3.0, 0.05, 0.0], [0.3, 0.3, 0.005]])
+    rows = refine_members(F, 0, 3)
+    assert rows[0] == 0 and len(rows) == len(set(rows)) == 3
+    # least normalised violation max(f1/0.5, f2/0.5): row 3 (0.6)
+    assert rows[1] == 3 and rows[2] == 1
+    assert refine_members(F, 2, 1) == [2]
+
+
+def test_choose_with_a_tolerance_mask():
+    F = np.array([[0.1, 0.1, 0.5], [0.4, 0.2, 0.1], [0.05, 0.01, 0.3]])
+    assert choose(F, tol_measure_cm=0.5, tol_seam=0.5) == 1
+    # the mask says row 1 misses the fit (a seam open by more than 1 mm, say)
+    assert choose(F, tol_measure_cm=0.5, tol_seam=0.5, within=np.array([True, False, True])) == 2
+
+
+@pytest.fixture(scope="module")
+def skirt_result():
+    return fit_pattern(skirt_pattern(), BODY, seed=5, size="hero", pop_size=24, n_gen=15)
+
+
+def test_choice_rule_on_the_final_front(skirt_result):
+    r = skirt_result
+    assert r.front_refined.shape == (len(r.front_F),) and r.front_refined.any()
+    np.testing.assert_array_equal(non_dominated(r.front_F), True)  # it is a front
+    within = within_tolerance(r.grid, r.data, r.front_X)
+    # the chosen row is within tolerance and has the least shape error of those that are
+    assert within[r.chosen_index]
+    assert r.front_F[r.chosen_index, 2] == r.front_F[within, 2].min()
+    np.testing.assert_allclose(r.front_F[r.chosen_index], r.chosen.scores.F, atol=1e-12)
+    np.testing.assert_array_equal(r.front_X[r.chosen_index], r.chosen.x)
+    # the proportional baseline misses the fit, so it is not within tolerance
+    assert not within_tolerance(r.grid, r.data, axis_scaling(r.grid, r.data))[0]
+
+
+def test_fit_cost_pulls_measurements_off_the_band_edge():
+    grid = build_grid(skirt_pattern(), max_cell_frac=0.2)
+    data = objective_data(grid, BODY)
+    A = straight_constraints(grid, straight_edges(grid))
+    x = axis_scaling(grid, data)
+    with single_blas_thread():
+        loose = refine(grid, data, x, measure_tol_cm=0.45, straight=A, w_fit=0.0)
+        tight = refine(grid, data, x, measure_tol_cm=0.45, straight=A, w_fit=0.05)
+    ev = evaluate(data, grid.outlines(np.stack([loose.x, tight.x])))
+    err = np.abs(ev.achieved_cm - data.target_cm)
+    assert err[0].max() == pytest.approx(0.45, abs=2e-3)  # without it the band edge is used
+    assert err[1].mean() < 0.5 * err[0].mean() and err[1].max() <= 0.45 + 1e-3
+    assert tight.max_violation_cm < 1e-3
+
+
+@pytest.mark.slow
+def test_design_weight_steps_down_when_it_costs_more_than_scaling():
+    from patternbridge.library import load_garment
+
+    pattern = load_garment("trousers")
+    grid = build_grid(pattern, max_lines=6, max_cell_frac=0.2)
+    data = objective_data(grid, SLIM_FEMALE)
+    A = straight_constraints(grid, straight_edges(grid))
+    x_prop = axis_scaling(grid, data)
+    with single_blas_thread():
+        full = refine(grid, data, x_prop, straight=A, x_design=x_prop, w_fit=0.02)
+    shapes = evaluate(data, grid.outlines(np.stack([x_prop, full.x]))).shape_error
+    assert shapes[1] > shapes[0]  # full design weight: more corner change than scaling
+    result = fit_pattern(pattern, SLIM_FEMALE, seed=0, size="B", pop_size=20, n_gen=8, n_refine=1)
+    s = result.chosen.scores
+    assert s.shape_error < result.baselines["proportional"].scores.shape_error
+    assert s.measurement_error <= 0.5 and s.max_seam_mismatch_cm <= 0.1
+    assert "design weight x1 " not in result.chosen.note + " "
