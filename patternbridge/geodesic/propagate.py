@@ -5,18 +5,29 @@ radius limit ``r_max`` of the propagation rises band by band); a new vertex
 takes the *straightest* path among its visited neighbours (the smallest turn
 between the neighbour's path tangent and the edge towards the new vertex,
 among neighbours whose distance estimate is close to the best) and extends it
-by the edge; then the path is relaxed by the least-squares curvature flow.
+by the edge; then the path is relaxed by the curvature flow.
 
 * windowed form (``window=w``): only the last ``w`` samples of each path are
   re-solved, the rest is frozen, so each vertex costs a constant and the whole
   propagation is linear in the number of vertices. The windows of one band are
-  independent and solved together as a stack of small dense systems.
+  independent: they are laid end to end and solved as one tridiagonal (or,
+  with ``flow="lsq"``, block-tridiagonal) system.
 * full form (``window="full"``): every path is re-solved whole (slow; small
   meshes only).
 
+Two flows for the windows. ``flow="lateral"`` (default) keeps the rows of the
+geodesic curvature only: each free sample moves in its tangent plane across
+the path, ``b_i . (p_{i-1} - 2 p_i + p_{i+1}) = 0`` with ``b_i = n_i x
+(p_{i+1} - p_{i-1})``, so the samples keep their places along the path (one
+unknown per sample). ``flow="lsq"`` solves both tangential rows of the
+least-squares system, which also evens out the spacing (two unknowns per
+sample); samples then slide along the path and, where it turns round a fold
+(under the chin, in the armpit), bridge the fold, which makes the lateral form
+both faster and more accurate (see ``docs/geodesic.md``).
+
 ``window=None`` (default) sizes the window from the mesh resolution: the
 error comes from the kink where a window starts, so the window has to span a
-length (about 5.5 cm), not a fixed number of samples.
+length (``WINDOW_CM``), not a fixed number of samples.
 """
 
 from __future__ import annotations
@@ -25,28 +36,38 @@ import logging
 from collections.abc import Callable
 
 import numpy as np
+from scipy.linalg.lapack import dpbsv as _pbsv
+from scipy.linalg.lapack import dptsv as _ptsv
 
-from ..errors import MeshError
+from ..errors import MeshError, SolverError
 from .surface import SurfaceMesh, SurfacePoint
 
-__all__ = ["geodesic_distances", "solve_windows"]
+__all__ = [
+    "WINDOW_CM",
+    "auto_window",
+    "geodesic_distances",
+    "solve_lateral",
+    "solve_windows",
+]
 
 log = logging.getLogger(__name__)
 
-_FIX_WEIGHT = 1e4
 #: automatic windows span about this much path, cm
-WINDOW_CM = 5.5
+WINDOW_CM = 12.0
+#: ... and have at least / at most this many samples
+_WINDOW_MIN = 8
+_WINDOW_MAX = 64
 #: candidate parents: distance estimate within this many edge lengths of the best
 _NEAR = 0.05
-#: windows up to this many samples are solved densely (one stacked LAPACK call)
-_DENSE_W = 24
 #: wavefront band width, mean edge lengths
 _BAND = 1.0
+#: the window flows
+FLOWS = ("lateral", "lsq")
 
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Row-wise cross product of (..., 3) arrays (faster than ``np.cross``)."""
-    out = np.zeros(np.broadcast_shapes(a.shape, b.shape))
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
     out[..., 0] = a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1]
     out[..., 1] = a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2]
     out[..., 2] = a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
@@ -55,9 +76,7 @@ def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 def _tangent_bases(normals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Two unit tangent vectors per normal (..., 3) -> (..., 3), (..., 3)."""
-    helper = np.where(
-        (np.abs(normals[..., 0]) < 0.9)[..., None], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]
-    )
+    helper = np.where((np.abs(normals[..., 0]) < 0.9)[..., None], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0])
     t1 = _cross(normals, helper)
     t1 /= np.sqrt((t1 * t1).sum(axis=-1))[..., None]
     return t1, _cross(normals, t1)
@@ -94,100 +113,179 @@ def solve_windows(
     (three independent rows per free sample), so its least-squares solution
     solves it exactly. Writing each free sample as ``anchor + T u`` with ``T`` an
     orthonormal tangent basis satisfies the plane rows identically and leaves
-    two tangential rows per sample: a block-tridiagonal system per window,
-    solved for the whole stack at once by block elimination (2x2 blocks), in
-    time linear in the window length.
+    two tangential rows per sample, ``2 u_i - T_i^T T_{i-1} u_{i-1} -
+    T_i^T T_{i+1} u_{i+1} = T_i^T (b_{i-1} - 2 b_i + b_{i+1})``: a symmetric
+    positive definite block-tridiagonal system (a discrete connection
+    Laplacian with fixed ends). The windows are laid end to end as one banded
+    matrix (bandwidth 3; fixed samples have identity rows, so the windows do
+    not couple) and solved by one banded Cholesky call, in time linear in the
+    number of samples.
     """
     B, w, _ = points.shape
     if tangents is None:
         t1, t2 = _tangent_bases(normals)
-        T = np.stack([t1, t2], axis=-1)  # (B, w, 3, 2)
-    else:
-        T = tangents
-    fr = free.astype(np.float64)
-    base = np.where(free[..., None], anchors_xyz, points)  # p = base + T u (free)
-    # rows of inner sample i: T_i^T (p_{i-1} - 2 p_i + p_{i+1}) = 0; fixed: u_i = 0
-    TT = np.einsum("bwki,bwkj->bwij", T[:, 1:-1], T[:, :-2])  # T_i^T T_{i-1}
-    TU = np.einsum("bwki,bwkj->bwij", T[:, 1:-1], T[:, 2:])  # T_i^T T_{i+1}
-    TT *= (fr[:, :-2] * fr[:, 1:-1])[..., None, None]
-    TU *= (fr[:, 2:] * fr[:, 1:-1])[..., None, None]
-    lo = np.zeros((B, w, 2, 2))
-    up = np.zeros((B, w, 2, 2))
-    lo[:, 1:-1] = TT
-    up[:, 1:-1] = TU
-    diag = np.where(free, -2.0, 1.0)  # diagonal blocks are multiples of I
-    lap = base[:, :-2] - 2.0 * base[:, 1:-1] + base[:, 2:]
-    rhs = np.zeros((B, w, 2))
-    rhs[:, 1:-1] = -np.einsum("bwki,bwk->bwi", T[:, 1:-1], lap)
-    rhs *= fr[..., None]
-    u = (
-        _block_dense(lo, diag, up, rhs)
-        if w <= _DENSE_W
-        else _block_thomas(lo, diag, up, rhs)
-    )
-    return base + np.einsum("bwki,bwi->bwk", T, u) * fr[..., None]
+        tangents = np.stack([t1, t2], axis=-1)  # (B, w, 3, 2)
+    S = B * w
+    T = tangents.reshape(S, 3, 2)
+    fr = free.reshape(S)
+    base = np.where(fr[:, None], anchors_xyz.reshape(S, 3), points.reshape(S, 3))
+    u = _solve_stack(base, T, fr)
+    return (base + np.einsum("ski,si->sk", T, u)).reshape(B, w, 3)
 
 
-def _block_dense(lo, diag, up, rhs):
-    """The block-tridiagonal systems of :func:`_block_thomas` as one stacked
-    dense solve (B, 2w, 2w): one LAPACK call instead of a Python loop over the
-    samples, faster for short windows."""
-    B, w = diag.shape
-    A = np.zeros((B, w, 2, w, 2))
-    i = np.arange(w)
-    A[:, i, 0, i, 0] = diag
-    A[:, i, 1, i, 1] = diag
-    j = i[1:]
-    # two advanced indices split by a slice put their axis first
-    A[:, j, :, j - 1, :] = lo[:, 1:].swapaxes(0, 1)
-    A[:, j - 1, :, j, :] = up[:, :-1].swapaxes(0, 1)
-    A = A.reshape(B, 2 * w, 2 * w)
-    return np.linalg.solve(A, rhs.reshape(B, 2 * w, 1)).reshape(B, w, 2)
+def _solve_stack(base: np.ndarray, T: np.ndarray, fr: np.ndarray) -> np.ndarray:
+    """Tangent coordinates (S, 2) of samples laid end to end.
 
-
-def _inv2(m: np.ndarray) -> np.ndarray:
-    """Inverse of a stack of 2x2 matrices (B, 2, 2)."""
-    det = m[:, 0, 0] * m[:, 1, 1] - m[:, 0, 1] * m[:, 1, 0]
-    out = np.zeros_like(m)
-    out[:, 0, 0] = m[:, 1, 1]
-    out[:, 1, 1] = m[:, 0, 0]
-    out[:, 0, 1] = -m[:, 0, 1]
-    out[:, 1, 0] = -m[:, 1, 0]
-    return out / det[:, None, None]
-
-
-def _block_thomas(lo, diag, up, rhs):
-    """Solve stacks of block-tridiagonal systems with 2x2 blocks.
-
-    Row i: ``lo_i u_{i-1} + diag_i u_i + up_i u_{i+1} = rhs_i`` for each of the
-    B windows at once; one sweep over the w samples, vectorised over B.
+    ``base`` (S, 3) are the anchors of free samples and the positions of fixed
+    ones, ``T`` (S, 3, 2) the tangent bases, ``fr`` (S,) the free mask; the first
+    and last sample of every window must be fixed. Fixed samples get ``u = 0``.
     """
-    B, w = diag.shape
-    cp = np.zeros((B, w, 2, 2))
-    rp = np.zeros((B, w, 2))
-    eye = np.eye(2)
-    inv = _inv2(diag[:, 0, None, None] * eye)
-    cp[:, 0] = inv @ up[:, 0]
-    rp[:, 0] = (inv @ rhs[:, 0, :, None])[..., 0]
-    for i in range(1, w):
-        m = diag[:, i, None, None] * eye - lo[:, i] @ cp[:, i - 1]
-        inv = _inv2(m)
-        cp[:, i] = inv @ up[:, i]
-        rp[:, i] = (
-            inv @ (rhs[:, i] - (lo[:, i] @ rp[:, i - 1, :, None])[..., 0])[..., None]
-        )[..., 0]
-    u = np.zeros((B, w, 2))
-    u[:, -1] = rp[:, -1]
-    for i in range(w - 2, -1, -1):
-        u[:, i] = rp[:, i] - (cp[:, i] @ u[:, i + 1, :, None])[..., 0]
-    return u
+    S = len(base)
+    lap = np.zeros((S, 3))
+    lap[1:-1] = base[:-2] + base[2:]
+    lap[1:-1] -= 2.0 * base[1:-1]
+    rhs = np.einsum("ski,sk->si", T, lap)
+    rhs *= fr[:, None]
+    # C[s, a, b] = t_{s,a} . t_{s+1,b}, zero unless both samples are free
+    C = np.einsum("ska,skb->sab", T[:-1], T[1:])
+    C *= (fr[:-1] & fr[1:])[:, None, None]
+    # lower band storage, unknowns interleaved (s, 0), (s, 1): ab[r, j] = M[j + r, j]
+    ab = np.zeros((S, 2, 4))
+    ab[:, :, 0] = np.where(fr, 2.0, 1.0)[:, None]
+    ab[:-1, 1, 1] = -C[:, 1, 0]
+    ab[:-1, 0, 2] = -C[:, 0, 0]
+    ab[:-1, 1, 2] = -C[:, 1, 1]
+    ab[:-1, 0, 3] = -C[:, 0, 1]
+    abf = ab.reshape(2 * S, 4).T  # (4, 2S), Fortran order for LAPACK
+    _, x, info = _pbsv(abf, rhs.reshape(2 * S, 1), lower=1, overwrite_ab=1, overwrite_b=1)
+    if info != 0:  # not positive definite (degenerate bases): general banded LU
+        from scipy.linalg import solve_banded
+
+        full = np.zeros((7, 2 * S))
+        full[3:] = ab.reshape(2 * S, 4).T
+        for r in range(1, 4):  # mirror the lower band into the upper
+            full[3 - r, r:] = full[3 + r, :-r]
+        x = solve_banded((3, 3), full, rhs.reshape(2 * S))
+    return x.reshape(S, 2)
 
 
-def _neighbours(indptr, indices, verts):
-    cnt = indptr[verts + 1] - indptr[verts]
-    own = np.repeat(verts, cnt)
-    pos = np.repeat(indptr[verts] - np.cumsum(cnt) + cnt, cnt) + np.arange(cnt.sum())
-    return own, indices[pos]
+def solve_lateral(points: np.ndarray, anchors_xyz: np.ndarray, normals: np.ndarray, free: np.ndarray) -> np.ndarray:
+    """The lateral curvature flow on windows laid end to end.
+
+    Parameters
+    ----------
+    points : (S, 3) float64, cm, samples of one or more windows, one after the
+        other
+    anchors_xyz : (S, 3) float64, a point of each sample's tangent plane
+    normals : (S, 3) float64, unit tangent-plane normals
+    free : (S,) bool, samples that may move; the first and last sample of
+        every window must be fixed (so windows do not couple)
+
+    Returns
+    -------
+    (S, 3) float64: each free sample projected onto its tangent plane and moved
+    across the path only, ``p_i = base_i + b_i v_i`` with ``b_i`` the unit
+    vector ``n_i x (base_{i+1} - base_{i-1})``, so that the path has no
+    geodesic curvature, ``b_i . ((p_{i+1} - p_i) / h_i - (p_i - p_{i-1}) /
+    h_{i-1}) = 0`` (``h``: the spacings of the projected samples); fixed
+    samples are returned unchanged.
+
+    Notes
+    -----
+    These are the geodesic-curvature rows of the least-squares flow
+    (:func:`solve_windows` also keeps the rows along the path, which even out
+    the spacing), divided by the spacing so that a straight path satisfies
+    them however unevenly it is sampled. With one unknown per sample they
+    form a symmetric, diagonally dominant tridiagonal matrix (off-diagonal
+    ``-(b_i . b_{i+1}) / h_i``), solved for all windows by one LAPACK call
+    (``dptsv``) in time linear in ``S``. The bases ``b`` come from the input,
+    so one call is one step of a fixed-point iteration: it converges in a few
+    steps on a gently bent path (the propagation re-solves every sample at
+    each of its ``w - 2`` positions in the sliding window).
+    """
+    S = len(points)
+    fr = np.asarray(free, dtype=bool)
+    off = np.einsum("ij,ij->i", points - anchors_xyz, normals)
+    off *= fr
+    base = points - off[:, None] * normals
+    chord = np.zeros((S, 3))
+    chord[1:-1] = base[2:] - base[:-2]
+    b = _cross(normals, chord)
+    bl = np.sqrt(np.einsum("ij,ij->i", b, b))
+    bl[bl <= 0.0] = 1.0
+    b /= bl[:, None]
+    # rows b_i . ((p_{i+1} - p_i) / h_i - (p_i - p_{i-1}) / h_{i-1}) = 0 with the
+    # spacings h of the projected samples: exact for a straight path however
+    # unevenly it is sampled
+    seg = base[1:] - base[:-1]
+    wgt = np.sqrt(np.einsum("ij,ij->i", seg, seg))
+    np.maximum(wgt, 1e-9, out=wgt)
+    np.divide(1.0, wgt, out=wgt)  # (S-1,) 1 / spacing
+    seg *= wgt[:, None]
+    lap = np.zeros((S, 3))
+    lap[1:-1] = seg[1:] - seg[:-1]
+    rhs = np.einsum("ij,ij->i", b, lap)
+    rhs *= fr
+    e = np.einsum("ij,ij->i", b[:-1], b[1:])
+    e *= wgt
+    e *= -1.0
+    e *= fr[:-1] & fr[1:]
+    d = np.ones(S)
+    d[1:-1] = np.where(fr[1:-1], wgt[:-1] + wgt[1:], 1.0)
+    _, _, v, info = _ptsv(d, e, rhs[:, None], overwrite_d=1, overwrite_e=1, overwrite_b=1)
+    if info != 0:  # pragma: no cover - |b_i . b_j| <= 1 keeps the matrix definite
+        raise SolverError(
+            f"geodesic: lateral window system not definite (LAPACK info {info}); check the mesh for NaN normals"
+        )
+    base += b * v
+    return base
+
+
+def _vertex_normals(mesh: SurfaceMesh) -> np.ndarray:
+    """(V, 3) unit normals: the area-weighted mean of the surrounding face
+    normals (sums of face cross products by ``bincount``, a few milliseconds;
+    the per-vertex PCA of the point-to-point flow takes ~30 ms on a 13K mesh,
+    and the propagation's error is the same with either)."""
+    V, F = mesh.vertices, mesh.faces
+    if mesh.degenerate.any():
+        F = F[~mesh.degenerate]
+    cols = [np.ascontiguousarray(V[:, c]) for c in range(3)]
+    f0, f1, f2 = (np.ascontiguousarray(F[:, c]) for c in range(3))
+    e1 = [c[f1] - c[f0] for c in cols]
+    e2 = [c[f2] - c[f0] for c in cols]
+    flat = F.ravel()
+    nv = mesh.n_vertices
+    n = np.empty((nv, 3))
+    for c, (a, b) in enumerate(((1, 2), (2, 0), (0, 1))):
+        cr = e1[a] * e2[b] - e1[b] * e2[a]
+        n[:, c] = np.bincount(flat, weights=np.repeat(cr, 3), minlength=nv)
+    ln = np.sqrt(np.einsum("ij,ij->i", n, n))
+    lonely = ln <= 0.0
+    ln[lonely] = 1.0
+    n /= ln[:, None]
+    n[lonely] = (0.0, 0.0, 1.0)
+    return n
+
+
+def _padded_graph(mesh: SurfaceMesh) -> tuple[np.ndarray, np.ndarray]:
+    """(V, D) one-ring neighbours (``mesh.neighbour_table``: rows padded with
+    the vertex itself) and (V, D) float64 edge lengths, cm (padding: 1, never used: the padding vertex is
+    the unvisited candidate itself)."""
+    tab = mesh.neighbour_table
+    g = mesh.graph
+    deg = np.diff(g.indptr)
+    lens = np.ones(tab.shape)
+    rows = np.repeat(np.arange(mesh.n_vertices), deg)
+    cols = np.arange(len(rows)) - np.repeat(g.indptr[:-1], deg)
+    lens[rows, cols] = g.data
+    return tab, lens
+
+
+def auto_window(mesh: SurfaceMesh) -> int:
+    """The automatic window of ``mesh``: the samples spanning ``WINDOW_CM`` of
+    path at its mean edge length (at least 8, at most 64)."""
+    n = np.ceil(WINDOW_CM / max(mesh.edge_mean, 1e-12))
+    return int(min(_WINDOW_MAX, max(_WINDOW_MIN, n)))
 
 
 def geodesic_distances(
@@ -196,6 +294,7 @@ def geodesic_distances(
     *,
     r_max: float | None = None,
     window: int | str | None = None,
+    flow: str = "lateral",
     progress: Callable[[str, int, int], None] | None = None,
 ) -> np.ndarray:
     """Geodesic distance from one source vertex to every vertex.
@@ -209,9 +308,12 @@ def geodesic_distances(
         Stop the propagation at this radius; vertices beyond get ``inf``.
     window : int, ``"full"`` or None
         Samples re-solved per new vertex (>= 3). ``None`` picks the window from
-        the mesh resolution so that it spans about ``WINDOW_CM`` of path (at
-        least 12 samples); ``"full"`` re-solves whole paths (the full form:
-        slow, small meshes only).
+        the mesh resolution (:func:`auto_window`: about ``WINDOW_CM`` of path);
+        ``"full"`` re-solves whole paths by the least-squares flow (the full
+        form: slow, small meshes only).
+    flow : ``"lateral"`` or ``"lsq"``
+        Window flow: geodesic-curvature rows only (default), or the two
+        tangential rows of the least-squares system (:func:`solve_windows`).
     progress : optional ``progress(stage, done, total)``
 
     Returns
@@ -228,182 +330,183 @@ def geodesic_distances(
         sp_ = SurfacePoint.vertex(int(mesh.faces[sp_.face, int(np.argmax(sp_.bary))]))
     src = sp_.vertex_id
     if window is None:
-        window = int(min(64, max(12, np.ceil(WINDOW_CM / max(mesh.edge_mean, 1e-12)))))
+        window = auto_window(mesh)
     full = isinstance(window, str)
     if (full and window != "full") or (not full and int(window) < 3):
         raise MeshError(
             f"geodesic: window {window!r} is not a sample count >= 3 or 'full'; "
             "pass window >= 3, 'full' for the full form, or None for automatic"
         )
-    if r_max is not None and not r_max > 0:
+    if flow not in FLOWS:
         raise MeshError(
-            f"geodesic: r_max {r_max} is not a positive length in cm; "
-            "pass r_max > 0 or None"
+            f"geodesic: flow {flow!r} is not one of {', '.join(FLOWS)}; pass flow='lateral' (default) or flow='lsq'"
         )
-    w = 3 if full else int(window)
-    g = mesh.graph
-    indptr, indices = g.indptr, g.indices
+    if r_max is not None and not r_max > 0:
+        raise MeshError(f"geodesic: r_max {r_max} is not a positive length in cm; pass r_max > 0 or None")
     V = mesh.vertices
     nv = mesh.n_vertices
     step = mesh.edge_mean
     limit = np.inf if r_max is None else float(r_max)
+    tab, tab_len = _padded_graph(mesh)
 
     dist = np.full(nv, np.inf)
     visited = np.zeros(nv, dtype=bool)
-    parent = np.full(nv, -1, dtype=np.int64)
-    tails = np.zeros((nv, w, 3)) if not full else None
-    tail_ids = np.full((nv, w), -1, dtype=np.int64) if not full else None
-    dstart = np.zeros(nv)
-    normal_cache = mesh.all_vertex_normals
-
-    t1, t2 = _tangent_bases(normal_cache)
-    tangent_cache = np.stack([t1, t2], axis=-1)  # (V, 3, 2)
-
-    def normals_of(ids):
-        return normal_cache[np.asarray(ids)]
-
-    def tangents_of(ids):
-        return tangent_cache[np.asarray(ids)]
+    tdir = np.zeros((nv, 3))  # unit direction of each path's last segment
+    if full:
+        solver = _FullSolver(mesh, dist, tdir)
+    else:
+        solver = _WindowSolver(mesh, src, int(window), flow, dist, tdir)
 
     dist[src] = 0.0
     visited[src] = True
-    if not full:
-        tails[src, :] = V[src]
-        tail_ids[src, :] = src
+    seen = np.full(nv, -1, dtype=np.int64)  # scratch for de-duplication
     front = np.array([src], dtype=np.int64)
     pending = np.zeros(0, dtype=np.int64)
     r = 0.0
     done = 1
     while True:
-        _, nb = _neighbours(indptr, indices, front)
-        cand = np.unique(np.concatenate([pending, nb]))
-        cand = cand[~visited[cand]]
+        # candidates: unvisited neighbours of the last band, and those left over
+        cand = np.take(tab, front, axis=0).ravel()
+        cand = np.concatenate([pending, cand[~visited[cand]]])
+        seen[cand] = np.arange(len(cand))
+        cand = cand[seen[cand] == np.arange(len(cand))]
         if len(cand) == 0:
             break
-        own, nbr = _neighbours(indptr, indices, cand)
-        ok = visited[nbr]
-        own, nbr = own[ok], nbr[ok]
-        el = np.linalg.norm(V[own] - V[nbr], axis=1)
-        dest = dist[nbr] + el
-        order = np.lexsort((dest, own))
-        own, nbr, el, dest = own[order], nbr[order], el[order], dest[order]
-        firsts = np.ones(len(own), dtype=bool)
-        firsts[1:] = own[1:] != own[:-1]
-        grp = np.cumsum(firsts) - 1
-        best = dest[firsts]
+        # one row per candidate: its neighbours (padded with itself, unvisited)
+        nbr = np.take(tab, cand, axis=0)
+        el = np.take(tab_len, cand, axis=0)
+        dest = np.where(visited[nbr], dist[nbr] + el, np.inf)
+        best = dest.min(axis=1)
         lo = best.min()
         if lo > limit:
             break
         r = max(r + _BAND * step, lo)
-        accept_mask = best <= r
-        # straightest parent among neighbours whose estimate is near the best
-        near = dest <= best[grp] + _NEAR * el
-        near &= accept_mask[grp]
-        if full:
-            tan = np.where(
-                (parent[nbr] >= 0)[:, None], V[nbr] - V[np.maximum(parent[nbr], 0)], 0.0
-            )
-        else:
-            tan = tails[nbr, -1] - tails[nbr, -2]
-        edge = V[own] - V[nbr]
-        tn = np.linalg.norm(tan, axis=1)
-        cosang = np.where(
-            tn > 0, np.einsum("ij,ij->i", tan, edge) / (tn * el + 1e-300), 1.0
-        )
-        score = np.where(near, -cosang, np.inf)
-        o2 = np.lexsort((score, own))
-        own2, nbr2, sc2 = own[o2], nbr[o2], score[o2]
-        f2 = np.ones(len(own2), dtype=bool)
-        f2[1:] = own2[1:] != own2[:-1]
-        sel = f2 & np.isfinite(sc2)
-        q = own2[sel]
-        p = nbr2[sel]
-        if len(q):
-            parent[q] = p
+        acc = best <= r
+        if acc.any():
+            # straightest parent among neighbours whose estimate is near the best
+            q = cand[acc]
+            nbr, el, dest = nbr[acc], el[acc], dest[acc]
+            near = dest <= best[acc, None] + _NEAR * el
+            edge = np.take(V, q, axis=0)[:, None, :] - np.take(V, nbr, axis=0)
+            cosang = np.einsum("ijk,ijk->ij", np.take(tdir, nbr, axis=0), edge)
+            cosang /= el
+            cosang[nbr == src] = 1.0
+            pick = np.where(near, cosang, -np.inf).argmax(axis=1)
+            p = np.take_along_axis(nbr, pick[:, None], axis=1)[:, 0]
             visited[q] = True
-            if full:
-                _solve_full(mesh, q, parent, dist, normals_of)
-            else:
-                _solve_windowed(
-                    mesh, q, p, tails, tail_ids, dstart, dist, normals_of, tangents_of
-                )
+            solver(q, p)
             done += len(q)
             if progress is not None:
                 progress("propagate", done, nv)
+        else:
+            q = np.zeros(0, dtype=np.int64)
         front = q
-        pending = cand[~visited[cand]]
+        pending = cand[~acc]
         if r > limit and len(q) == 0:
             break
     dist[dist > limit] = np.inf
     return dist
 
 
-def _solve_windowed(
-    mesh, q, p, tails, tail_ids, dstart, dist, normals_of, tangents_of
-) -> None:
-    V = mesh.vertices
-    w = tails.shape[1]
-    full_p = tail_ids[p, 0] >= 0
-    # shift the parent's window by one and append the new vertex
-    new_pts = np.concatenate([tails[p, 1:], V[q][:, None, :]], axis=1)
-    new_ids = np.concatenate([tail_ids[p, 1:], q[:, None]], axis=1)
-    seg0 = np.linalg.norm(tails[p, 1] - tails[p, 0], axis=1)
-    dstart[q] = dstart[p] + np.where(full_p, seg0, 0.0)
-    valid = new_ids >= 0
-    # pad the unused front slots with the first valid sample
-    first = np.argmax(valid, axis=1)
-    rows = np.arange(len(q))
-    pad = ~valid
-    new_pts = np.where(pad[..., None], new_pts[rows, first][:, None, :], new_pts)
-    new_ids = np.where(pad, new_ids[rows, first][:, None], new_ids)
-    free = valid.copy()
-    free[rows, first] = False
-    free[:, -1] = False
-    if free.any():
-        new_ids = _reanchor(mesh, new_pts, new_ids, free)
-        flat = new_ids.ravel()
-        nrm = normals_of(flat).reshape(len(q), w, 3)
-        tng = tangents_of(flat).reshape(len(q), w, 3, 2)
-        new_pts = solve_windows(new_pts, nrm, V[new_ids], free, tangents=tng)
-    tails[q] = new_pts
-    tail_ids[q] = np.where(valid, new_ids, -1)
-    seg = np.linalg.norm(np.diff(new_pts, axis=1), axis=2).sum(axis=1)
-    dist[q] = dstart[q] + seg
+class _WindowSolver:
+    """Windowed form: each vertex keeps the last ``w`` samples of its path
+    (``tails``, with their anchor vertices); a new vertex shifts its parent's
+    window by one, appends itself and re-solves the window."""
+
+    def __init__(self, mesh, src, w, flow, dist, tdir):
+        nv = mesh.n_vertices
+        V = mesh.vertices
+        self.V = V
+        self.w = w
+        self.dist = dist
+        self.tdir = tdir
+        self.tab = mesh.neighbour_table
+        self.normals = _vertex_normals(mesh)
+        self.tangents = None
+        if flow == "lsq":
+            t1, t2 = _tangent_bases(self.normals)
+            self.tangents = np.stack([t1, t2], axis=-1)  # (V, 3, 2)
+        # samples of a path shorter than the window repeat the source (fixed)
+        self.tails = np.empty((nv, w, 3))
+        self.tail_ids = np.empty((nv, w), dtype=np.int64)
+        self.tails[src] = V[src]
+        self.tail_ids[src] = src
+        self.depth = np.zeros(nv, dtype=np.int64)  # edges on the path
+        self.dstart = np.zeros(nv)  # frozen length before the window
+        self.slots = np.arange(w)
+
+    def __call__(self, q, p):
+        V, w = self.V, self.w
+        B = len(q)
+        tp = np.take(self.tails, p, axis=0)
+        pts = np.empty((B, w, 3))
+        pts[:, :-1] = tp[:, 1:]
+        pts[:, -1] = np.take(V, q, axis=0)
+        ids = np.empty((B, w), dtype=np.int64)
+        ids[:, :-1] = np.take(self.tail_ids, p, axis=0)[:, 1:]
+        ids[:, -1] = q
+        d0 = tp[:, 1] - tp[:, 0]
+        dstart = self.dstart[p] + np.sqrt(np.einsum("ij,ij->i", d0, d0))
+        depth = self.depth[p] + 1
+        # the first sample of the path (or of the window) and the new one are fixed
+        free = self.slots > np.maximum(0, w - 1 - depth)[:, None]
+        free[:, -1] = False
+        S = B * w
+        fr = free.reshape(S)
+        flat = ids.reshape(S)
+        x = pts.reshape(S, 3)
+        sel = np.flatnonzero(fr)
+        if len(sel):
+            # one-ring descent of each free sample's anchor vertex
+            cand = np.take(self.tab, np.take(flat, sel), axis=0)
+            diff = np.take(V, cand.ravel(), axis=0).reshape(*cand.shape, 3)
+            diff -= np.take(x, sel, axis=0)[:, None, :]
+            d2 = np.einsum("ijk,ijk->ij", diff, diff)
+            flat[sel] = np.take_along_axis(cand, d2.argmin(axis=1)[:, None], 1)[:, 0]
+            ax = np.take(V, flat, axis=0)
+            if self.tangents is None:
+                x = solve_lateral(x, ax, np.take(self.normals, flat, axis=0), fr)
+            else:
+                T = np.take(self.tangents, flat, axis=0)
+                base = np.where(fr[:, None], ax, x)
+                x = base + np.einsum("ski,si->sk", T, _solve_stack(base, T, fr))
+            pts = x.reshape(B, w, 3)
+        self.tails[q] = pts
+        self.tail_ids[q] = ids
+        self.depth[q] = depth
+        self.dstart[q] = dstart
+        seg = pts[:, 1:] - pts[:, :-1]
+        seg = np.sqrt(np.einsum("ijk,ijk->ij", seg, seg))
+        self.dist[q] = dstart + seg.sum(axis=1)
+        self.tdir[q] = (pts[:, -1] - pts[:, -2]) / np.maximum(seg[:, -1:], 1e-300)
 
 
-def _reanchor(mesh, pts, ids, free, n_steps: int = 1):
-    """Move each free sample's anchor to the nearest vertex of its one ring
-    (a local descent, as the samples drift away from their first vertices)."""
-    tab = mesh.neighbour_table
-    V = mesh.vertices
-    sel = np.flatnonzero(free.ravel())
-    cur = ids.ravel()[sel]
-    x = pts.reshape(-1, 3)[sel]
-    for _ in range(n_steps):
-        cand = tab[cur]  # (n, D), padded with cur itself
-        diff = V[cand] - x[:, None, :]
-        d2 = np.einsum("ijk,ijk->ij", diff, diff)
-        nxt = cand[np.arange(len(cur)), np.argmin(d2, axis=1)]
-        if np.array_equal(nxt, cur):
-            break
-        cur = nxt
-    out = ids.copy().ravel()
-    out[sel] = cur
-    return out.reshape(ids.shape)
+class _FullSolver:
+    """Full form: the whole path of a new vertex (its chain of parents) is
+    relaxed by one least-squares flow step."""
 
+    def __init__(self, mesh, dist, tdir):
+        self.mesh = mesh
+        self.parent = np.full(mesh.n_vertices, -1, dtype=np.int64)
+        self.dist = dist
+        self.tdir = tdir
+        self.normals = mesh.all_vertex_normals
 
-def _solve_full(mesh, q, parent, dist, normals_of) -> None:
-    from .flow import lsq_step
+    def __call__(self, q, p):
+        from .flow import lsq_step
 
-    V = mesh.vertices
-    for v in q.tolist():
-        ids = [v]
-        while parent[ids[-1]] >= 0:
-            ids.append(int(parent[ids[-1]]))
-        ids = np.array(ids[::-1])
-        pts = V[ids]
-        if len(ids) >= 3:
-            nrm = normals_of(ids)
-            off = np.einsum("ij,ij->i", pts - V[ids], nrm)
-            pts = lsq_step(pts, nrm, pts - off[:, None] * nrm)
-        dist[v] = float(np.linalg.norm(np.diff(pts, axis=0), axis=1).sum())
+        V, parent = self.mesh.vertices, self.parent
+        parent[q] = p
+        for v in q.tolist():
+            ids = [v]
+            while parent[ids[-1]] >= 0:
+                ids.append(int(parent[ids[-1]]))
+            ids = np.array(ids[::-1])
+            pts = V[ids]
+            if len(ids) >= 3:
+                nrm = self.normals[ids]
+                off = np.einsum("ij,ij->i", pts - V[ids], nrm)
+                pts = lsq_step(pts, nrm, pts - off[:, None] * nrm)
+            self.dist[v] = float(np.linalg.norm(np.diff(pts, axis=0), axis=1).sum())
+        edge = V[q] - V[p]
+        self.tdir[q] = edge / np.maximum(np.linalg.norm(edge, axis=1), 1e-300)[:, None]
