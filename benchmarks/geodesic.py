@@ -3,6 +3,7 @@
 Run:  .venv/bin/python benchmarks/geodesic.py
           [--sections spheres,characters,hires,subdiv,propagate]
           [--pairs N] [--mmp-hires] [--mmp-disputed] [--propagate-hires]
+          [--windows W,..] [--flows lateral,lsq] [--no-propagate-all]
           [--repeat N] [--seed S]
 
 Sections (one table per run, all measured in the same process):
@@ -19,7 +20,9 @@ Sections (one table per run, all measured in the same process):
 * ``subdiv``: the same on a 1-to-4 midpoint subdivision of the hires mesh (1.34M
   vertices), made here and not stored.
 * ``propagate``: single source, all destinations, windowed form, against
-  pygeodesic's exact distances on the same mesh.
+  pygeodesic's exact distances on the same mesh: the six 13K characters (best
+  of ``--repeat`` fresh runs of both, wall and CPU), the 334K body with
+  ``--propagate-hires`` (one run each; MMP takes minutes).
 
 Targets (issue 4): point-to-point mean relative error <= 0.1 %, max <= 0.5 %; all
 paths on the 334K mesh in <= 1 s and under half of potpourri3d's time; windowed
@@ -265,15 +268,10 @@ def section_hires(args, rng):
     pairs = landmark_pairs()
     _character_header("E_average_male_hires.ply (334K vertices), 17 landmark pairs")
     v, f = load_mesh(SHARED / "E_average_male_hires.ply")
-    ours, flip = _character_table(
-        "E_hires", v, f, pairs, mmp=args.mmp_hires, repeat=args.repeat
-    )
+    ours, flip = _character_table("E_hires", v, f, pairs, mmp=args.mmp_hires, repeat=args.repeat)
     if args.mmp_disputed and not args.mmp_hires:
         # exact MMP only where ours and the edge-flip path disagree
-        print(
-            "\nPairs where ours and the edge-flip path differ by more than 0.01 %, "
-            "settled by exact MMP:\n"
-        )
+        print("\nPairs where ours and the edge-flip path differ by more than 0.01 %, settled by exact MMP:\n")
         row(
             [
                 "pair",
@@ -286,7 +284,7 @@ def section_hires(args, rng):
             ]
         )
         row(["---"] * 7)
-        for (na, nb), (a, b), x, y in zip(PAIRS, pairs, ours, flip):
+        for (na, nb), (a, b), x, y in zip(PAIRS, pairs, ours, flip, strict=True):
             if abs(x - y) / y <= 1e-4:
                 continue
             t, (z,) = run_mmp(v, f, [(a, b)])
@@ -302,11 +300,8 @@ def section_hires(args, rng):
                 ]
             )
     if args.verbose:
-        for (a, b), x, y in zip(PAIRS, ours, flip):
-            print(
-                f"    {a:26s} {b:22s} ours {x:9.4f}  flip {y:9.4f}  "
-                f"{100 * (x - y) / y:+.4f} %"
-            )
+        for (a, b), x, y in zip(PAIRS, ours, flip, strict=True):
+            print(f"    {a:26s} {b:22s} ours {x:9.4f}  flip {y:9.4f}  {100 * (x - y) / y:+.4f} %")
 
 
 def section_subdiv(args, rng):
@@ -317,67 +312,88 @@ def section_subdiv(args, rng):
     _character_table("E_hires_x4", v, f, pairs, mmp=False)
 
 
+def _best_time(fn, reps):
+    """Best wall and CPU seconds of ``reps`` calls (each its own best) and the
+    last result."""
+    wall = cpu = np.inf
+    out = None
+    for _ in range(max(1, reps)):
+        t0, c0 = time.perf_counter(), time.process_time()
+        out = fn()
+        wall = min(wall, time.perf_counter() - t0)
+        cpu = min(cpu, time.process_time() - c0)
+    return wall, cpu, out
+
+
 def section_propagate(args, rng):
     import pygeodesic.geodesic as pg
 
     from patternbridge.geodesic import SurfaceMesh, geodesic_distances
+    from patternbridge.geodesic.propagate import auto_window
 
-    print(
-        "\n### Single source, all destinations (windowed propagation)  "
-        f"({load_text()})\n"
-    )
+    print(f"\n### Single source, all destinations (windowed propagation, source: back neck point)  ({load_text()})\n")
     row(
         [
             "mesh",
             "V",
+            "flow",
             "window",
             "ours s (prep+run)",
+            "ours CPU s",
             "MMP s",
+            "MMP CPU s",
             "ours/MMP",
             "mean err %",
             "p95 err %",
+            "max over / under %",
             "peak RSS MB",
         ]
     )
-    row(["---"] * 9)
-    src = 857  # back neck point
-    meshes = [("E_average_male", *load_mesh(SHARED / "E_average_male.obj"))]
+    row(["---"] * 13)
+    src = 857  # back neck point (same vertex id on every character)
+    names = sorted(SHARED.glob("*.obj")) if args.propagate_all else [SHARED / "E_average_male.obj"]
+    meshes = [(obj.stem, obj) for obj in names]
     if args.propagate_hires:
-        meshes.append(("E_hires", *load_mesh(SHARED / "E_average_male_hires.ply")))
-    for name, v, f in meshes:
-        # best of --repeat on the small mesh, for both (one run on the big one)
+        meshes.append(("E_hires", SHARED / "E_average_male_hires.ply"))
+    for name, path in meshes:
+        v, f = load_mesh(path)
+        # best of --repeat on the small meshes, for both (one run on the big one)
         reps = max(1, args.repeat) if len(v) < 50_000 else 1
-        t_mmp = np.inf
-        for _ in range(reps):
-            t0 = time.perf_counter()
+
+        def mmp(v=v, f=f):
             g = pg.PyGeodesicAlgorithmExact(v, f)
-            exact, _ = g.geodesicDistances(np.array([src]), None)
-            t_mmp = min(t_mmp, time.perf_counter() - t0)
-        for w in args.windows:
-            w = w or None  # 0: automatic
-            t = np.inf
-            for _ in range(reps):
-                t0 = time.perf_counter()
-                mesh = SurfaceMesh(v, f)
-                d = geodesic_distances(mesh, src, window=w)
-                t = min(t, time.perf_counter() - t0)
-            if w is None:
-                w = f"auto ({min(64, max(12, int(np.ceil(5.5 / mesh.edge_mean))))})"
-            ok = exact > 1.0
-            e = np.abs(d[ok] - exact[ok]) / exact[ok]
-            row(
-                [
-                    name,
-                    len(v),
-                    w,
-                    f"{t:.2f}",
-                    f"{t_mmp:.2f}",
-                    f"{t / t_mmp:.2f}",
-                    f"{100 * e.mean():.3f}",
-                    f"{100 * np.percentile(e, 95):.3f}",
-                    f"{peak_rss_mb():.0f}",
-                ]
-            )
+            return g.geodesicDistances(np.array([src]), None)[0]
+
+        t_mmp, c_mmp, exact = _best_time(mmp, reps)
+        ok = exact > 1.0
+        for flow in args.flows:
+            for w in args.windows:
+                w = w or None  # 0: automatic
+
+                def ours(v=v, f=f, w=w, flow=flow):
+                    mesh = SurfaceMesh(v, f)
+                    return mesh, geodesic_distances(mesh, src, window=w, flow=flow)
+
+                t, c, (mesh, d) = _best_time(ours, reps)
+                rel = (d[ok] - exact[ok]) / exact[ok]
+                e = np.abs(rel)
+                row(
+                    [
+                        name,
+                        len(v),
+                        flow,
+                        w if w is not None else f"auto ({auto_window(mesh)})",
+                        f"{t:.3f}",
+                        f"{c:.3f}",
+                        f"{t_mmp:.3f}",
+                        f"{c_mmp:.3f}",
+                        f"{t / t_mmp:.2f}",
+                        f"{100 * e.mean():.3f}",
+                        f"{100 * np.percentile(e, 95):.3f}",
+                        f"{100 * rel.max():.1f} / {100 * -rel.min():.1f}",
+                        f"{peak_rss_mb():.0f}",
+                    ]
+                )
 
 
 SECTIONS = {
@@ -391,9 +407,7 @@ SECTIONS = {
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument(
-        "--sections", default="spheres,characters,hires,subdiv,propagate"
-    )
+    parser.add_argument("--sections", default="spheres,characters,hires,subdiv,propagate")
     parser.add_argument("--pairs", type=int, default=10, help="random pairs per sphere")
     parser.add_argument(
         "--sphere-subdiv",
@@ -403,8 +417,20 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--windows",
         type=lambda s: [int(x) for x in s.split(",")],
-        default=[12, 0],
-        help="window sizes to run, 0 = automatic (from the mesh resolution)",
+        default=[0],
+        help="propagation window sizes to run, 0 = automatic (from the mesh resolution)",
+    )
+    parser.add_argument(
+        "--flows",
+        type=lambda s: s.split(","),
+        default=["lateral"],
+        help="propagation window flows to run (lateral, lsq)",
+    )
+    parser.add_argument(
+        "--propagate-all",
+        action=argparse.BooleanOptionalAction,
+        default=True,
+        help="propagate on all six 13K characters (else E only)",
     )
     parser.add_argument(
         "--mmp-hires",
@@ -414,8 +440,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--mmp-disputed",
         action="store_true",
-        help="on the 334K mesh, run exact MMP for the pairs where ours and "
-        "the edge-flip path disagree",
+        help="on the 334K mesh, run exact MMP for the pairs where ours and the edge-flip path disagree",
     )
     parser.add_argument(
         "--propagate-hires",

@@ -426,11 +426,15 @@ class _WindowSolver:
         if flow == "lsq":
             t1, t2 = _tangent_bases(self.normals)
             self.tangents = np.stack([t1, t2], axis=-1)  # (V, 3, 2)
-        # samples of a path shorter than the window repeat the source (fixed)
+        # the windows are stored in visiting order (a vertex's row in ``row``),
+        # so that each band writes one contiguous block; samples of a path
+        # shorter than the window repeat the source (fixed)
         self.tails = np.empty((nv, w, 3))
         self.tail_ids = np.empty((nv, w), dtype=np.int64)
-        self.tails[src] = V[src]
-        self.tail_ids[src] = src
+        self.row = np.zeros(nv, dtype=np.int64)
+        self.tails[0] = V[src]
+        self.tail_ids[0] = src
+        self.used = 1
         self.depth = np.zeros(nv, dtype=np.int64)  # edges on the path
         self.dstart = np.zeros(nv)  # frozen length before the window
         self.slots = np.arange(w)
@@ -438,12 +442,13 @@ class _WindowSolver:
     def __call__(self, q, p):
         V, w = self.V, self.w
         B = len(q)
-        tp = np.take(self.tails, p, axis=0)
+        rows = self.row[p]
+        tp = np.take(self.tails, rows, axis=0)
         pts = np.empty((B, w, 3))
         pts[:, :-1] = tp[:, 1:]
         pts[:, -1] = np.take(V, q, axis=0)
         ids = np.empty((B, w), dtype=np.int64)
-        ids[:, :-1] = np.take(self.tail_ids, p, axis=0)[:, 1:]
+        ids[:, :-1] = np.take(self.tail_ids, rows, axis=0)[:, 1:]
         ids[:, -1] = q
         d0 = tp[:, 1] - tp[:, 0]
         dstart = self.dstart[p] + np.sqrt(np.einsum("ij,ij->i", d0, d0))
@@ -458,11 +463,12 @@ class _WindowSolver:
         sel = np.flatnonzero(fr)
         if len(sel):
             # one-ring descent of each free sample's anchor vertex
-            cand = np.take(self.tab, np.take(flat, sel), axis=0)
-            diff = np.take(V, cand.ravel(), axis=0).reshape(*cand.shape, 3)
+            cand = np.take(self.tab, np.take(flat, sel), axis=0).ravel()
+            D = self.tab.shape[1]
+            diff = np.take(V, cand, axis=0).reshape(len(sel), D, 3)
             diff -= np.take(x, sel, axis=0)[:, None, :]
             d2 = np.einsum("ijk,ijk->ij", diff, diff)
-            flat[sel] = np.take_along_axis(cand, d2.argmin(axis=1)[:, None], 1)[:, 0]
+            flat[sel] = np.take(cand, np.arange(0, D * len(sel), D) + d2.argmin(axis=1))
             ax = np.take(V, flat, axis=0)
             if self.tangents is None:
                 x = solve_lateral(x, ax, np.take(self.normals, flat, axis=0), fr)
@@ -471,8 +477,11 @@ class _WindowSolver:
                 base = np.where(fr[:, None], ax, x)
                 x = base + np.einsum("ski,si->sk", T, _solve_stack(base, T, fr))
             pts = x.reshape(B, w, 3)
-        self.tails[q] = pts
-        self.tail_ids[q] = ids
+        k = self.used
+        self.tails[k : k + B] = pts
+        self.tail_ids[k : k + B] = ids
+        self.row[q] = np.arange(k, k + B)
+        self.used = k + B
         self.depth[q] = depth
         self.dstart[q] = dstart
         seg = pts[:, 1:] - pts[:, :-1]
