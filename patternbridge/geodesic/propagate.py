@@ -61,6 +61,8 @@ _WINDOW_MAX = 64
 _NEAR = 0.05
 #: wavefront band width, mean edge lengths
 _BAND = 1.0
+#: window rows kept at least (the buffer grows if the wavefront needs more)
+_ROWS_MIN = 16384
 #: the window flows
 FLOWS = ("lateral", "lsq")
 
@@ -355,7 +357,7 @@ def geodesic_distances(
     if full:
         solver = _FullSolver(mesh, dist, tdir)
     else:
-        solver = _WindowSolver(mesh, src, int(window), flow, dist, tdir)
+        solver = _WindowSolver(mesh, src, int(window), flow, dist, tdir, visited)
 
     dist[src] = 0.0
     visited[src] = True
@@ -413,27 +415,34 @@ class _WindowSolver:
     (``tails``, with their anchor vertices); a new vertex shifts its parent's
     window by one, appends itself and re-solves the window."""
 
-    def __init__(self, mesh, src, w, flow, dist, tdir):
+    def __init__(self, mesh, src, w, flow, dist, tdir, visited):
         nv = mesh.n_vertices
         V = mesh.vertices
         self.V = V
         self.w = w
         self.dist = dist
         self.tdir = tdir
+        self.visited = visited
         self.tab = mesh.neighbour_table
         self.normals = _vertex_normals(mesh)
         self.tangents = None
         if flow == "lsq":
             t1, t2 = _tangent_bases(self.normals)
             self.tangents = np.stack([t1, t2], axis=-1)  # (V, 3, 2)
-        # the windows are stored in visiting order (a vertex's row in ``row``),
-        # so that each band writes one contiguous block; samples of a path
-        # shorter than the window repeat the source (fixed)
-        self.tails = np.empty((nv, w, 3))
-        self.tail_ids = np.empty((nv, w), dtype=np.int64)
+        # the windows are stored in visiting order (vertex v in row ``row[v]``,
+        # ``owner[row]`` the other way), so that each band writes one
+        # contiguous block; when the buffer is full, the windows of vertices
+        # that can no longer be parents (no unvisited neighbour) are dropped, so
+        # memory follows the wavefront, not the mesh. Samples of a path shorter
+        # than the window repeat the source (fixed).
+        cap = min(nv, max(_ROWS_MIN, nv // 16))
+        self.tails = np.empty((cap, w, 3))
+        self.tail_ids = np.empty((cap, w), dtype=np.int64)
+        self.owner = np.empty(cap, dtype=np.int64)
         self.row = np.zeros(nv, dtype=np.int64)
         self.tails[0] = V[src]
         self.tail_ids[0] = src
+        self.owner[0] = src
         self.used = 1
         self.depth = np.zeros(nv, dtype=np.int64)  # edges on the path
         self.dstart = np.zeros(nv)  # frozen length before the window
@@ -477,9 +486,12 @@ class _WindowSolver:
                 base = np.where(fr[:, None], ax, x)
                 x = base + np.einsum("ski,si->sk", T, _solve_stack(base, T, fr))
             pts = x.reshape(B, w, 3)
+        if self.used + B > len(self.owner):
+            self._compact(B)
         k = self.used
         self.tails[k : k + B] = pts
         self.tail_ids[k : k + B] = ids
+        self.owner[k : k + B] = q
         self.row[q] = np.arange(k, k + B)
         self.used = k + B
         self.depth[q] = depth
@@ -488,6 +500,27 @@ class _WindowSolver:
         seg = np.sqrt(np.einsum("ijk,ijk->ij", seg, seg))
         self.dist[q] = dstart + seg.sum(axis=1)
         self.tdir[q] = (pts[:, -1] - pts[:, -2]) / np.maximum(seg[:, -1:], 1e-300)
+
+    def _compact(self, B: int) -> None:
+        """Keep the windows of vertices with an unvisited neighbour (the only
+        possible parents) and make room for ``B`` more rows."""
+        own = self.owner[: self.used]
+        keep = np.flatnonzero(~self.visited[np.take(self.tab, own, axis=0)].all(axis=1))
+        m = len(keep)
+        cap = len(self.owner)
+        if m + B > cap // 2:  # grow, so that compactions stay rare
+            cap = min(len(self.row), max(2 * cap, 2 * (m + B)))
+            tails = np.empty((cap, self.w, 3))
+            ids = np.empty((cap, self.w), dtype=np.int64)
+            owner = np.empty(cap, dtype=np.int64)
+        else:
+            tails, ids, owner = self.tails, self.tail_ids, self.owner
+        tails[:m] = self.tails[keep]
+        ids[:m] = self.tail_ids[keep]
+        owner[:m] = own[keep]
+        self.tails, self.tail_ids, self.owner = tails, ids, owner
+        self.row[owner[:m]] = np.arange(m)
+        self.used = m
 
 
 class _FullSolver:

@@ -232,3 +232,16 @@ def test_character_distances_within_one_percent(characters_dir):
     rel = (d[ids] - exact) / exact
     assert np.mean(np.abs(rel)) < 0.01
     assert np.all(np.abs(rel) < 0.03)
+
+
+def test_dropping_finished_windows_changes_nothing(sphere, monkeypatch):
+    """Windows of vertices that can no longer be parents are dropped when the
+    buffer fills: with a tiny buffer (many drops) the distances are the same
+    to the last bit."""
+    from patternbridge.geodesic import propagate
+
+    v, f = sphere
+    mesh = SurfaceMesh(v, f)
+    ref = geodesic_distances(mesh, 0, window=9)
+    monkeypatch.setattr(propagate, "_ROWS_MIN", 50)
+    np.testing.assert_array_equal(geodesic_distances(SurfaceMesh(v, f), 0, window=9), ref)
