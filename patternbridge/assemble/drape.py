@@ -211,9 +211,32 @@ class _Solver:
         self.w = w
         self.n_stretch, self.n_bend = len(cloth.edges), len(cloth.bends)
         self.m_h2 = cloth.mass / h**2
-        A = (diags(self.m_h2) + self.St @ diags(w) @ S).tocsc()
-        self.lu = splu(A)
+        self.A = (diags(self.m_h2) + self.St @ diags(w) @ S).tocsc()
+        self.lu_free = splu(self.A)
+        self.lu = self.lu_free
+        self.pin_w = np.zeros(n)
+        self.pin_x = np.zeros((n, 3))
+        self._pins: tuple[int, int] | None = None
         self.seam_start = seam_gaps(cloth.x, cloth.seams)
+
+    def pin(self, weights: np.ndarray | None, targets: np.ndarray | None = None) -> None:
+        """Hold vertices softly on ``targets`` (N, 3) with ``weights`` (N,) in units of their mass / h²; None releases.
+
+        The pins enter the constant system matrix, which is refactorised
+        (once per distinct set of pins).
+        """
+        from scipy.sparse import diags
+        from scipy.sparse.linalg import splu
+
+        if weights is None or not np.any(weights > 0):
+            self.lu, self.pin_w, self._pins = self.lu_free, np.zeros(len(self.m_h2)), None
+            return
+        key = (id(weights), len(weights))
+        self.pin_w = np.asarray(weights, dtype=np.float64) * self.m_h2
+        self.pin_x = np.asarray(targets, dtype=np.float64).copy()
+        if self._pins != key:
+            self.lu = splu((self.A + diags(self.pin_w)).tocsc())
+            self._pins = key
 
     def _push_edges(
         self, collider: BodyCollider, x: np.ndarray, ni: np.ndarray
@@ -262,6 +285,7 @@ class _Solver:
         layers: np.ndarray | None,
     ) -> None:
         c, s = self.c, self.s
+        lu = self.lu
         h = s.time_step_s
         x0 = c.x.copy()
         y = c.x + h * c.v
@@ -275,6 +299,8 @@ class _Solver:
             [c.rest, c.bend_rest, self.seam_start * max(0.0, 1.0 - sew)]
         )
         rhs0 = self.m_h2[:, None] * y
+        if self._pins is not None:
+            rhs0 = rhs0 + self.pin_w[:, None] * self.pin_x
         x = y.copy()
         ni = np.flatnonzero(near)
         contact = np.zeros(len(x), dtype=bool)
@@ -282,7 +308,7 @@ class _Solver:
             d = self.S @ x
             ln = np.linalg.norm(d, axis=1, keepdims=True)
             p = d * (targets[:, None] / np.maximum(ln, 1e-9))
-            x = self.lu.solve(rhs0 + self.St @ (self.w[:, None] * p))
+            x = lu.solve(rhs0 + self.St @ (self.w[:, None] * p))
             # no vertex may jump through a limb in one step: when the fastest one
             # would move more than max_step_cm, the whole step is scaled down
             # (uniformly, so the cloth's shape is not torn)
@@ -343,16 +369,27 @@ def drape(
     stage: str = "drape",
     solver: _Solver | None = None,
     layer_every: int = 2,
+    anchors: tuple[np.ndarray, np.ndarray] | None = None,
+    hold: np.ndarray | None = None,
 ) -> _Solver:
     """Run the cloth for ``steps`` time steps against ``collider`` (in place).
 
     The seam springs' target length shrinks linearly to zero over the first
     ``sew_steps`` steps; gravity ramps up over the same time. Returns the
     solver, which can be passed back to continue with another collider (the
-    factorisation is reused).
+    factorisation is reused). ``anchors`` = (weights (N,) in units of the
+    vertex's mass / h², positions (N, 3)) pins vertices softly while sewing;
+    ``hold`` (N,) weights pin vertices where the sewing left them for the
+    rest of the run (a waistband buttoned at the waist).
     """
     settings = settings or DrapeSettings()
     solver = solver or _Solver(cloth, settings)
+    if sew_steps and anchors is not None:
+        solver.pin(anchors[0], anchors[1])
+    elif hold is not None:
+        solver.pin(hold, cloth.x)
+    else:
+        solver.pin(None)
     weld = weld_groups(len(cloth.x), cloth.seams)
     for k in range(steps):
         sew = (k + 1) / max(sew_steps, 1) if sew_steps else 1.0
@@ -365,8 +402,13 @@ def drape(
             else GRAVITY_CM_S2 * gravity_scale
         )
         solver.step(
-            collider, g, min(sew, 1.0), layers=weld if k % layer_every == 0 else None
+            collider,
+            g,
+            min(sew, 1.0),
+            layers=weld if k % layer_every == 0 else None,
         )
+        if k + 1 == sew_steps:
+            solver.pin(hold, cloth.x) if hold is not None else solver.pin(None)
         if progress is not None and (k % 10 == 0 or k == steps - 1):
             progress(stage, k + 1, steps)
     return solver

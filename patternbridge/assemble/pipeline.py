@@ -125,7 +125,7 @@ def prepare(
         crotch_y = float(body[lm.vertex][1]) if lm is not None and lm.vertex is not None else None
         proxies = thigh_fill(body, legs, crotch_y)
     cloth_collider = BodyCollider(body, character.faces, proxies=proxies) if proxies else collider
-    placed = place_instances(character, body, pattern, pmesh, cylinders, findings, scene=collider)
+    placed = place_instances(character, body, pattern, pmesh, cylinders, findings, scene=collider, parts=parts)
     keys = [inst.key for inst in pmesh.instances]
     index = {k: i for i, k in enumerate(keys)}
     positions = [placed[k] + rng.normal(scale=1e-3, size=placed[k].shape) for k in keys]
@@ -174,6 +174,7 @@ def simulate(sim: Simulation, *, steps: int = 160, progress: Progress = None) ->
     from .weights import transfer_weights
 
     cloth, settings, character = sim.cloth, sim.settings, sim.character
+    pins = anchor_weights(sim)
     sim.solver = drape(
         cloth,
         sim.cloth_collider,
@@ -182,6 +183,8 @@ def simulate(sim: Simulation, *, steps: int = 160, progress: Progress = None) ->
         settings=settings,
         progress=progress,
         stage="drape",
+        anchors=(pins, sim.x_placed),
+        hold=hold_weights(sim, pins),
     )
     log.debug(
         "draped: cloth y %.1f..%.1f gap %.2f",
@@ -223,6 +226,71 @@ def simulate(sim: Simulation, *, steps: int = 160, progress: Progress = None) ->
         if progress:
             progress("pose", k + 1, POSE_STAGES)
     sim.collider = collider
+
+
+ANCHOR_WEIGHT = 2.0  # pin strength while sewing, in units of the vertex's mass / h²
+ANCHOR_FREE_CM = (6.0, 18.0)  # pattern distance from an open seam: free below, fully pinned above
+
+
+def anchor_weights(sim: Simulation) -> np.ndarray:
+    """(N,) soft-pin weights: vertices far (in the pattern) from seams that start open are held while sewing.
+
+    Seams whose pairs start more than 1 cm apart must move cloth; the
+    vertices near them are free, the others are held on their placed
+    positions so that closing a seam does not turn a whole tube round its
+    limb. The weight ramps over :data:`ANCHOR_FREE_CM`.
+    """
+    from scipy.spatial import cKDTree
+
+    from .drape import seam_gaps
+
+    cloth = sim.cloth
+    n = len(cloth.x)
+    gaps = seam_gaps(cloth.x, cloth.seams)
+    open_pairs = cloth.seams[gaps > 1.0]
+    open_v = np.zeros(n, dtype=bool)
+    open_v[open_pairs.ravel()] = True
+    dist = np.full(n, np.inf)
+    for g in np.unique(cloth.group):
+        mine = cloth.group == g
+        src = np.flatnonzero(mine & open_v)
+        if len(src) == 0:
+            continue
+        d, _ = cKDTree(cloth.uv[src]).query(cloth.uv[mine])
+        dist[mine] = d
+    lo, hi = ANCHOR_FREE_CM
+    return ANCHOR_WEIGHT * np.clip((dist - lo) / (hi - lo), 0.0, 1.0)
+
+
+HOLD_SHARE = 1.0  # share of the sewing pins kept on leg pieces (at their sewn positions) while gravity acts
+HOLD_WEIGHT = 5.0  # how firmly a waistband stays where it was sewn, in units of the vertex's mass / h²
+
+
+def hold_weights(sim: Simulation, pins: np.ndarray) -> np.ndarray | None:
+    """(N,) weights holding trousers where the sewing left them while gravity acts, or None (tops).
+
+    A band going round the torso of a garment with pieces on the legs is
+    worn buttoned at the waist: with the ease the grading gives it, the
+    simulated band would otherwise slide down to the hips and the legs
+    would pile up on the feet. The leg pieces keep their sewing pins
+    (:func:`anchor_weights`), now on the sewn positions: released, the
+    stress left by closing the crotch turns the leg tubes round the legs
+    and reopens the side seams across the shin.
+    """
+    if not _on_legs(sim.pattern):
+        return None
+    from .placement import instance_part
+
+    w = np.zeros(len(sim.cloth.x))
+    for i, inst in enumerate(sim.pmesh.instances):
+        pl = sim.pattern.piece(inst.piece).placement
+        part = instance_part(sim.pattern, inst)
+        mine = sim.cloth.group == i
+        if part == "torso" and str(pl.side) == "around":
+            w[mine] = HOLD_WEIGHT
+        elif part.endswith("_leg"):
+            w[mine] = HOLD_SHARE * pins[mine]
+    return w if w.any() else None
 
 
 def seam_gap_table(sim: Simulation) -> list[dict]:

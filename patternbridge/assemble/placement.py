@@ -218,6 +218,7 @@ def place_instances(
     report: Report,
     *,
     scene=None,
+    parts: BodyParts | None = None,
 ) -> dict[str, np.ndarray]:
     """Wrap every cut copy onto its body part's cylinder.
 
@@ -228,6 +229,9 @@ def place_instances(
     scene : a :class:`~patternbridge.assemble.collision.BodyCollider` of that
         body; when given, wrapped points inside the body move out along their
         radius
+    parts : body-part labels of ``vertices``; when given, the parts of leg
+        pieces above the crotch (a trouser seat) go round the hips instead of
+        round the leg
 
     Returns
     -------
@@ -251,6 +255,8 @@ def place_instances(
             )
         cyl = cylinders[part]
         mirrored = inst.copy is Copy.MIRROR
+        if part in ("torso", "head") and str(pl.side) == "around" and parts is not None:
+            cyl = _band_cylinder(character, vertices, parts, cyl, pl.anchor, mirrored)
         p2 = instance_points2d(pmesh, inst)
         marks = pmesh.pieces[inst.piece].marks
         R = cyl.radius_cm
@@ -270,6 +276,7 @@ def place_instances(
             a2 = 0.5 * (p2.min(axis=0) + p2.max(axis=0))
         rows.append((inst, pl, part, cyl, p2, R, th_a, h_a, a2))
     shared = _shared_row_radii(pmesh, rows)
+    seat: list = []
     for inst, pl, part, cyl, p2, R, th_a, h_a, a2 in rows:
         # pattern +x runs to the right as seen from outside (docs/library.md conventions)
         sigma = 1.0
@@ -299,6 +306,10 @@ def place_instances(
         if scene is not None:
             r = scene.radial_clearance(cyl, theta, h, r, CLEARANCE_CM)
         out[inst.key] = cyl.points(theta, h, r)
+        if inst.key in shared and "torso" in cylinders and parts is not None:
+            seat.append((inst, p2, x_ref, part, float(a2[1]), p2[: pmesh.pieces[inst.piece].n_boundary]))
+    if seat:
+        _seat_on_hips(character, vertices, parts, cylinders["torso"], seat, out, scene)
     _follow_seams(pattern, pmesh, cylinders, out, scene)
     return out
 
@@ -317,6 +328,117 @@ def _centre_line(pmesh: PatternMesh, inst: Instance, p2: np.ndarray) -> np.ndarr
             order = np.argsort(ys)
             return np.interp(p2[:, 1], ys[order], xs[order])
     return np.zeros(len(p2))
+
+
+SEAT_BLEND_CM = (-2.0, 8.0)  # heights above the crotch where a leg piece goes from the leg to the hips
+
+
+def _seat_on_hips(
+    character,
+    vertices: np.ndarray,
+    parts: BodyParts,
+    torso: Cylinder,
+    seat: list,
+    out: dict[str, np.ndarray],
+    scene,
+) -> None:
+    """Wrap the parts of leg pieces above the crotch round the hips (in place).
+
+    On the leg's cylinder the seat of a trouser (the rows above the crotch,
+    wider than the leg) would stand off the body and leave the centre front
+    and back seams a hand's width apart; closing them then turns the whole
+    leg tube round the leg. Above the crotch every row goes instead round a
+    ring centred on the body's cross-section at its height, with the side
+    seam on the anchor's angle and the radius of both legs' pieces together
+    (twice one leg's), so the centre seams start near the midline. The two
+    wrappings are blended over :data:`SEAT_BLEND_CM` around the crotch.
+    """
+    v = np.asarray(vertices, dtype=np.float64)
+    lm = character.landmarks.get("crotch_point")
+    legs = parts.mask("left_leg") | parts.mask("right_leg")
+    if lm is not None and lm.vertex is not None:
+        crotch_y = float(v[lm.vertex][1])
+    elif legs.any():
+        crotch_y = float(v[legs, 1].max())
+    else:
+        return
+    trunk = v[parts.mask("torso") | legs]
+    lo, hi = crotch_y + SEAT_BLEND_CM[0] - 2.0, crotch_y + 60.0
+    grid = np.arange(lo, hi, 1.0)
+    centres = np.full((len(grid), 3), np.nan)
+    for k, y in enumerate(grid):
+        band = trunk[np.abs(trunk[:, 1] - y) < 1.0]
+        if len(band) >= 8:
+            centres[k] = 0.5 * (band.min(axis=0) + band.max(axis=0))
+    ok = np.isfinite(centres[:, 0])
+    if ok.sum() < 2:
+        return
+    for inst, p2, x_ref, part, a2y, _ in seat:
+        pos = out[inst.key]
+        y = pos[:, 1]
+        t = np.clip((y - crotch_y - SEAT_BLEND_CM[0]) / (SEAT_BLEND_CM[1] - SEAT_BLEND_CM[0]), 0.0, 1.0)
+        w = t * t * (3.0 - 2.0 * t)
+        if not (w > 0).any():
+            continue
+        # the side seam on the side of the hips (torso e1 points to the character's left)
+        th_side = -0.5 * np.pi if part.startswith("right") else 0.5 * np.pi
+        # both legs' pieces together go once round the hips at each height
+        # (the pieces of one leg are aligned on their anchor's height)
+        rel = p2[:, 1] - a2y
+        total = sum(_held_widths(b, rel + oy) for _, _, _, opart, oy, b in seat if opart == part)
+        r_t = np.maximum(total / np.pi, 1.0)
+        theta = th_side + (p2[:, 0] - x_ref) / r_t
+        c = np.stack([np.interp(y, grid[ok], centres[ok, j]) for j in range(3)], axis=1)
+        ring = (
+            c * np.array([1.0, 0.0, 1.0])
+            + y[:, None] * np.array([0.0, 1.0, 0.0])
+            + (r_t * np.cos(theta))[:, None] * torso.e0
+            + (r_t * np.sin(theta))[:, None] * torso.e1
+        )
+        blended = (1.0 - w)[:, None] * pos + w[:, None] * ring
+        if scene is not None:
+            moving = w > 0
+            fixed, _ = scene.push_out(blended[moving], CLEARANCE_CM, robust=True)
+            blended[moving] = fixed
+        out[inst.key] = blended
+
+
+def _held_widths(boundary: np.ndarray, ys: np.ndarray, hold_cm: float = 4.0) -> np.ndarray:
+    """Row widths of ``boundary`` at ``ys`` (see :func:`_widths`), never below the width ``hold_cm`` under its top.
+
+    The pieces round the hips end at different heights and their top edges
+    slant (a back rises above the front at the centre back); a row that one
+    of them barely or no longer reaches still has that piece beside it once
+    sewn.
+    """
+    top = float(boundary[:, 1].max())
+    y = np.asarray(ys, dtype=np.float64)
+    w = _widths(boundary, y)
+    ref = _widths(boundary, np.array([top - hold_cm]))[0]
+    return np.where(y > top - hold_cm, np.maximum(w, ref), w)
+
+
+def _band_cylinder(character, vertices: np.ndarray, parts: BodyParts, cyl: Cylinder, anchor: str, mirrored: bool) -> Cylinder:
+    """``cyl`` moved onto the centre of the body's cross-section at the anchor's height.
+
+    A band going round the waist or the neck is wrapped on its own length;
+    round the torso's bounding-box centre it would sit off the body (a belly
+    pushes the box forward).
+    """
+    import dataclasses
+
+    a = _landmark(character, vertices, anchor, mirrored)
+    if a is None:
+        return cyl
+    v = np.asarray(vertices, dtype=np.float64)
+    own = v[parts.mask(cyl.part)]
+    band = own[np.abs((own - a) @ cyl.axis) < 1.5]
+    if len(band) < 8:
+        return cyl
+    centre = 0.5 * (band.min(axis=0) + band.max(axis=0))
+    radial = centre - cyl.center
+    radial -= (radial @ cyl.axis) * cyl.axis
+    return dataclasses.replace(cyl, center=cyl.center + radial)
 
 
 def _anchor_line(pmesh: PatternMesh, inst: Instance, p2: np.ndarray, mark: str, partners: set[str]) -> np.ndarray:
@@ -411,11 +533,13 @@ def _row_radii(
     pts = pmesh.pieces[inst.piece].points
     n = len(pts)
     closes = any(sp.a.key == inst.key and sp.b.key == inst.key for sp in pmesh.seams)
-    if part not in ("left_arm", "right_arm", "left_leg", "right_leg") or not (
-        closes and side == "around"
-    ):
+    if not (closes and side == "around"):
         return np.full(n, float(radius_cm))
     b = pts[: pmesh.pieces[inst.piece].n_boundary]
+    if part not in ("left_arm", "right_arm", "left_leg", "right_leg"):
+        # a band round the waist or the neck (a waistband, a collar): once
+        # round on its full length, its closure edges side by side
+        return np.full(n, max(float(np.ptp(b[:, 0])) / (2 * np.pi), 1.0))
     y0, y1 = float(b[:, 1].min()), float(b[:, 1].max())
     grid = np.linspace(y0, y1, 200)
     grid[0] += 1e-6 * (y1 - y0)
