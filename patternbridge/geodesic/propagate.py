@@ -205,30 +205,45 @@ def solve_lateral(points: np.ndarray, anchors_xyz: np.ndarray, normals: np.ndarr
     steps on a gently bent path (the propagation re-solves every sample at
     each of its ``w - 2`` positions in the sliding window).
     """
-    S = len(points)
     fr = np.asarray(free, dtype=bool)
-    off = np.einsum("ij,ij->i", points - anchors_xyz, normals)
+    out = _lateral_soa(
+        np.ascontiguousarray(points.T), np.ascontiguousarray(anchors_xyz.T), np.ascontiguousarray(normals.T), fr
+    )
+    return np.ascontiguousarray(out.T)
+
+
+def _lateral_soa(x: np.ndarray, a: np.ndarray, n: np.ndarray, fr: np.ndarray) -> np.ndarray:
+    """:func:`solve_lateral` on coordinate rows: ``x``, ``a``, ``n`` (3, S)
+    (row-wise products of three long rows are cheaper than per-sample dots)."""
+    S = x.shape[1]
+    off = x - a
+    off *= n
+    off = off.sum(axis=0)
     off *= fr
-    base = points - off[:, None] * normals
-    chord = np.zeros((S, 3))
-    chord[1:-1] = base[2:] - base[:-2]
-    b = _cross(normals, chord)
-    bl = np.sqrt(np.einsum("ij,ij->i", b, b))
+    base = x - off * n
+    ch = base[:, 2:] - base[:, :-2]
+    m = n[:, 1:-1]
+    b = np.zeros((3, S))
+    b[0, 1:-1] = m[1] * ch[2] - m[2] * ch[1]
+    b[1, 1:-1] = m[2] * ch[0] - m[0] * ch[2]
+    b[2, 1:-1] = m[0] * ch[1] - m[1] * ch[0]
+    bl = np.sqrt((b * b).sum(axis=0))
     bl[bl <= 0.0] = 1.0
-    b /= bl[:, None]
+    b /= bl
     # rows b_i . ((p_{i+1} - p_i) / h_i - (p_i - p_{i-1}) / h_{i-1}) = 0 with the
     # spacings h of the projected samples: exact for a straight path however
     # unevenly it is sampled
-    seg = base[1:] - base[:-1]
-    wgt = np.sqrt(np.einsum("ij,ij->i", seg, seg))
+    seg = base[:, 1:] - base[:, :-1]
+    wgt = np.sqrt((seg * seg).sum(axis=0))
     np.maximum(wgt, 1e-9, out=wgt)
     np.divide(1.0, wgt, out=wgt)  # (S-1,) 1 / spacing
-    seg *= wgt[:, None]
-    lap = np.zeros((S, 3))
-    lap[1:-1] = seg[1:] - seg[:-1]
-    rhs = np.einsum("ij,ij->i", b, lap)
+    seg *= wgt
+    lap = np.zeros((3, S))
+    lap[:, 1:-1] = seg[:, 1:] - seg[:, :-1]
+    lap *= b
+    rhs = lap.sum(axis=0)
     rhs *= fr
-    e = np.einsum("ij,ij->i", b[:-1], b[1:])
+    e = (b[:, :-1] * b[:, 1:]).sum(axis=0)
     e *= wgt
     e *= -1.0
     e *= fr[:-1] & fr[1:]
@@ -239,7 +254,8 @@ def solve_lateral(points: np.ndarray, anchors_xyz: np.ndarray, normals: np.ndarr
         raise SolverError(
             f"geodesic: lateral window system not definite (LAPACK info {info}); check the mesh for NaN normals"
         )
-    base += b * v
+    b *= v[:, 0]
+    base += b
     return base
 
 
@@ -424,10 +440,13 @@ class _WindowSolver:
         self.tdir = tdir
         self.visited = visited
         self.tab = mesh.neighbour_table
-        self.normals = _vertex_normals(mesh)
+        normals = _vertex_normals(mesh)
+        # coordinate rows (3, V): the window arithmetic runs on (3, samples)
+        self.VT = np.ascontiguousarray(V.T)
+        self.NT = np.ascontiguousarray(normals.T)
         self.tangents = None
         if flow == "lsq":
-            t1, t2 = _tangent_bases(self.normals)
+            t1, t2 = _tangent_bases(normals)
             self.tangents = np.stack([t1, t2], axis=-1)  # (V, 3, 2)
         # the windows are stored in visiting order (vertex v in row ``row[v]``,
         # ``owner[row]`` the other way), so that each band writes one
@@ -436,11 +455,11 @@ class _WindowSolver:
         # memory follows the wavefront, not the mesh. Samples of a path shorter
         # than the window repeat the source (fixed).
         cap = min(nv, max(_ROWS_MIN, nv // 16))
-        self.tails = np.empty((cap, w, 3))
+        self.tails = np.empty((cap, 3, w))  # (row, xyz, sample)
         self.tail_ids = np.empty((cap, w), dtype=np.int64)
         self.owner = np.empty(cap, dtype=np.int64)
         self.row = np.zeros(nv, dtype=np.int64)
-        self.tails[0] = V[src]
+        self.tails[0] = V[src][:, None]
         self.tail_ids[0] = src
         self.owner[0] = src
         self.used = 1
@@ -449,18 +468,18 @@ class _WindowSolver:
         self.slots = np.arange(w)
 
     def __call__(self, q, p):
-        V, w = self.V, self.w
+        w = self.w
         B = len(q)
         rows = self.row[p]
-        tp = np.take(self.tails, rows, axis=0)
-        pts = np.empty((B, w, 3))
-        pts[:, :-1] = tp[:, 1:]
-        pts[:, -1] = np.take(V, q, axis=0)
+        tp = np.take(self.tails, rows, axis=0)  # (B, 3, w)
+        X = np.empty((3, B, w))
+        X[:, :, :-1] = tp[:, :, 1:].transpose(1, 0, 2)
+        X[:, :, -1] = np.take(self.VT, q, axis=1)
         ids = np.empty((B, w), dtype=np.int64)
         ids[:, :-1] = np.take(self.tail_ids, rows, axis=0)[:, 1:]
         ids[:, -1] = q
-        d0 = tp[:, 1] - tp[:, 0]
-        dstart = self.dstart[p] + np.sqrt(np.einsum("ij,ij->i", d0, d0))
+        d0 = tp[:, :, 1] - tp[:, :, 0]
+        dstart = self.dstart[p] + np.sqrt((d0 * d0).sum(axis=1))
         depth = self.depth[p] + 1
         # the first sample of the path (or of the window) and the new one are fixed
         free = self.slots > np.maximum(0, w - 1 - depth)[:, None]
@@ -468,38 +487,40 @@ class _WindowSolver:
         S = B * w
         fr = free.reshape(S)
         flat = ids.reshape(S)
-        x = pts.reshape(S, 3)
+        x = X.reshape(3, S)
         sel = np.flatnonzero(fr)
         if len(sel):
             # one-ring descent of each free sample's anchor vertex
-            cand = np.take(self.tab, np.take(flat, sel), axis=0).ravel()
             D = self.tab.shape[1]
-            diff = np.take(V, cand, axis=0).reshape(len(sel), D, 3)
-            diff -= np.take(x, sel, axis=0)[:, None, :]
-            d2 = np.einsum("ijk,ijk->ij", diff, diff)
+            cand = np.take(self.tab, np.take(flat, sel), axis=0).ravel()
+            diff = np.take(self.VT, cand, axis=1).reshape(3, len(sel), D)
+            diff -= np.take(x, sel, axis=1)[:, :, None]
+            diff *= diff
+            d2 = diff.sum(axis=0)
             flat[sel] = np.take(cand, np.arange(0, D * len(sel), D) + d2.argmin(axis=1))
-            ax = np.take(V, flat, axis=0)
+            ax = np.take(self.VT, flat, axis=1)
             if self.tangents is None:
-                x = solve_lateral(x, ax, np.take(self.normals, flat, axis=0), fr)
+                x = _lateral_soa(x, ax, np.take(self.NT, flat, axis=1), fr)
             else:
                 T = np.take(self.tangents, flat, axis=0)
-                base = np.where(fr[:, None], ax, x)
-                x = base + np.einsum("ski,si->sk", T, _solve_stack(base, T, fr))
-            pts = x.reshape(B, w, 3)
+                base = np.where(fr[:, None], ax.T, x.T)
+                x = (base + np.einsum("ski,si->sk", T, _solve_stack(base, T, fr))).T
+            X = x.reshape(3, B, w)
         if self.used + B > len(self.owner):
             self._compact(B)
         k = self.used
-        self.tails[k : k + B] = pts
+        self.tails[k : k + B] = X.transpose(1, 0, 2)
         self.tail_ids[k : k + B] = ids
         self.owner[k : k + B] = q
         self.row[q] = np.arange(k, k + B)
         self.used = k + B
         self.depth[q] = depth
         self.dstart[q] = dstart
-        seg = pts[:, 1:] - pts[:, :-1]
-        seg = np.sqrt(np.einsum("ijk,ijk->ij", seg, seg))
+        seg = X[:, :, 1:] - X[:, :, :-1]
+        seg *= seg
+        seg = np.sqrt(seg.sum(axis=0))  # (B, w - 1)
         self.dist[q] = dstart + seg.sum(axis=1)
-        self.tdir[q] = (pts[:, -1] - pts[:, -2]) / np.maximum(seg[:, -1:], 1e-300)
+        self.tdir[q] = ((X[:, :, -1] - X[:, :, -2]) / np.maximum(seg[:, -1], 1e-300)).T
 
     def _compact(self, B: int) -> None:
         """Keep the windows of vertices with an unvisited neighbour (the only
@@ -510,7 +531,7 @@ class _WindowSolver:
         cap = len(self.owner)
         if m + B > cap // 2:  # grow, so that compactions stay rare
             cap = min(len(self.row), max(2 * cap, 2 * (m + B)))
-            tails = np.empty((cap, self.w, 3))
+            tails = np.empty((cap, 3, self.w))
             ids = np.empty((cap, self.w), dtype=np.int64)
             owner = np.empty(cap, dtype=np.int64)
         else:
