@@ -42,16 +42,20 @@ def corridor(mesh: SurfaceMesh, vids, rings: int = 3) -> np.ndarray:
     A breadth-first growth from the path that only expands the newest ring.
     """
     seen = np.zeros(mesh.n_vertices, dtype=bool)
+    fresh = np.zeros(mesh.n_vertices, dtype=bool)
     front = np.unique(np.asarray(vids, dtype=np.int64))
     seen[front] = True
     for _ in range(rings):
         _, nxt, prv = mesh.ring_entries(front)
         nb = np.concatenate([nxt, prv])
-        nb = np.unique(nb[~seen[nb]])
+        nb = nb[~seen[nb]]
         if len(nb) == 0:
             break
-        seen[nb] = True
-        front = nb
+        # de-duplicate through a mask: cheaper than sorting the ring
+        fresh[nb] = True
+        front = np.flatnonzero(fresh)
+        fresh[front] = False
+        seen[front] = True
     return np.flatnonzero(seen)
 
 
@@ -141,7 +145,7 @@ def tangent_step(
     ``T_i^T (p_{i-1} - 2 p_i + p_{i+1}) = 0``: a block-tridiagonal (2m, 2m)
     system, solved as a banded matrix in O(m). Same result as :func:`lsq_step`.
     """
-    from scipy.linalg import solve_banded
+    from scipy.linalg.lapack import dgbsv
 
     from .propagate import _tangent_bases
 
@@ -156,24 +160,25 @@ def tangent_step(
     lap = base[:-2] - 2.0 * base[1:-1] + base[2:]
     rhs = -np.einsum("kci,kc->ki", T, lap).ravel()
     n = 2 * k
-    ab = np.zeros((7, n))  # (l, u) = (3, 3)
-
-    def put(rows, cols, vals):
-        ab[3 + rows - cols, cols] = vals
-
-    blk = np.arange(k)
-    for i_ in range(2):
-        for j_ in range(2):
-            put(2 * blk + i_, 2 * blk + j_, -2.0 * (i_ == j_))
+    # LAPACK band storage with (kl, ku) = (3, 3) and kl spare rows on top:
+    # entry (r, c) of the matrix sits at ab[6 + r - c, c]
+    ab = np.zeros((10, n))
+    ab[6] = -2.0
     if k > 1:
         lo = np.einsum("kci,kcj->kij", T[1:], T[:-1])  # T_i^T T_{i-1}
         up = np.einsum("kci,kcj->kij", T[:-1], T[1:])  # T_i^T T_{i+1}
-        b = np.arange(1, k)
         for i_ in range(2):
             for j_ in range(2):
-                put(2 * b + i_, 2 * (b - 1) + j_, lo[:, i_, j_])
-                put(2 * (b - 1) + i_, 2 * b + j_, up[:, i_, j_])
-    u = solve_banded((3, 3), ab, rhs).reshape(k, 2)
+                # rows 2b + i, columns 2(b - 1) + j, for b = 1 .. k-1
+                ab[8 + i_ - j_, j_ : n - 2 : 2] = lo[:, i_, j_]
+                # rows 2(b - 1) + i, columns 2b + j
+                ab[4 + i_ - j_, 2 + j_ : n : 2] = up[:, i_, j_]
+    _, _, x, info = dgbsv(3, 3, ab, rhs, overwrite_ab=True, overwrite_b=True)
+    if info != 0:  # singular: tangent planes at right angles to the path
+        from scipy.linalg import LinAlgError
+
+        raise LinAlgError(f"singular tangent system (info {info})")
+    u = x.reshape(k, 2)
     out = base.copy()
     out[1:-1] += np.einsum("kcj,kj->kc", T, u)
     return out
@@ -208,11 +213,14 @@ def _resample(points: np.ndarray, max_seg: float) -> np.ndarray:
     n_sub = np.maximum(np.ceil(seg / max_seg).astype(np.int64), 1)
     if (n_sub == 1).all():
         return points
-    out = [points[:1]]
-    for i, k in enumerate(n_sub):
-        t = (np.arange(1, k + 1) / k)[:, None]
-        out.append(points[i] + t * (points[i + 1] - points[i]))
-    return np.vstack(out)
+    # segment i becomes points[i] + (j / k) (points[i + 1] - points[i]), j = 1..k
+    seg_of = np.repeat(np.arange(len(seg)), n_sub)
+    k = n_sub[seg_of]
+    j = np.arange(len(seg_of)) - np.repeat(np.cumsum(n_sub) - n_sub, n_sub) + 1
+    t = (j / k)[:, None]
+    p0 = points[seg_of]
+    new = p0 + t * (points[seg_of + 1] - p0)
+    return np.vstack([points[:1], new])
 
 
 def flow_path(
