@@ -410,7 +410,7 @@ def geodesic_distances(
             cosang /= el
             cosang[nbr == src] = 1.0
             pick = np.where(near, cosang, -np.inf).argmax(axis=1)
-            p = np.take_along_axis(nbr, pick[:, None], axis=1)[:, 0]
+            p = np.take(nbr.ravel(), np.arange(0, nbr.size, nbr.shape[1]) + pick)
             visited[q] = True
             solver(q, p)
             done += len(q)
