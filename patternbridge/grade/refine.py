@@ -34,7 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .grid import PatternGrid
+from .grid import PatternGrid, bilinear_weights
 from .objectives import (
     FOLD_MARGIN,
     ObjectiveData,
@@ -46,7 +46,17 @@ from .objectives import (
     residuals,
 )
 
-__all__ = ["RefineResult", "StraightEdge", "design_deviation", "refine", "straight_constraints", "straight_edges"]
+__all__ = [
+    "RefineResult",
+    "StraightEdge",
+    "design_deviation",
+    "grain_constraints",
+    "grain_tilt",
+    "refine",
+    "row_basis",
+    "straight_constraints",
+    "straight_edges",
+]
 
 log = logging.getLogger(__name__)
 
@@ -144,10 +154,72 @@ def straight_constraints(grid: PatternGrid, edges: tuple[StraightEdge, ...]) -> 
         rows.append(r)
     if not rows:
         return np.zeros((0, grid.n_var))
-    a = np.concatenate(rows)
+    return row_basis(np.concatenate(rows))
+
+
+def row_basis(a: np.ndarray) -> np.ndarray:
+    """Orthonormal basis ``(r, n)`` of the rows of ``a (m, n)``: the same constraints ``a x = 0``, none redundant."""
+    a = np.atleast_2d(np.asarray(a, dtype=np.float64))
+    if not len(a):
+        return a
     _, s, vt = np.linalg.svd(a, full_matrices=False)
     keep = s > 1e-9 * max(s.max(), 1.0)
     return vt[keep]
+
+
+def _grain_weights(grid: PatternGrid) -> list[tuple[int, np.ndarray, np.ndarray]]:
+    """Per piece with a grain line: (piece index, (2, m) bilinear weights of its ends, (2,) unit direction)."""
+    out = []
+    for k, (piece, g) in enumerate(zip(grid.pattern.pieces, grid.pieces)):
+        line = piece.grain_line
+        if line is None:
+            continue
+        pts = np.asarray(line.points, dtype=np.float64)
+        d = pts[-1] - pts[0]
+        if np.hypot(*d) < 1e-6:
+            continue
+        _, w = bilinear_weights(pts[[0, -1]], g.xs, g.ys)
+        out.append((k, w, d / np.hypot(*d)))
+    return out
+
+
+def grain_constraints(grid: PatternGrid) -> np.ndarray:
+    """Linear constraints ``A x = 0`` keeping every grain line in its original direction.
+
+    The grain line's ends move with the grid (fixed ``(u, v)``), so the cross
+    product of its original direction ``d0`` with the graded line,
+    ``d0 × (p1 - p0)``, is linear in the genes; zero means the line has not
+    turned. In the drawing frame, where the straight edges also keep their
+    axis directions, this is the grain of the cloth: a graded piece cut with
+    a tilted grain hangs askew.
+
+    Returns
+    -------
+    (n_c, n_var) float64, one row per piece with a grain line
+    """
+    rows = []
+    for k, w, d0 in _grain_weights(grid):
+        g = grid.pieces[k]
+        dw = w[1] - w[0]
+        r = np.zeros(grid.n_var)
+        base = grid.var_offsets[k] + 2 * np.arange(g.n_control)
+        r[base] = -d0[1] * dw
+        r[base + 1] = d0[0] * dw
+        rows.append(r)
+    if not rows:
+        return np.zeros((0, grid.n_var))
+    return row_basis(np.stack(rows))
+
+
+def grain_tilt(grid: PatternGrid, X: np.ndarray) -> np.ndarray:
+    """Turn of every grain line against the original, ``(n_pop, n_grain)`` rad (in piece order)."""
+    X = np.atleast_2d(np.asarray(X, dtype=np.float64))
+    out = []
+    for k, w, d0 in _grain_weights(grid):
+        c = grid.control(X, k).reshape(len(X), -1, 2)
+        d = np.einsum("m,pmc->pc", w[1] - w[0], c)
+        out.append(np.arctan2(d0[0] * d[:, 1] - d0[1] * d[:, 0], d @ d0))
+    return np.stack(out, axis=1) if out else np.zeros((len(X), 0))
 
 
 def design_deviation(grid: PatternGrid, X: np.ndarray, x_ref: np.ndarray, *, slack: float = 0.0) -> np.ndarray:
@@ -270,7 +342,7 @@ def refine(
     data: ObjectiveData,
     x: np.ndarray,
     *,
-    measure_tol_cm: float = 0.45,
+    measure_tol_cm: float = 0.25,
     straight: np.ndarray | None = None,
     max_iter: int = 40,
     w_shape: float = 1.0,
@@ -290,7 +362,7 @@ def refine(
     w_design: float = 0.7,
     design_slack: float = 0.0,
     w_share: float = 3.0,
-    w_fit: float = 0.0,
+    w_fit: float = 0.02,
     fit_eps_cm: float = 0.01,
     progress: Progress | None = None,
 ) -> RefineResult:

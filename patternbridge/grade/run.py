@@ -455,8 +455,9 @@ def fit_pattern(
     tol_seam: float = 0.5,
     size: str = "fit",
     do_repair: bool = True,
-    measure_band_cm: float = 0.45,
+    measure_band_cm: float = 0.25,
     keep_straight: bool = True,
+    keep_grain: bool = True,
     refine_iter: int = 40,
     w_fit: float = 0.02,
     w_design: float = 0.7,
@@ -513,7 +514,7 @@ def fit_pattern(
             pattern, measurements, seed=seed, pop_size=pop_size, n_gen=n_gen, max_lines=max_lines,
             max_cell_frac=max_cell_frac, tol_measure_cm=tol_measure_cm, tol_seam=tol_seam, size=size,
             do_repair=do_repair, measure_band_cm=measure_band_cm, keep_straight=keep_straight,
-            refine_iter=refine_iter, w_fit=w_fit, w_design=w_design, w_share=w_share,
+            keep_grain=keep_grain, refine_iter=refine_iter, w_fit=w_fit, w_design=w_design, w_share=w_share,
             design_levels=tuple(design_levels), n_refine=n_refine, source=source, progress=progress,
         )
 
@@ -525,20 +526,23 @@ def _meets(sol: Solution, *, mean_cm: float, max_cm: float, seam_cm: float) -> b
 
 
 def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max_cell_frac, tol_measure_cm,
-                 tol_seam, size, do_repair, measure_band_cm, keep_straight, refine_iter, w_fit, w_design, w_share,
+                 tol_seam, size, do_repair, measure_band_cm, keep_straight, keep_grain, refine_iter, w_fit, w_design, w_share,
                  design_levels, n_refine, source, progress):
     from pymoo.algorithms.moo.nsga2 import NSGA2
     from pymoo.optimize import minimize
 
     from .operators import GridCrossover, GridMutation, SeedSampling
     from .problem import GradingProblem
-    from .refine import refine, straight_constraints, straight_edges
+    from .refine import grain_constraints, refine, row_basis, straight_constraints, straight_edges
 
     t0 = time.perf_counter()
     measurements = {str(k): float(v) for k, v in measurements.items()}
     grid = build_grid(pattern, max_lines=max_lines, max_cell_frac=max_cell_frac)
     data = objective_data(grid, measurements, source=source)
-    straight = straight_constraints(grid, straight_edges(grid)) if keep_straight else None
+    linear = [straight_constraints(grid, straight_edges(grid))] if keep_straight else []
+    if keep_grain:
+        linear.append(grain_constraints(grid))
+    straight = row_basis(np.concatenate(linear)) if linear else None
     if progress is not None:
         progress("seed", 0, 1)
 

@@ -104,3 +104,29 @@ def test_design_weight_steps_down_when_it_costs_more_than_scaling():
     assert s.shape_error < result.baselines["proportional"].scores.shape_error
     assert s.measurement_error <= 0.5 and s.max_seam_mismatch_cm <= 0.1
     assert "design weight x1 " not in result.chosen.note + " "
+
+
+def test_grain_constraint_rows_and_tilt():
+    from patternbridge.grade.refine import grain_constraints, grain_tilt
+
+    grid = build_grid(skirt_pattern())
+    A = grain_constraints(grid)
+    assert A.shape == (2, grid.n_var)  # one grain line per panel
+    scaled = (grid.x0.reshape(-1, 2) * [1.3, 0.8]).ravel()  # axis scaling keeps a vertical grain vertical
+    np.testing.assert_allclose(A @ scaled, 0.0, atol=1e-9)
+    np.testing.assert_allclose(grain_tilt(grid, scaled), 0.0, atol=1e-12)
+    sheared = grid.x0.reshape(-1, 2).copy()
+    sheared[:, 0] += 0.1 * sheared[:, 1]  # x += 0.1 y tilts a vertical line by atan(0.1)
+    tilt = grain_tilt(grid, sheared.ravel())
+    np.testing.assert_allclose(tilt, -np.arctan(0.1), atol=1e-12)
+    assert np.abs(A @ sheared.ravel()).max() > 0.1
+
+
+def test_grain_keeps_its_direction_after_the_fit(skirt_result):
+    from patternbridge.grade.refine import grain_tilt
+
+    r = skirt_result
+    np.testing.assert_allclose(grain_tilt(r.grid, r.chosen.x), 0.0, atol=1e-4)
+    for p in r.pattern.pieces:
+        g = p.grain_line.points
+        assert abs(g[1, 0] - g[0, 0]) < 1e-3 * abs(g[1, 1] - g[0, 1])
