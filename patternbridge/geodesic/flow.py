@@ -42,20 +42,16 @@ def corridor(mesh: SurfaceMesh, vids, rings: int = 3) -> np.ndarray:
     A breadth-first growth from the path that only expands the newest ring.
     """
     seen = np.zeros(mesh.n_vertices, dtype=bool)
-    fresh = np.zeros(mesh.n_vertices, dtype=bool)
     front = np.unique(np.asarray(vids, dtype=np.int64))
     seen[front] = True
     for _ in range(rings):
         _, nxt, prv = mesh.ring_entries(front)
         nb = np.concatenate([nxt, prv])
-        nb = nb[~seen[nb]]
+        nb = np.unique(nb[~seen[nb]])
         if len(nb) == 0:
             break
-        # de-duplicate through a mask: cheaper than sorting the ring
-        fresh[nb] = True
-        front = np.flatnonzero(fresh)
-        fresh[front] = False
-        seen[front] = True
+        seen[nb] = True
+        front = nb
     return np.flatnonzero(seen)
 
 

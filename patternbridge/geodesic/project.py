@@ -63,14 +63,18 @@ def _project_into(loc: _Local, f: int, q, cache: dict, tol: float = 1e-9):
         cache[f] = g
     a, b, c, eab, ebc, eca, n, nn = g
     lim = -tol * nn
-    if (
-        _dot(_crs(eab, _sub(q, a)), n) < lim
-        or _dot(_crs(ebc, _sub(q, b)), n) < lim
-        or _dot(_crs(eca, _sub(q, c)), n) < lim
-    ):
-        return None
-    d = _dot(_sub(q, a), n) / nn
-    return (q[0] - d * n[0], q[1] - d * n[1], q[2] - d * n[2])
+    n0, n1, n2 = n
+    q0, q1, q2 = q
+    # the three edge tests written out (same operations as _dot(_crs(e, q - p), n))
+    for e, p in ((eab, a), (ebc, b), (eca, c)):
+        s0, s1, s2 = q0 - p[0], q1 - p[1], q2 - p[2]
+        e0, e1, e2 = e
+        if (e1 * s2 - e2 * s1) * n0 + (e2 * s0 - e0 * s2) * n1 + (
+            e0 * s1 - e1 * s0
+        ) * n2 < lim:
+            return None
+    d = ((q0 - a[0]) * n0 + (q1 - a[1]) * n1 + (q2 - a[2]) * n2) / nn
+    return (q0 - d * n0, q1 - d * n1, q2 - d * n2)
 
 
 def _start_face(loc: _Local, v: int, toward) -> int | None:
@@ -165,7 +169,12 @@ def project_walk(
         if nn == 0.0:
             return None
         N = (N[0] / nn, N[1] / nn, N[2] / nn)
-        sd = {v: _dot(N, _sub(loc.pos(v), x)) for v in fv}
+        sd = {}
+        for v in fv:
+            pv = loc.pos(v)
+            sd[v] = (
+                N[0] * (pv[0] - x[0]) + N[1] * (pv[1] - x[1]) + N[2] * (pv[2] - x[2])
+            )
         tol = 1e-9 * math.sqrt(_dot(d, d)) + 1e-12
         best = None
         for v in fv:  # the plane through a vertex ahead

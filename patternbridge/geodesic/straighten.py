@@ -86,13 +86,28 @@ class _Local:
         m = self.fan.get(v)
         if m is None:
             m = {}
-            fl = self.mesh.faces_of(v).tolist()
-            rows = self.mesh.faces[fl].tolist() if fl else []
-            for f, row in zip(fl, rows):
-                self.fv[f] = tuple(row)
-                for x in row:
-                    if x != v:
-                        m.setdefault(x, []).append(f)
+            indptr, fl = self.mesh.vertex_faces
+            fs = fl[indptr[v] : indptr[v + 1]]
+            rows = self.mesh.faces[fs].tolist()
+            fv = self.fv
+            for f, (a, b, c) in zip(fs.tolist(), rows):
+                fv[f] = (a, b, c)
+                if a == v:
+                    x, y = b, c
+                elif b == v:
+                    x, y = c, a
+                else:
+                    x, y = a, b
+                fx = m.get(x)
+                if fx is None:
+                    m[x] = [f]
+                else:
+                    fx.append(f)
+                fy = m.get(y)
+                if fy is None:
+                    m[y] = [f]
+                else:
+                    fy.append(f)
             self.fan[v] = m
         return m
 
