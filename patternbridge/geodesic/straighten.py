@@ -246,13 +246,7 @@ def _unfold(loc: _Local, strip, s: Endpoint, e: Endpoint, cache: dict | None = N
     face = loc.face
     k0 = 0
     if cache and cache.get("strip"):
-        old = cache["strip"]
-        m = min(len(old), len(strip))
-        k0 = m
-        for i in range(m):
-            if old[i] != strip[i]:
-                k0 = i
-                break
+        k0 = _common_prefix(cache["strip"], strip)
     if k0 >= 1:
         face_xy = cache["face_xy"][:k0]
         portals = cache["portals"][: k0 - 1]
@@ -272,43 +266,31 @@ def _unfold(loc: _Local, strip, s: Endpoint, e: Endpoint, cache: dict | None = N
         k0 = 1
     hinge = loc.hinge
     for k in range(k0, len(strip)):
-        # corners and 3D lengths of each (previous face, face) step are the
-        # same in every round: only the 2D placement changes
+        # each (previous face, face) step's corners and 3D lengths, and the
+        # new corner's place along and off the hinge edge, are the same in
+        # every round: only the 2D placement of the hinge changes
         key = (strip[k - 1], strip[k])
         step = hinge.get(key)
         if step is None:
-            prev = face(strip[k - 1])
-            c0, c1, c2 = face(strip[k])
-            pv = set(prev)
-            if c0 in pv:
-                p, q, d = (c0, c1, c2) if c1 in pv else (c0, c2, c1)
-            else:
-                p, q, d = c1, c2, c0
-            if p not in pv or q not in pv or d in pv:
-                raise _StripError(f"faces {strip[k - 1]} and {strip[k]} share no edge")
-            p0, p1, p2 = prev
-            cprev = p0 if p0 != p and p0 != q else (p1 if p1 != p and p1 != q else p2)
-            pd = pos(d)
-            step = (p, q, d, cprev, dist(pos(p), pd), dist(pos(q), pd))
-            hinge[key] = step
-        p, q, d, cprev, lpd, lqd = step
-        if p not in coords or q not in coords:
-            raise _StripError(f"faces {strip[k - 1]} and {strip[k]} share no edge")
-        P, Q, C = coords[p], coords[q], coords[cprev]
-        ex, ey = Q[0] - P[0], Q[1] - P[1]
-        lpq = sqrt(ex * ex + ey * ey)
-        if lpq == 0.0:
-            raise _StripError(f"edge ({p}, {q}) has zero length")
-        ux, uy = ex / lpq, ey / lpq
-        t = (lpd * lpd - lqd * lqd + lpq * lpq) / (2 * lpq)
-        h = sqrt(max(lpd * lpd - t * t, 0.0))
-        cr = (P[0] - C[0]) * (Q[1] - C[1]) - (P[1] - C[1]) * (Q[0] - C[0])
-        if ux * (C[1] - P[1]) - uy * (C[0] - P[0]) > 0:
-            h = -h
-        D = (P[0] + ux * t - uy * h, P[1] + uy * t + ux * h)
-        if cr > 0:
+            step = hinge[key] = _hinge(loc, *key)
+        p, q, d, cprev, inv, t, h = step
+        try:
+            P = coords[p]
+            Q = coords[q]
+            cx, cy = coords[cprev]
+        except KeyError:
+            raise _StripError(
+                f"faces {strip[k - 1]} and {strip[k]} share no edge"
+            ) from None
+        px, py = P
+        ex, ey = Q[0] - px, Q[1] - py
+        ux, uy = ex * inv, ey * inv
+        # (Q - P) x (C - P): which side of the hinge the previous face lies on
+        if ex * (cy - py) - ey * (cx - px) > 0:
+            D = (px + ux * t + uy * h, py + uy * t - ux * h)
             portals.append((q, p, Q, P))
         else:
+            D = (px + ux * t - uy * h, py + uy * t + ux * h)
             portals.append((p, q, P, Q))
         coords = {p: P, q: Q, d: D}
         face_xy.append(coords)
@@ -319,6 +301,50 @@ def _unfold(loc: _Local, strip, s: Endpoint, e: Endpoint, cache: dict | None = N
     s2 = _end_xy(loc, strip[0], face_xy[0], s)
     e2 = _end_xy(loc, strip[-1], face_xy[-1], e)
     return portals, s2, e2, face_xy
+
+
+def _common_prefix(old: list, new: list) -> int:
+    """Length of the common prefix of two lists (slice comparisons in C)."""
+    lo, hi = 0, min(len(old), len(new))
+    if old[:hi] == new[:hi]:
+        return hi
+    while hi - lo > 1:  # old[:lo] == new[:lo] and old[:hi] != new[:hi]
+        mid = (lo + hi) // 2
+        if old[lo:mid] == new[lo:mid]:
+            lo = mid
+        else:
+            hi = mid
+    return lo
+
+
+def _hinge(loc: _Local, fa: int, fb: int) -> tuple:
+    """Unfolding step from face ``fa`` to the edge-adjacent face ``fb``.
+
+    Returns ``(p, q, d, c, 1 / |pq|, t, h)``: the shared edge (p, q), the new
+    corner d of ``fb``, the third corner c of ``fa``, and d's place in the
+    plane: ``t`` along p -> q from p and ``h`` off the edge, cm.
+    """
+    prev = loc.face(fa)
+    c0, c1, c2 = loc.face(fb)
+    pv = set(prev)
+    if c0 in pv:
+        p, q, d = (c0, c1, c2) if c1 in pv else (c0, c2, c1)
+    else:
+        p, q, d = c1, c2, c0
+    if p not in pv or q not in pv or d in pv:
+        raise _StripError(f"faces {fa} and {fb} share no edge")
+    p0, p1, p2 = prev
+    cprev = p0 if p0 != p and p0 != q else (p1 if p1 != p and p1 != q else p2)
+    pos = loc.pos
+    pp, pq, pd = pos(p), pos(q), pos(d)
+    lpq = math.dist(pp, pq)
+    if lpq == 0.0:
+        raise _StripError(f"edge ({p}, {q}) has zero length")
+    lpd = math.dist(pp, pd)
+    lqd = math.dist(pq, pd)
+    t = (lpd * lpd - lqd * lqd + lpq * lpq) / (2 * lpq)
+    h = math.sqrt(max(lpd * lpd - t * t, 0.0))
+    return (p, q, d, cprev, 1.0 / lpq, t, h)
 
 
 def _end_xy(loc: _Local, f: int, coords, end: Endpoint):

@@ -190,3 +190,20 @@ def test_vertex_normals_of_vertices_without_faces_are_up():
     alone = SurfaceMesh(v, f).vertex_normals([0])[0]
     np.testing.assert_allclose(both, alone, atol=1e-12)
     assert 0.0 < both[1] < both[2]  # between the two face normals
+
+
+def test_face_normals_table_and_rows_agree(sphere):
+    v, f = sphere
+    m = SurfaceMesh(v, f)
+    ids = np.array([0, 5, 5, len(f) - 1])
+    rows = m.normals_of(ids)  # from the columns, before any (F, 3) table
+    n = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
+    n /= np.linalg.norm(n, axis=1)[:, None]
+    np.testing.assert_allclose(m.face_normals, n, atol=1e-12)
+    np.testing.assert_array_equal(rows, m.face_normals[ids])
+    np.testing.assert_array_equal(m.normals_of(ids), rows)  # from the table
+    with pytest.raises(ValueError):
+        m.face_normals[0, 0] = 1.0
+    sliver = SurfaceMesh([[0.0, 0, 0], [1, 0, 0], [2, 0, 0], [0, 1, 0]], [[0, 1, 2], [0, 1, 3]])
+    np.testing.assert_array_equal(sliver.face_normals[0], 0.0)
+    assert sliver.degenerate.tolist() == [True, False]
