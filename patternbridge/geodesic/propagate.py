@@ -1,7 +1,8 @@
 """Single source, all destinations: the wavefront propagation with curvature flow.
 
-No priority queue: the wavefront grows in bands of one mean edge length (the
-radius limit ``r_max`` of the propagation rises band by band); a new vertex
+No priority queue: the wavefront grows in bands (the radius limit of the
+propagation rises band by band to 1.5 mean edge lengths beyond the nearest
+candidate vertex, and stops at ``r_max``); a new vertex
 takes the *straightest* path among its visited neighbours (the smallest turn
 between the neighbour's path tangent and the edge towards the new vertex,
 among neighbours whose distance estimate is close to the best) and extends it
@@ -59,8 +60,8 @@ _WINDOW_MIN = 8
 _WINDOW_MAX = 64
 #: candidate parents: distance estimate within this many edge lengths of the best
 _NEAR = 0.05
-#: wavefront band width, mean edge lengths
-_BAND = 1.0
+#: wavefront band: candidates this many mean edge lengths beyond the nearest are accepted
+_BAND = 1.5
 #: window rows kept at least (the buffer grows if the wavefront needs more)
 _ROWS_MIN = 16384
 #: the window flows
@@ -380,7 +381,6 @@ def geodesic_distances(
     seen = np.full(nv, -1, dtype=np.int64)  # scratch for de-duplication
     front = np.array([src], dtype=np.int64)
     pending = np.zeros(0, dtype=np.int64)
-    r = 0.0
     done = 1
     while True:
         # candidates: unvisited neighbours of the last band, and those left over
@@ -398,30 +398,29 @@ def geodesic_distances(
         lo = best.min()
         if lo > limit:
             break
-        r = max(r + _BAND * step, lo)
-        acc = best <= r
-        if acc.any():
-            # straightest parent among neighbours whose estimate is near the best
-            q = cand[acc]
-            nbr, el, dest = nbr[acc], el[acc], dest[acc]
-            near = dest <= best[acc, None] + _NEAR * el
-            edge = np.take(V, q, axis=0)[:, None, :] - np.take(V, nbr, axis=0)
-            cosang = np.einsum("ijk,ijk->ij", np.take(tdir, nbr, axis=0), edge)
-            cosang /= el
-            cosang[nbr == src] = 1.0
-            pick = np.where(near, cosang, -np.inf).argmax(axis=1)
-            p = np.take(nbr.ravel(), np.arange(0, nbr.size, nbr.shape[1]) + pick)
-            visited[q] = True
-            solver(q, p)
-            done += len(q)
-            if progress is not None:
-                progress("propagate", done, nv)
-        else:
-            q = np.zeros(0, dtype=np.int64)
+        # the radius limit follows the slowest part of the wavefront: one band
+        # beyond the nearest candidate (a limit that only grows by a band each
+        # round lets the side where the triangulation's diagonals point the way
+        # run ahead past the cut locus, on a cylinder by 45 %)
+        r = lo + _BAND * step
+        acc = best <= r  # holds for the nearest candidate at least
+        # straightest parent among neighbours whose estimate is near the best
+        q = cand[acc]
+        nbr, el, dest = nbr[acc], el[acc], dest[acc]
+        near = dest <= best[acc, None] + _NEAR * el
+        edge = np.take(V, q, axis=0)[:, None, :] - np.take(V, nbr, axis=0)
+        cosang = np.einsum("ijk,ijk->ij", np.take(tdir, nbr, axis=0), edge)
+        cosang /= el
+        cosang[nbr == src] = 1.0
+        pick = np.where(near, cosang, -np.inf).argmax(axis=1)
+        p = np.take(nbr.ravel(), np.arange(0, nbr.size, nbr.shape[1]) + pick)
+        visited[q] = True
+        solver(q, p)
+        done += len(q)
+        if progress is not None:
+            progress("propagate", done, nv)
         front = q
         pending = cand[~acc]
-        if r > limit and len(q) == 0:
-            break
     dist[dist > limit] = np.inf
     return dist
 
