@@ -28,6 +28,7 @@ row by row (``v`` rows of ``u`` columns), ``x`` then ``y`` for each point.
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 
 import numpy as np
@@ -200,7 +201,7 @@ class PieceGrid:
 def split_lines(lines: np.ndarray, max_gap_cm: float) -> np.ndarray:
     """``lines`` with every gap wider than ``max_gap_cm`` split into equal parts."""
     out = [lines[:1]]
-    for a, b in zip(lines[:-1], lines[1:]):
+    for a, b in itertools.pairwise(lines):
         n = int(np.ceil((b - a) / max_gap_cm - 1e-9)) if max_gap_cm > 0 else 1
         out.append(np.linspace(a, b, max(n, 1) + 1)[1:])
     return np.concatenate(out)
@@ -357,11 +358,13 @@ class PatternGrid:
             if g.nu >= 3:
                 h = np.diff(g.xs)
                 slope = np.diff(d, axis=2) / h[None, None, :, None]
-                parts.append((np.diff(slope, axis=2) * (0.5 * (h[1:] + h[:-1]))[None, None, :, None]).reshape(len(X), -1))
+                mid = 0.5 * (h[1:] + h[:-1])
+                parts.append((np.diff(slope, axis=2) * mid[None, None, :, None]).reshape(len(X), -1))
             if g.nv >= 3:
                 h = np.diff(g.ys)
                 slope = np.diff(d, axis=1) / h[None, :, None, None]
-                parts.append((np.diff(slope, axis=1) * (0.5 * (h[1:] + h[:-1]))[None, :, None, None]).reshape(len(X), -1))
+                mid = 0.5 * (h[1:] + h[:-1])
+                parts.append((np.diff(slope, axis=1) * mid[None, :, None, None]).reshape(len(X), -1))
         if not parts:
             return np.zeros((len(X), 0))
         return np.concatenate(parts, axis=1)
@@ -472,7 +475,7 @@ def deform_pattern(grid: PatternGrid, x: np.ndarray, *, size: str | None = None)
 
     x = np.asarray(x, dtype=np.float64).reshape(-1)
     pieces = []
-    for k, (piece, g) in enumerate(zip(grid.pattern.pieces, grid.pieces)):
+    for k, (piece, g) in enumerate(zip(grid.pattern.pieces, grid.pieces, strict=False)):
         control = x[grid.var_offsets[k]:grid.var_offsets[k + 1]].reshape(g.n_control, 2)
         outline = g.cut_weights @ control
 

@@ -47,6 +47,7 @@ from .grid import PatternGrid
 __all__ = [
     "Evaluation",
     "ObjectiveData",
+    "angle_change",
     "evaluate",
     "link_shares",
     "measurement_error",
@@ -56,7 +57,6 @@ __all__ = [
     "seam_error",
     "shape_error",
     "shape_error_all",
-    "angle_change",
 ]
 
 FOLD_MARGIN = 0.05
@@ -144,7 +144,7 @@ def _neighbours(grid: PatternGrid) -> tuple[np.ndarray, np.ndarray]:
     n = grid.n_points
     nxt = np.arange(1, n + 1)
     prv = np.arange(-1, n - 1)
-    for a, b in zip(grid.point_offsets[:-1], grid.point_offsets[1:]):
+    for a, b in zip(grid.point_offsets[:-1], grid.point_offsets[1:], strict=False):
         nxt[b - 1] = a
         prv[a] = b - 1
     return nxt.astype(np.int64), prv.astype(np.int64)
@@ -312,7 +312,7 @@ def objective_data(
         if seam.reverse:
             nb = nb[::-1]
         if na and len(na) == len(nb):
-            for va, vb in zip(na, nb):
+            for va, vb in zip(na, nb, strict=False):
                 col_a = np.zeros(n)
                 pos_a = int(np.flatnonzero(ia == va)[0])
                 col_a[ia[:pos_a]] = 1.0
@@ -348,7 +348,7 @@ def objective_data(
     for k, g in enumerate(grid.pieces):
         crit_k = np.asarray(g.critical)
         n_k = len(g.outline_weights)
-        for a, b in zip(crit_k, np.roll(crit_k, -1)):
+        for a, b in zip(crit_k, np.roll(crit_k, -1), strict=False):
             col = np.zeros(n)
             col[grid.point_offsets[k] + boundary_indices(n_k, int(a), int(b))[:-1]] = 1.0
             spans.append(col)
@@ -380,7 +380,8 @@ def objective_data(
         critical=crit.astype(np.int64), angle0=_angles(points0, prv, nxt), n_seams=S,
         piece_of_point=np.repeat(np.arange(len(grid.pieces)), np.diff(grid.point_offsets)).astype(np.int64),
         points0=points0,
-        centre0=np.stack([points0[a:b].mean(axis=0) for a, b in zip(grid.point_offsets[:-1], grid.point_offsets[1:])]),
+        centre0=np.stack([points0[a:b].mean(axis=0)
+                          for a, b in zip(grid.point_offsets[:-1], grid.point_offsets[1:], strict=True)]),
         extent_cm=np.array([g.extent_cm for g in grid.pieces]),
     )
     # reference values of the original design (turning-angle relation, notch offsets)

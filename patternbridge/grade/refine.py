@@ -125,7 +125,7 @@ def straight_edges(
             if cur:
                 runs.append(cur)
             for run in runs:
-                idx = np.array(run + [(run[-1] + 1) % n], dtype=np.int64)
+                idx = np.array([*run, (run[-1] + 1) % n], dtype=np.int64)
                 c = pts[idx, axis]
                 length = float(np.abs(along[run]).sum())
                 if np.ptp(c) <= max_offset_cm and length >= min_length_frac * g.extent_cm:
@@ -170,7 +170,7 @@ def row_basis(a: np.ndarray) -> np.ndarray:
 def _grain_weights(grid: PatternGrid) -> list[tuple[int, np.ndarray, np.ndarray]]:
     """Per piece with a grain line: (piece index, (2, m) bilinear weights of its ends, (2,) unit direction)."""
     out = []
-    for k, (piece, g) in enumerate(zip(grid.pattern.pieces, grid.pieces)):
+    for k, (piece, g) in enumerate(zip(grid.pattern.pieces, grid.pieces, strict=False)):
         line = piece.grain_line
         if line is None:
             continue
@@ -317,7 +317,7 @@ def _solve_qp(H, g, A_eq, b_eq, Jm, lo, hi, *, max_active: int = 30):
         lam = sol[n + len(b_eq):]
         changed = False
         # release bounds whose multiplier pushes the wrong way
-        for i, li in zip(idx, lam):
+        for i, li in zip(idx, lam, strict=False):
             upper = active[i] >= hi[i] - 1e-12
             if (upper and li < -1e-9) or (not upper and li > 1e-9):
                 del active[i]

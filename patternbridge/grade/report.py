@@ -36,10 +36,10 @@ def scores_dict(result: FitResult, scores: Scores) -> dict[str, Any]:
             "delta_cm": _r(e, 3),
         }
         for link_id, meas, t, a, e in zip(data.link_ids, data.link_measurements,
-                                          scores.target_cm, scores.achieved_cm, err)
+                                          scores.target_cm, scores.achieved_cm, err, strict=False)
     ]
     seams = []
-    for s, (seam_id, (a, b)) in enumerate(zip(data.seam_ids, data.seam_labels)):
+    for s, (seam_id, (a, b)) in enumerate(zip(data.seam_ids, data.seam_labels, strict=False)):
         notch = np.abs(scores.notch_cm[scores.notch_seam == s])
         seams.append({
             "id": seam_id,
@@ -82,8 +82,10 @@ def fit_report(result: FitResult, *, character: str = "", garment: str = "") -> 
     Keys: ``character``, ``garment``, ``measurements``, ``seams``,
     ``shape_error``, ``seconds`` (the whole grading), ``baseline``
     (proportional scaling along/across the grain, same figures),
-    ``baselines`` (every baseline by name), ``nsga2`` (the front member
-    chosen before the final step), ``pareto_front`` and run settings.
+    ``baselines`` (every baseline by name), ``nsga2`` (NSGA-II's own
+    choice, before the final step), ``pareto_front`` (the final front:
+    objectives per row, the chosen row, which rows the final step made) and
+    run settings.
     """
     out: dict[str, Any] = {"character": character, "garment": garment or result.original.style}
     out.update(scores_dict(result, result.chosen.scores))
@@ -97,6 +99,7 @@ def fit_report(result: FitResult, *, character: str = "", garment: str = "") -> 
         "objectives": ["measurement_cm", "seam", "shape_rad"],
         "F": np.round(result.front_F, 5).tolist(),
         "chosen_index": int(result.chosen_index),
+        "refined": [bool(v) for v in result.front_refined],
     }
     out["settings"] = {
         "seed": result.seed,

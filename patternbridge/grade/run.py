@@ -526,8 +526,8 @@ def _meets(sol: Solution, *, mean_cm: float, max_cm: float, seam_cm: float) -> b
 
 
 def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max_cell_frac, tol_measure_cm,
-                 tol_seam, size, do_repair, measure_band_cm, keep_straight, keep_grain, refine_iter, w_fit, w_design, w_share,
-                 design_levels, n_refine, source, progress):
+                 tol_seam, size, do_repair, measure_band_cm, keep_straight, keep_grain, refine_iter, w_fit, w_design,
+                 w_share, design_levels, n_refine, source, progress):
     from pymoo.algorithms.moo.nsga2 import NSGA2
     from pymoo.optimize import minimize
 
@@ -665,8 +665,9 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
                               seam_cm=accept["seam_cm"])
     idx = choose(front_F, tol_measure_cm=tol_measure_cm, tol_seam=tol_seam, within=within)
     by_x = {s.x.tobytes(): s for s in refined}
-    chosen = by_x.get(front_X[idx].tobytes()) or _solution(grid, data, "nsga2", front_X[idx], size,
-                                                           "least shape error within tolerance")
+    chosen = by_x.get(front_X[idx].tobytes()) or _solution(
+        grid, data, "nsga2", front_X[idx], size,
+        "NSGA-II front member: least shape error within tolerance on the final front")
     if do_repair and not within[idx]:
         # nothing on the front meets the fit: the penalty repair of the NSGA-II
         # choice, when it gets closer

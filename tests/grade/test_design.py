@@ -50,7 +50,7 @@ def _hem_ratio(grid, x):
 
 
 def test_cuff_keeps_its_height(shirt_fit):
-    grid, data, x_prop, res = shirt_fit
+    grid, _data, x_prop, res = shirt_fit
     assert res.max_violation_cm < 1e-3
     k = grid.piece_index("cuff")
     height = np.ptp(grid.piece_outline(res.x[None, :], k)[0, :, 1])
@@ -60,7 +60,7 @@ def test_cuff_keeps_its_height(shirt_fit):
 
 
 def test_front_back_hem_split_kept(shirt_fit):
-    grid, data, x_prop, res = shirt_fit
+    grid, _data, _x_prop, res = shirt_fit
     ratio0 = _hem_ratio(grid, grid.x0)
     assert 0.8 <= _hem_ratio(grid, res.x) / ratio0 <= 1.25
 
@@ -82,7 +82,7 @@ def test_design_deviation_zero_under_translation_and_grows_with_collapse():
     from grade_fixtures import skirt_pattern
 
     grid = build_grid(skirt_pattern())
-    moved = (grid.x0.reshape(-1, 2) + [3.0, -2.0]).ravel()
+    moved = (grid.x0.reshape(-1, 2) + np.array([3.0, -2.0])).ravel()
     np.testing.assert_allclose(design_deviation(grid, moved[None, :], grid.x0), 0.0, atol=1e-12)
     squashed = (grid.x0.reshape(-1, 2) * [1.0, 0.5]).ravel()
     flat = (grid.x0.reshape(-1, 2) * [1.0, 0.1]).ravel()
