@@ -1,10 +1,10 @@
 """Single source, all destinations: the wavefront propagation with curvature flow.
 
-No priority queue: the wavefront grows in bands (the radius limit of the
-propagation rises band by band to 1.5 mean edge lengths beyond the nearest
-candidate vertex, and stops at ``r_max``); a new vertex
-takes the *straightest* path among its visited neighbours (the smallest turn
-between the neighbour's path tangent and the edge towards the new vertex,
+No priority queue: the wavefront grows in bands (each band accepts the
+candidate vertices within 1.5 mean edge lengths of the nearest one, so the
+radius limit follows the slowest part of the front; ``r_max`` stops it); a new
+vertex takes the *straightest* path among its visited neighbours (the smallest
+turn between the neighbour's path tangent and the edge towards the new vertex,
 among neighbours whose distance estimate is close to the best) and extends it
 by the edge; then the path is relaxed by the curvature flow.
 
@@ -12,19 +12,20 @@ by the edge; then the path is relaxed by the curvature flow.
   re-solved, the rest is frozen, so each vertex costs a constant and the whole
   propagation is linear in the number of vertices. The windows of one band are
   independent: they are laid end to end and solved as one tridiagonal (or,
-  with ``flow="lsq"``, block-tridiagonal) system.
-* full form (``window="full"``): every path is re-solved whole (slow; small
-  meshes only).
+  with ``flow="lsq"``, block-tridiagonal) system, one LAPACK call per band.
+* full form (``window="full"``): every path is re-solved whole by the
+  least-squares flow (slow; small meshes only).
 
 Two flows for the windows. ``flow="lateral"`` (default) keeps the rows of the
 geodesic curvature only: each free sample moves in its tangent plane across
-the path, ``b_i . (p_{i-1} - 2 p_i + p_{i+1}) = 0`` with ``b_i = n_i x
-(p_{i+1} - p_{i-1})``, so the samples keep their places along the path (one
-unknown per sample). ``flow="lsq"`` solves both tangential rows of the
-least-squares system, which also evens out the spacing (two unknowns per
-sample); samples then slide along the path and, where it turns round a fold
-(under the chin, in the armpit), bridge the fold, which makes the lateral form
-both faster and more accurate (see ``docs/geodesic.md``).
+the path (along ``b_i = n_i x (p_{i+1} - p_{i-1})``, normalised) until
+``b_i . ((p_{i+1} - p_i) / h_i - (p_i - p_{i-1}) / h_{i-1}) = 0``, so the
+samples keep their places along the path (one unknown per sample).
+``flow="lsq"`` solves both tangential rows of the least-squares system, which
+also even out the spacing (two unknowns per sample); samples then slide along
+the path and, where it turns round a fold (under the chin, in the armpit),
+bridge the fold. The lateral form is both faster and more accurate (see
+``docs/geodesic.md``).
 
 ``window=None`` (default) sizes the window from the mesh resolution: the
 error comes from the kink where a window starts, so the window has to span a
@@ -44,6 +45,7 @@ from ..errors import MeshError, SolverError
 from .surface import SurfaceMesh, SurfacePoint
 
 __all__ = [
+    "FLOWS",
     "WINDOW_CM",
     "auto_window",
     "geodesic_distances",
@@ -117,7 +119,8 @@ def solve_windows(
     solves it exactly. Writing each free sample as ``anchor + T u`` with ``T`` an
     orthonormal tangent basis satisfies the plane rows identically and leaves
     two tangential rows per sample, ``2 u_i - T_i^T T_{i-1} u_{i-1} -
-    T_i^T T_{i+1} u_{i+1} = T_i^T (b_{i-1} - 2 b_i + b_{i+1})``: a symmetric
+    T_i^T T_{i+1} u_{i+1} = T_i^T (b_{i-1} - 2 b_i + b_{i+1})`` (``b``: the
+    anchors of free samples, the positions of fixed ones): a symmetric
     positive definite block-tridiagonal system (a discrete connection
     Laplacian with fixed ends). The windows are laid end to end as one banded
     matrix (bandwidth 3; fixed samples have identity rows, so the windows do
