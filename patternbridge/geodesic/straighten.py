@@ -221,10 +221,26 @@ def strip_from_vertex_path(
     return strip
 
 
-def _clean(strip: list[int]) -> list[int]:
-    """Drop repeated faces and immediate back-tracks (a, b, a -> a)."""
-    out: list[int] = []
-    for f in strip:
+def _clean(strip: list[int], lo: int = 0, tail: int | None = None) -> list[int]:
+    """Drop repeated faces and immediate back-tracks (a, b, a -> a).
+
+    ``strip[:lo]`` and ``strip[tail:]`` may be given as already clean (the
+    parts of a clean strip that an edit left alone): the scan starts at ``lo``
+    and stops once it is two faces into the clean tail with nothing pending.
+    """
+    out: list[int] = strip[:lo]
+    n = len(strip)
+    stop = n if tail is None else max(tail + 2, lo + 2)
+    for j in range(lo, n):
+        f = strip[j]
+        if (
+            j >= stop
+            and len(out) >= 2
+            and out[-1] == strip[j - 1]
+            and out[-2] == strip[j - 2]
+        ):
+            out.extend(strip[j:])
+            break
         if out and out[-1] == f:
             continue
         if len(out) >= 2 and out[-2] == f:
@@ -373,56 +389,58 @@ def _funnel(portals, s2, e2):
     """Simple funnel: returns apexes as (xy, portal_index, vertex_id or -1).
 
     Portal index 0 is the start and ``len(portals) + 1`` the end. The cross
-    products are written out inline: this loop runs for every portal of every
-    straightening round.
+    products are written out inline and the funnel sides are kept as vectors
+    from the apex: this loop runs for every portal of every straightening
+    round.
     """
     P = [(-1, -1, s2, s2), *portals, (-1, -1, e2, e2)]
     n = len(P)
     apex, apex_i, apex_v = s2, 0, -1
-    left, left_i, left_v = s2, 0, -1
-    right, right_i, right_v = s2, 0, -1
+    ax, ay = apex
+    # funnel sides: point, portal index, vertex id, vector from the apex, and
+    # whether the side still sits on the apex
+    left, left_i, left_v, lx0, ly0, l_at = s2, 0, -1, 0.0, 0.0, True
+    right, right_i, right_v, rx0, ry0, r_at = s2, 0, -1, 0.0, 0.0, True
     out = [(s2, 0, -1)]
     i = 1
     guard = 0
+    limit = 20 * n + 100
     while i < n:
         guard += 1
-        if guard > 20 * n + 100:
+        if guard > limit:
             break
         lid, rid, pl, pr = P[i]
-        ax, ay = apex[0], apex[1]
         # tighten the right side
         if rid != apex_v or rid < 0:
             rx, ry = pr[0] - ax, pr[1] - ay
-            if (right_i == apex_i and right is apex) or (
-                (right[0] - ax) * ry - (right[1] - ay) * rx >= 0.0
-            ):
-                if (left is apex and left_i == apex_i) or (
-                    (left[0] - ax) * ry - (left[1] - ay) * rx < 0.0
-                ):
-                    right, right_i, right_v = pr, i, rid
+            if r_at or rx0 * ry - ry0 * rx >= 0.0:
+                if l_at or lx0 * ry - ly0 * rx < 0.0:
+                    right, right_i, right_v, rx0, ry0, r_at = pr, i, rid, rx, ry, False
                 else:
                     apex, apex_i, apex_v = left, left_i, left_v
+                    ax, ay = apex
                     out.append((apex, apex_i, apex_v))
                     left = right = apex
                     left_i = right_i = apex_i
                     left_v = right_v = apex_v
+                    lx0 = ly0 = rx0 = ry0 = 0.0
+                    l_at = r_at = True
                     i = apex_i + 1
                     continue
         if lid != apex_v or lid < 0:
             lx, ly = pl[0] - ax, pl[1] - ay
-            if (left_i == apex_i and left is apex) or (
-                (left[0] - ax) * ly - (left[1] - ay) * lx <= 0.0
-            ):
-                if (right is apex and right_i == apex_i) or (
-                    (right[0] - ax) * ly - (right[1] - ay) * lx > 0.0
-                ):
-                    left, left_i, left_v = pl, i, lid
+            if l_at or lx0 * ly - ly0 * lx <= 0.0:
+                if r_at or rx0 * ly - ry0 * lx > 0.0:
+                    left, left_i, left_v, lx0, ly0, l_at = pl, i, lid, lx, ly, False
                 else:
                     apex, apex_i, apex_v = right, right_i, right_v
+                    ax, ay = apex
                     out.append((apex, apex_i, apex_v))
                     left = right = apex
                     left_i = right_i = apex_i
                     left_v = right_v = apex_v
+                    lx0 = ly0 = rx0 = ry0 = 0.0
+                    l_at = r_at = True
                     i = apex_i + 1
                     continue
         i += 1
@@ -539,13 +557,17 @@ def straighten(
             break
         edits.sort(key=lambda t: t[0], reverse=True)
         floor = len(strip) + 1
+        n_old = len(strip)
+        top = -1
         for lo, hi, new in edits:
             if hi >= floor:
                 continue
             strip[lo : hi + 1] = new
             floor = lo
+            top = max(top, hi)
             n_swings += 1
-        strip = _clean(strip)
+        # only the edited stretch can hold repeats or back-tracks
+        strip = _clean(strip, max(floor - 2, 0), len(strip) - (n_old - 1 - top))
     return _assemble(loc, strip, portals, apexes, s, e, n_swings)
 
 

@@ -284,3 +284,20 @@ def test_search_around_a_long_way_round(shapes):
     path = geodesic_path(mesh, a, b)
     assert path.length <= length + 1e-9
     assert path.length > 70.0
+
+
+def test_partial_strip_clean_equals_full_clean():
+    """Cleaning only the edited stretch of a clean strip gives the full result."""
+    from patternbridge.geodesic.straighten import _clean
+
+    rng = np.random.default_rng(8)
+    for _ in range(400):
+        base = _clean(rng.integers(0, 6, int(rng.integers(2, 30))).tolist())
+        if len(base) < 2:
+            continue
+        lo = int(rng.integers(0, len(base)))
+        hi = int(rng.integers(lo, len(base)))
+        new = rng.integers(0, 6, int(rng.integers(0, 6))).tolist()
+        edited = base[:lo] + new + base[hi + 1 :]
+        tail = len(edited) - (len(base) - 1 - hi)
+        assert _clean(edited, max(lo - 2, 0), tail) == _clean(edited)
