@@ -234,6 +234,40 @@ class BodyCollider:
             x += delta / np.maximum(cnt, 1.0)[:, None]
         return x
 
+    def escape(self, points: np.ndarray, offset_cm: float, *, reach_cm: float = 20.0, step_cm: float = 0.25) -> np.ndarray:
+        """Move points out of the body along the shortest straight way out (the last resort).
+
+        For a point caught where two parts of the body touch (cloth between
+        an arm pressed against the hip), pushing it out of one surface puts
+        it into the other. Here 26 directions (the cube's faces, edges and
+        corners) are sampled every ``step_cm`` up to ``reach_cm``; the point
+        goes to the nearest sample that is outside and at least
+        ``offset_cm`` from the skin. Points with no such sample stay.
+
+        Returns
+        -------
+        (n, 3) float64, the moved copy
+        """
+        p = np.array(points, dtype=np.float64)
+        if len(p) == 0:
+            return p
+        g = np.array([-1.0, 0.0, 1.0])
+        dirs = np.stack(np.meshgrid(g, g, g, indexing="ij"), axis=-1).reshape(-1, 3)
+        dirs = dirs[np.any(dirs != 0, axis=1)]
+        dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
+        ts = np.arange(step_cm, reach_cm + 1e-9, step_cm)
+        cand = p[:, None, None, :] + ts[None, None, :, None] * dirs[None, :, None, :]  # (n, 26, T, 3)
+        flat = cand.reshape(-1, 3)
+        free = ~self.scene.compute_occupancy(self._t(flat)).numpy().astype(bool)
+        free &= np.abs(self.signed_distance(flat)) >= offset_cm
+        free = free.reshape(len(p), len(dirs), len(ts))
+        first = np.where(free.any(axis=2), np.argmax(free, axis=2), len(ts))  # (n, 26)
+        best = np.argmin(first, axis=1)
+        k = first[np.arange(len(p)), best]
+        ok = k < len(ts)
+        p[ok] = cand[np.flatnonzero(ok), best[ok], k[ok]]
+        return p
+
     def inside(self, points: np.ndarray) -> np.ndarray:
         """(n,) bool, True where the point is inside the body (or a helper volume)."""
         t = self._t(points)

@@ -344,8 +344,11 @@ def finish(sim: Simulation) -> Garment:
     # no triangle may cut the skin either (a long edge over a thin limb)
     wx = collider.clear_triangles(wx, inv[cloth.faces], settings.offset_cm)
     wx, _ = collider.push_out(wx, 0.5 * settings.offset_cm, robust=True)
-    x = wx[inv]
     inside = collider.inside(wx)
+    if inside.any():  # caught where two body parts touch: out the shortest straight way
+        wx[inside] = collider.escape(wx[inside], 0.5 * settings.offset_cm)
+        inside = collider.inside(wx)
+    x = wx[inv]
     seconds = time.perf_counter() - sim.t0
 
     rigged = character.skeleton is not None and character.skin is not None
