@@ -52,15 +52,20 @@ def _crs(a, b):
     )
 
 
+def _plane(loc: _Local, f: int) -> tuple:
+    """Corners a, b, c of face ``f``, its edges b - a, c - b, a - c, its
+    (unnormalised) normal n = (b - a) x (c - a) and n . n."""
+    a, b, c = (loc.pos(v) for v in loc.face(f))
+    n = _crs(_sub(b, a), _sub(c, a))
+    return (a, b, c, _sub(b, a), _sub(c, b), _sub(a, c), n, _dot(n, n))
+
+
 def _project_into(loc: _Local, f: int, q, cache: dict, tol: float = 1e-9):
     """``q`` projected onto the plane of face ``f`` if it falls inside the face,
     else None (the normal offset of ``q`` does not change the inside test)."""
     g = cache.get(f)
     if g is None:
-        a, b, c = (loc.pos(v) for v in loc.face(f))
-        n = _crs(_sub(b, a), _sub(c, a))
-        g = (a, b, c, _sub(b, a), _sub(c, b), _sub(a, c), n, _dot(n, n))
-        cache[f] = g
+        g = cache[f] = _plane(loc, f)
     a, b, c, eab, ebc, eca, n, nn = g
     lim = -tol * nn
     n0, n1, n2 = n
@@ -161,41 +166,48 @@ def project_walk(
             i += 1
             continue
         fv = loc.face(f)
-        a, b, c = (loc.pos(v) for v in fv)
-        nf = _crs(_sub(b, a), _sub(c, a))
-        d = _sub(q, x)
-        N = _crs(d, nf)
-        nn = math.sqrt(_dot(N, N))
+        g = planes.get(f)
+        if g is None:
+            g = planes[f] = _plane(loc, f)
+        P3 = (g[0], g[1], g[2])
+        n0, n1, n2 = g[6]
+        x0, x1, x2 = x
+        d0, d1, d2 = q[0] - x0, q[1] - x1, q[2] - x2
+        # normal of the plane through x, the next sample and the face normal
+        N0 = d1 * n2 - d2 * n1
+        N1 = d2 * n0 - d0 * n2
+        N2 = d0 * n1 - d1 * n0
+        nn = math.sqrt(N0 * N0 + N1 * N1 + N2 * N2)
         if nn == 0.0:
             return None
-        N = (N[0] / nn, N[1] / nn, N[2] / nn)
-        sd = {}
-        for v in fv:
-            pv = loc.pos(v)
-            sd[v] = (
-                N[0] * (pv[0] - x[0]) + N[1] * (pv[1] - x[1]) + N[2] * (pv[2] - x[2])
-            )
-        tol = 1e-9 * math.sqrt(_dot(d, d)) + 1e-12
+        N0, N1, N2 = N0 / nn, N1 / nn, N2 / nn
+        sd = [
+            N0 * (pv[0] - x0) + N1 * (pv[1] - x1) + N2 * (pv[2] - x2) for pv in P3
+        ]
+        tol = 1e-9 * math.sqrt(d0 * d0 + d1 * d1 + d2 * d2) + 1e-12
         best = None
-        for v in fv:  # the plane through a vertex ahead
-            if v != at_vertex and abs(sd[v]) <= tol:
-                ahead = _dot(_sub(loc.pos(v), x), d)
+        for k in range(3):  # the plane through a vertex ahead
+            v = fv[k]
+            if v != at_vertex and abs(sd[k]) <= tol:
+                pv = P3[k]
+                ahead = (pv[0] - x0) * d0 + (pv[1] - x1) * d1 + (pv[2] - x2) * d2
                 if ahead > 0 and (best is None or ahead > best[0]):
-                    best = (ahead, v, v, loc.pos(v))
-        for u, w in ((fv[0], fv[1]), (fv[1], fv[2]), (fv[2], fv[0])):
+                    best = (ahead, v, v, pv)
+        for ku, kw in ((0, 1), (1, 2), (2, 0)):
+            u, w = fv[ku], fv[kw]
             if entry is not None and {u, w} == entry:
                 continue
-            su, sw = sd[u], sd[w]
+            su, sw = sd[ku], sd[kw]
             if abs(su) <= tol or abs(sw) <= tol or su * sw > 0:
                 continue
             t = su / (su - sw)
-            pu, pw = loc.pos(u), loc.pos(w)
+            pu, pw = P3[ku], P3[kw]
             cpt = (
                 pu[0] + t * (pw[0] - pu[0]),
                 pu[1] + t * (pw[1] - pu[1]),
                 pu[2] + t * (pw[2] - pu[2]),
             )
-            ahead = _dot(_sub(cpt, x), d)
+            ahead = (cpt[0] - x0) * d0 + (cpt[1] - x1) * d1 + (cpt[2] - x2) * d2
             if ahead > 0 and (best is None or ahead > best[0]):
                 best = (ahead, u, w, cpt)
         if best is None:
