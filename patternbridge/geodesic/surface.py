@@ -25,6 +25,8 @@ _AREA_EPS = 1e-12
 # offset from a face corner (3 f + k) to the next / previous corner of face f
 _NEXT = np.array([1, 1, -2], dtype=np.int64)
 _PREV = np.array([2, -1, -1], dtype=np.int64)
+#: bits of the (vertex, corner, next vertex) sort keys; wider keys are split
+_PACK_BITS = 63
 #: cells of the vertex grid used to pick the vertices near a segment
 _GRID_CELLS = 1 << 15
 
@@ -275,7 +277,7 @@ class SurfaceMesh:
             nxt = self.faces[:, [1, 2, 0]].ravel()
         sj = max(int(nf3).bit_length(), 1)
         sv = max(int(n).bit_length(), 1)
-        packed = sv + sj + sv <= 63
+        packed = sv + sj + sv <= _PACK_BITS
         # sort (vertex, corner) keys; when the bits allow, the next vertex
         # rides along in the low bits and needs no gather afterwards
         low = sj + sv if packed else sj

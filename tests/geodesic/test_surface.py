@@ -207,3 +207,18 @@ def test_face_normals_table_and_rows_agree(sphere):
     sliver = SurfaceMesh([[0.0, 0, 0], [1, 0, 0], [2, 0, 0], [0, 1, 0]], [[0, 1, 2], [0, 1, 3]])
     np.testing.assert_array_equal(sliver.face_normals[0], 0.0)
     assert sliver.degenerate.tolist() == [True, False]
+
+
+def test_corner_lists_without_packed_keys(sphere, shapes, monkeypatch):
+    """Meshes too large to pack the next vertex into the sort key (over about
+    a million vertices) get the same corner lists the other way."""
+    from patternbridge.geodesic import surface
+
+    for v, f in (sphere, _flipped_open_grid(shapes)):
+        packed = SurfaceMesh(v, f)
+        monkeypatch.setattr(surface, "_PACK_BITS", 0)
+        split = SurfaceMesh(v, f)
+        np.testing.assert_array_equal(split.corners[0], packed.corners[0])
+        np.testing.assert_array_equal(split.corners[1], packed.corners[1])
+        np.testing.assert_array_equal(split.corner_next, packed.corner_next)
+        monkeypatch.setattr(surface, "_PACK_BITS", 63)
