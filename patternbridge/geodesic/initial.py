@@ -185,26 +185,33 @@ def _sub_graph(mesh: SurfaceMesh, a: int, b: int, r: float, bound: float):
         ok &= da <= bound
     keep = cand[ok]
     n = len(keep)
-    local = np.full(mesh.n_vertices, -1, dtype=np.int32)
-    local[keep] = np.arange(n, dtype=np.int32)
+    # int64 (intp) indices throughout: numpy converts other index types on
+    # every gather
+    local = np.full(mesh.n_vertices, -1, dtype=np.int64)
+    local[keep] = np.arange(n)
     counts, nxt, _ = mesh.ring_entries(keep, prev=False)
     cols = local[nxt]
     inside = cols >= 0
-    rows = np.repeat(np.arange(n, dtype=np.int32), counts)[inside]
     cols = cols[inside]
+    # kept entries per row: rows come in order, so the source coordinates
+    # are repeats, not gathers
+    kept = np.zeros(len(inside) + 1, dtype=np.int64)
+    np.cumsum(inside, out=kept[1:])
+    ends = np.cumsum(counts)
+    per_row = kept[ends] - kept[ends - counts]
     # edge lengths from the sub-graph's own coordinates (small, cache-resident)
     w = np.zeros(len(cols))
     for c in (x, y, z):
         ck = c[ok]
-        d = ck[rows]
+        d = np.repeat(ck, per_row)
         d -= ck[cols]
         d *= d
         w += d
     np.sqrt(w, out=w)
     np.maximum(w, 1e-12, out=w)  # a zero weight would read as "no edge"
     indptr = np.zeros(n + 1, dtype=np.int32)
-    np.cumsum(np.bincount(rows, minlength=n), out=indptr[1:])
-    g = sp.csr_matrix((w, cols, indptr), shape=(n, n))
+    np.cumsum(per_row, out=indptr[1:])
+    g = sp.csr_matrix((w, cols.astype(np.int32), indptr), shape=(n, n))
     return keep, g, int(local[a]), int(local[b])
 
 
