@@ -33,6 +33,7 @@ import numpy as np
 import pymoo
 
 from patternbridge import __version__
+from patternbridge.grade.refine import grain_tilt
 from patternbridge.grade.report import fit_report
 from patternbridge.grade.run import fit_pattern
 from patternbridge.library import load_garment
@@ -105,6 +106,8 @@ def main(argv: list[str] | None = None) -> int:
             result = fit_pattern(pattern, values, seed=args.seed, size=char, source=garment, **kwargs)
             rep = fit_report(result, character=char, garment=garment)
             rep["measure_seconds"] = round(t_measure, 3)
+            tilt = grain_tilt(result.grid, result.chosen.x) if result.chosen.x is not None else np.zeros((1, 0))
+            rep["grain_tilt_deg"] = round(float(np.degrees(np.abs(tilt)).max(initial=0.0)), 4)
             reports.append(rep)
             ours = figures(rep)
             prop = figures(rep["baselines"]["proportional"])
@@ -135,7 +138,12 @@ def main(argv: list[str] | None = None) -> int:
               f"every link: median {np.median(errs) * 10:.2f} mm, 90th percentile "
               f"{np.percentile(errs, 90) * 10:.2f} mm, max {errs.max() * 10:.2f} mm; "
               f"shape / proportional: mean {ratio.mean():.2f}, max {ratio.max():.2f}; "
-              f"worst seam {max(r['max_seam_mm'] for r in reports):.3f} mm")
+              f"worst seam {max(r['max_seam_mm'] for r in reports):.3f} mm; "
+              f"worst grain tilt {max(r['grain_tilt_deg'] for r in reports):.3f}°")
+        refined = sum(r["method"] == "nsga2+refine" for r in reports)
+        full = sum("design weight x1," in r["note"] + "," for r in reports)
+        print(f"# chosen: a refined solution in {refined} of {len(reports)} cases (else an NSGA-II front member); "
+              f"full design weight in {full}")
         for garment in args.garments.split(","):
             secs = [r["seconds"] for r in reports if r["garment"] == garment]
             if secs:

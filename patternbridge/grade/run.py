@@ -342,14 +342,16 @@ def refine_members(F: np.ndarray, choice: int, n: int, *, tol_measure_cm: float 
 
 
 def within_tolerance(grid: PatternGrid, data: ObjectiveData, X: np.ndarray, *, mean_cm: float = 0.5,
-                     max_cm: float = 1.5, seam_cm: float = 0.1) -> np.ndarray:
+                     max_cm: float = 1.5, seam_cm: float = 0.1, grain_deg: float | None = 0.5) -> np.ndarray:
     """(n_pop,) bool: which individuals meet the fit (objectives 1 and 2 within tolerance).
 
     Mean measurement error ≤ ``mean_cm``, every measurement within
     ``max_cm``, every seam length mismatch and notch misalignment within
-    ``seam_cm``, no folded grid cell and every outline simple. Vectorised
-    over ``X (n_pop, n_var)``; the simplicity test runs only on the rows that
-    pass the rest.
+    ``seam_cm``, every grain line turned by at most ``grain_deg`` (None: not
+    checked; a piece cut off grain hangs askew however well it measures),
+    no folded grid cell and every outline simple. Vectorised over
+    ``X (n_pop, n_var)``; the simplicity test runs only on the rows that pass
+    the rest.
     """
     X = np.atleast_2d(np.asarray(X, dtype=np.float64))
     ev = evaluate(data, grid.outlines(X))
@@ -357,6 +359,10 @@ def within_tolerance(grid: PatternGrid, data: ObjectiveData, X: np.ndarray, *, m
     seams = np.abs(np.concatenate([ev.seam_mismatch_cm, ev.notch_cm], axis=1))
     ok = ((ev.measurement_error <= mean_cm) & (err.max(axis=1, initial=0.0) <= max_cm)
           & (seams.max(axis=1, initial=0.0) <= seam_cm) & (grid.fold_margin(X) > 0))
+    if grain_deg is not None:
+        from .refine import grain_tilt
+
+        ok &= np.degrees(np.abs(grain_tilt(grid, X))).max(axis=1, initial=0.0) <= grain_deg
     for i in np.flatnonzero(ok):
         ok[i] = _is_simple(deform_pattern(grid, X[i]))
     return ok
@@ -490,7 +496,9 @@ def fit_pattern(
         error per cm of mean measurement error (:func:`~.refine.refine`)
     w_design, w_share : full weights of the design-preservation terms
     design_levels : factors on those weights tried in turn until the result
-        changes the design less than proportional scaling
+        changes the design less than proportional scaling (with one
+        bisection step between the last level that did not and the first
+        that did)
     n_refine : NSGA-II front members the final step starts from
     source : pattern name for error messages
     progress : ``progress(stage, done, total)`` callback
@@ -579,39 +587,51 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
 
     accept = {"mean_cm": min(tol_measure_cm, 0.5), "max_cm": 1.5, "seam_cm": 0.1}
     shape_ref = baselines["proportional"].scores.shape_error
-    first_level = [0]
+    start_level = [max(design_levels, default=0.0)]
+
+    def finish_at(start_name: str, x_start: np.ndarray, level: float) -> Solution:
+        res = refine(grid, data, x_start, measure_tol_cm=measure_band_cm, straight=straight,
+                     max_iter=refine_iter, x_design=x_axis, w_design=w_design * level,
+                     w_share=w_share * level, w_fit=w_fit, progress=progress)
+        if res.max_violation_cm > 1e-3:
+            log.info("%s: final step from the %s (design weight x%.3g) left a violation of %.3g cm",
+                     source, start_name, level, res.max_violation_cm)
+        return _solution(grid, data, "nsga2+refine", res.x, size,
+                         f"least shape change under the fit, started from the {start_name}, "
+                         f"design weight x{level:.3g}")
 
     def finish(start_name: str, x_start: np.ndarray) -> Solution | None:
         """The constrained final step from ``x_start`` with the design-weight continuation.
 
         The design terms run at full weight first; when the result changes the
         design more than proportional scaling does (shape error not below
-        scaling's), the step is run again from the same start with a third of
-        the weight, and so on down to none. The first result below scaling's
-        shape error is taken, else the fitted one with the least shape error;
-        later starts begin at the level that worked. None when no run meets
-        the fit.
+        scaling's), the step is run again from the same start at the next
+        ``design_levels`` factor (a third, a ninth, none). When a level
+        passes after one that did not, the geometric mean of the two is tried
+        once and taken if it passes too: the largest weight found whose
+        shape error is below scaling's. Later starts begin at that level (it
+        is a property of the garment and the character more than of the
+        start). If no level passes, the fitted result with the least shape
+        error; None when no run meets the fit.
         """
+        levels = [start_level[0]] + [v for v in design_levels if v < start_level[0]]
         best: Solution | None = None
-        for j in range(first_level[0], len(design_levels)):
-            level = design_levels[j]
-            res = refine(grid, data, x_start, measure_tol_cm=measure_band_cm, straight=straight,
-                         max_iter=refine_iter, x_design=x_axis, w_design=w_design * level,
-                         w_share=w_share * level, w_fit=w_fit, progress=progress)
-            cand = _solution(grid, data, "nsga2+refine", res.x, size,
-                             f"least shape change under the fit, started from the {start_name}, "
-                             f"design weight x{level:.3g}")
+        failed: float | None = None
+        for level in levels:
+            cand = finish_at(start_name, x_start, level)
             if not _meets(cand, **accept):
-                log.info("%s: final step from the %s (design weight x%.3g) missed the fit (violation %.3g cm)",
-                         source, start_name, level, res.max_violation_cm)
                 continue
+            if cand.scores.shape_error < shape_ref:
+                if failed is not None:
+                    mid = float(np.sqrt(failed * level)) if level > 0 else failed / 3.0
+                    between = finish_at(start_name, x_start, mid)
+                    if _meets(between, **accept) and between.scores.shape_error < shape_ref:
+                        cand, level = between, mid
+                start_level[0] = level
+                return cand
             if best is None or cand.scores.shape_error < best.scores.shape_error:
                 best = cand
-            if cand.scores.shape_error < shape_ref:
-                # later starts begin at this level: it is a property of the
-                # garment and the character more than of the start
-                first_level[0] = j
-                break
+            failed = level
         return best
 
     refined: list[Solution] = []
@@ -662,7 +682,7 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
     keep = non_dominated(front_F)
     front_X, front_F, is_refined = front_X[keep], front_F[keep], is_refined[keep]
     within = within_tolerance(grid, data, front_X, mean_cm=accept["mean_cm"], max_cm=accept["max_cm"],
-                              seam_cm=accept["seam_cm"])
+                              seam_cm=accept["seam_cm"], grain_deg=0.5 if keep_grain else None)
     idx = choose(front_F, tol_measure_cm=tol_measure_cm, tol_seam=tol_seam, within=within)
     by_x = {s.x.tobytes(): s for s in refined}
     chosen = by_x.get(front_X[idx].tobytes()) or _solution(
