@@ -154,7 +154,7 @@ def geodesic_path(
 
 def _one_route(mesh: SurfaceMesh, vpath, ea: Endpoint, eb: Endpoint, method: str):
     """(points, faces, edges) of one route by ``method``; None when no strip."""
-    loc = _Local(mesh)
+    loc = _Local.of(mesh)
     if method == "dijkstra":
         V = mesh.vertices
         pts = np.vstack([ea.xyz, V[vpath], eb.xyz])

@@ -56,8 +56,22 @@ class StraightPath:
     n_swings: int
 
 
+#: a mesh's shared caches are dropped and started afresh past this many faces
+_LOCAL_MAX_FACES = 200_000
+
+
 class _Local:
-    """Per-call caches of face corners and vertex fans (pure Python for speed)."""
+    """Caches of face corners, vertex fans and unfolding steps (pure Python
+    for speed). Everything in them depends on the mesh alone, so one instance
+    serves every path on a mesh: see :meth:`of`."""
+
+    @classmethod
+    def of(cls, mesh: SurfaceMesh) -> _Local:
+        """The caches kept with ``mesh`` (fresh ones once they grow large)."""
+        loc = mesh._cache.get("local")
+        if loc is None or len(loc.fv) > _LOCAL_MAX_FACES:
+            loc = mesh._cache["local"] = cls(mesh)
+        return loc
 
     def __init__(self, mesh: SurfaceMesh) -> None:
         self.mesh = mesh

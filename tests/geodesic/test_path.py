@@ -301,3 +301,18 @@ def test_partial_strip_clean_equals_full_clean():
         edited = base[:lo] + new + base[hi + 1 :]
         tail = len(edited) - (len(base) - 1 - hi)
         assert _clean(edited, max(lo - 2, 0), tail) == _clean(edited)
+
+
+def test_walk_caches_are_kept_with_the_mesh_and_renewed_when_large(sphere, monkeypatch):
+    from patternbridge.geodesic import straighten
+
+    v, f = sphere
+    mesh = SurfaceMesh(v, f)
+    first = geodesic_path(mesh, 0, 500)
+    loc = straighten._Local.of(mesh)
+    assert loc is straighten._Local.of(mesh)
+    assert len(loc.fv) > 0  # filled by the first path
+    monkeypatch.setattr(straighten, "_LOCAL_MAX_FACES", 0)
+    assert straighten._Local.of(mesh) is not loc
+    again = geodesic_path(mesh, 0, 500)
+    np.testing.assert_array_equal(again.points, first.points)
