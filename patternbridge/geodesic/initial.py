@@ -3,7 +3,11 @@
 Two searches, one from each end, each stopped at a radius ``r``; the best
 meeting vertex gives the shortest edge path as soon as ``r`` exceeds half its
 length plus the longest edge. ``r`` starts from the straight-line distance and
-grows until that holds, so the work stays local to the path.
+grows until that holds, so the work stays local to the path. Both searches run
+on a sub-graph: the vertices within ``r`` of an end that also lie inside the
+ellipsoid with the two ends as foci that every edge path short enough to
+matter stays in (picked through the vertex grid, edge lengths computed for
+that sub-graph only).
 """
 
 from __future__ import annotations

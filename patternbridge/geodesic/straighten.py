@@ -104,7 +104,7 @@ class _Local:
             fs = fl[indptr[v] : indptr[v + 1]]
             rows = self.mesh.faces[fs].tolist()
             fv = self.fv
-            for f, (a, b, c) in zip(fs.tolist(), rows):
+            for f, (a, b, c) in zip(fs.tolist(), rows, strict=True):
                 fv[f] = (a, b, c)
                 if a == v:
                     x, y = b, c

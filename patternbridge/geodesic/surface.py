@@ -1,9 +1,13 @@
-"""The prepared surface: edge graph, vertex-face incidence, tangent planes.
+"""The prepared surface: face corners, vertex grid, tangent planes, edge graph.
 
 :class:`SurfaceMesh` does the per-mesh work once so that many paths can be
 measured on one character. Everything is vectorised and most of it is lazy:
-constructing the object validates and welds; the edge graph is built on the
-first path, tangent planes are computed only for the vertices a path needs.
+constructing the object validates, welds and computes face normals and edge
+statistics; the corner lists (faces and neighbours of every vertex, one sort)
+and the vertex grid are built on the first path; tangent planes are computed
+only for the vertices a path needs; the full symmetric edge graph only when
+asked for (the single-source propagation uses it, point-to-point paths search
+sub-graphs built from the corner lists).
 """
 
 from __future__ import annotations
@@ -99,8 +103,8 @@ class SurfaceMesh:
     __slots__ = (
         "_cache",
         "_edge_stats",
-        "degenerate",
         "_normal_cols",
+        "degenerate",
         "faces",
         "n_faces",
         "n_vertices",
