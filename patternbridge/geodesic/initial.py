@@ -193,6 +193,12 @@ def _sub_graph(mesh: SurfaceMesh, a: int, b: int, r: float, bound: float):
     # every gather
     local = np.full(mesh.n_vertices, -1, dtype=np.int64)
     local[keep] = np.arange(n)
+    kxyz = (x[ok], y[ok], z[ok])
+    if local[a] < 0 or local[b] < 0:  # never by construction; keep the ends anyway
+        keep = np.union1d(keep, [a, b])
+        n = len(keep)
+        local[keep] = np.arange(n)
+        kxyz = tuple(np.ascontiguousarray(V[keep, c]) for c in range(3))
     counts, nxt, _ = mesh.ring_entries(keep, prev=False)
     cols = local[nxt]
     inside = cols >= 0
@@ -205,8 +211,7 @@ def _sub_graph(mesh: SurfaceMesh, a: int, b: int, r: float, bound: float):
     per_row = kept[ends] - kept[ends - counts]
     # edge lengths from the sub-graph's own coordinates (small, cache-resident)
     w = np.zeros(len(cols))
-    for c in (x, y, z):
-        ck = c[ok]
+    for ck in kxyz:
         d = np.repeat(ck, per_row)
         d -= ck[cols]
         d *= d

@@ -138,7 +138,7 @@ def geodesic_path(
     if tape and len(pts) > 2:
         from .tape import tape_correct
 
-        normals = mesh.face_normals[fcs]
+        normals = mesh.normals_of(fcs)
         pts = tape_correct(pts, normals, exempt=exempt)
         # tape points off the skin keep the face of the nearest surface point
         fcs, eds = _relabel(pts, result)
