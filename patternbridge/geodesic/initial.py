@@ -191,7 +191,11 @@ def _sub_graph(mesh: SurfaceMesh, a: int, b: int, r: float, bound: float):
     n = len(keep)
     # int64 (intp) indices throughout: numpy converts other index types on
     # every gather
-    local = np.full(mesh.n_vertices, -1, dtype=np.int64)
+    # map vertex -> sub-graph id: a (V,) scratch array of -1 taken from the
+    # mesh and handed back clean (a concurrent search makes its own)
+    local = mesh._cache.pop("search_ids", None)
+    if local is None:
+        local = np.full(mesh.n_vertices, -1, dtype=np.int64)
     local[keep] = np.arange(n)
     kxyz = (x[ok], y[ok], z[ok])
     if local[a] < 0 or local[b] < 0:  # never by construction; keep the ends anyway
@@ -199,8 +203,11 @@ def _sub_graph(mesh: SurfaceMesh, a: int, b: int, r: float, bound: float):
         n = len(keep)
         local[keep] = np.arange(n)
         kxyz = tuple(np.ascontiguousarray(V[keep, c]) for c in range(3))
+    la, lb = int(local[a]), int(local[b])
     counts, nxt, _ = mesh.ring_entries(keep, prev=False)
     cols = local[nxt]
+    local[keep] = -1
+    mesh._cache["search_ids"] = local
     inside = cols >= 0
     cols = cols[inside]
     # kept entries per row: rows come in order, so the source coordinates
@@ -221,7 +228,7 @@ def _sub_graph(mesh: SurfaceMesh, a: int, b: int, r: float, bound: float):
     indptr = np.zeros(n + 1, dtype=np.int32)
     np.cumsum(per_row, out=indptr[1:])
     g = sp.csr_matrix((w, cols.astype(np.int32), indptr), shape=(n, n))
-    return keep, g, int(local[a]), int(local[b])
+    return keep, g, la, lb
 
 
 def _dist(x, y, z, p) -> np.ndarray:

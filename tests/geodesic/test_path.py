@@ -264,6 +264,8 @@ def test_limited_search_finds_the_shortest_edge_path(sphere, shapes):
             steps = np.linalg.norm(np.diff(mesh.vertices[route], axis=0), axis=1)
             assert length == pytest.approx(steps.sum(), rel=1e-12)
             assert length == pytest.approx(_full_dijkstra(mesh, a, b), rel=1e-12)
+        # the vertex -> sub-graph id scratch array is handed back clean
+        assert np.all(mesh._cache["search_ids"] == -1)
 
 
 def test_search_around_a_long_way_round(shapes):
