@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import logging
 import math
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -70,7 +71,9 @@ class _Local:
         """The caches kept with ``mesh`` (fresh ones once they grow large)."""
         loc = mesh._cache.get("local")
         if loc is None or len(loc.fv) > _LOCAL_MAX_FACES:
-            loc = mesh._cache["local"] = cls(mesh)
+            # a weak reference: no cycle mesh -> cache -> mesh, so a mesh is
+            # freed as soon as it is dropped
+            loc = mesh._cache["local"] = cls(weakref.proxy(mesh))
         return loc
 
     def __init__(self, mesh: SurfaceMesh) -> None:

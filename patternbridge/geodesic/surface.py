@@ -101,6 +101,7 @@ class SurfaceMesh:
     """
 
     __slots__ = (
+        "__weakref__",
         "_cache",
         "_edge_stats",
         "_normal_cols",

@@ -318,3 +318,21 @@ def test_walk_caches_are_kept_with_the_mesh_and_renewed_when_large(sphere, monke
     assert straighten._Local.of(mesh) is not loc
     again = geodesic_path(mesh, 0, 500)
     np.testing.assert_array_equal(again.points, first.points)
+
+
+def test_a_mesh_with_kept_caches_is_freed_when_dropped(sphere):
+    """The caches kept with a mesh do not refer back to it: dropping the mesh
+    frees it at once, without waiting for the cycle collector."""
+    import gc
+    import weakref
+
+    v, f = sphere
+    mesh = SurfaceMesh(v, f)
+    geodesic_path(mesh, 0, 500)
+    ref = weakref.ref(mesh)
+    gc.disable()
+    try:
+        del mesh
+        assert ref() is None
+    finally:
+        gc.enable()
