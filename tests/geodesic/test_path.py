@@ -19,7 +19,7 @@ EXACT_METHODS = ("lsq", "euler", "exact")
 def _check_on_surface(mesh, path):
     """Every point lies in its face; edge points lie on their edge."""
     v, f = mesh.vertices, mesh.faces
-    for p, face, (a, b) in zip(path.points, path.faces, path.edges):
+    for p, face, (a, b) in zip(path.points, path.faces, path.edges, strict=True):
         tri = v[f[face]]
         n = np.cross(tri[1] - tri[0], tri[2] - tri[0])
         n /= np.linalg.norm(n)
@@ -194,7 +194,7 @@ def test_batch_matches_single_paths(sphere):
     pairs = [(0, 100), (5, 2000), (SurfacePoint(face=10, bary=(0.3, 0.3, 0.4)), 700)]
     seen = []
     batch = geodesic_paths(mesh, pairs, progress=lambda s, d, t: seen.append((s, d, t)))
-    for (a, b), p in zip(pairs, batch):
+    for (a, b), p in zip(pairs, batch, strict=True):
         assert p.length == pytest.approx(geodesic_path(mesh, a, b).length, rel=1e-12)
     assert seen[-1] == ("geodesic", 3, 3)
 

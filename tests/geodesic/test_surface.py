@@ -111,7 +111,7 @@ def test_graph_of_an_open_inconsistently_wound_mesh(shapes):
     f[::3] = f[::3, ::-1]  # flip every third face
     g = SurfaceMesh(v, f).graph
     assert (g != g.T).nnz == 0
-    n_edges = len({tuple(sorted(e)) for t in f.tolist() for e in zip(t, t[1:] + t[:1])})
+    n_edges = len({tuple(sorted(e)) for t in f.tolist() for e in zip(t, t[1:] + t[:1], strict=True)})
     assert g.nnz == 2 * n_edges
 
 
