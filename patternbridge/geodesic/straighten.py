@@ -298,11 +298,12 @@ def _unfold(loc: _Local, strip, s: Endpoint, e: Endpoint, cache: dict | None = N
         portals = []  # (left_id, right_id, left_xy, right_xy)
         k0 = 1
     hinge = loc.hinge
-    for k in range(k0, len(strip)):
-        # each (previous face, face) step's corners and 3D lengths, and the
-        # new corner's place along and off the hinge edge, are the same in
-        # every round: only the 2D placement of the hinge changes
-        key = (strip[k - 1], strip[k])
+    add_portal = portals.append
+    add_face = face_xy.append
+    # each (previous face, face) step's corners and 3D lengths, and the new
+    # corner's place along and off the hinge edge, are the same in every
+    # round: only the 2D placement of the hinge changes
+    for key in zip(strip[k0 - 1 : -1], strip[k0:]):
         step = hinge.get(key)
         if step is None:
             step = hinge[key] = _hinge(loc, *key)
@@ -312,21 +313,22 @@ def _unfold(loc: _Local, strip, s: Endpoint, e: Endpoint, cache: dict | None = N
             Q = coords[q]
             cx, cy = coords[cprev]
         except KeyError:
-            raise _StripError(
-                f"faces {strip[k - 1]} and {strip[k]} share no edge"
-            ) from None
+            raise _StripError(f"faces {key[0]} and {key[1]} share no edge") from None
         px, py = P
-        ex, ey = Q[0] - px, Q[1] - py
-        ux, uy = ex * inv, ey * inv
+        qx, qy = Q
+        ex = qx - px
+        ey = qy - py
+        ux = ex * inv
+        uy = ey * inv
         # (Q - P) x (C - P): which side of the hinge the previous face lies on
         if ex * (cy - py) - ey * (cx - px) > 0:
             D = (px + ux * t + uy * h, py + uy * t - ux * h)
-            portals.append((q, p, Q, P))
+            add_portal((q, p, Q, P))
         else:
             D = (px + ux * t - uy * h, py + uy * t + ux * h)
-            portals.append((p, q, P, Q))
+            add_portal((p, q, P, Q))
         coords = {p: P, q: Q, d: D}
-        face_xy.append(coords)
+        add_face(coords)
     if cache is not None:
         cache["strip"] = list(strip)
         cache["face_xy"] = face_xy
@@ -357,24 +359,35 @@ def _hinge(loc: _Local, fa: int, fb: int) -> tuple:
     corner d of ``fb``, the third corner c of ``fa``, and d's place in the
     plane: ``t`` along p -> q from p and ``h`` off the edge, cm.
     """
-    prev = loc.face(fa)
+    p0, p1, p2 = loc.face(fa)
     c0, c1, c2 = loc.face(fb)
-    pv = set(prev)
-    if c0 in pv:
-        p, q, d = (c0, c1, c2) if c1 in pv else (c0, c2, c1)
+    # the shared edge (p, q) in the order the corners of fb give it
+    if c0 == p0 or c0 == p1 or c0 == p2:
+        if c1 == p0 or c1 == p1 or c1 == p2:
+            p, q, d = c0, c1, c2
+        else:
+            p, q, d = c0, c2, c1
     else:
         p, q, d = c1, c2, c0
-    if p not in pv or q not in pv or d in pv:
+    if (
+        (p != p0 and p != p1 and p != p2)
+        or (q != p0 and q != p1 and q != p2)
+        or d == p0
+        or d == p1
+        or d == p2
+    ):
         raise _StripError(f"faces {fa} and {fb} share no edge")
-    p0, p1, p2 = prev
     cprev = p0 if p0 != p and p0 != q else (p1 if p1 != p and p1 != q else p2)
-    pos = loc.pos
-    pp, pq, pd = pos(p), pos(q), pos(d)
-    lpq = math.dist(pp, pq)
+    xyz = loc.xyz
+    pp = xyz.get(p) or loc.pos(p)
+    pq = xyz.get(q) or loc.pos(q)
+    pd = xyz.get(d) or loc.pos(d)
+    dist = math.dist
+    lpq = dist(pp, pq)
     if lpq == 0.0:
         raise _StripError(f"edge ({p}, {q}) has zero length")
-    lpd = math.dist(pp, pd)
-    lqd = math.dist(pq, pd)
+    lpd = dist(pp, pd)
+    lqd = dist(pq, pd)
     t = (lpd * lpd - lqd * lqd + lpq * lpq) / (2 * lpq)
     h = math.sqrt(max(lpd * lpd - t * t, 0.0))
     return (p, q, d, cprev, 1.0 / lpq, t, h)
