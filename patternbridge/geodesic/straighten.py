@@ -303,7 +303,7 @@ def _unfold(loc: _Local, strip, s: Endpoint, e: Endpoint, cache: dict | None = N
     # each (previous face, face) step's corners and 3D lengths, and the new
     # corner's place along and off the hinge edge, are the same in every
     # round: only the 2D placement of the hinge changes
-    for key in zip(strip[k0 - 1 : -1], strip[k0:]):
+    for key in zip(strip[k0 - 1 : -1], strip[k0:], strict=True):
         step = hinge.get(key)
         if step is None:
             step = hinge[key] = _hinge(loc, *key)
