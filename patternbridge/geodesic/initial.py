@@ -197,33 +197,23 @@ def _sub_graph(mesh: SurfaceMesh, a: int, b: int, r: float, bound: float):
     if local is None:
         local = np.full(mesh.n_vertices, -1, dtype=np.int64)
     local[keep] = np.arange(n)
-    kxyz = (x[ok], y[ok], z[ok])
     if local[a] < 0 or local[b] < 0:  # never by construction; keep the ends anyway
         keep = np.union1d(keep, [a, b])
         n = len(keep)
         local[keep] = np.arange(n)
-        kxyz = tuple(np.ascontiguousarray(V[keep, c]) for c in range(3))
     la, lb = int(local[a]), int(local[b])
-    counts, nxt, _ = mesh.ring_entries(keep, prev=False)
+    counts, nxt, w = mesh.ring_entries(keep, lengths=True)
     cols = local[nxt]
     local[keep] = -1
     mesh._cache["search_ids"] = local
     inside = cols >= 0
     cols = cols[inside]
-    # kept entries per row: rows come in order, so the source coordinates
-    # are repeats, not gathers
+    w = w[inside]
+    # kept entries per row (rows come in vertex order)
     kept = np.zeros(len(inside) + 1, dtype=np.int64)
     np.cumsum(inside, out=kept[1:])
     ends = np.cumsum(counts)
     per_row = kept[ends] - kept[ends - counts]
-    # edge lengths from the sub-graph's own coordinates (small, cache-resident)
-    w = np.zeros(len(cols))
-    for ck in kxyz:
-        d = np.repeat(ck, per_row)
-        d -= ck[cols]
-        d *= d
-        w += d
-    np.sqrt(w, out=w)
     np.maximum(w, 1e-12, out=w)  # a zero weight would read as "no edge"
     indptr = np.zeros(n + 1, dtype=np.int32)
     np.cumsum(per_row, out=indptr[1:])

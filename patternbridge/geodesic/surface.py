@@ -165,7 +165,8 @@ class SurfaceMesh:
                 f"mesh: all {len(f)} faces have zero area; "
                 "the mesh has no usable surface"
             )
-        self._edge_stats = stats
+        self._edge_stats = stats[:2]
+        self._cache["sides"] = stats[2]  # until the corner lists take them
         degenerate.flags.writeable = False
         self.degenerate = degenerate
         self._normal_cols = cols
@@ -307,11 +308,30 @@ class SurfaceMesh:
             nxt = _NEXT[nxt]
             nxt += key
             nxt = self.faces.ravel()[nxt]
-        key.flags.writeable = False
-        indptr.flags.writeable = False
-        nxt.flags.writeable = False
+        sides = self._cache.pop("sides", None)
+        if sides is None:
+            sides = self._side_lengths()
+        length = sides.ravel()[key]
+        del sides
+        for a in (key, indptr, nxt, length):
+            a.flags.writeable = False
         self._cache["corners"] = (indptr, key)
         self._cache["next"] = nxt
+        self._cache["length"] = length
+
+    def _side_lengths(self) -> np.ndarray:
+        """(F, 3) float64, cm: side k of each face, from corner k to k + 1."""
+        v = self.vertices
+        out = np.zeros((self.n_faces, 3))
+        for k in range(3):
+            a = self.faces[:, k]
+            b = self.faces[:, (k + 1) % 3]
+            for c in range(3):
+                col = v[:, c]
+                d = col[b] - col[a]
+                d *= d
+                out[:, k] += d
+        return np.sqrt(out, out=out)
 
     @property
     def corner_next(self) -> np.ndarray:
@@ -322,7 +342,7 @@ class SurfaceMesh:
         return self._cache["next"]
 
     def ring_entries(
-        self, vids, *, prev: bool = True
+        self, vids, *, prev: bool = True, lengths: bool = False
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
         """The face corners around vertices ``vids`` and the vertices after them.
 
@@ -335,7 +355,9 @@ class SurfaceMesh:
         counts : (n,) int64, usable faces around each vertex
         nxt : (sum(counts),) int64, the vertex after ``vids[i]`` in each of its
             faces (in face order, ``vids[0]``'s first)
-        prv : (sum(counts),) int64, the vertex before it (None unless ``prev``)
+        prv : (sum(counts),) int64, the vertex before it (None unless ``prev``);
+            with ``lengths``, instead the (sum(counts),) float64 lengths, cm,
+            of the edges to ``nxt``
 
         Notes
         -----
@@ -349,6 +371,8 @@ class SurfaceMesh:
         idx = np.repeat(starts - np.cumsum(counts) + counts, counts)
         idx += np.arange(len(idx))
         nxt = self.corner_next[idx]
+        if lengths:
+            return counts, nxt, self._cache["length"][idx]
         if not prev:
             return counts, nxt, None
         j = cor[idx]
@@ -588,12 +612,14 @@ def _face_geometry(v: np.ndarray, fw: np.ndarray):
     f0, f1, f2 = fw[:, 0], fw[:, 1], fw[:, 2]
     e1 = []
     e2 = []
+    e12 = []
     for c in range(3):
         col = np.ascontiguousarray(v[:, c])
         base = col[f0]
         a = col[f1]
-        a -= base
         b = col[f2]
+        e12.append(b - a)  # written out, not e2 - e1: exact side lengths
+        a -= base
         b -= base
         e1.append(a)
         e2.append(b)
@@ -621,35 +647,33 @@ def _face_geometry(v: np.ndarray, fw: np.ndarray):
     for t in nc:
         t *= inv
     if degenerate.all():
-        return tuple(nc), degenerate, (0.0, 0.0)
+        return tuple(nc), degenerate, (0.0, 0.0, None)
     l02 = e2[0] * e2[0]
     l02 += e2[1] * e2[1]
     l02 += e2[2] * e2[2]
     l12 = inv  # reuse
     l12[:] = 0.0
-    for c in range(3):
-        d = e2[c]
-        d -= e1[c]
+    for d in e12:
         d *= d
         l12 += d
     for t in nc:
         t.flags.writeable = False
-    return tuple(nc), degenerate, _edge_stats(l01, l02, l12, degenerate)
+    # side lengths, cm, in corner order: side k runs from corner k to k + 1
+    sides = np.empty((len(fw), 3))
+    for k, sq in enumerate((l01, l12, l02)):
+        np.sqrt(sq, out=sq)
+        sides[:, k] = sq
+    return tuple(nc), degenerate, _edge_stats(sides, degenerate)
 
 
-def _edge_stats(l01, l02, l12, degenerate) -> tuple[float, float]:
-    """(longest, mean) side length, cm, of the usable faces from the squared
-    side lengths (F,) of all faces."""
-    if degenerate.any():
-        good = ~degenerate
-        l01, l02, l12 = l01[good], l02[good], l12[good]
-    top = float(np.sqrt(max(l01.max(), l02.max(), l12.max())))
-    n = 3 * len(l01)
-    np.sqrt(l01, out=l01)
-    np.sqrt(l02, out=l02)
-    np.sqrt(l12, out=l12)
-    mean = (float(l01.sum()) + float(l02.sum()) + float(l12.sum())) / n
-    return top, mean
+def _edge_stats(sides: np.ndarray, degenerate: np.ndarray):
+    """(longest, mean) side length, cm, of the usable faces, and ``sides``."""
+    good = sides[~degenerate] if degenerate.any() else sides
+    top = float(good.max())
+    mean = (
+        float(good[:, 0].sum()) + float(good[:, 1].sum()) + float(good[:, 2].sum())
+    ) / good.size
+    return top, mean, sides
 
 
 def _cell_grid(v: np.ndarray):

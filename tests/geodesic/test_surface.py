@@ -222,3 +222,17 @@ def test_corner_lists_without_packed_keys(sphere, shapes, monkeypatch):
         np.testing.assert_array_equal(split.corners[1], packed.corners[1])
         np.testing.assert_array_equal(split.corner_next, packed.corner_next)
         monkeypatch.setattr(surface, "_PACK_BITS", 63)
+
+
+def test_ring_entry_lengths_are_the_edge_lengths(sphere, shapes):
+    for v, f in (sphere, _flipped_open_grid(shapes)):
+        m = SurfaceMesh(v, f)
+        vids = np.arange(len(v))
+        counts, nxt, length = m.ring_entries(vids, lengths=True)
+        owner = np.repeat(vids, counts)
+        want = np.sqrt(((v[owner] - v[nxt]) ** 2).sum(axis=1))
+        np.testing.assert_allclose(length, want, rtol=1e-15, atol=0)
+        # the side table recomputed from scratch gives the same corner lengths
+        again = SurfaceMesh(v, f)
+        again._cache.pop("sides")
+        np.testing.assert_array_equal(again.ring_entries(vids, lengths=True)[2], length)
