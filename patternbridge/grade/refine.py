@@ -342,7 +342,7 @@ def refine(
     data: ObjectiveData,
     x: np.ndarray,
     *,
-    measure_tol_cm: float = 0.25,
+    measure_tol_cm: float = 0.15,
     straight: np.ndarray | None = None,
     max_iter: int = 40,
     w_shape: float = 1.0,

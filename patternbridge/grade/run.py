@@ -461,7 +461,7 @@ def fit_pattern(
     tol_seam: float = 0.5,
     size: str = "fit",
     do_repair: bool = True,
-    measure_band_cm: float = 0.25,
+    measure_band_cm: float = 0.15,
     keep_straight: bool = True,
     keep_grain: bool = True,
     refine_iter: int = 40,
