@@ -288,7 +288,7 @@ class BodyCollider:
         ``clearance_cm``.
         """
         theta = np.asarray(theta, dtype=np.float64)
-        origin = cyl.center + h[:, None] * cyl.axis + getattr(cyl, "offsets", 0.0)
+        origin = cyl.center + h[:, None] * cyl.axis
         direction = np.cos(theta)[:, None] * cyl.e0 + np.sin(theta)[:, None] * cyl.e1
         rays = np.concatenate([origin, direction], axis=1)
         t = self.scene.cast_rays(self._t(rays))["t_hit"].numpy().astype(np.float64)

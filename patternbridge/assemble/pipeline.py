@@ -235,6 +235,8 @@ ANCHOR_FREE_CM = (6.0, 18.0)  # pattern distance from an open seam: free below, 
 def anchor_weights(sim: Simulation) -> np.ndarray:
     """(N,) soft-pin weights: vertices far (in the pattern) from seams that start open are held while sewing.
 
+    Only garments with pieces on the legs are pinned (tops get zeros).
+
     Seams whose pairs start more than 1 cm apart must move cloth; the
     vertices near them are free, the others are held on their placed
     positions so that closing a seam does not turn a whole tube round its
@@ -246,6 +248,11 @@ def anchor_weights(sim: Simulation) -> np.ndarray:
 
     cloth = sim.cloth
     n = len(cloth.x)
+    if not _on_legs(sim.pattern):
+        # a top's pieces hang from the shoulders round the body: nothing turns
+        # round a limb, and pins would hold the corners of an armhole away from
+        # the sleeve cap they are sewn to
+        return np.zeros(n)
     gaps = seam_gaps(cloth.x, cloth.seams)
     open_pairs = cloth.seams[gaps > 1.0]
     open_v = np.zeros(n, dtype=bool)

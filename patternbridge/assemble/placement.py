@@ -255,7 +255,7 @@ def place_instances(
             )
         cyl = cylinders[part]
         mirrored = inst.copy is Copy.MIRROR
-        if part in ("torso", "head") and str(pl.side) == "around" and parts is not None:
+        if part == "torso" and str(pl.side) == "around" and parts is not None:
             cyl = _band_cylinder(character, vertices, parts, cyl, pl.anchor, mirrored)
         p2 = instance_points2d(pmesh, inst)
         marks = pmesh.pieces[inst.piece].marks
@@ -277,7 +277,6 @@ def place_instances(
         rows.append((inst, pl, part, cyl, p2, R, th_a, h_a, a2))
     rows = _level_backs(pmesh, rows)
     shared = _shared_row_radii(pmesh, rows)
-    torso_radius = _torso_row_radii(character, vertices, pmesh, rows) if parts is not None else None
     seat: list = []
     for inst, pl, part, cyl, p2, R, th_a, h_a, a2 in rows:
         # pattern +x runs to the right as seen from outside (docs/library.md conventions)
@@ -300,12 +299,6 @@ def place_instances(
             # axis to give a reliable angle). A piece sewn to its own mirror
             # copy (a centre front seam) puts that seam on the centre, row by
             # row: grading can move it off x = 0
-            h = h_a + (p2[:, 1] - a2[1])
-            if torso_radius is not None:
-                # front and back go once round together at each height, round
-                # the body's cross-section there (see _torso_row_radii)
-                Rv = torso_radius(h)
-                cyl = _centred(cyl, vertices, parts, h)
             theta = (0.0 if str(pl.side) == "front" else np.pi) + (
                 p2[:, 0] - _centre_line(pmesh, inst, p2)
             ) / Rv
@@ -443,84 +436,6 @@ def _level_backs(pmesh: PatternMesh, rows: list) -> list:
     return out
 
 
-class _CentredCylinder:
-    """A cylinder whose centre moves with the height (per point): ``points`` and ``radial_clearance`` duck-type."""
-
-    def __init__(self, cyl: Cylinder, offsets: np.ndarray) -> None:
-        self.cyl, self.offsets = cyl, offsets
-        self.center, self.axis, self.e0, self.e1 = cyl.center, cyl.axis, cyl.e0, cyl.e1
-        self.radius_cm = cyl.radius_cm
-
-    def points(self, theta, h, r=None):
-        return self.cyl.points(theta, h, r) + self.offsets
-
-
-def _centred(cyl: Cylinder, vertices: np.ndarray, parts: BodyParts, h: np.ndarray) -> _CentredCylinder:
-    """``cyl`` with its axis through the centre of the part's cross-section at every height ``h`` (n,)."""
-    v = np.asarray(vertices, dtype=np.float64)
-    own = v[parts.mask(cyl.part)]
-    hv = (own - cyl.center) @ cyl.axis
-    grid = np.arange(float(h.min()) - 1.0, float(h.max()) + 2.0, 1.0)
-    centres = np.full((len(grid), 3), np.nan)
-    for k, g in enumerate(grid):
-        band = own[np.abs(hv - g) < 1.0]
-        if len(band) >= 8:
-            centres[k] = 0.5 * (band.min(axis=0) + band.max(axis=0))
-    ok = np.isfinite(centres[:, 0])
-    if ok.sum() < 2:
-        return _CentredCylinder(cyl, np.zeros((len(h), 3)))
-    c = np.stack([np.interp(h, grid[ok], centres[ok, j]) for j in range(3)], axis=1)
-    off = c - cyl.center
-    off -= (off @ cyl.axis)[:, None] * cyl.axis
-    return _CentredCylinder(cyl, off)
-
-
-def _torso_row_radii(character, vertices: np.ndarray, pmesh: PatternMesh, rows: list):
-    """Radius function ``h -> R(h)`` of the torso's fronts and backs going once round together, or None.
-
-    At each height the summed row widths of the torso's front and back
-    pieces / 2π, so their side seams start side by side. Above the armpits
-    (the armholes) the armpit row's radius is kept; below the lowest seam
-    joining a front to a back (a shirt tail) the radius of that seam's end.
-    """
-    members = [r for r in rows if r[2] == "torso" and str(r[1].side) in ("front", "back")]
-    if not any(str(r[1].side) == "front" for r in members) or not any(str(r[1].side) == "back" for r in members):
-        return None
-    cyl = members[0][3]
-    spans = [(h_a - a2[1], p2, inst) for inst, _, _, _, p2, _, _, h_a, a2 in members]
-    lo = min(off + p2[:, 1].min() for off, p2, _ in spans)
-    hi = max(off + p2[:, 1].max() for off, p2, _ in spans)
-    grid = np.linspace(lo, hi, 400)
-    total = np.zeros_like(grid)
-    for off, p2, inst in spans:
-        total += _widths(p2[: pmesh.pieces[inst.piece].n_boundary], grid - off)
-    # the armpits: landmarks, else the top of the seams joining fronts to backs
-    side = {r[0].key: str(r[1].side) for r in members}
-    offs = {inst.key: off for off, _, inst in spans}
-    pts = {inst.key: p2 for _, p2, inst in spans}
-    seam_h = []
-    for sp in pmesh.seams:
-        if sp.a.key in side and sp.b.key in side and side[sp.a.key] != side[sp.b.key]:
-            seam_h.append(offs[sp.a.key] + pts[sp.a.key][sp.a_vertices, 1])
-    if not seam_h:
-        return None
-    seam_h = np.concatenate(seam_h)
-    pits = [_landmark(character, vertices, f"armpit_point_{s}", False) for s in ("left", "right")]
-    pits = [p for p in pits if p is not None]
-    h_top = float(np.mean([(p - cyl.center) @ cyl.axis for p in pits])) if pits else float(seam_h.max())
-    h_low = float(seam_h.min())
-    radius = total / (2 * np.pi)
-    r_top = float(np.interp(h_top, grid, radius))
-    r_low = float(np.interp(h_low, grid, radius))
-    radius = np.where(grid > h_top, r_top, np.where(grid < h_low, r_low, radius))
-    radius = np.maximum(radius, 1.0)
-
-    def at(h: np.ndarray) -> np.ndarray:
-        return np.interp(h, grid, radius)
-
-    return at
-
-
 def _held_widths(boundary: np.ndarray, ys: np.ndarray, hold_cm: float = 4.0) -> np.ndarray:
     """Row widths of ``boundary`` at ``ys`` (see :func:`_widths`), never below the width ``hold_cm`` under its top.
 
@@ -654,10 +569,13 @@ def _row_radii(
     if not (closes and side == "around"):
         return np.full(n, float(radius_cm))
     b = pts[: pmesh.pieces[inst.piece].n_boundary]
-    if part not in ("left_arm", "right_arm", "left_leg", "right_leg"):
-        # a band round the waist or the neck (a waistband, a collar): once
-        # round on its full length, its closure edges side by side
+    if part == "torso":
+        # a band round the waist (a waistband): once round on its full
+        # length, its closure edges side by side (a collar stays on the neck's
+        # cylinder: its rows follow the neckline's curve, not the axis)
         return np.full(n, max(float(np.ptp(b[:, 0])) / (2 * np.pi), 1.0))
+    if part not in ("left_arm", "right_arm", "left_leg", "right_leg"):
+        return np.full(n, float(radius_cm))
     y0, y1 = float(b[:, 1].min()), float(b[:, 1].max())
     grid = np.linspace(y0, y1, 200)
     grid[0] += 1e-6 * (y1 - y0)
