@@ -26,7 +26,7 @@ from patternbridge.io.dxf_aama import read_dxf, write_dxf
 from patternbridge.report import Report
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from dxf_import import best_of, peak_rss_mb  # noqa: E402  (the script beside this one)
+from dxf_import import best_of, peak_rss_mb
 
 SHARED = Path(__file__).resolve().parents[1] / ".." / "shared" / "aama"
 LIBRARY = ("shirt", "trousers", "skirt", "dress", "tshirt", "shorts")
@@ -53,7 +53,7 @@ def main(argv: list[str] | None = None) -> int:
     files = args.files or sorted(
         p for p in SHARED.glob("*") if p.suffix.lower() == ".dxf"
     )
-    print(  # noqa: T201
+    print(
         f"# patternbridge {__version__}, ezdxf {ezdxf.__version__}, numpy "
         f"{np.__version__}, python {platform.python_version()}, {platform.machine()}, "
         f"best of {args.repeat}"
@@ -62,8 +62,8 @@ def main(argv: list[str] | None = None) -> int:
         f"{'pattern':24s} {'pieces':>6s} {'sizes':>5s} {'flavour':>7s} {'form':>6s} "
         f"{'KiB':>6s} {'write_dxf s':>11s} {'ezdxf read s':>12s}"
     )
-    print(header)  # noqa: T201
-    print("-" * len(header))  # noqa: T201
+    print(header)
+    print("-" * len(header))
     worst = 0.0
     with tempfile.TemporaryDirectory() as tmp:
         for name, pattern in _patterns(files, not args.no_library):
@@ -91,12 +91,12 @@ def main(argv: list[str] | None = None) -> int:
                     ref = best_of(lambda dxf=dxf: ezdxf.readfile(dxf), 1)
                     form = "s+RUL" if rul is not None else sizes
                     worst = max(worst, ours)
-                    print(  # noqa: T201
+                    print(
                         f"{name:24s} {len(pattern.pieces):6d} "
                         f"{len(pattern.sizes) or 1:5d} {flavor:>7s} {form:>6s} "
                         f"{dxf.stat().st_size / 1024:6.0f} {ours:11.3f} {ref:12.3f}"
                     )
-    print(f"slowest export {worst:.3f} s; peak RSS {peak_rss_mb():.0f} MiB")  # noqa: T201
+    print(f"slowest export {worst:.3f} s; peak RSS {peak_rss_mb():.0f} MiB")
     return 0
 
 

@@ -9,7 +9,7 @@ __all__ = ["as_float_array", "as_index_array", "frozen"]
 
 def _check_shape(a: np.ndarray, shape: tuple[int | None, ...], name: str) -> None:
     if a.ndim != len(shape) or any(
-        want is not None and got != want for got, want in zip(a.shape, shape)
+        want is not None and got != want for got, want in zip(a.shape, shape, strict=True)
     ):
         want = "(" + ", ".join("n" if s is None else str(s) for s in shape) + ")"
         raise ValueError(f"{name}: expected shape {want}, got {a.shape}")

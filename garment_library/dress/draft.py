@@ -361,7 +361,10 @@ LINKS = [
     ),
 ]
 
-DESCRIPTION = "Fitted sleeveless sheath dress (stretch, no ease): darted bodice and skirt joined at the waist, centre-back zip"
+DESCRIPTION = (
+    "Fitted sleeveless sheath dress (stretch, no ease): "
+    "darted bodice and skirt joined at the waist, centre-back zip"
+)
 
 
 def build():

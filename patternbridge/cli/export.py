@@ -128,5 +128,5 @@ def export_pattern(pattern, report, args: argparse.Namespace) -> int:
     if args.quiet <= 0:
         what = "sample size" if sample_only else "graded nest"
         extra = f" + {rul}" if rul is not None else ""
-        print(f"wrote {out}{extra} ({args.flavor.upper()}, {what})", file=sys.stdout)  # noqa: T201
+        print(f"wrote {out}{extra} ({args.flavor.upper()}, {what})", file=sys.stdout)
     return 0

@@ -55,7 +55,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--generations", type=int, default=None, help="NSGA-II generations"
     )
     parser.add_argument(
-        "--no-repair", action="store_true", help="skip the final step (least shape change under the fit); keep the NSGA-II choice"
+        "--no-repair",
+        action="store_true",
+        help="skip the final step (least shape change under the fit); keep the NSGA-II choice",
     )
     parser.add_argument(
         "--no-drape", action="store_true", help="do not assemble/drape the garment"

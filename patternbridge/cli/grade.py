@@ -73,7 +73,7 @@ def run(args: argparse.Namespace) -> int:
 
         plot_pattern(graded, out)
     if args.quiet <= 0:
-        print(  # noqa: T201
+        print(
             f"wrote {out}: {graded.style} in size {size} ({len(graded.pieces)} pieces)",
             file=sys.stdout,
         )

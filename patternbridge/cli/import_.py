@@ -131,7 +131,7 @@ def run(args: argparse.Namespace) -> int:
     elif args.quiet <= 0:
         sizes = ", ".join(pattern.sizes) if pattern.sizes else pattern.sample_size
         extra = f"; seams from {applied}" if applied is not None else ""
-        print(  # noqa: T201
+        print(
             f"wrote {out}: {pattern.style}, {len(pattern.pieces)} pieces, sizes {sizes} "
             f"(sample {pattern.sample_size}), {pattern.units}{extra}",
             file=sys.stdout,

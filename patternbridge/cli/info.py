@@ -112,5 +112,5 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print_json(info)
     else:
-        print(_table(info), file=sys.stdout)  # noqa: T201
+        print(_table(info), file=sys.stdout)
     return 0

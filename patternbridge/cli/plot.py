@@ -59,5 +59,5 @@ def run(args: argparse.Namespace) -> int:
         title=args.title,
     )
     if args.quiet <= 0:
-        print(f"wrote {out}", file=sys.stdout)  # noqa: T201
+        print(f"wrote {out}", file=sys.stdout)
     return 0

@@ -120,7 +120,7 @@ def tape_correct(
         grow = concave | flat
         edge = np.diff(np.r_[0, grow.astype(np.int8), 0])
         starts, stops = np.flatnonzero(edge == 1), np.flatnonzero(edge == -1)
-        for i, j in zip(starts.tolist(), stops.tolist()):
+        for i, j in zip(starts.tolist(), stops.tolist(), strict=True):
             if not concave[i:j].any():
                 continue
             a, b = p[i - 1], p[j]

@@ -43,7 +43,7 @@ def plot_pareto(
     pairs = ((0, 1), (0, 2), (1, 2))
     fig, axes = plt.subplots(1, 3, figsize=(13.5, 4.4))
     markers = ["s", "^", "D", "v", "P"]
-    for ax, (i, j) in zip(axes, pairs):
+    for ax, (i, j) in zip(axes, pairs, strict=True):
         ax.scatter(F[:, i], F[:, j], s=14, c="#4c72b0", alpha=0.7, label="Pareto front")
         if chosen is not None:
             ax.scatter([chosen[i]], [chosen[j]], s=90, facecolors="none", edgecolors="#dd8452",
@@ -96,7 +96,7 @@ def plot_fit_overlay(
     n = len(original)
     fig, axes = plt.subplots(1, max(n, 1), figsize=(3.2 * max(n, 1), 4.2))
     axes = np.atleast_1d(axes)
-    for ax, a, b in zip(axes, original, graded):
+    for ax, a, b in zip(axes, original, graded, strict=False):
         for piece, colour, label in ((a, "#888888", labels[0]), (b, "#c44e52", labels[1])):
             ring = np.vstack([piece.outline, piece.outline[:1]])
             ax.plot(ring[:, 0], ring[:, 1], color=colour, label=label)

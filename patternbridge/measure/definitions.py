@@ -56,7 +56,8 @@ DEFINITIONS: dict[str, Definition] = {
             kind="girth",
             method="hull",
             landmarks=_TORSO,
-            text="largest horizontal torso girth between mid-way waist-armpit and just under the armpits (chest / bust)",
+            text="largest horizontal torso girth between mid-way waist-armpit and just under the armpits "
+            "(chest / bust)",
         ),
         Definition(
             id="underbust_girth",
@@ -166,7 +167,8 @@ DEFINITIONS: dict[str, Definition] = {
             kind="length",
             method="vertical",
             landmarks=("top_of_head",),
-            text="vertical distance from the floor (lowest vertex) to the top of the head; a height, not a surface path",
+            text="vertical distance from the floor (lowest vertex) to the top of the head; "
+            "a height, not a surface path",
         ),
         Definition(
             id="back_length",

@@ -12,6 +12,7 @@ height) are vertical distances to the floor, not surface paths.
 
 from __future__ import annotations
 
+import itertools
 import logging
 from collections.abc import Callable, Mapping, Sequence
 
@@ -179,7 +180,7 @@ def measure_lengths(
                 vids = [_vertex_of(landmarks[n], mesh) for n in chain]
                 total, pts = 0.0, []
                 skin = ON_SKIN.get(mid, frozenset())
-                for j, (a, b) in enumerate(zip(vids[:-1], vids[1:], strict=True)):
+                for j, (a, b) in enumerate(itertools.pairwise(vids)):
                     if a == b:
                         continue
                     p, length = leg(a, b, tape and j not in skin)

@@ -90,7 +90,8 @@ def read_mesh_arrays(path: str | os.PathLike) -> dict[str, Any]:
         mesh = trimesh.load(str(path), force="mesh", process=False, maintain_order=True)
     except Exception as exc:  # trimesh raises many kinds on corrupt input
         raise MeshError(
-            f"{path}: cannot read the mesh ({type(exc).__name__}: {exc}); check the file is a valid {suffix[1:].upper()}"
+            f"{path}: cannot read the mesh ({type(exc).__name__}: {exc}); "
+            f"check the file is a valid {suffix[1:].upper()}"
         ) from None
     vertices = np.asarray(getattr(mesh, "vertices", np.zeros((0, 3))), dtype=np.float64)
     faces = np.asarray(getattr(mesh, "faces", np.zeros((0, 3))), dtype=np.int64)
@@ -272,7 +273,8 @@ def load_landmark_file(path: str | os.PathLike) -> dict[str, dict[str, Any]]:
     table = data.get("landmarks") if isinstance(data, dict) else None
     if not isinstance(table, dict):
         raise LandmarkError(
-            f"{path}: no 'landmarks' object (top-level keys: {sorted(data) if isinstance(data, dict) else type(data).__name__}); "
+            f"{path}: no 'landmarks' object "
+            f"(top-level keys: {sorted(data) if isinstance(data, dict) else type(data).__name__}); "
             'write {"landmarks": {"name": {"vertex": id}}}'
         )
     return _check_landmark_table(table, str(path))
@@ -474,7 +476,8 @@ def load_character(
         )
     if faces.min() < 0 or faces.max() >= len(vertices):
         raise MeshError(
-            f"{path}: face indices out of range (0..{len(vertices) - 1} expected, got {faces.min()}..{faces.max()}); repair the mesh"
+            f"{path}: face indices out of range "
+            f"(0..{len(vertices) - 1} expected, got {faces.min()}..{faces.max()}); repair the mesh"
         )
     sidecar = _read_sidecar(path)
     if sidecar is not None and int(sidecar.get("vertex_count", len(vertices))) != len(

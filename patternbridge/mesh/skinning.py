@@ -104,8 +104,9 @@ def find_bone(skeleton: Skeleton, role: str, side: str | None = None) -> int:
             name = pattern.format(s=s, side=word)
             if name in index:
                 return index[name]
+    tried = ", ".join(p.format(s=suffixes[0], side=word) for p in _ROLES[role])
     raise InputError(
-        f"skeleton: no {side + ' ' if side else ''}{role} bone (tried {', '.join(p.format(s=suffixes[0], side=word) for p in _ROLES[role])}); "
+        f"skeleton: no {side + ' ' if side else ''}{role} bone (tried {tried}); "
         "rename the bones or give landmarks with --landmarks"
     )
 

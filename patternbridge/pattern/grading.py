@@ -243,7 +243,8 @@ def _apply(piece: Piece, disp: dict, k: int, size: str) -> Piece:
     changes: dict = {"outline": outline, "size": size}
     for attr in ("internal_lines", "cutouts", "sew_lines"):
         changes[attr] = tuple(
-            dataclasses.replace(p, points=p.points + d[k]) for p, d in zip(getattr(piece, attr), disp[attr])
+            dataclasses.replace(p, points=p.points + d[k])
+            for p, d in zip(getattr(piece, attr), disp[attr], strict=True)
         )
     for attr in ("grain_line", "grade_reference", "mirror_line"):
         line = getattr(piece, attr)
@@ -252,17 +253,17 @@ def _apply(piece: Piece, disp: dict, k: int, size: str) -> Piece:
     if piece.drill_holes:
         changes["drill_holes"] = tuple(
             dataclasses.replace(h, position=h.position + d)
-            for h, d in zip(piece.drill_holes, disp["drill_holes"][k])
+            for h, d in zip(piece.drill_holes, disp["drill_holes"][k], strict=True)
         )
     if piece.annotations:
         changes["annotations"] = tuple(
             dataclasses.replace(a, position=a.position + d)
-            for a, d in zip(piece.annotations, disp["annotations"][k])
+            for a, d in zip(piece.annotations, disp["annotations"][k], strict=True)
         )
     if piece.notches:
         angles = inward_angles(outline, [n.vertex for n in piece.notches])
         changes["notches"] = tuple(
-            dataclasses.replace(n, angle=float(a)) for n, a in zip(piece.notches, angles)
+            dataclasses.replace(n, angle=float(a)) for n, a in zip(piece.notches, angles, strict=True)
         )
     return dataclasses.replace(piece, **changes)
 
@@ -538,7 +539,7 @@ def rules_from_nest(
         outlines = [v.outline if isinstance(v, Piece) else v for v in per_size]
         stack = _stack(piece.outline, outlines)
         if stack is None:
-            counts = {s: len(np.asarray(o)) for s, o in zip(sizes, outlines) if o is not None}
+            counts = {s: len(np.asarray(o)) for s, o in zip(sizes, outlines, strict=True) if o is not None}
             raise ValueError(
                 f"graded nest: piece {piece.name!r} has {piece.n_vertices} vertices in the sample "
                 f"but {counts} across sizes"
@@ -564,7 +565,7 @@ def rules_from_nest(
         ]
         changes: dict = {"rules": tuple(new_rules)}
         full = [v if isinstance(v, Piece) else None for v in per_size]
-        if all(v is not None or s == sample.sample_size for v, s in zip(full, sizes)) and any(full):
+        if all(v is not None or s == sample.sample_size for v, s in zip(full, sizes, strict=True)) and any(full):
             changes.update(_derive_elements(piece, full, sizes, book, local))
         pieces.append(dataclasses.replace(piece, **changes))
     table = GradeRuleTable(
@@ -601,7 +602,7 @@ def _derive_elements(piece: Piece, full: list, sizes, book: _RuleBook, local) ->
     for attr in ("grain_line", "grade_reference", "mirror_line"):
         line = getattr(piece, attr)
         per = others(attr)
-        if line is None or any(o is None for o, s in zip(per, full) if s is not None):
+        if line is None or any(o is None for o, s in zip(per, full, strict=True) if s is not None):
             continue
         stack = _stack(line.points, [None if o is None else o.points for o in per])
         if stack is not None:
@@ -733,7 +734,7 @@ def add_size(
     for piece, rules, _, target, inv in pieces:
         moved = target - piece.outline
         for pts, rls in _off_boundary_points(piece):
-            for p, r in zip(pts, rls):
+            for p, r in zip(pts, rls, strict=True):
                 if r is None or r in deltas or r not in table.deltas:
                     continue
                 near = int(_nearest_vertex(np.asarray(p, float)[None], piece.outline)[0])

@@ -164,7 +164,9 @@ def _piece_from_dict(d: dict[str, Any]) -> Piece:
         internal_lines=tuple(_polyline_from_dict(x) for x in d.get("internal_lines", ())),
         cutouts=tuple(_polyline_from_dict(x) for x in d.get("cutouts", ())),
         drill_holes=tuple(
-            DrillHole(position=h["position"], diameter_cm=h.get("diameter_cm", 0.0), rule=h.get("rule"), label=h.get("label"))
+            DrillHole(
+                position=h["position"], diameter_cm=h.get("diameter_cm", 0.0), rule=h.get("rule"), label=h.get("label")
+            )
             for h in d.get("drill_holes", ())
         ),
         sew_lines=tuple(_polyline_from_dict(x) for x in d.get("sew_lines", ())),

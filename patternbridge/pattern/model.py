@@ -149,6 +149,11 @@ def _vertex_rules(rules, n: int, name: str) -> tuple[str | None, ...]:
     return out
 
 
+def _text_map(mapping) -> MappingProxyType:
+    """A read-only ``{str: str}`` copy (free text carried through from the source file)."""
+    return MappingProxyType({str(k): str(v) for k, v in dict(mapping).items()})
+
+
 def _arrays_equal(a, b) -> bool:
     return np.shape(a) == np.shape(b) and np.array_equal(a, b)
 
@@ -416,7 +421,7 @@ class Piece:
             raise ValueError(f"piece {self.name!r}: landmarks name unknown marks {missing}")
         object.__setattr__(self, "marks", MappingProxyType(marks))
         object.__setattr__(self, "landmarks", MappingProxyType(landmarks))
-        object.__setattr__(self, "extra_text", MappingProxyType({str(k): str(v) for k, v in dict(self.extra_text).items()}))
+        object.__setattr__(self, "extra_text", _text_map(self.extra_text))
 
     @property
     def n_vertices(self) -> int:
@@ -502,7 +507,7 @@ class Provenance:
     def __post_init__(self) -> None:
         if self.flavor is not None:
             object.__setattr__(self, "flavor", Flavor(self.flavor))
-        object.__setattr__(self, "extra_text", MappingProxyType({str(k): str(v) for k, v in dict(self.extra_text).items()}))
+        object.__setattr__(self, "extra_text", _text_map(self.extra_text))
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, Provenance):

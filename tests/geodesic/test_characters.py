@@ -33,7 +33,7 @@ def character_e(characters_dir):
 def test_lengths_match_exact_geodesics(character_e):
     mesh, lm = character_e
     pairs = [(lm[a], lm[b]) for a, b in EXACT_E]
-    for (names, want), path in zip(EXACT_E.items(), geodesic_paths(mesh, pairs)):
+    for (names, want), path in zip(EXACT_E.items(), geodesic_paths(mesh, pairs), strict=True):
         assert path.length == pytest.approx(want, rel=1e-3), names
 
 

@@ -63,7 +63,7 @@ def test_flow_and_walk_on_a_sphere(sphere):
     assert r.max() <= 10.0 + 1e-9 and r.min() > 9.9  # on the inscribed mesh
     # consecutive strip faces share an edge
     fv = mesh.faces[walk.strip]
-    shared = [len(set(x) & set(y)) for x, y in zip(fv[:-1].tolist(), fv[1:].tolist())]
+    shared = [len(set(x) & set(y)) for x, y in zip(fv[:-1].tolist(), fv[1:].tolist(), strict=True)]
     assert min(shared) >= 2
 
 

@@ -7,6 +7,7 @@ the code under test.
 
 from __future__ import annotations
 
+import itertools
 from pathlib import Path
 
 import numpy as np
@@ -46,7 +47,7 @@ def real(name: str) -> Path:
 def raw_blocks(path: Path) -> dict[str, list[tuple[str, dict[int, str]]]]:
     """{block name: [(entity type, {code: value}), ...]} from the raw tag pairs."""
     lines = path.read_bytes().decode("latin-1").replace("\r\n", "\n").split("\n")
-    pairs = [(int(c), v.strip()) for c, v in zip(lines[0::2], lines[1::2])]
+    pairs = [(int(c), v.strip()) for c, v in zip(lines[0::2], lines[1::2], strict=False)]
     blocks: dict[str, list] = {}
     current = None
     ent = None
@@ -189,7 +190,7 @@ def test_aama_and_astm_exports_of_one_style_read_the_same():
     b, rb = read_dxf(real("GLX4802S19_ASTM.DXF"))
     assert a.provenance.flavor is Flavor.AAMA and b.provenance.flavor is Flavor.ASTM
     assert rb.codes().count("validation-curves-dropped") == 1
-    for pa, pb in zip(a.pieces, b.pieces):
+    for pa, pb in zip(a.pieces, b.pieces, strict=True):
         assert pa.name == pb.name and pa.quantity == pb.quantity == Quantity(right=1, left=1)
         np.testing.assert_array_equal(pa.outline, pb.outline)
         assert pa.kinds == pb.kinds
@@ -300,9 +301,9 @@ def test_closed_cw_boundary_with_duplicate_becomes_ccw_and_keeps_vertex_data(tmp
     assert piece.n_vertices == 4 and is_ccw(piece.outline)
     assert float(area(piece.outline)) == pytest.approx(50.0)  # 10 cm x 5 cm
     np.testing.assert_allclose(piece.outline[0], [0, 0])
-    rules = {tuple(np.round(v, 6)): r for v, r in zip(piece.outline, piece.rules)}
+    rules = {tuple(np.round(v, 6)): r for v, r in zip(piece.outline, piece.rules, strict=True)}
     assert rules[(0.0, 0.0)] == "1" and rules[(10.0, 5.0)] == "3" and rules[(10.0, 0.0)] is None
-    kinds = {tuple(np.round(v, 6)): k for v, k in zip(piece.outline, piece.kinds)}
+    kinds = {tuple(np.round(v, 6)): k for v, k in zip(piece.outline, piece.kinds, strict=True)}
     assert kinds[(10.0, 5.0)] is VertexKind.TURN and kinds[(0.0, 5.0)] is VertexKind.PLAIN
     assert "duplicate-vertices-removed" in report.codes()
     assert pattern.provenance.producer == "ACME" and pattern.provenance.version == "1.0"
@@ -376,7 +377,7 @@ def test_notches_inserted_typed_and_directed(tmp_path):
     np.testing.assert_allclose(piece.outline[s.vertex], [0.0, 2.0])
     assert s.depth_cm == pytest.approx(0.5) and abs(np.cos(s.angle) - 1) < 1e-9
     # kinds and rules stayed aligned with their vertices after the insertions
-    rules = {tuple(np.round(p, 6)): r for p, r in zip(piece.outline, piece.rules)}
+    rules = {tuple(np.round(p, 6)): r for p, r in zip(piece.outline, piece.rules, strict=True)}
     assert rules[(10.0, 5.0)] == "3" and rules[(4.0, 0.0)] is None
 
 
@@ -584,7 +585,7 @@ def test_truncated_corrupted_and_empty_files(tmp_path):
 @pytest.mark.shared
 def test_exact_nest_reproduces_every_vertex_of_every_size():
     path = real("GLX4802S19_AAMA.DXF")
-    default, report = read_dxf(path)
+    _, report = read_dxf(path)
     exact, exact_report = read_dxf(path, exact_nest=True)
     assert "nest-curve-deviation" in report.codes() and "nest-curve-deviation" not in exact_report.codes()
     assert all(r is not None for p in exact.pieces for r in p.rules)
@@ -629,7 +630,7 @@ def test_hypothesis_any_way_of_writing_a_boundary_reads_the_same(tmp_path_factor
     rows = np.array(rows)
     if cuts:  # open segments sharing their end points, closed back to the start
         bounds = [0, *[c + sum(d < c for d in dupes) for c in cuts], len(rows)]
-        segs = [poly(1, rows[a:b + 1]) for a, b in zip(bounds[:-1], bounds[1:-1])]
+        segs = [poly(1, rows[a:b + 1]) for a, b in itertools.pairwise(bounds[:-1])]
         segs.append(poly(1, np.vstack([rows[bounds[-2]:], rows[:1]])))
         boundary = [t for s in segs for t in s]
     else:

@@ -30,7 +30,7 @@ SAMPLE SIZE: XS
 UNITS: METRIC
 GRADE RULE TABLE: W SS
 NUMBER OF SIZES: 6
-SIZE LIST: XS S M L XL 2XL 
+SIZE LIST: XS S M L XL 2XL{space}
 RULE: DELTA 1
      0.00     0.00     10.00     -14.29     20.00     -28.57     30.00     -31.75
      40.00     -35.56     50.00     -41.11
@@ -38,7 +38,7 @@ RULE: DELTA 2
      0.00     0.00     0.00     0.00     0.00     0.00     0.00     0.00
      0.00     0.00     0.00     0.00
 END
-"""
+""".format(space=" ")  # CLO writes a trailing space after the size list
 
 ONE_PAIR = "\r\n".join(
     ["version ANSI/AAMA-292-B", "UNITS: METRIC", "NUMBER OF SIZES: 3", "SIZE LIST: 30 32 34",
@@ -180,7 +180,7 @@ def rul_variants(draw):
               f"SAMPLE SIZE: {sizes[k]}"]
     header = [header[0], *draw(st.permutations(header[1:]))]
     lines = header
-    for rid, d in zip(ids, arr):
+    for rid, d in zip(ids, arr, strict=True):
         pairs = [f"{dx:10.2f}{',' if comma else ' '}{dy:10.2f}" for dx, dy in d]
         rows = ["  ".join(pairs[i:i + per_line]) for i in range(0, len(pairs), per_line)]
         if same_line:
@@ -189,7 +189,7 @@ def rul_variants(draw):
             lines += [f"RULE: DELTA {rid}", *rows]
     lines.append("END")
     text = ("\r\n" if crlf else "\n").join(lines) + "\n"
-    return sizes, sizes[k], {str(r): d for r, d in zip(ids, arr)}, text
+    return sizes, sizes[k], {str(r): d for r, d in zip(ids, arr, strict=True)}, text
 
 
 @settings(max_examples=60, deadline=None)

@@ -178,7 +178,7 @@ def _neck_mannequin(r: float = 6.0, tilt_deg: float = 20.0):
     parts = [(nv, neck.faces), (bv, box.faces), (hv, head.faces)]
     v = np.vstack([p[0] for p in parts])
     offs = np.cumsum([0] + [len(p[0]) for p in parts])
-    f = np.vstack([np.asarray(p[1]) + o for p, o in zip(parts, offs)])
+    f = np.vstack([np.asarray(p[1]) + o for p, o in zip(parts, offs[:-1], strict=True)])
     back = np.cross([1.0, 0.0, 0.0], axis)  # unit, pointing backward (-z) and up
     back = -back if back[2] > 0 else back
     side = np.array([1.0, 0.0, 0.0])

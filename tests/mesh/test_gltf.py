@@ -113,7 +113,7 @@ def skinned(tmp_path):
 
 def test_skinned_glb(skinned):
     path, v = skinned
-    c, report = load_character(path)
+    c, _ = load_character(path)
     assert c.assumed["units"].startswith("m") and c.assumed["up"].startswith("+Y")
     assert c.stature_cm == pytest.approx(170.0, abs=1e-3)
     np.testing.assert_allclose(c.vertices, v * 100, atol=1e-4)

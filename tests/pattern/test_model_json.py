@@ -9,8 +9,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from patternbridge.io.pattern_json import dumps_pattern, load_pattern_json, save_pattern_json
 from patternbridge.errors import InputError
+from patternbridge.io.pattern_json import dumps_pattern, load_pattern_json, save_pattern_json
 from patternbridge.pattern import (
     EdgeRange,
     GradeRuleTable,
@@ -47,8 +47,18 @@ def _pattern(outline, deltas) -> Pattern:
         sample_size="M",
         sizes=("S", "M", "L"),
         rules=GradeRuleTable(sizes=("S", "M", "L"), sample_size="M", deltas={"1": deltas}),
-        seams=(Seam(id="s", a=EdgeRange(piece="front", start="a", end="b"), b=EdgeRange(piece="front", start="b", end="a", copy="mirror")),),
-        measurements=(MeasurementLink(measurement="waist_girth", ease_cm=2, legs=(Leg(piece="front", start="a", end="b", factor=2),)),),
+        seams=(
+            Seam(
+                id="s",
+                a=EdgeRange(piece="front", start="a", end="b"),
+                b=EdgeRange(piece="front", start="b", end="a", copy="mirror"),
+            ),
+        ),
+        measurements=(
+            MeasurementLink(
+                measurement="waist_girth", ease_cm=2, legs=(Leg(piece="front", start="a", end="b", factor=2),)
+            ),
+        ),
     )
 
 

@@ -230,7 +230,7 @@ def _parse(path: Path, data: bytes, report: Report) -> tuple[list[_Block], list[
             xs = [values[k] for k in range(s + 1, e) if codes[k] == 10]
             ys = [values[k] for k in range(s + 1, e) if codes[k] == 20]
             try:
-                ent.vertices = [(float(x), float(y)) for x, y in zip(xs, ys)]
+                ent.vertices = [(float(x), float(y)) for x, y in zip(xs, ys, strict=False)]
             except ValueError:
                 raise DXFFormatError(f"{path}: corrupted DXF (line {line}: LWPOLYLINE coordinate is not a "
                                      "number); export the file again") from None
@@ -397,7 +397,7 @@ def _chain(segments: list[tuple[np.ndarray, bool]], tol: float) -> tuple[np.ndar
         unjoined = 0
         while remaining:
             end = pts[-1]
-            for j, seg in enumerate(remaining):
+            for j, seg in enumerate(remaining):  # noqa: B007 (j is popped after the loop)
                 if np.hypot(*(seg[0] - end)) <= tol:
                     pts = np.vstack([pts, seg[1:]])
                     break
@@ -616,7 +616,10 @@ class _PieceBuilder:
     def _kinds_rules(self, pts: np.ndarray, raw: _RawBlock, layer: int = 1) -> tuple[list, list]:
         turn = _match(pts, raw.turn, self.tol) >= 0
         curve = _match(pts, raw.curve, self.tol) >= 0
-        kinds = [VertexKind.TURN if a else VertexKind.CURVE if b else VertexKind.PLAIN for a, b in zip(turn, curve)]
+        kinds = [
+            VertexKind.TURN if a else VertexKind.CURVE if b else VertexKind.PLAIN
+            for a, b in zip(turn, curve, strict=True)
+        ]
         rule_pts, rule_ids = self._rule_arrays(raw, prefer=layer)
         m = _match(pts, rule_pts, self.tol)
         rules = [None if j < 0 else rule_ids[j] for j in m]
@@ -800,7 +803,7 @@ def _unfold(piece: Piece, table: GradeRuleTable, report: Report, where: str,
             notches.append(dataclasses.replace(notch, vertex=mirror_index_of_old[notch.vertex],
                                                rule=mirror_rule(notch.rule)))
     angles = inward_angles(new_outline, [nt.vertex for nt in notches])
-    notches = [dataclasses.replace(nt, angle=float(a)) for nt, a in zip(notches, angles)]
+    notches = [dataclasses.replace(nt, angle=float(a)) for nt, a in zip(notches, angles, strict=True)]
     internal = list(piece.internal_lines)
     for pl in piece.internal_lines:
         on_fold = np.all(np.abs((pl.points - line[0]) @ np.array([-un[1], un[0]])) <= tol)
