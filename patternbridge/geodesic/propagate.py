@@ -72,7 +72,7 @@ FLOWS = ("lateral", "lsq")
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Row-wise cross product of (..., 3) arrays (faster than ``np.cross``)."""
-    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+    out = np.zeros(np.broadcast_shapes(a.shape, b.shape))
     out[..., 0] = a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1]
     out[..., 1] = a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2]
     out[..., 2] = a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
@@ -277,7 +277,7 @@ def _vertex_normals(mesh: SurfaceMesh) -> np.ndarray:
     e2 = [c[f2] - c[f0] for c in cols]
     flat = F.ravel()
     nv = mesh.n_vertices
-    n = np.empty((nv, 3))
+    n = np.zeros((nv, 3))
     for c, (a, b) in enumerate(((1, 2), (2, 0), (0, 1))):
         cr = e1[a] * e2[b] - e1[b] * e2[a]
         n[:, c] = np.bincount(flat, weights=np.repeat(cr, 3), minlength=nv)
@@ -457,9 +457,9 @@ class _WindowSolver:
         # memory follows the wavefront, not the mesh. Samples of a path shorter
         # than the window repeat the source (fixed).
         cap = min(nv, max(_ROWS_MIN, nv // 16))
-        self.tails = np.empty((cap, 3, w))  # (row, xyz, sample)
-        self.tail_ids = np.empty((cap, w), dtype=np.int64)
-        self.owner = np.empty(cap, dtype=np.int64)
+        self.tails = np.zeros((cap, 3, w))  # (row, xyz, sample)
+        self.tail_ids = np.zeros((cap, w), dtype=np.int64)
+        self.owner = np.zeros(cap, dtype=np.int64)
         self.row = np.zeros(nv, dtype=np.int64)
         self.tails[0] = V[src][:, None]
         self.tail_ids[0] = src
@@ -474,10 +474,10 @@ class _WindowSolver:
         B = len(q)
         rows = self.row[p]
         tp = np.take(self.tails, rows, axis=0)  # (B, 3, w)
-        X = np.empty((3, B, w))
+        X = np.zeros((3, B, w))
         X[:, :, :-1] = tp[:, :, 1:].transpose(1, 0, 2)
         X[:, :, -1] = np.take(self.VT, q, axis=1)
-        ids = np.empty((B, w), dtype=np.int64)
+        ids = np.zeros((B, w), dtype=np.int64)
         ids[:, :-1] = np.take(self.tail_ids, rows, axis=0)[:, 1:]
         ids[:, -1] = q
         d0 = tp[:, :, 1] - tp[:, :, 0]
@@ -533,9 +533,9 @@ class _WindowSolver:
         cap = len(self.owner)
         if m + B > cap // 2:  # grow, so that compactions stay rare
             cap = min(len(self.row), max(2 * cap, 2 * (m + B)))
-            tails = np.empty((cap, 3, self.w))
-            ids = np.empty((cap, self.w), dtype=np.int64)
-            owner = np.empty(cap, dtype=np.int64)
+            tails = np.zeros((cap, 3, self.w))
+            ids = np.zeros((cap, self.w), dtype=np.int64)
+            owner = np.zeros(cap, dtype=np.int64)
         else:
             tails, ids, owner = self.tails, self.tail_ids, self.owner
         tails[:m] = self.tails[keep]

@@ -178,7 +178,7 @@ class SurfaceMesh:
         """(F, 3) float64 unit face normals; zero rows for zero-area faces."""
         fn = self._cache.get("fn")
         if fn is None:
-            fn = np.empty((self.n_faces, 3))
+            fn = np.zeros((self.n_faces, 3))
             for c in range(3):
                 fn[:, c] = self._normal_cols[c]
             fn.flags.writeable = False
@@ -189,7 +189,7 @@ class SurfaceMesh:
         """(k, 3) float64 unit normals of faces ``fids`` (no (F, 3) table needed)."""
         if "fn" in self._cache:
             return self._cache["fn"][fids]
-        out = np.empty((len(fids), 3))
+        out = np.zeros((len(fids), 3))
         for c in range(3):
             out[:, c] = self._normal_cols[c][fids]
         return out
@@ -659,7 +659,7 @@ def _face_geometry(v: np.ndarray, fw: np.ndarray):
     for t in nc:
         t.flags.writeable = False
     # side lengths, cm, in corner order: side k runs from corner k to k + 1
-    sides = np.empty((len(fw), 3))
+    sides = np.zeros((len(fw), 3))
     for k, sq in enumerate((l01, l12, l02)):
         np.sqrt(sq, out=sq)
         sides[:, k] = sq
