@@ -6,11 +6,12 @@ DEMO_CHARACTER := examples/characters/E_average_male.obj
 DEMO_GARMENT   := shirt
 DEMO_OUT       := out/demo
 
-.PHONY: demo test bench system-deps clean help
+.PHONY: demo test lint bench system-deps clean help
 
 help:
 	@echo "make demo   create .venv, install, fit the $(DEMO_GARMENT) to the demo character"
 	@echo "make test   create .venv, install with the test extra, run the test suite"
+	@echo "make lint   ruff over the package, tests, benchmarks and garment drafts"
 	@echo "make bench  run the benchmarks (installs the bench extra)"
 
 # open3d's wheel links against libusb-1.0 (Debian package libusb-1.0-0).
@@ -48,6 +49,9 @@ demo: system-deps $(VENV)/.installed
 
 test: system-deps $(VENV)/.installed-test
 	$(BIN)/python -m pytest -q -p no:cacheprovider
+
+lint: $(VENV)/.installed-test
+	$(BIN)/ruff check patternbridge tests benchmarks garment_library
 
 bench: system-deps $(VENV)/.installed-bench
 	@for script in benchmarks/*.py; do echo "== $$script"; $(BIN)/python $$script || exit 1; done
