@@ -175,7 +175,7 @@ class BodyCollider:
         faces: np.ndarray,
         offset_cm: float,
         *,
-        rounds: int = 8,
+        rounds: int = 16,
     ) -> np.ndarray:
         """Move the corners of triangles that cross the skin until none does (or ``rounds`` run out).
 
