@@ -84,7 +84,8 @@ def fit_report(result: FitResult, *, character: str = "", garment: str = "") -> 
     (proportional scaling along/across the grain, same figures),
     ``baselines`` (every baseline by name), ``nsga2`` (NSGA-II's own
     choice, before the final step), ``pareto_front`` (the final front:
-    objectives per row, the chosen row, which rows the final step made) and
+    objectives per row, the chosen row, which rows the final step made and
+    which are within tolerance) and
     run settings.
     """
     out: dict[str, Any] = {"character": character, "garment": garment or result.original.style}
@@ -100,6 +101,7 @@ def fit_report(result: FitResult, *, character: str = "", garment: str = "") -> 
         "F": np.round(result.front_F, 5).tolist(),
         "chosen_index": int(result.chosen_index),
         "refined": [bool(v) for v in result.front_refined],
+        "within_tolerance": [bool(v) for v in result.front_within],
     }
     out["settings"] = {
         "seed": result.seed,

@@ -120,6 +120,7 @@ class FitResult:
         front and the solutions of the final step, dominated rows removed
     front_X : (n_front, n_var) its genes ; chosen_index : row of ``chosen``
     front_refined : (n_front,) bool, the rows the final step produced
+    front_within : (n_front,) bool, the rows within tolerance (:func:`within_tolerance`)
     baselines : ``"proportional"`` (along/across the grain),
         ``"proportional_uniform"`` (Algorithm 4) and ``"nearest_size"`` when
         the pattern has grade rules
@@ -143,6 +144,7 @@ class FitResult:
     n_gen: int
     history: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
     front_refined: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
+    front_within: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
 
 
 def _is_simple(pattern: Pattern) -> bool:
@@ -698,7 +700,8 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
     seconds = time.perf_counter() - t0
     return FitResult(
         pattern=chosen.pattern, original=pattern, chosen=chosen, ga_choice=ga_choice,
-        front_F=front_F, front_X=front_X, chosen_index=idx, front_refined=is_refined, baselines=baselines,
+        front_F=front_F, front_X=front_X, chosen_index=idx, front_refined=is_refined,
+        front_within=within, baselines=baselines,
         measurements=measurements, grid=grid, data=data, seconds=seconds, seed=int(seed),
         pop_size=pop_size, n_gen=n_gen, history=np.array(callback.history, dtype=np.float64).reshape(-1, 4),
     )

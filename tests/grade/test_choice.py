@@ -62,6 +62,7 @@ def test_choice_rule_on_the_final_front(skirt_result):
     assert r.front_refined.shape == (len(r.front_F),) and r.front_refined.any()
     np.testing.assert_array_equal(non_dominated(r.front_F), True)  # it is a front
     within = within_tolerance(r.grid, r.data, r.front_X)
+    np.testing.assert_array_equal(within, r.front_within)
     # the chosen row is within tolerance and has the least shape error of those that are
     assert within[r.chosen_index]
     assert r.front_F[r.chosen_index, 2] == r.front_F[within, 2].min()
