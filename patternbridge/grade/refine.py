@@ -7,8 +7,12 @@ Gauss–Newton method (sequential quadratic programming):
 
     minimise    ½‖s(x)‖²                      (shape: inner-angle changes, grid smoothness, ...)
     subject to  c(x) = 0                       (seam length mismatches, notch offsets)
-                A x = 0                        (straight grain-parallel edges stay straight, no tilt)
+                A x = 0                        (straight grain-parallel edges stay straight, no tilt;
+                                                grain lines keep their direction)
                 |m(x) − t| ≤ tol               (every measurement within a band around its target)
+
+A small L1 cost on ``m(x) − t`` inside the band (``w_fit``) keeps most
+measurements exact instead of at the band edge.
 
 Every iteration linearises ``s``, ``c`` and ``m`` (forward differences, the
 perturbed individuals evaluated as one population) and solves the quadratic
@@ -388,6 +392,13 @@ def refine(
         dimensions no measurement or seam fixes (a cuff's height, the split
         of a girth between front and back) follow the proportional solution
         instead of drifting where the angle terms cannot see them
+    w_share : weight of each piece's share of the links with legs on
+        several pieces (:func:`~.objectives.link_shares`), against ``x_design``
+    w_fit : cost of the measurement errors inside the band, in rad of shape
+        error per cm of mean ``|m − t|``: iteratively reweighted
+        (``1/sqrt(|m − t| + fit_eps_cm)``) so that it acts as an L1 cost,
+        which leaves most measurements exact; 0 spends the whole band on
+        the shape
     progress : ``progress("refine", i, max_iter)``
 
     Returns

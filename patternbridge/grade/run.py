@@ -11,15 +11,18 @@
    size when the pattern has grade rules, and the original;
 3. run pymoo's NSGA-II with the grader's sampling, crossover and mutation
    (:mod:`.operators`) on :class:`~.problem.GradingProblem`;
-4. choose, on the final Pareto front, the solution with the least shape error
-   among those within tolerance on measurements and seams;
-5. **final step** (:mod:`.refine`): from a least-squares repair of the
-   proportional seed (which also seeds NSGA-II) and of the NSGA-II choice,
-   a constrained Gauss–Newton method minimises the change of shape subject
-   to every seam and notch closed, every measurement within a band around
-   its target and the straight grain-parallel edges kept straight; the
-   fitted result with the least shape error wins. A result is kept only
-   when it leaves no fold and no self-intersection.
+4. **final step** (:mod:`.refine`), from the proportional seed (before
+   NSGA-II; its result also seeds the population) and from a few members
+   of NSGA-II's front: a constrained Gauss–Newton method minimises the
+   change of shape subject to every seam and notch closed, every
+   measurement within a band around its target (with a small cost inside
+   it), the straight grain-parallel edges kept straight and the grain lines
+   kept in their direction; the design-preservation weight steps down while
+   the result changes the design more than proportional scaling;
+5. the refined solutions join NSGA-II's front, the dominated rows are
+   removed, and the issue's rule chooses on that final front: the least
+   shape error among the members within tolerance on measurements and
+   seams (:func:`within_tolerance`).
 """
 
 from __future__ import annotations
