@@ -16,7 +16,7 @@ from patternbridge.grade.blas import single_blas_thread
 from patternbridge.grade.grid import deform_pattern
 from patternbridge.grade.objectives import link_shares
 from patternbridge.grade.refine import design_deviation, refine, straight_constraints, straight_edges
-from patternbridge.grade.run import axis_scaling, build_grid, objective_data, repair
+from patternbridge.grade.run import axis_scaling, build_grid, objective_data
 
 SUPERHERO = {
     "chest_girth": 141.027, "waist_girth": 77.77, "neck_girth": 60.715, "shoulder_width": 66.043,
@@ -34,8 +34,8 @@ def shirt_fit():
     data = objective_data(grid, SUPERHERO)
     x_prop = axis_scaling(grid, data)
     with single_blas_thread():
-        x_rep, _ = repair(grid, data, x_prop)
-        res = refine(grid, data, x_rep, measure_tol_cm=0.45,
+        # from the proportional seed, as fit_pattern's first start does
+        res = refine(grid, data, x_prop, measure_tol_cm=0.45,
                      straight=straight_constraints(grid, straight_edges(grid)), x_design=x_prop)
     return grid, data, x_prop, res
 
