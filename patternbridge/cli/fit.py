@@ -322,6 +322,8 @@ def _write_outputs(
         tmp / "pareto.png",
         chosen=result.ga_choice.scores.F,
         final=result.chosen.scores.F,
+        refined=result.front_refined,
+        within=result.front_within,
         baselines={n: s.scores.F for n, s in result.baselines.items()},
         title=f"{garment} on {size}: final Pareto front",
     )

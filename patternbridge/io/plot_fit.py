@@ -22,16 +22,22 @@ def plot_pareto(
     *,
     chosen: np.ndarray | None = None,
     final: np.ndarray | None = None,
+    refined: np.ndarray | None = None,
+    within: np.ndarray | None = None,
     baselines: Mapping[str, np.ndarray] | None = None,
     title: str | None = None,
 ) -> Path:
-    """Three pairwise projections of the final front, chosen point and baselines.
+    """Three pairwise projections of the final front, the choice and the baselines.
 
     Parameters
     ----------
-    F : (n, 3) objectives of the Pareto front
-    chosen : (3,) the front member chosen (before the final step)
-    final : (3,) the solution after the final constrained step
+    F : (n, 3) objectives of the final front
+    chosen : (3,) NSGA-II's own choice on its front
+    final : (3,) the solution chosen on the final front
+    refined : (n,) bool, the rows the final constrained step produced (drawn as
+        triangles; the others are NSGA-II's own members)
+    within : (n,) bool, the rows within the fit tolerance (filled; the others
+        are drawn hollow)
     baselines : name -> (3,) objectives of each baseline
     """
     import matplotlib
@@ -40,16 +46,31 @@ def plot_pareto(
     import matplotlib.pyplot as plt
 
     F = np.atleast_2d(np.asarray(F, dtype=np.float64))
+    n = len(F)
+    refined = np.zeros(n, dtype=bool) if refined is None else np.asarray(refined, dtype=bool)
+    within = np.zeros(n, dtype=bool) if within is None else np.asarray(within, dtype=bool)
+    groups = [
+        (~refined & within, "o", "NSGA-II member, within tolerance", True),
+        (~refined & ~within, "o", "NSGA-II member", False),
+        (refined & within, "^", "refined, within tolerance", True),
+        (refined & ~within, "^", "refined", False),
+    ]
     pairs = ((0, 1), (0, 2), (1, 2))
-    fig, axes = plt.subplots(1, 3, figsize=(13.5, 4.4))
-    markers = ["s", "^", "D", "v", "P"]
+    fig, axes = plt.subplots(1, 3, figsize=(13.5, 5.0))
+    markers = ["s", "D", "v", "P", "X"]
     for ax, (i, j) in zip(axes, pairs, strict=True):
-        ax.scatter(F[:, i], F[:, j], s=14, c="#4c72b0", alpha=0.7, label="Pareto front")
+        for mask, marker, label, filled in groups:
+            if not mask.any():
+                continue
+            colour = "#2a9d8f" if marker == "^" else "#4c72b0"
+            ax.scatter(F[mask, i], F[mask, j], s=26 if marker == "^" else 14, marker=marker,
+                       facecolors=colour if filled else "none", edgecolors=colour, alpha=0.8, label=label)
         if chosen is not None:
-            ax.scatter([chosen[i]], [chosen[j]], s=90, facecolors="none", edgecolors="#dd8452",
-                       linewidths=2, label="chosen (NSGA-II)")
+            ax.scatter([chosen[i]], [chosen[j]], s=110, facecolors="none", edgecolors="#dd8452",
+                       linewidths=2, label="NSGA-II's own choice")
         if final is not None:
-            ax.scatter([final[i]], [final[j]], s=90, marker="*", c="#c44e52", label="final (least shape under the fit)")
+            ax.scatter([final[i]], [final[j]], s=150, marker="*", c="#c44e52", zorder=5,
+                       label="chosen: least shape error within tolerance")
         for k, (name, f) in enumerate((baselines or {}).items()):
             ax.scatter([f[i]], [f[j]], s=50, marker=markers[k % len(markers)], c="#555555",
                        alpha=0.8, label=name)
@@ -58,10 +79,11 @@ def plot_pareto(
         ax.set_xscale("symlog", linthresh=1e-2)
         ax.set_yscale("symlog", linthresh=1e-2)
         ax.grid(True, alpha=0.3)
-    axes[0].legend(fontsize=7, loc="best")
+    handles, names = axes[0].get_legend_handles_labels()
+    fig.legend(handles, names, loc="lower center", ncol=4, fontsize=8, frameon=False)
     if title:
         fig.suptitle(title)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.13, 1, 1))
     path = Path(path)
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110, format=path.suffix.lstrip(".") or "png")
@@ -79,35 +101,9 @@ def plot_fit_overlay(
 ) -> Path:
     """Original and graded pieces overlaid (``pattern.png``).
 
-    Uses :func:`patternbridge.io.plot.plot_overlay` when it is available and
-    draws a plain overlay otherwise.
+    Drawn by :func:`patternbridge.io.plot.plot_overlay` (grain lines, marks and
+    notches of both versions).
     """
-    try:
-        from .plot import plot_overlay
-    except ImportError:  # pragma: no cover - the pattern plotter ships with io
-        plot_overlay = None
-    if plot_overlay is not None:
-        return plot_overlay(original, graded, path, labels=labels, title=title)
-    import matplotlib
+    from .plot import plot_overlay
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    n = len(original)
-    fig, axes = plt.subplots(1, max(n, 1), figsize=(3.2 * max(n, 1), 4.2))
-    axes = np.atleast_1d(axes)
-    for ax, a, b in zip(axes, original, graded, strict=False):
-        for piece, colour, label in ((a, "#888888", labels[0]), (b, "#c44e52", labels[1])):
-            ring = np.vstack([piece.outline, piece.outline[:1]])
-            ax.plot(ring[:, 0], ring[:, 1], color=colour, label=label)
-        ax.set_aspect("equal")
-        ax.set_title(a.name)
-    axes[0].legend(fontsize=7)
-    if title:
-        fig.suptitle(title)
-    fig.tight_layout()
-    path = Path(path)
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=110)
-    plt.close(fig)
-    return path
+    return plot_overlay(original, graded, path, labels=labels, title=title)
