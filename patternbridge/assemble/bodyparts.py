@@ -85,9 +85,7 @@ def _from_skin(character: Character) -> np.ndarray:
     w = np.where(idx >= 0, character.skin.weights, 0.0)
     part = bone_part[np.maximum(idx, 0)]
     acc = np.zeros((len(idx), len(PARTS)))
-    np.add.at(
-        acc, (np.repeat(np.arange(len(idx)), idx.shape[1]), part.ravel()), w.ravel()
-    )
+    np.add.at(acc, (np.repeat(np.arange(len(idx)), idx.shape[1]), part.ravel()), w.ravel())
     return np.argmax(acc, axis=1).astype(np.int64)
 
 
@@ -126,9 +124,7 @@ def _from_landmarks(character: Character, vertices: np.ndarray) -> np.ndarray:
     return labels
 
 
-def segment_body(
-    character: Character, *, vertices: np.ndarray | None = None
-) -> BodyParts:
+def segment_body(character: Character, *, vertices: np.ndarray | None = None) -> BodyParts:
     """Label every body vertex with its part.
 
     Parameters
@@ -146,11 +142,7 @@ def segment_body(
     LandmarkError
         The character has no rig and lacks the crotch, armpit or neck landmarks.
     """
-    v = (
-        character.vertices
-        if vertices is None
-        else np.asarray(vertices, dtype=np.float64)
-    )
+    v = character.vertices if vertices is None else np.asarray(vertices, dtype=np.float64)
     if character.skeleton is not None and character.skin is not None:
         labels = _from_skin(character)
         if np.all(np.bincount(labels, minlength=len(PARTS))[2:] > 0):

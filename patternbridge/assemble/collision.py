@@ -57,9 +57,7 @@ class BodyCollider:
     def _t(self, a: np.ndarray):
         return self._o3c.Tensor(np.ascontiguousarray(a, dtype=np.float32))
 
-    def closest(
-        self, points: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    def closest(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Closest skin points.
 
         Returns
@@ -79,9 +77,7 @@ class BodyCollider:
         for scene in self._proxies:  # a nearer helper surface wins (triangle -1)
             r = scene.compute_closest_points(self._t(points))
             qp = r["points"].numpy().astype(np.float64)
-            nearer = np.einsum("ij,ij->i", points - qp, points - qp) < np.einsum(
-                "ij,ij->i", points - q, points - q
-            )
+            nearer = np.einsum("ij,ij->i", points - qp, points - qp) < np.einsum("ij,ij->i", points - q, points - q)
             q[nearer] = qp[nearer]
             n[nearer] = r["primitive_normals"].numpy().astype(np.float64)[nearer]
             tri[nearer] = -1
@@ -132,11 +128,7 @@ class BodyCollider:
 
     def signed_distance(self, points: np.ndarray) -> np.ndarray:
         """(n,) float64 signed distance, cm, negative inside (ray-parity inside test)."""
-        return (
-            self.scene.compute_signed_distance(self._t(points))
-            .numpy()
-            .astype(np.float64)
-        )
+        return self.scene.compute_signed_distance(self._t(points)).numpy().astype(np.float64)
 
     def crossing_edges(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         """(n,) bool: the segment from ``a[i]`` to ``b[i]`` (n, 3) meets the skin.
@@ -203,9 +195,7 @@ class BodyCollider:
             if len(bad) == 0:
                 break
             # the three edges of each bad triangle (rolled corners) and its centroid
-            corners = np.concatenate(
-                [bad, np.roll(bad, -1, axis=1), np.roll(bad, -2, axis=1)]
-            )
+            corners = np.concatenate([bad, np.roll(bad, -1, axis=1), np.roll(bad, -2, axis=1)])
             wts = np.concatenate([np.tile(w[:3], (len(bad), 1)) for _ in range(3)])
             idx = np.repeat(corners, 3, axis=0)
             wts = wts.reshape(-1, 3)
@@ -234,7 +224,9 @@ class BodyCollider:
             x += delta / np.maximum(cnt, 1.0)[:, None]
         return x
 
-    def escape(self, points: np.ndarray, offset_cm: float, *, reach_cm: float = 20.0, step_cm: float = 0.25) -> np.ndarray:
+    def escape(
+        self, points: np.ndarray, offset_cm: float, *, reach_cm: float = 20.0, step_cm: float = 0.25
+    ) -> np.ndarray:
         """Move points out of the body along the shortest straight way out (the last resort).
 
         For a point caught where two parts of the body touch (cloth between
@@ -276,9 +268,7 @@ class BodyCollider:
             out |= scene.compute_occupancy(t).numpy() > 0.5
         return out
 
-    def radial_clearance(
-        self, cyl, theta: np.ndarray, h: np.ndarray, r: np.ndarray, clearance_cm: float
-    ) -> np.ndarray:
+    def radial_clearance(self, cyl, theta: np.ndarray, h: np.ndarray, r: np.ndarray, clearance_cm: float) -> np.ndarray:
         """Radii that keep wrapped points outside the skin along their radius.
 
         From the axis point at height ``h`` a ray runs out at angle ``theta``;
@@ -296,9 +286,7 @@ class BodyCollider:
         grow = inside & np.isfinite(t) & (t + clearance_cm > r) & (t < 1.6 * r)
         return np.where(grow, t + clearance_cm, r)
 
-    def push_out(
-        self, points: np.ndarray, offset_cm: float, *, robust: bool = False
-    ) -> tuple[np.ndarray, np.ndarray]:
+    def push_out(self, points: np.ndarray, offset_cm: float, *, robust: bool = False) -> tuple[np.ndarray, np.ndarray]:
         """Move points closer than ``offset_cm`` (or inside) to ``offset_cm`` outside.
 
         ``robust`` decides inside/outside by ray parity instead of the face
@@ -362,13 +350,7 @@ def separate_layers(
         return out
     d = out[i] - out[j]
     dist = np.linalg.norm(d, axis=1)
-    corr = (
-        np.where(dist > 1e-9, (thickness_cm - dist) / np.maximum(dist, 1e-9), 0.0)[
-            :, None
-        ]
-        * d
-        * 0.5
-    )
+    corr = np.where(dist > 1e-9, (thickness_cm - dist) / np.maximum(dist, 1e-9), 0.0)[:, None] * d * 0.5
     delta = np.zeros_like(out)
     np.add.at(delta, i, corr)
     np.add.at(delta, j, -corr)
@@ -376,9 +358,7 @@ def separate_layers(
     return out + delta / np.maximum(count, 1)
 
 
-def thigh_fill(
-    body: np.ndarray, legs: np.ndarray, crotch_y: float | None
-) -> tuple[tuple[np.ndarray, np.ndarray], ...]:
+def thigh_fill(body: np.ndarray, legs: np.ndarray, crotch_y: float | None) -> tuple[tuple[np.ndarray, np.ndarray], ...]:
     """A closed volume filling the space between the thighs, for tops that reach below the crotch.
 
     A shirt hangs straight down from the hips; without it the hem is drawn

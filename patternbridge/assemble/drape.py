@@ -111,12 +111,7 @@ def build_cloth(
     group = np.repeat(np.arange(len(positions)), np.diff(offsets))
     f = np.concatenate([fc + offsets[i] for i, fc in enumerate(faces)])
     pairs = (
-        np.concatenate(
-            [
-                np.stack([va + offsets[a], vb + offsets[b]], axis=1)
-                for a, b, va, vb in seams
-            ]
-        )
+        np.concatenate([np.stack([va + offsets[a], vb + offsets[b]], axis=1) for a, b, va, vb in seams])
         if seams
         else np.zeros((0, 2), np.int64)
     )
@@ -126,10 +121,7 @@ def build_cloth(
     bend_rest = np.linalg.norm(uv[bends[:, 0]] - uv[bends[:, 1]], axis=1)
     u, w = uv[f[:, 1]] - uv[f[:, 0]], uv[f[:, 2]] - uv[f[:, 0]]
     a2 = np.abs(u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0]) / 2
-    mass = (
-        np.bincount(f.ravel(), weights=np.repeat(a2 / 3, 3), minlength=len(x))
-        * density_kg_cm2
-    )
+    mass = np.bincount(f.ravel(), weights=np.repeat(a2 / 3, 3), minlength=len(x)) * density_kg_cm2
     mass = np.maximum(mass, 1e-3 * mass.mean())
     return Cloth(
         x=x,
@@ -157,16 +149,10 @@ def weld_groups(n: int, pairs: np.ndarray) -> np.ndarray:
 
 def seam_gaps(x: np.ndarray, pairs: np.ndarray) -> np.ndarray:
     """(S,) float64, cm — distance between sewn vertex pairs."""
-    return (
-        np.linalg.norm(x[pairs[:, 0]] - x[pairs[:, 1]], axis=1)
-        if len(pairs)
-        else np.zeros(0)
-    )
+    return np.linalg.norm(x[pairs[:, 0]] - x[pairs[:, 1]], axis=1) if len(pairs) else np.zeros(0)
 
 
-def _push_direction(
-    x: np.ndarray, q: np.ndarray, n: np.ndarray, inside: np.ndarray
-) -> np.ndarray:
+def _push_direction(x: np.ndarray, q: np.ndarray, n: np.ndarray, inside: np.ndarray) -> np.ndarray:
     """Unit directions from the closest skin points outward (the distance gradient).
 
     Away from the skin the direction from ``q`` to ``x`` (reversed inside) is
@@ -204,9 +190,7 @@ class _Solver:
         )
         m = len(springs)
         rows = np.repeat(np.arange(m), 2)
-        S = coo_matrix(
-            (np.tile([1.0, -1.0], m), (rows, springs.ravel())), shape=(m, n)
-        ).tocsr()
+        S = coo_matrix((np.tile([1.0, -1.0], m), (rows, springs.ravel())), shape=(m, n)).tocsr()
         self.S, self.St = S, S.T.tocsr()
         self.w = w
         self.n_stretch, self.n_bend = len(cloth.edges), len(cloth.bends)
@@ -238,9 +222,7 @@ class _Solver:
             self.lu = splu((self.A + diags(self.pin_w)).tocsc())
             self._pins = key
 
-    def _push_edges(
-        self, collider: BodyCollider, x: np.ndarray, ni: np.ndarray
-    ) -> np.ndarray:
+    def _push_edges(self, collider: BodyCollider, x: np.ndarray, ni: np.ndarray) -> np.ndarray:
         """Push edge midpoints and triangle centroids near ``ni`` to ``offset_cm`` outside the skin.
 
         The vertices alone do not keep a long edge or a triangle out of a thin
@@ -295,9 +277,7 @@ class _Solver:
         inside = collider.inside(y)
         signed = np.where(inside, -np.abs(signed), np.abs(signed))
         near = inside | (signed < s.offset_cm + s.max_speed_cm_s * h * 1.5)
-        targets = np.concatenate(
-            [c.rest, c.bend_rest, self.seam_start * max(0.0, 1.0 - sew)]
-        )
+        targets = np.concatenate([c.rest, c.bend_rest, self.seam_start * max(0.0, 1.0 - sew)])
         rhs0 = self.m_h2[:, None] * y
         if self._pins is not None:
             rhs0 = rhs0 + self.pin_w[:, None] * self.pin_x
@@ -334,9 +314,7 @@ class _Solver:
                         np.abs(si),
                     )
                 fix = si < s.offset_cm
-                x[ni[fix]] = qi[fix] + s.offset_cm * _push_direction(
-                    x[ni[fix]], qi[fix], ni_n[fix], si[fix] < 0
-                )
+                x[ni[fix]] = qi[fix] + s.offset_cm * _push_direction(x[ni[fix]], qi[fix], ni_n[fix], si[fix] < 0)
                 if it == s.iterations - 1:
                     contact[ni[si < s.offset_cm + 0.05]] = True
                     nrm[ni] = ni_n
@@ -348,9 +326,7 @@ class _Solver:
             vn = np.einsum("ij,ij->i", v[contact], nn)
             v[contact] -= np.maximum(vn, 0.0)[:, None] * nn
             vn = np.minimum(vn, 0.0)[:, None] * nn
-            v[contact] = vn + (1.0 - s.friction) * (
-                v[contact] - vn
-            )  # friction slows the sliding
+            v[contact] = vn + (1.0 - s.friction) * (v[contact] - vn)  # friction slows the sliding
         speed = np.linalg.norm(v, axis=1, keepdims=True)
         v *= np.minimum(1.0, s.max_speed_cm_s / np.maximum(speed, 1e-9))
         c.v = v * s.damping
@@ -395,9 +371,7 @@ def drape(
         sew = (k + 1) / max(sew_steps, 1) if sew_steps else 1.0
         # no gravity while sewing (the pieces would fall before the seams hold them), then ramp it up
         g = (
-            GRAVITY_CM_S2
-            * gravity_scale
-            * float(np.clip((k - sew_steps) / 20.0, 0.0, 1.0))
+            GRAVITY_CM_S2 * gravity_scale * float(np.clip((k - sew_steps) / 20.0, 0.0, 1.0))
             if sew_steps
             else GRAVITY_CM_S2 * gravity_scale
         )

@@ -125,9 +125,7 @@ def glb_bytes(garment, *, colours: np.ndarray | None = None) -> bytes:
                 "name": "skeleton",
             }
         ]
-    normals = vertex_normals(*garment.welded())[
-        np.unique(garment.weld, return_inverse=True)[1]
-    ]
+    normals = vertex_normals(*garment.welded())[np.unique(garment.weld, return_inverse=True)[1]]
     primitives, materials = [], []
     for i, name in enumerate(garment.instance_names):
         vid = np.flatnonzero(garment.instance == i)
@@ -144,9 +142,7 @@ def glb_bytes(garment, *, colours: np.ndarray | None = None) -> bytes:
                 _ARRAY_BUFFER,
                 True,
             ),
-            "NORMAL": b.accessor(
-                normals[vid].astype(np.float32), _FLOAT, "VEC3", _ARRAY_BUFFER
-            ),
+            "NORMAL": b.accessor(normals[vid].astype(np.float32), _FLOAT, "VEC3", _ARRAY_BUFFER),
             "TEXCOORD_0": b.accessor(
                 (garment.uv[vid] / 100.0).astype(np.float32),
                 _FLOAT,
@@ -161,17 +157,11 @@ def glb_bytes(garment, *, colours: np.ndarray | None = None) -> bytes:
             ),
         }
         if skinned:
-            j = np.where(garment.joints[vid] >= 0, garment.joints[vid], 0).astype(
-                np.uint16
-            )
-            w = np.where(garment.joints[vid] >= 0, garment.weights[vid], 0.0).astype(
-                np.float32
-            )
+            j = np.where(garment.joints[vid] >= 0, garment.joints[vid], 0).astype(np.uint16)
+            w = np.where(garment.joints[vid] >= 0, garment.weights[vid], 0.0).astype(np.float32)
             attrs["JOINTS_0"] = b.accessor(j, _USHORT, "VEC4", _ARRAY_BUFFER)
             attrs["WEIGHTS_0"] = b.accessor(w, _FLOAT, "VEC4", _ARRAY_BUFFER)
-        idx = b.accessor(
-            local[f].astype(np.uint32).ravel(), _UINT, "SCALAR", _ELEMENT_ARRAY_BUFFER
-        )
+        idx = b.accessor(local[f].astype(np.uint32).ravel(), _UINT, "SCALAR", _ELEMENT_ARRAY_BUFFER)
         rgb = colours[i % len(colours)] / 255.0
         materials.append(
             {
@@ -196,9 +186,7 @@ def glb_bytes(garment, *, colours: np.ndarray | None = None) -> bytes:
     if skinned:
         mesh_node["skin"] = 0
     nodes.append(mesh_node)
-    scene_nodes = [len(nodes) - 1] + (
-        [int(j) for j in np.flatnonzero(skel.parents < 0)] if skinned else []
-    )
+    scene_nodes = [len(nodes) - 1] + ([int(j) for j in np.flatnonzero(skel.parents < 0)] if skinned else [])
     doc["nodes"] = nodes
     doc["scenes"] = [{"nodes": scene_nodes}]
     doc["meshes"] = [
@@ -243,9 +231,7 @@ def read_glb(data: bytes) -> tuple[dict, bytes]:
     """
     magic, version, total = struct.unpack_from("<4sII", data, 0)
     if magic != b"glTF" or version != 2 or total != len(data):
-        raise ValueError(
-            f"not a GLB 2.0 file (magic {magic!r}, version {version}, length {total} vs {len(data)})"
-        )
+        raise ValueError(f"not a GLB 2.0 file (magic {magic!r}, version {version}, length {total} vs {len(data)})")
     jlen, jtype = struct.unpack_from("<I4s", data, 12)
     if jtype != b"JSON":
         raise ValueError("first GLB chunk is not JSON")
@@ -274,10 +260,7 @@ def obj_text(garment, mtl_name: str = "garment.mtl") -> tuple[str, str]:
         f = garment.faces[garment.instance[garment.faces[:, 0]] == i]
         safe = name.replace(" ", "_")
         lines += [f"g {safe}", f"usemtl {safe}"]
-        lines += [
-            f"f {a}/{ta} {b}/{tb} {c}/{tc}"
-            for (a, b, c), (ta, tb, tc) in zip(inv[f] + 1, f + 1, strict=True)
-        ]
+        lines += [f"f {a}/{ta} {b}/{tb} {c}/{tc}" for (a, b, c), (ta, tb, tc) in zip(inv[f] + 1, f + 1, strict=True)]
         rgb = PIECE_COLOURS[i % len(PIECE_COLOURS)] / 255.0
         mtl += [
             f"newmtl {safe}",

@@ -25,9 +25,7 @@ __all__ = ["Instance", "PatternMesh", "PieceMesh", "SeamPairs", "mesh_pattern"]
 
 log = logging.getLogger(__name__)
 
-_CORNER_ANGLE = np.deg2rad(
-    30.0
-)  # turning angle above which a boundary vertex is a corner
+_CORNER_ANGLE = np.deg2rad(30.0)  # turning angle above which a boundary vertex is a corner
 
 
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)
@@ -87,9 +85,7 @@ def _arc(outline: np.ndarray) -> tuple[np.ndarray, float]:
     return s[:-1], float(s[-1])
 
 
-def _point_at(
-    outline: np.ndarray, s: np.ndarray, t: np.ndarray, total: float
-) -> np.ndarray:
+def _point_at(outline: np.ndarray, s: np.ndarray, t: np.ndarray, total: float) -> np.ndarray:
     """Points at arc parameters ``t`` along the closed outline."""
     t = np.mod(t, total)
     i = np.clip(np.searchsorted(s, t, side="right") - 1, 0, len(s) - 1)
@@ -183,14 +179,8 @@ def _on_sew_line(piece: Piece) -> Piece:
     """
     import dataclasses
 
-    if (
-        piece.sew_lines
-        and len(piece.sew_lines[0].points) == piece.n_vertices
-        and piece.sew_lines[0].closed
-    ):
-        return dataclasses.replace(
-            piece, outline=piece.sew_lines[0].points, sew_lines=(), notches=()
-        )
+    if piece.sew_lines and len(piece.sew_lines[0].points) == piece.n_vertices and piece.sew_lines[0].closed:
+        return dataclasses.replace(piece, outline=piece.sew_lines[0].points, sew_lines=(), notches=())
     return piece
 
 
@@ -239,7 +229,7 @@ def mesh_pattern(pattern: Pattern, *, max_edge_cm: float = 2.0) -> PatternMesh:
         for seam in pattern.seams:
             for x, y in ((seam.a, seam.b), (seam.b, seam.a)):
                 s0x, lx, tx = rng(x)
-                s0y, ly, ty = rng(y)
+                s0y, ly, _ = rng(y)
                 for t in list(breaks[x.piece].values):
                     f = np.mod(t - s0x, tx) / lx
                     if 1e-6 < f < 1 - 1e-6:
@@ -266,7 +256,7 @@ def mesh_pattern(pattern: Pattern, *, max_edge_cm: float = 2.0) -> PatternMesh:
         return i
 
     def range_segments(r) -> list[int]:
-        s0, length, total = rng(r)
+        s0, length, _ = rng(r)
         br = breaks[r.piece]
         j0 = br.index(s0)
         j1 = br.index(s0 + length)
@@ -289,16 +279,12 @@ def mesh_pattern(pattern: Pattern, *, max_edge_cm: float = 2.0) -> PatternMesh:
             )
         sb_ordered = sb[::-1] if seam.reverse else sb
         for x, y in zip(sa, sb_ordered, strict=True):
-            parent[find(seg_keys[(seam.a.piece, x)])] = find(
-                seg_keys[(seam.b.piece, y)]
-            )
+            parent[find(seg_keys[(seam.a.piece, x)])] = find(seg_keys[(seam.b.piece, y)])
         seam_segments.append((sa, sb))
     counts_group: dict[int, int] = {}
     for i, length in enumerate(seg_len):
         g = find(i)
-        counts_group[g] = max(
-            counts_group.get(g, 1), int(np.ceil(length / max_edge_cm - 1e-9))
-        )
+        counts_group[g] = max(counts_group.get(g, 1), int(np.ceil(length / max_edge_cm - 1e-9)))
 
     # resample boundaries and triangulate
     meshes: dict[str, PieceMesh] = {}
@@ -316,9 +302,7 @@ def mesh_pattern(pattern: Pattern, *, max_edge_cm: float = 2.0) -> PatternMesh:
         m = len(boundary)
         segs = np.stack([np.arange(m), (np.arange(m) + 1) % m], axis=1)
         try:
-            tri = triangle.triangulate(
-                {"vertices": boundary, "segments": segs}, f"pq28a{area:.6f}YQ"
-            )
+            tri = triangle.triangulate({"vertices": boundary, "segments": segs}, f"pq28a{area:.6f}YQ")
         except Exception as exc:  # triangle raises plain RuntimeError on bad input
             raise InputError(
                 f"{pattern.style}: piece {n!r} could not be triangulated ({exc}); check that its outline is simple"
@@ -333,12 +317,8 @@ def mesh_pattern(pattern: Pattern, *, max_edge_cm: float = 2.0) -> PatternMesh:
         u, w = pts[faces[:, 1]] - pts[faces[:, 0]], pts[faces[:, 2]] - pts[faces[:, 0]]
         a2 = u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0]
         faces = np.where((a2 < 0)[:, None], faces[:, ::-1], faces)
-        marks = {
-            name: seg_start[(n, breaks[n].index(s[v]))] for name, v in p.marks.items()
-        }
-        meshes[n] = PieceMesh(
-            name=n, points=pts, faces=faces, n_boundary=m, marks=marks
-        )
+        marks = {name: seg_start[(n, breaks[n].index(s[v]))] for name, v in p.marks.items()}
+        meshes[n] = PieceMesh(name=n, points=pts, faces=faces, n_boundary=m, marks=marks)
 
     def range_vertices(r, segs: list[int]) -> np.ndarray:
         n = r.piece

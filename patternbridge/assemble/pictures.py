@@ -28,9 +28,7 @@ PIECE_COLOURS = np.array(
 _SKIN = np.array([222, 196, 178], dtype=np.uint8)
 
 
-def render_fit(
-    garment, character, view: str, size: tuple[int, int] = (700, 1000)
-) -> np.ndarray:
+def render_fit(garment, character, view: str, size: tuple[int, int] = (700, 1000)) -> np.ndarray:
     """(H, W, 3) uint8 picture of the character wearing ``garment`` from ``view``."""
     from ..mesh.render import render
 

@@ -62,9 +62,7 @@ class Cylinder:
     h_min: float
     h_max: float
 
-    def coordinates(
-        self, points: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def coordinates(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(theta rad, h cm, r cm) of ``points`` (n, 3)."""
         d = np.asarray(points, dtype=np.float64) - self.center
         h = d @ self.axis
@@ -75,9 +73,7 @@ class Cylinder:
             np.linalg.norm(radial, axis=1),
         )
 
-    def points(
-        self, theta: np.ndarray, h: np.ndarray, r: np.ndarray | float | None = None
-    ) -> np.ndarray:
+    def points(self, theta: np.ndarray, h: np.ndarray, r: np.ndarray | float | None = None) -> np.ndarray:
         """(n, 3) positions at angle ``theta``, height ``h`` and radius ``r`` (default: the cylinder's)."""
         r = self.radius_cm if r is None else r
         r = np.broadcast_to(np.asarray(r, dtype=np.float64), np.shape(theta))
@@ -190,9 +186,7 @@ def instance_points2d(pmesh: PatternMesh, inst: Instance) -> np.ndarray:
     return pts * np.array([-1.0, 1.0]) if inst.copy is Copy.MIRROR else pts.copy()
 
 
-def _landmark(
-    character, vertices: np.ndarray, name: str, mirrored: bool
-) -> np.ndarray | None:
+def _landmark(character, vertices: np.ndarray, name: str, mirrored: bool) -> np.ndarray | None:
     lm = character.landmarks
     if mirrored:
         mname = mirror_name(name)
@@ -204,9 +198,7 @@ def _landmark(
     if name not in lm:
         return None
     mark = lm[name]
-    return (
-        vertices[mark.vertex] if mark.vertex is not None else np.asarray(mark.position)
-    )
+    return vertices[mark.vertex] if mark.vertex is not None else np.asarray(mark.position)
 
 
 def place_instances(
@@ -299,9 +291,7 @@ def place_instances(
             # axis to give a reliable angle). A piece sewn to its own mirror
             # copy (a centre front seam) puts that seam on the centre, row by
             # row: grading can move it off x = 0
-            theta = (0.0 if str(pl.side) == "front" else np.pi) + (
-                p2[:, 0] - _centre_line(pmesh, inst, p2)
-            ) / Rv
+            theta = (0.0 if str(pl.side) == "front" else np.pi) + (p2[:, 0] - _centre_line(pmesh, inst, p2)) / Rv
         h = h_a + (p2[:, 1] - a2[1])
         r = Rv.copy() if np.ndim(Rv) else np.full(len(p2), float(Rv))
         if scene is not None:
@@ -418,7 +408,10 @@ def _level_backs(pmesh: PatternMesh, rows: list) -> list:
     out = list(rows)
     shifts: dict[int, list[float]] = {}
     for sp in pmesh.seams:
-        for me, va, other, vb in ((sp.a, sp.a_vertices, sp.b, sp.b_vertices), (sp.b, sp.b_vertices, sp.a, sp.a_vertices)):
+        for me, va, other, vb in (
+            (sp.a, sp.a_vertices, sp.b, sp.b_vertices),
+            (sp.b, sp.b_vertices, sp.a, sp.a_vertices),
+        ):
             if me.key not in side or other.key not in side:
                 continue
             (i, s_me), (j, s_other) = side[me.key], side[other.key]
@@ -451,7 +444,9 @@ def _held_widths(boundary: np.ndarray, ys: np.ndarray, hold_cm: float = 4.0) -> 
     return np.where(y > top - hold_cm, np.maximum(w, ref), w)
 
 
-def _band_cylinder(character, vertices: np.ndarray, parts: BodyParts, cyl: Cylinder, anchor: str, mirrored: bool) -> Cylinder:
+def _band_cylinder(
+    character, vertices: np.ndarray, parts: BodyParts, cyl: Cylinder, anchor: str, mirrored: bool
+) -> Cylinder:
     """``cyl`` moved onto the centre of the body's cross-section at the anchor's height.
 
     A band going round the waist or the neck is wrapped on its own length;
@@ -507,8 +502,7 @@ def _widths(boundary: np.ndarray, ys: np.ndarray) -> np.ndarray:
     xs = a[:, 0][None, :] + t * (c[:, 0] - a[:, 0])[None, :]
     return np.where(
         cross.any(axis=1),
-        np.where(cross, xs, -np.inf).max(axis=1)
-        - np.where(cross, xs, np.inf).min(axis=1),
+        np.where(cross, xs, -np.inf).max(axis=1) - np.where(cross, xs, np.inf).min(axis=1),
         0.0,
     )
 
@@ -524,9 +518,7 @@ def _shared_row_radii(pmesh: PatternMesh, rows: list) -> dict[str, np.ndarray]:
     groups: dict[str, list] = {}
     for row in rows:
         inst, pl, part = row[0], row[1], row[2]
-        if part in ("left_arm", "right_arm", "left_leg", "right_leg") and str(
-            pl.side
-        ) in (
+        if part in ("left_arm", "right_arm", "left_leg", "right_leg") and str(pl.side) in (
             "front",
             "back",
         ):
@@ -550,9 +542,7 @@ def _shared_row_radii(pmesh: PatternMesh, rows: list) -> dict[str, np.ndarray]:
     return out
 
 
-def _row_radii(
-    pmesh: PatternMesh, inst: Instance, part: str, side: str, radius_cm: float
-) -> np.ndarray:
+def _row_radii(pmesh: PatternMesh, inst: Instance, part: str, side: str, radius_cm: float) -> np.ndarray:
     """(n,) float64, cm: the wrapping radius of every vertex of ``inst``.
 
     A piece going round a limb (side ``around``) that is sewn to itself (a
@@ -646,7 +636,5 @@ def _follow_seams(
         r = Rv.copy()
         if scene is not None:
             r = scene.radial_clearance(cyl, theta, h, r, CLEARANCE_CM)
-        log.debug(
-            "%s placed on its seam (%s)", inst.key, "turned" if sign < 0 else "as drawn"
-        )
+        log.debug("%s placed on its seam (%s)", inst.key, "turned" if sign < 0 else "as drawn")
         out[inst.key] = cyl.points(theta, h, r)

@@ -30,9 +30,7 @@ def _arc(p0, p1, bulge, n=6):
 def _body(neck_depth: float, side: str) -> tuple[np.ndarray, dict[str, int]]:
     """Front or back outline (CCW, seen from outside) and its marks."""
     w, h = 27.0, 68.0
-    left, right = (
-        ("r", "l") if side == "front" else ("l", "r")
-    )  # character sides on the drawing's left/right
+    left, right = ("r", "l") if side == "front" else ("l", "r")  # character sides on the drawing's left/right
     pts, marks = [], {}
 
     def add(name, p):
@@ -190,9 +188,7 @@ def make_tshirt(*, placement: bool = True) -> Pattern:
             b=er("sleeve", "under_a", "hem_a", M),
         ),
     )
-    return Pattern(
-        style="test-tshirt", pieces=(front, back, sleeve), sample_size="M", seams=seams
-    )
+    return Pattern(style="test-tshirt", pieces=(front, back, sleeve), sample_size="M", seams=seams)
 
 
 @pytest.fixture(scope="session")

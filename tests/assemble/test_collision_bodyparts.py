@@ -29,11 +29,7 @@ def test_signed_distance_of_a_sphere(sphere):
 def test_push_out_moves_inside_points_to_the_offset(sphere):
     rng = np.random.default_rng(1)
     d = rng.normal(size=(50, 3))
-    p = (
-        d
-        / np.linalg.norm(d, axis=1, keepdims=True)
-        * rng.uniform(7.0, 10.2, size=(50, 1))
-    )
+    p = d / np.linalg.norm(d, axis=1, keepdims=True) * rng.uniform(7.0, 10.2, size=(50, 1))
     out, moved = sphere.push_out(p, 0.5, robust=True)
     r = np.linalg.norm(out, axis=1)
     assert moved.all()
@@ -120,9 +116,7 @@ def test_crossing_triangles_finds_a_triangle_through_a_limb(limb):
     f = np.array([[0, 1, 2], [3, 4, 5]])
     assert not limb.inside(v).any()  # the vertex test alone sees nothing
     np.testing.assert_array_equal(limb.crossing_triangles(v, f), [True, False])
-    np.testing.assert_array_equal(
-        limb.crossing_edges(v[[0, 3]], v[[1, 4]]), [True, False]
-    )
+    np.testing.assert_array_equal(limb.crossing_edges(v[[0, 3]], v[[1, 4]]), [True, False])
 
 
 def test_clear_triangles_lifts_a_strip_off_a_limb(limb):
@@ -147,9 +141,7 @@ def test_helper_volume_is_seen_by_closest_and_inside_only():
     box = trimesh.creation.box(extents=(4.0, 4.0, 4.0))
     box.apply_translation((20.0, 0.0, 0.0))
     plain = BodyCollider(ball.vertices, ball.faces)
-    filled = BodyCollider(
-        ball.vertices, ball.faces, proxies=((box.vertices, box.faces),)
-    )
+    filled = BodyCollider(ball.vertices, ball.faces, proxies=((box.vertices, box.faces),))
     p = np.array([[20.0, 0.0, 0.0], [23.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
     np.testing.assert_array_equal(plain.inside(p), [False, False, True])
     np.testing.assert_array_equal(filled.inside(p), [True, False, True])

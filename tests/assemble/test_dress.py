@@ -16,9 +16,7 @@ from patternbridge.errors import InputError
 
 
 @pytest.mark.shared
-def test_garment_without_placement_hints_is_a_clear_input_error(
-    character_e, tshirt_factory
-):
+def test_garment_without_placement_hints_is_a_clear_input_error(character_e, tshirt_factory):
     with pytest.raises(InputError, match="no placement hint"):
         assemble(character_e, tshirt_factory(placement=False))
 
@@ -67,11 +65,7 @@ def test_no_vertex_inside_the_body_and_seams_closed(dressed, character_e):
     for prim in doc["meshes"][0]["primitives"]:
         acc = doc["accessors"][prim["attributes"]["POSITION"]]
         view = doc["bufferViews"][acc["bufferView"]]
-        pos.append(
-            np.frombuffer(
-                binary, np.float32, acc["count"] * 3, view["byteOffset"]
-            ).reshape(-1, 3)
-        )
+        pos.append(np.frombuffer(binary, np.float32, acc["count"] * 3, view["byteOffset"]).reshape(-1, 3))
     pos = np.concatenate(pos).astype(np.float64) * 100.0
     sd = BodyCollider(character_e.vertices, character_e.faces).signed_distance(pos)
     assert sd.min() > -0.05  # float32 rounding of the file
@@ -196,8 +190,8 @@ def test_trouser_seat_goes_round_the_hips_and_the_band_round_the_waist(placed_li
 
 @pytest.mark.shared
 def test_pins_free_the_cloth_near_open_seams(character_e):
-    from patternbridge.assemble.pipeline import ANCHOR_FREE_CM, anchor_weights, prepare
     from patternbridge.assemble.drape import seam_gaps
+    from patternbridge.assemble.pipeline import ANCHOR_FREE_CM, anchor_weights, prepare
     from patternbridge.library import load_garment
 
     sim = prepare(character_e, load_garment("trousers"), max_edge_cm=4.0)
@@ -219,6 +213,4 @@ def test_widths_of_a_trapezoid():
     from patternbridge.assemble.placement import _widths
 
     trapezoid = np.array([[-10.0, 0.0], [10.0, 0.0], [5.0, 10.0], [-5.0, 10.0]])
-    np.testing.assert_allclose(
-        _widths(trapezoid, np.array([0.5, 5.0, 9.5, 12.0])), [19.5, 15.0, 10.5, 0.0]
-    )
+    np.testing.assert_allclose(_widths(trapezoid, np.array([0.5, 5.0, 9.5, 12.0])), [19.5, 15.0, 10.5, 0.0])

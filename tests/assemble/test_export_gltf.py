@@ -60,9 +60,7 @@ def _accessor(doc, binary, i):
     assert view["byteOffset"] % 4 == 0
     assert view["byteOffset"] + view["byteLength"] <= len(binary)
     assert view["byteLength"] == n * np.dtype(dt).itemsize
-    a = np.frombuffer(
-        binary, dtype=dt, count=n, offset=view["byteOffset"] + acc.get("byteOffset", 0)
-    )
+    a = np.frombuffer(binary, dtype=dt, count=n, offset=view["byteOffset"] + acc.get("byteOffset", 0))
     return a.reshape(acc["count"], -1)
 
 
@@ -94,18 +92,12 @@ def test_glb_parses_back_with_consistent_buffers():
         uv = _accessor(doc, binary, attrs["TEXCOORD_0"])
         np.testing.assert_allclose(uv * 100.0, g.uv[g.instance == k], atol=1e-4)
         np.testing.assert_allclose(pos * 100.0, g.vertices[g.instance == k], atol=1e-4)
-        np.testing.assert_array_equal(
-            _accessor(doc, binary, attrs["_PIECE"]).ravel(), k
-        )
+        np.testing.assert_array_equal(_accessor(doc, binary, attrs["_PIECE"]).ravel(), k)
         acc = doc["accessors"][attrs["POSITION"]]
         np.testing.assert_allclose(acc["min"], pos.min(axis=0))
         assert doc["materials"][prim["material"]]["name"] == ("front", "back")[k]
     assert total == len(g.vertices)
-    ibm = (
-        _accessor(doc, binary, doc["skins"][0]["inverseBindMatrices"])
-        .reshape(3, 4, 4)
-        .transpose(0, 2, 1)
-    )
+    ibm = _accessor(doc, binary, doc["skins"][0]["inverseBindMatrices"]).reshape(3, 4, 4).transpose(0, 2, 1)
     np.testing.assert_allclose(ibm[:, :3, 3], -g.skeleton.heads / 100.0, atol=1e-6)
     # node translations rebuild the bone heads
     nodes = doc["nodes"]

@@ -23,9 +23,7 @@ def test_seam_sides_have_equal_counts_and_matching_ends(tshirt):
         # ends of the ranges are the marks (b read backwards for a reversed seam)
         assert sp.a_vertices[0] == pa.marks[seam.a.start]
         assert sp.a_vertices[-1] == pa.marks[seam.a.end]
-        b_first, b_last = (
-            (seam.b.end, seam.b.start) if seam.reverse else (seam.b.start, seam.b.end)
-        )
+        b_first, b_last = (seam.b.end, seam.b.start) if seam.reverse else (seam.b.start, seam.b.end)
         assert sp.b_vertices[0] == pb.marks[b_first]
         assert sp.b_vertices[-1] == pb.marks[b_last]
 
@@ -36,9 +34,7 @@ def test_matched_vertices_sit_at_equal_arc_fractions(tshirt):
         fa = []
         for piece, ids in ((sp.a.piece, sp.a_vertices), (sp.b.piece, sp.b_vertices)):
             pts = pm.pieces[piece].points[ids]
-            s = np.concatenate(
-                [[0.0], np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))]
-            )
+            s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))])
             fa.append(s / s[-1])
         np.testing.assert_allclose(fa[0], fa[1], atol=0.08)
 
@@ -58,9 +54,7 @@ def test_boundary_follows_outline_and_edges_are_short(tshirt):
         area = 0.5 * (u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0])
         assert np.all(area > 0)
         assert area.sum() == pytest.approx(poly.area, rel=0.02)
-        e = np.linalg.norm(
-            m.points[m.faces] - m.points[np.roll(m.faces, 1, axis=1)], axis=2
-        )
+        e = np.linalg.norm(m.points[m.faces] - m.points[np.roll(m.faces, 1, axis=1)], axis=2)
         assert np.percentile(e, 95) < 2.0 * 1.6
 
 
@@ -69,9 +63,7 @@ def test_marks_are_boundary_vertices(tshirt):
     for piece in tshirt.pieces:
         m = pm.pieces[piece.name]
         for name, v in piece.marks.items():
-            np.testing.assert_allclose(
-                m.points[m.marks[name]], piece.outline[v], atol=1e-9
-            )
+            np.testing.assert_allclose(m.points[m.marks[name]], piece.outline[v], atol=1e-9)
 
 
 def test_mirror_instances_are_created_for_pairs(tshirt):
