@@ -340,8 +340,9 @@ def _seat_on_hips(
     and back seams a hand's width apart; closing them then turns the whole
     leg tube round the leg. Above the crotch every row goes instead round a
     ring centred on the body's cross-section at its height, with the side
-    seam on the anchor's angle and the radius of both legs' pieces together
-    (twice one leg's), so the centre seams start near the midline. The two
+    seam on the side of the hips and the radius of both legs' pieces
+    together; each piece spans its quarter (side to centre front or back)
+    whatever its share of the row, so the centre seams start on the midline. The two
     wrappings are blended over :data:`SEAT_BLEND_CM` around the crotch.
     """
     v = np.asarray(vertices, dtype=np.float64)
@@ -364,7 +365,7 @@ def _seat_on_hips(
     ok = np.isfinite(centres[:, 0])
     if ok.sum() < 2:
         return
-    for inst, p2, x_ref, part, a2y, _ in seat:
+    for inst, p2, x_ref, part, a2y, b_own in seat:
         pos = out[inst.key]
         y = pos[:, 1]
         t = np.clip((y - crotch_y - SEAT_BLEND_CM[0]) / (SEAT_BLEND_CM[1] - SEAT_BLEND_CM[0]), 0.0, 1.0)
@@ -378,7 +379,12 @@ def _seat_on_hips(
         rel = p2[:, 1] - a2y
         total = sum(_held_widths(b, rel + oy) for _, _, _, opart, oy, b in seat if opart == part)
         r_t = np.maximum(total / np.pi, 1.0)
-        theta = th_side + (p2[:, 0] - x_ref) / r_t
+        # each piece covers its quarter of the hips, from the side to the
+        # centre front or back, whatever its share of the row's width: a
+        # grading can give the back twice the front's waist, and with one
+        # scale for both the centre seams started 14 cm apart
+        own = np.maximum(_held_widths(b_own, p2[:, 1]), 1.0)
+        theta = th_side + 0.5 * np.pi * np.clip((p2[:, 0] - x_ref) / own, -1.0, 1.0)
         c = np.stack([np.interp(y, grid[ok], centres[ok, j]) for j in range(3)], axis=1)
         ring = (
             c * np.array([1.0, 0.0, 1.0])
