@@ -499,11 +499,15 @@ def fit_pattern(
     refine_iter : iterations of each constrained Gauss–Newton run
     w_fit : cost of the measurement errors inside the band, rad of shape
         error per cm of mean measurement error (:func:`~.refine.refine`)
-    w_design, w_share : full weights of the design-preservation terms
-    design_levels : factors on those weights tried in turn until the result
+    w_design, w_share : weights of the design-preservation terms (control-grid
+        intervals; each piece's share of the links with legs on several pieces)
+    design_levels : factors on ``w_design`` tried in turn until the result
         changes the design less than proportional scaling (with one
         bisection step between the last level that did not and the first
-        that did)
+        that did). ``w_share`` always keeps its full weight: the front/back
+        split of a girth and the balance of the front and back rise are
+        design facts a tailor checks, and without them a slim body's trousers
+        came out with the back rise shorter than the front's.
     n_refine : NSGA-II front members the final step starts from
     source : pattern name for error messages
     progress : ``progress(stage, done, total)`` callback
@@ -597,7 +601,7 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
     def finish_at(start_name: str, x_start: np.ndarray, level: float) -> Solution:
         res = refine(grid, data, x_start, measure_tol_cm=measure_band_cm, straight=straight,
                      max_iter=refine_iter, x_design=x_axis, w_design=w_design * level,
-                     w_share=w_share * level, w_fit=w_fit, progress=progress)
+                     w_share=w_share, w_fit=w_fit, progress=progress)
         if res.max_violation_cm > 1e-3:
             log.info("%s: final step from the %s (design weight x%.3g) left a violation of %.3g cm",
                      source, start_name, level, res.max_violation_cm)
@@ -608,10 +612,11 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
     def finish(start_name: str, x_start: np.ndarray) -> Solution | None:
         """The constrained final step from ``x_start`` with the design-weight continuation.
 
-        The design terms run at full weight first; when the result changes the
-        design more than proportional scaling does (shape error not below
-        scaling's), the step is run again from the same start at the next
-        ``design_levels`` factor (a third, a ninth, none). When a level
+        The grid-interval design term runs at full weight first; when the
+        result changes the design more than proportional scaling does (shape
+        error not below scaling's), the step is run again from the same start
+        at the next ``design_levels`` factor (a third, a ninth, none). The
+        link-share term keeps its full weight throughout. When a level
         passes after one that did not, the geometric mean of the two is tried
         once and taken if it passes too: the largest weight found whose
         shape error is below scaling's. Later starts begin at that level (it

@@ -89,3 +89,44 @@ def test_design_deviation_zero_under_translation_and_grows_with_collapse():
     n_sq = np.linalg.norm(design_deviation(grid, squashed[None, :], grid.x0))
     n_flat = np.linalg.norm(design_deviation(grid, flat[None, :], grid.x0))
     assert 0 < n_sq < n_flat
+
+
+SLIM_FEMALE_LEGS = {
+    "waist_girth": 66.631, "hip_girth": 93.234, "crotch_length": 60.111, "waist_to_hip": 19.609,
+    "outside_leg_right": 96.981, "inside_leg_right": 71.456, "thigh_girth_right": 51.828, "knee_girth_right": 34.587,
+}
+
+
+def _trouser_balance(pattern):
+    """Front share of the waist and back rise / front rise of the trousers."""
+    from patternbridge.pattern.geometry import range_length
+
+    pieces = {p.name: p for p in pattern.pieces}
+    f, b = pieces["front"], pieces["back"]
+
+    def chord(pc, a, c):
+        return float(np.linalg.norm(pc.outline[pc.marks[a]] - pc.outline[pc.marks[c]]))
+
+    def rise(pc, top):
+        i, j = pc.marks[top], pc.marks["crotch_point"]
+        return float(min(range_length(pc.outline, i, j), range_length(pc.outline, j, i)))
+
+    fw, bw = chord(f, "side_waist", "cf_waist"), chord(b, "side_waist", "cb_waist")
+    return fw / (fw + bw), rise(b, "cb_waist") / rise(f, "cf_waist")
+
+
+def test_trousers_keep_their_balance_on_a_slim_body():
+    # A slim waist over full hips: the angle terms alone would take the waist out of the
+    # front (front 16 cm, back 25 cm) and give the back a shorter rise than the front,
+    # a pattern no tailor would cut and the assembler cannot sew.
+    from patternbridge.grade.run import fit_pattern
+    from patternbridge.io.load import load_pattern
+
+    pattern, _ = load_pattern("trousers")
+    share0, rise0 = _trouser_balance(pattern)
+    res = fit_pattern(pattern, SLIM_FEMALE_LEGS, seed=0, size="slim")
+    share, rise = _trouser_balance(res.pattern)
+    sc = res.chosen.scores
+    assert np.abs(sc.achieved_cm - sc.target_cm).max() <= 0.2 and np.abs(sc.seam_mismatch_cm).max() <= 0.01
+    assert abs(share - share0) <= 0.25 * share0
+    assert rise > 1.0 and abs(rise - rise0) <= 0.25 * rise0
