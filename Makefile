@@ -10,7 +10,7 @@ DEMO_OUT       := out/demo
 
 help:
 	@echo "make demo   create .venv, install, fit the $(DEMO_GARMENT) to the demo character"
-	@echo "make test   create .venv, install with the test extra, run the test suite"
+	@echo "make test   create .venv, install with the test extra, lint, run the test suite"
 	@echo "make lint   ruff over the package, tests, benchmarks and garment drafts"
 	@echo "make bench  run the benchmarks (installs the bench extra)"
 
@@ -48,6 +48,7 @@ demo: system-deps $(VENV)/.installed
 	@ls -1 $(DEMO_OUT) | sed 's/^/  /'
 
 test: system-deps $(VENV)/.installed-test
+	$(BIN)/ruff check patternbridge tests benchmarks garment_library
 	$(BIN)/python -m pytest -q -p no:cacheprovider
 
 lint: $(VENV)/.installed-test
