@@ -64,16 +64,21 @@ def test_bad_arguments(shapes):
         geodesic_distances(mesh, 10_000)
 
 
+def _random_windows(seed: int, n: int, w: int):
+    """``n`` random polylines of ``w`` samples, unit normals, ends fixed."""
+    rng = np.random.default_rng(seed)
+    pts = np.cumsum(rng.normal(size=(n, w, 3)), axis=1)
+    nrm = rng.normal(size=(n, w, 3))
+    nrm /= np.linalg.norm(nrm, axis=2, keepdims=True)
+    free = np.ones((n, w), dtype=bool)
+    free[:, [0, -1]] = False
+    return pts, nrm, free
+
+
 def test_batched_window_solve_matches_lsq():
     from patternbridge.geodesic.flow import lsq_step
 
-    rng = np.random.default_rng(9)
-    w = 7
-    pts = np.cumsum(rng.normal(size=(3, w, 3)), axis=1)
-    nrm = rng.normal(size=(3, w, 3))
-    nrm /= np.linalg.norm(nrm, axis=2, keepdims=True)
-    free = np.ones((3, w), dtype=bool)
-    free[:, [0, -1]] = False
+    pts, nrm, free = _random_windows(9, 3, 7)
     out = solve_windows(pts, nrm, pts, free)
     for b in range(3):
         np.testing.assert_allclose(out[b], lsq_step(pts[b], nrm[b], pts[b]), atol=1e-8)
@@ -87,12 +92,7 @@ def test_banded_window_solve_matches_lsq(w):
     from patternbridge.geodesic import propagate
     from patternbridge.geodesic.flow import lsq_step
 
-    rng = np.random.default_rng(w)
-    pts = np.cumsum(rng.normal(size=(4, w, 3)), axis=1)
-    nrm = rng.normal(size=(4, w, 3))
-    nrm /= np.linalg.norm(nrm, axis=2, keepdims=True)
-    free = np.ones((4, w), dtype=bool)
-    free[:, [0, -1]] = False
+    pts, nrm, free = _random_windows(w, 4, w)
     free[1, : w // 2] = False  # a window still filling up
     t1, t2 = propagate._tangent_bases(nrm)
     tng = np.stack([t1, t2], axis=-1)
@@ -271,13 +271,7 @@ def test_banded_fallback_when_cholesky_refuses(monkeypatch):
     from patternbridge.geodesic import propagate
     from patternbridge.geodesic.flow import lsq_step
 
-    rng = np.random.default_rng(2)
-    w = 9
-    pts = np.cumsum(rng.normal(size=(2, w, 3)), axis=1)
-    nrm = rng.normal(size=(2, w, 3))
-    nrm /= np.linalg.norm(nrm, axis=2, keepdims=True)
-    free = np.ones((2, w), dtype=bool)
-    free[:, [0, -1]] = False
+    pts, nrm, free = _random_windows(2, 2, 9)
     monkeypatch.setattr(propagate, "_pbsv", lambda *a, **k: (None, None, 1))
     out = solve_windows(pts, nrm, pts, free)
     for b in range(2):
