@@ -488,7 +488,7 @@ def _anchor_line(pmesh: PatternMesh, inst: Instance, p2: np.ndarray, mark: str, 
         for me, va, other in ((sp.a, sp.a_vertices, sp.b), (sp.b, sp.b_vertices, sp.a)):
             if me.key != inst.key or other.key == inst.key or other.key not in partners:
                 continue
-            if mv is None or mv not in set(va.tolist()):
+            if mv is None or not np.any(va == mv):
                 continue
             ys, xs = p2[va, 1], p2[va, 0]
             if np.ptp(ys) < 1.0:

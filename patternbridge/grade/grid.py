@@ -428,24 +428,7 @@ def _corner_cross(a: np.ndarray) -> np.ndarray:
 
 def _min_corner_ratio(c: np.ndarray, c0: np.ndarray) -> np.ndarray:
     """(n_pop,) min over cells and corners of cross(c) / cross(c0)."""
-
-    def corners(a):
-        p00 = a[:, :-1, :-1]
-        p10 = a[:, :-1, 1:]
-        p11 = a[:, 1:, 1:]
-        p01 = a[:, 1:, :-1]
-        quad = [p00, p10, p11, p01]  # CCW
-        res = []
-        for q in range(4):
-            cur, nxt, prv = quad[q], quad[(q + 1) % 4], quad[(q - 1) % 4]
-            e1 = nxt - cur
-            e2 = prv - cur
-            res.append(e1[..., 0] * e2[..., 1] - e1[..., 1] * e2[..., 0])
-        return np.stack(res, axis=-1)
-
-    cr = corners(c)
-    cr0 = corners(c0)
-    ratio = cr / cr0
+    ratio = _corner_cross(c) / _corner_cross(c0)
     return ratio.reshape(len(c), -1).min(axis=1)
 
 
