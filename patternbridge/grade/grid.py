@@ -43,6 +43,7 @@ __all__ = [
     "critical_vertices",
     "deform_pattern",
     "grid_lines",
+    "pattern_darts",
     "piece_grid",
     "reference_line",
     "split_lines",
@@ -66,6 +67,73 @@ def critical_vertices(piece: Piece) -> np.ndarray:
     if len(idx) < 3:  # all-plain outline without marks: use a coarse subsample
         idx.update(np.linspace(0, len(outline) - 1, 8).astype(int).tolist())
     return np.array(sorted(idx), dtype=np.int64)
+
+
+def pattern_darts(pattern: Pattern) -> dict[str, tuple[tuple[int, int, int], ...]]:
+    """The darts of every piece, from the pattern's seams.
+
+    A dart is a seam whose two sides lie on the same cut copy of one piece and
+    meet at a common mark, the dart's point: ``rim_a → apex`` sewn to
+    ``apex → rim_b``. Mirror copies of the same dart are listed once.
+
+    Returns
+    -------
+    dict piece name -> ``(rim_a, apex, rim_b)`` outline indices, in outline
+    order (``rim_a`` first), one triple per dart
+    """
+    out: dict[str, list[tuple[int, int, int]]] = {}
+    names = set(pattern.piece_names)
+    for seam in pattern.seams:
+        a, b = seam.a, seam.b
+        if a.piece != b.piece or a.copy != b.copy or a.piece not in names:
+            continue
+        if a.end == b.start:
+            first, apex, last = a.start, a.end, b.end
+        elif b.end == a.start:
+            first, apex, last = b.start, b.end, a.end
+        else:
+            continue
+        marks = pattern.piece(a.piece).marks
+        if not all(m in marks for m in (first, apex, last)) or len({first, apex, last}) < 3:
+            continue
+        triple = (int(marks[first]), int(marks[apex]), int(marks[last]))
+        if triple not in out.setdefault(a.piece, []):
+            out[a.piece].append(triple)
+    return {k: tuple(v) for k, v in out.items()}
+
+
+def _dart_lines(line: np.ndarray, darts) -> tuple[list[float], list[float]]:
+    """Grid positions (x, y) a dart needs to open and close on its own.
+
+    Lines through both rims across the dart (so the cell between them can
+    widen: the dart's intake) and one through the point along it (so the
+    dart's length is a cell's height). A dart pointing mostly along ``y``
+    gets ``x`` lines at its rims and a ``y`` line at its point.
+    """
+    xs: list[float] = []
+    ys: list[float] = []
+    for first, apex, last in darts:
+        pa, px, pb = line[first], line[apex], line[last]
+        along = px - 0.5 * (pa + pb)
+        across, other = (xs, ys) if abs(along[1]) >= abs(along[0]) else (ys, xs)
+        axis = 0 if across is xs else 1
+        across += [float(pa[axis]), float(pb[axis])]
+        other.append(float(px[1 - axis]))
+    return xs, ys
+
+
+def _force_lines(lines: np.ndarray, forced: list[float], min_gap_cm: float) -> np.ndarray:
+    """``lines`` with ``forced`` positions added; interior lines closer than ``min_gap_cm`` to one are dropped."""
+    if not forced:
+        return lines
+    forced_arr = np.unique(np.asarray(forced, dtype=np.float64))
+    forced_arr = forced_arr[(forced_arr > lines[0] + 1e-6) & (forced_arr < lines[-1] - 1e-6)]
+    if not len(forced_arr):
+        return lines
+    inner = lines[1:-1]
+    near = np.min(np.abs(inner[:, None] - forced_arr[None, :]), axis=1) < min_gap_cm if len(inner) else []
+    keep = inner[~np.asarray(near, dtype=bool)] if len(inner) else inner
+    return np.unique(np.concatenate([lines[:1], keep, forced_arr, lines[-1:]]))
 
 
 def grid_lines(values: np.ndarray, lo: float, hi: float, *, max_lines: int, min_gap_cm: float) -> np.ndarray:
@@ -208,12 +276,18 @@ def split_lines(lines: np.ndarray, max_gap_cm: float) -> np.ndarray:
 
 
 def piece_grid(piece: Piece, *, max_lines: int = 6, min_gap_frac: float = 0.06,
-               max_cell_frac: float | None = None) -> PieceGrid:
+               max_cell_frac: float | None = None,
+               darts: tuple[tuple[int, int, int], ...] = ()) -> PieceGrid:
     """Build the control grid of ``piece`` through its critical points.
 
     ``max_cell_frac`` (optional) splits every grid interval wider than that
     fraction of the piece's extent into equal parts, so long stretches
-    between critical points get control points too.
+    between critical points get control points too. ``darts`` (``(rim_a,
+    apex, rim_b)`` outline indices, :func:`pattern_darts`) get lines through
+    both rims and the point whatever the minimum gap, so a dart's intake can
+    change on its own, as a tailor takes more or less into a dart; without
+    them the dart sits inside one cell and its intake can only scale with
+    the waist around it.
     """
     outline = piece.outline
     line = reference_line(piece)
@@ -228,6 +302,10 @@ def piece_grid(piece: Piece, *, max_lines: int = 6, min_gap_frac: float = 0.06,
     if max_cell_frac:
         xs = split_lines(xs, max_cell_frac * extent)
         ys = split_lines(ys, max_cell_frac * extent)
+    if darts:
+        fx, fy = _dart_lines(line, darts)
+        xs = _force_lines(xs, fx, 0.02 * extent)
+        ys = _force_lines(ys, fy, 0.02 * extent)
     gx, gy = np.meshgrid(xs, ys)
     control = np.stack([gx.ravel(), gy.ravel()], axis=1)
     _, w_out = bilinear_weights(line, xs, ys)
@@ -432,9 +510,15 @@ def _min_corner_ratio(c: np.ndarray, c0: np.ndarray) -> np.ndarray:
     return ratio.reshape(len(c), -1).min(axis=1)
 
 
-def build_grid(pattern: Pattern, *, max_lines: int = 6, max_cell_frac: float | None = None) -> PatternGrid:
-    """Control grids for every piece of ``pattern`` and the gene layout (see :func:`piece_grid`)."""
-    grids = tuple(piece_grid(p, max_lines=max_lines, max_cell_frac=max_cell_frac) for p in pattern.pieces)
+def build_grid(pattern: Pattern, *, max_lines: int = 6, max_cell_frac: float | None = None,
+               dart_lines: bool = True) -> PatternGrid:
+    """Control grids for every piece of ``pattern`` and the gene layout (see :func:`piece_grid`).
+
+    ``dart_lines`` gives every dart (:func:`pattern_darts`) grid lines of its own.
+    """
+    darts = pattern_darts(pattern) if dart_lines else {}
+    grids = tuple(piece_grid(p, max_lines=max_lines, max_cell_frac=max_cell_frac, darts=darts.get(p.name, ()))
+                  for p in pattern.pieces)
     var_offsets = np.concatenate([[0], np.cumsum([2 * g.n_control for g in grids])]).astype(np.int64)
     point_offsets = np.concatenate([[0], np.cumsum([len(g.outline_weights) for g in grids])]).astype(np.int64)
     x0 = np.concatenate([g.control.ravel() for g in grids])

@@ -48,6 +48,7 @@ __all__ = [
     "Evaluation",
     "ObjectiveData",
     "angle_change",
+    "dart_lengths",
     "evaluate",
     "link_shares",
     "measurement_error",
@@ -106,6 +107,7 @@ class ObjectiveData:
     notch_seam: np.ndarray  # (M,)
     # shape
     critical: np.ndarray  # (K,) global indices
+    darts: np.ndarray  # (D, 3) first rim, point, last rim of every dart (global indices)
     angle0: np.ndarray  # (N,) original inner angles
     piece_of_point: np.ndarray  # (N,) piece index of every point
     points0: np.ndarray  # (N, 2) original outline points
@@ -344,6 +346,12 @@ def objective_data(
     notch_bl = np.stack(nb_len_cols, axis=1) if M else np.zeros((n, 0))
 
     crit = np.concatenate([grid.point_offsets[k] + g.critical for k, g in enumerate(grid.pieces)])
+    # darts: (first rim, point, last rim) of every dart, global indices
+    from .grid import pattern_darts
+
+    dart_idx = [grid.point_offsets[grid.piece_index(name)] + np.array(t)
+                for name, triples in pattern_darts(pattern).items() for t in triples]
+    darts = np.array(dart_idx, dtype=np.int64).reshape(-1, 3)
     spans, span_piece, span_a, span_b = [], [], [], []
     for k, g in enumerate(grid.pieces):
         crit_k = np.asarray(g.critical)
@@ -377,7 +385,7 @@ def objective_data(
         notch_a=notch_a, notch_b=notch_b, notch_b_len=notch_bl,
         notch_b_sign=np.array(n_sign, dtype=np.float64), notch_offset0=np.array(n_off, dtype=np.float64),
         notch_seam=np.array(n_seam, dtype=np.int64),
-        critical=crit.astype(np.int64), angle0=_angles(points0, prv, nxt), n_seams=S,
+        critical=crit.astype(np.int64), darts=darts, angle0=_angles(points0, prv, nxt), n_seams=S,
         piece_of_point=np.repeat(np.arange(len(grid.pieces)), np.diff(grid.point_offsets)).astype(np.int64),
         points0=points0,
         centre0=np.stack([points0[a:b].mean(axis=0)
@@ -431,6 +439,16 @@ def measurement_error(data: ObjectiveData, points: np.ndarray) -> tuple[np.ndarr
         chord = np.linalg.norm(points[:, data.chord_b, :] - points[:, data.chord_a, :], axis=-1)
         achieved = achieved + chord @ data.link_chords
     return achieved, np.mean(np.abs(achieved - data.target_cm), axis=1)
+
+
+def dart_lengths(data: ObjectiveData, points: np.ndarray) -> np.ndarray:
+    """Length of every dart, the mean of its two legs (rim to point), ``(n_pop, D)`` cm."""
+    if not len(data.darts):
+        return np.zeros((points.shape[0], 0))
+    a, x, b = data.darts.T
+    la = np.linalg.norm(points[:, x, :] - points[:, a, :], axis=-1)
+    lb = np.linalg.norm(points[:, b, :] - points[:, x, :], axis=-1)
+    return 0.5 * (la + lb)
 
 
 def link_shares(data: ObjectiveData, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

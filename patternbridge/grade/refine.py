@@ -45,6 +45,7 @@ from .objectives import (
     _edge_lengths,
     _seam_terms,
     angle_change,
+    dart_lengths,
     link_shares,
     measurement_error,
     residuals,
@@ -366,6 +367,7 @@ def refine(
     w_design: float = 0.7,
     design_slack: float = 0.0,
     w_share: float = 3.0,
+    keep_darts: bool = True,
     w_fit: float = 0.02,
     fit_eps_cm: float = 0.01,
     progress: Progress | None = None,
@@ -394,6 +396,11 @@ def refine(
         instead of drifting where the angle terms cannot see them
     w_share : weight of each piece's share of the links with legs on
         several pieces (:func:`~.objectives.link_shares`), against ``x_design``
+    keep_darts : every dart keeps the length it has in ``x_design`` (or in
+        ``x``): an equality constraint; its intake stays free. The grid gives
+        a dart lines of its own (:func:`~.grid.pattern_darts`), and without
+        this the step lengthened the slim female's back dart past the hip
+        line, which changes no angle
     w_fit : cost of the measurement errors inside the band, in rad of shape
         error per cm of mean ``|m − t|``: iteratively reweighted
         (``1/sqrt(|m − t| + fit_eps_cm)``) so that it acts as an L1 cost,
@@ -420,6 +427,8 @@ def refine(
     wa0 = w_all * np.sqrt(1.0 / max(len(data.points0), 1))
     wm0 = np.sqrt(w_fit / max(len(data.target_cm), 1))
     ext = float(np.mean(data.extent_cm))
+    x_ref = np.asarray(x if x_design is None else x_design, dtype=np.float64)
+    dart_ref = dart_lengths(data, grid.outlines(x_ref[None, :]))[0] if keep_darts else None
     if x_design is not None:
         share_ref, shared = link_shares(data, grid.outlines(np.asarray(x_design, dtype=np.float64)[None, :]))
         share_ref = share_ref[:, :, shared]
@@ -436,6 +445,8 @@ def refine(
         squeeze = np.maximum(0.0, min_cell_ratio - grid.corner_ratios(X))
         terms = [wc * d[:, data.critical], wa * d, s, (w_bend / ext) * grid.bending(X), w_cell * squeeze]
         c = [X @ A_st.T]  # straight edges: linear, cm
+        if dart_ref is not None and len(dart_ref):
+            c.append(dart_lengths(data, pts) - dart_ref)
         if data.n_seams:
             mismatch, edge_dev, ang_dev, notch, _ = _seam_terms(data, pts, _edge_lengths(data, pts))
             terms += [w_interval * edge_dev, w_turn * ang_dev]

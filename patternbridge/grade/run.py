@@ -474,6 +474,8 @@ def fit_pattern(
     w_design: float = 0.7,
     w_share: float = 3.0,
     design_levels: tuple[float, ...] = (1.0, 1.0 / 3.0, 1.0 / 9.0, 0.0),
+    w_all: float = 1.0,
+    all_levels: tuple[float, ...] = (1.0, 0.5),
     n_refine: int = 3,
     source: str = "pattern",
     progress: Progress | None = None,
@@ -508,6 +510,10 @@ def fit_pattern(
         split of a girth and the balance of the front and back rise are
         design facts a tailor checks, and without them a slim body's trousers
         came out with the back rise shorter than the front's.
+    w_all, all_levels : weight of the every-vertex angle term of the final
+        step (:func:`~.refine.refine`) and its factors, tried in turn when no
+        ``design_levels`` factor brings the shape error below proportional
+        scaling's (the slim bodies' trousers)
     n_refine : NSGA-II front members the final step starts from
     source : pattern name for error messages
     progress : ``progress(stage, done, total)`` callback
@@ -532,7 +538,8 @@ def fit_pattern(
             max_cell_frac=max_cell_frac, tol_measure_cm=tol_measure_cm, tol_seam=tol_seam, size=size,
             do_repair=do_repair, measure_band_cm=measure_band_cm, keep_straight=keep_straight,
             keep_grain=keep_grain, refine_iter=refine_iter, w_fit=w_fit, w_design=w_design, w_share=w_share,
-            design_levels=tuple(design_levels), n_refine=n_refine, source=source, progress=progress,
+            design_levels=tuple(design_levels), w_all=w_all, all_levels=tuple(all_levels),
+            n_refine=n_refine, source=source, progress=progress,
         )
 
 
@@ -544,7 +551,7 @@ def _meets(sol: Solution, *, mean_cm: float, max_cm: float, seam_cm: float) -> b
 
 def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max_cell_frac, tol_measure_cm,
                  tol_seam, size, do_repair, measure_band_cm, keep_straight, keep_grain, refine_iter, w_fit, w_design,
-                 w_share, design_levels, n_refine, source, progress):
+                 w_share, design_levels, w_all, all_levels, n_refine, source, progress):
     from pymoo.algorithms.moo.nsga2 import NSGA2
     from pymoo.optimize import minimize
 
@@ -596,52 +603,64 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
 
     accept = {"mean_cm": min(tol_measure_cm, 0.5), "max_cm": 1.5, "seam_cm": 0.1}
     shape_ref = baselines["proportional"].scores.shape_error
-    start_level = [max(design_levels, default=0.0)]
+    # the continuation's stages in order: the grid-interval weight steps
+    # down first; only when no level of it passes does the all-vertex angle
+    # weight step down, and the grid-interval levels run again
+    stages = [(float(a), float(d)) for a in sorted(set(all_levels), reverse=True)
+              for d in sorted(set(design_levels), reverse=True)]
+    start_stage = [stages[0]]
 
-    def finish_at(start_name: str, x_start: np.ndarray, level: float) -> Solution:
+    def finish_at(start_name: str, x_start: np.ndarray, stage: tuple[float, float]) -> Solution:
+        w_all_level, level = stage
         res = refine(grid, data, x_start, measure_tol_cm=measure_band_cm, straight=straight,
                      max_iter=refine_iter, x_design=x_axis, w_design=w_design * level,
-                     w_share=w_share, w_fit=w_fit, progress=progress)
+                     w_share=w_share, w_fit=w_fit, w_all=w_all * w_all_level, progress=progress)
         if res.max_violation_cm > 1e-3:
             log.info("%s: final step from the %s (design weight x%.3g) left a violation of %.3g cm",
                      source, start_name, level, res.max_violation_cm)
-        return _solution(grid, data, "nsga2+refine", res.x, size,
-                         f"least shape change under the fit, started from the {start_name}, "
-                         f"design weight x{level:.3g}")
+        note = (f"least shape change under the fit, started from the {start_name}, "
+                f"design weight x{level:.3g}")
+        if w_all_level != 1.0:
+            note += f", all-vertex weight x{w_all_level:.3g}"
+        return _solution(grid, data, "nsga2+refine", res.x, size, note)
 
     def finish(start_name: str, x_start: np.ndarray) -> Solution | None:
-        """The constrained final step from ``x_start`` with the design-weight continuation.
+        """The constrained final step from ``x_start`` with the continuation on its tie-break weights.
 
         The grid-interval design term runs at full weight first; when the
         result changes the design more than proportional scaling does (shape
         error not below scaling's), the step is run again from the same start
-        at the next ``design_levels`` factor (a third, a ninth, none). The
+        at the next ``design_levels`` factor (a third, a ninth, none). When no
+        level passes, the all-vertex angle term steps down to the next
+        ``all_levels`` factor and the grid-interval levels run again. The
         link-share term keeps its full weight throughout. When a level
-        passes after one that did not, the geometric mean of the two is tried
-        once and taken if it passes too: the largest weight found whose
-        shape error is below scaling's. Later starts begin at that level (it
-        is a property of the garment and the character more than of the
-        start). If no level passes, the fitted result with the least shape
-        error; None when no run meets the fit.
+        passes after one that did not (at the same all-vertex weight), the
+        geometric mean of the two is tried once and taken if it passes too:
+        the largest weights found whose shape error is below scaling's.
+        Later starts begin at that stage (it is a property of the garment and
+        the character more than of the start). If no stage passes, the fitted
+        result with the least shape error; None when no run meets the fit.
         """
-        levels = [start_level[0]] + [v for v in design_levels if v < start_level[0]]
+        first = start_stage[0]
+        todo = [first] + [st for st in stages if st < first]
         best: Solution | None = None
-        failed: float | None = None
-        for level in levels:
-            cand = finish_at(start_name, x_start, level)
+        failed: tuple[float, float] | None = None
+        for stage in todo:
+            cand = finish_at(start_name, x_start, stage)
             if not _meets(cand, **accept):
                 continue
             if cand.scores.shape_error < shape_ref:
-                if failed is not None:
-                    mid = float(np.sqrt(failed * level)) if level > 0 else failed / 3.0
-                    between = finish_at(start_name, x_start, mid)
+                if failed is not None and failed[0] == stage[0]:
+                    level = stage[1]
+                    mid = float(np.sqrt(failed[1] * level)) if level > 0 else failed[1] / 3.0
+                    between = finish_at(start_name, x_start, (stage[0], mid))
                     if _meets(between, **accept) and between.scores.shape_error < shape_ref:
-                        cand, level = between, mid
-                start_level[0] = level
+                        cand, stage = between, (stage[0], mid)
+                start_stage[0] = stage
                 return cand
             if best is None or cand.scores.shape_error < best.scores.shape_error:
                 best = cand
-            failed = level
+            failed = stage
         return best
 
     refined: list[Solution] = []
