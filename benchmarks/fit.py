@@ -142,8 +142,10 @@ def main(argv: list[str] | None = None) -> int:
               f"worst grain tilt {max(r['grain_tilt_deg'] for r in reports):.3f}°")
         refined = sum(r["method"] == "nsga2+refine" for r in reports)
         full = sum("design weight x1," in r["note"] + "," for r in reports)
+        stepped = [f"{r['character']} {r['garment']}" for r in reports if "all-vertex weight x" in r["note"]]
         print(f"# chosen: a refined solution in {refined} of {len(reports)} cases (else an NSGA-II front member); "
-              f"full design weight in {full}")
+              f"full design weight in {full}; all-vertex weight stepped down in {len(stepped)}"
+              + (f" ({', '.join(stepped)})" if stepped else ""))
         for garment in args.garments.split(","):
             secs = [r["seconds"] for r in reports if r["garment"] == garment]
             if secs:

@@ -20,8 +20,8 @@ from patternbridge.grade.run import (
 )
 
 # the slim female character's trouser measurements (cm): her waist is 26.6 cm
-# under her hip, far from the pattern's proportions, so holding the front/back
-# split at full design weight costs more corner angle than scaling does
+# under her hip, far from the pattern's proportions, so the grid-interval term
+# at full weight costs more corner angle than scaling does
 SLIM_FEMALE = {
     "waist_girth": 66.631, "hip_girth": 93.234, "thigh_girth_right": 51.828, "knee_girth_right": 34.587,
     "waist_to_hip": 19.609, "crotch_length": 60.111, "inside_leg_right": 71.456, "outside_leg_right": 96.981,
@@ -103,9 +103,9 @@ def test_grid_design_weight_steps_down_when_it_costs_more_than_scaling():
     result = fit_pattern(pattern, SLIM_FEMALE, seed=0, size="B", pop_size=20, n_gen=8, n_refine=1)
     s = result.chosen.scores
     assert s.measurement_error <= 0.5 and s.max_seam_mismatch_cm <= 0.1
-    # the grid-interval term stepped down; it cannot reach scaling's corner change here
-    # because the link shares (front/back split, rise balance) keep their full weight
-    assert "design weight x1 " not in result.chosen.note + " "
+    # the grid-interval term stepped down (with this small budget the all-vertex
+    # weight steps down too; the full run's figures are in tests/grade/test_design.py)
+    assert "design weight x1 " not in result.chosen.note + " " and "design weight x1," not in result.chosen.note
     assert s.shape_error < shapes[1]
 
 

@@ -115,18 +115,51 @@ def _trouser_balance(pattern):
     return fw / (fw + bw), rise(b, "cb_waist") / rise(f, "cf_waist")
 
 
-def test_trousers_keep_their_balance_on_a_slim_body():
-    # A slim waist over full hips: the angle terms alone would take the waist out of the
-    # front (front 16 cm, back 25 cm) and give the back a shorter rise than the front,
-    # a pattern no tailor would cut and the assembler cannot sew.
+@pytest.fixture(scope="module")
+def slim_trousers():
+    """The slim female's trousers graded by ``fit_pattern`` (full budget, as the benchmark; about 18 s)."""
     from patternbridge.grade.run import fit_pattern
     from patternbridge.io.load import load_pattern
 
     pattern, _ = load_pattern("trousers")
+    return pattern, fit_pattern(pattern, SLIM_FEMALE_LEGS, seed=0, size="slim")
+
+
+def test_trousers_keep_their_balance_on_a_slim_body(slim_trousers):
+    # A slim waist over full hips: the angle terms alone would take the waist out of the
+    # front (front 16 cm, back 25 cm) and give the back a shorter rise than the front,
+    # a pattern no tailor would cut and the assembler cannot sew.
+    pattern, res = slim_trousers
     share0, rise0 = _trouser_balance(pattern)
-    res = fit_pattern(pattern, SLIM_FEMALE_LEGS, seed=0, size="slim")
     share, rise = _trouser_balance(res.pattern)
     sc = res.chosen.scores
     assert np.abs(sc.achieved_cm - sc.target_cm).max() <= 0.2 and np.abs(sc.seam_mismatch_cm).max() <= 0.01
     assert abs(share - share0) <= 0.25 * share0
     assert rise > 1.0 and abs(rise - rise0) <= 0.25 * rise0
+
+
+def _dart(pattern):
+    """Intake (chord between the rims) and length (mean leg) of the back dart on the sewing line, cm."""
+    from patternbridge.grade.grid import reference_line
+
+    back = pattern.piece("back")
+    line = reference_line(back)
+    a, x, b = (line[back.marks[m]] for m in ("dart_side", "dart_apex", "dart_cb"))
+    return float(np.linalg.norm(a - b)), 0.5 * float(np.linalg.norm(a - x) + np.linalg.norm(b - x))
+
+
+def test_slim_trousers_change_the_design_less_than_scaling(slim_trousers):
+    # issue 6's shape target on the hardest trouser case: a waist 26.6 cm under the hip.
+    # Before the dart had grid lines of its own the least corner change the final step
+    # found was 0.0065 rad against scaling's 0.0027 (the waist came out of the centre
+    # front and back corners); with them the waist reduction goes partly into the dart.
+    pattern, res = slim_trousers
+    prop = res.baselines["proportional"]
+    assert res.chosen.scores.shape_error < prop.scores.shape_error
+    assert res.chosen.x is not None and res.front_within[res.chosen_index]
+    # the dart keeps the length it has under proportional scaling, its intake is free
+    _, length_prop = _dart(prop.pattern)
+    intake, length = _dart(res.pattern)
+    intake0, _ = _dart(pattern)
+    assert length == pytest.approx(length_prop, abs=0.01)
+    assert 0.3 * intake0 < intake < 4.0 * intake0

@@ -105,3 +105,45 @@ def test_seams_are_measured_on_the_sew_line():
     for a, b in zip(pattern.pieces, out.pieces, strict=False):
         np.testing.assert_allclose(a.outline, b.outline, atol=1e-9)
         np.testing.assert_allclose(a.sew_lines[0].points, b.sew_lines[0].points, atol=1e-9)
+
+
+def test_pattern_darts_finds_the_trouser_back_dart_once():
+    from patternbridge.grade.grid import pattern_darts
+    from patternbridge.library import load_garment
+
+    pattern = load_garment("trousers")
+    back = pattern.piece("back")
+    # the dart is sewn on both cut copies (two seams) and listed once; the front
+    # and back rises join a piece to its mirror copy and are no darts
+    expected = (back.marks["dart_side"], back.marks["dart_apex"], back.marks["dart_cb"])
+    assert pattern_darts(pattern) == {"back": (expected,)}
+    assert pattern_darts(skirt_pattern()) == {}
+
+
+def test_dart_gets_grid_lines_through_its_rims_and_point():
+    from patternbridge.grade.grid import reference_line
+    from patternbridge.library import load_garment
+
+    pattern = load_garment("trousers")
+    back = pattern.piece("back")
+    line = reference_line(back)
+    rims = line[[back.marks["dart_side"], back.marks["dart_cb"]]]
+    apex = line[back.marks["dart_apex"]]
+    with_lines = build_grid(pattern, max_cell_frac=0.2)
+    without = build_grid(pattern, max_cell_frac=0.2, dart_lines=False)
+    g = with_lines.pieces[with_lines.piece_index("back")]
+    g0 = without.pieces[without.piece_index("back")]
+    # the rims are 2.1 cm apart, under the 6 % merge gap: one cell holds the whole dart without them
+    assert abs(rims[0, 0] - rims[1, 0]) < 0.06 * g0.extent_cm
+    between = (g0.xs > rims[:, 0].min() - 1e-9) & (g0.xs < rims[:, 0].max() + 1e-9)
+    assert not between.any()
+    for x in rims[:, 0]:
+        assert np.min(np.abs(g.xs - x)) < 1e-9
+    assert np.min(np.abs(g.ys - apex[1])) < 1e-9
+    # the other pieces' grids are unchanged, and the original is still reproduced exactly
+    for a, b in zip(with_lines.pieces, without.pieces, strict=True):
+        if a.name != "back":
+            np.testing.assert_array_equal(a.xs, b.xs)
+            np.testing.assert_array_equal(a.ys, b.ys)
+    np.testing.assert_allclose(with_lines.outlines(with_lines.x0[None, :])[0],
+                               without.outlines(without.x0[None, :])[0], atol=1e-9)

@@ -158,3 +158,32 @@ def test_centre_edge_straight_on_the_cut_and_the_sew_line():
     for p in result.pattern.pieces:
         assert np.ptp(p.outline[[7, 8, 9, 0], 0]) < 0.01, p.name
         assert np.ptp(p.sew_lines[0].points[[7, 8, 9, 0], 0]) < 0.01, p.name
+
+
+def test_dart_keeps_its_length_in_the_final_step():
+    from patternbridge.grade.grid import reference_line
+    from patternbridge.grade.objectives import dart_lengths
+    from patternbridge.library import load_garment
+
+    slim = {"waist_girth": 66.631, "hip_girth": 93.234, "thigh_girth_right": 51.828, "knee_girth_right": 34.587,
+            "waist_to_hip": 19.609, "crotch_length": 60.111, "inside_leg_right": 71.456,
+            "outside_leg_right": 96.981}
+    pattern = load_garment("trousers")
+    grid = build_grid(pattern, max_lines=6, max_cell_frac=0.2)
+    data = objective_data(grid, slim)
+    back = pattern.piece("back")
+    line = reference_line(back)
+    a, x, b = (line[back.marks[m]] for m in ("dart_side", "dart_apex", "dart_cb"))
+    length0 = 0.5 * (np.linalg.norm(a - x) + np.linalg.norm(b - x))
+    np.testing.assert_allclose(dart_lengths(data, grid.outlines(grid.x0[None, :])), [[length0]], atol=1e-9)
+    x_prop = axis_scaling(grid, data)
+    with single_blas_thread():
+        res = refine(grid, data, x_prop, straight=straight_constraints(grid, straight_edges(grid)),
+                     x_design=x_prop, w_design=0.0, max_iter=25)
+        free = refine(grid, data, x_prop, straight=straight_constraints(grid, straight_edges(grid)),
+                      x_design=x_prop, w_design=0.0, max_iter=25, keep_darts=False)
+    lengths = dart_lengths(data, grid.outlines(np.stack([x_prop, res.x, free.x])))[:, 0]
+    assert res.max_violation_cm < 1e-3
+    assert lengths[1] == pytest.approx(lengths[0], abs=1e-3)
+    # without the constraint the waist reduction lengthens the dart (no angle sees it)
+    assert abs(lengths[2] - lengths[0]) > 0.5
