@@ -38,7 +38,7 @@ class DrapeSettings:
     iterations: int = 6
     stretch_weight: float = 400.0  # in units of the mean vertex mass / h²
     bend_weight: float = 0.8
-    seam_weight: float = 600.0
+    seam_weight: float = 5000.0
     damping: float = 0.985  # velocity kept per step
     friction: float = 0.6  # share of tangential motion removed in contact
     offset_cm: float = 0.6  # distance kept from the skin
@@ -55,7 +55,8 @@ class Cloth:
     x : (N, 3) positions, cm ; uv : (N, 2) pattern coordinates, cm ;
     group : (N,) instance id ; faces : (F, 3) ; seams : (S, 2) sewn vertex pairs ;
     edges, rest : stretch springs ; bends, bend_rest : bending springs ;
-    mass : (N,) kg
+    mass : (N,) kg ; target : the stretch springs' lengths in the solver (``rest``, except
+    along gathered seams, see :func:`gathered_lengths`)
     """
 
     x: np.ndarray
@@ -69,10 +70,13 @@ class Cloth:
     bend_rest: np.ndarray
     mass: np.ndarray
     v: np.ndarray = field(default=None)  # type: ignore[assignment]
+    target: np.ndarray = field(default=None)  # type: ignore[assignment]
 
     def __post_init__(self) -> None:
         if self.v is None:
             self.v = np.zeros_like(self.x)
+        if self.target is None:
+            self.target = self.rest.copy()
 
 
 def _edges_and_bends(faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -123,6 +127,7 @@ def build_cloth(
     a2 = np.abs(u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0]) / 2
     mass = np.bincount(f.ravel(), weights=np.repeat(a2 / 3, 3), minlength=len(x)) * density_kg_cm2
     mass = np.maximum(mass, 1e-3 * mass.mean())
+    target = gathered_lengths(edges, rest, [(va + offsets[a], vb + offsets[b]) for a, b, va, vb in seams])
     return Cloth(
         x=x,
         uv=uv,
@@ -134,7 +139,51 @@ def build_cloth(
         bends=bends,
         bend_rest=bend_rest,
         mass=mass,
+        target=target,
     )
+
+
+def gathered_lengths(edges: np.ndarray, rest: np.ndarray, seams: list[tuple[np.ndarray, np.ndarray]]) -> np.ndarray:
+    """(E,) stretch-spring lengths with the longer side of every sewn edge pair gathered to the shorter.
+
+    A seam joins two edges of different lengths where one side is eased or
+    gathered into the other (a sleeve hem into a narrower cuff, a sleeve
+    cap into its armhole). The mesh matches their vertices one to one, so
+    each segment of the longer side faces a shorter one: sewn flat, the
+    longer side's segment takes the shorter one's length and the cloth
+    beside it folds (the gathers). Springs at the pattern lengths on both
+    sides would fight the seam springs, and the seam would stay open by the
+    difference (a 4 cm ease spread along a cuff left its ends 1-3 cm off
+    the hem).
+
+    Parameters
+    ----------
+    edges : (E, 2) int64 sorted vertex pairs ; rest : (E,) float64, cm
+    seams : per seam the sewn vertices of its two sides, in order (global ids)
+    """
+    out = np.array(rest, dtype=np.float64)
+    if len(edges) == 0:
+        return out
+    n = int(edges.max()) + 1
+    keys = edges[:, 0] * n + edges[:, 1]
+    order = np.argsort(keys)
+    sorted_keys = keys[order]
+
+    def find(p: np.ndarray, q: np.ndarray) -> np.ndarray:
+        k = np.minimum(p, q) * n + np.maximum(p, q)
+        pos = np.clip(np.searchsorted(sorted_keys, k), 0, len(keys) - 1)
+        return np.where(sorted_keys[pos] == k, order[pos], -1)
+
+    for va, vb in seams:
+        if len(va) < 2:
+            continue
+        ea, eb = find(va[:-1], va[1:]), find(vb[:-1], vb[1:])
+        ok = (ea >= 0) & (eb >= 0) & (ea != eb)
+        ea, eb = ea[ok], eb[ok]
+        short = np.minimum(out[ea], out[eb])
+        out[ea] = short
+        out[eb] = short
+    return out
 
 
 def weld_groups(n: int, pairs: np.ndarray) -> np.ndarray:
@@ -277,7 +326,7 @@ class _Solver:
         inside = collider.inside(y)
         signed = np.where(inside, -np.abs(signed), np.abs(signed))
         near = inside | (signed < s.offset_cm + s.max_speed_cm_s * h * 1.5)
-        targets = np.concatenate([c.rest, c.bend_rest, self.seam_start * max(0.0, 1.0 - sew)])
+        targets = np.concatenate([c.target, c.bend_rest, self.seam_start * max(0.0, 1.0 - sew)])
         rhs0 = self.m_h2[:, None] * y
         if self._pins is not None:
             rhs0 = rhs0 + self.pin_w[:, None] * self.pin_x

@@ -31,8 +31,11 @@ log = logging.getLogger(__name__)
 
 Progress = Callable[[str, int, int], None] | None
 
-POSE_STAGES = 1  # stages of the T-pose -> rest-pose return
-POSE_STEPS = 8  # cloth steps per stage
+POSE_STAGES = 5  # keyframes of the T-pose -> rest-pose return (the arms lowered step by step)
+POSE_STEPS = 12  # cloth steps per keyframe, with gravity
+SETTLE_STEPS = 24  # more steps in the rest pose at the end
+TPOSE_GRAVITY_STEPS = 0  # steps with gravity in the T-pose after sewing, before the arms come down
+POSE_GRAVITY = 0.3  # share of gravity while the arms come down and in the final settle
 
 
 @dataclass(eq=False)
@@ -175,11 +178,16 @@ def simulate(sim: Simulation, *, steps: int = 160, progress: Progress = None) ->
 
     cloth, settings, character = sim.cloth, sim.settings, sim.character
     pins = anchor_weights(sim)
+    sew_steps = int(0.55 * steps)
     sim.solver = drape(
         cloth,
         sim.cloth_collider,
-        steps=steps,
-        sew_steps=int(0.55 * steps),
+        # a top is sewn in the T-pose and hangs there only briefly: on
+        # horizontal arms the weight of the body of the shirt drags the
+        # sleeves toward the shoulders (they bunched up at the elbow); it
+        # drapes while the arms come down
+        steps=sew_steps + TPOSE_GRAVITY_STEPS if sim.rotvecs else steps,
+        sew_steps=sew_steps,
         settings=settings,
         progress=progress,
         stage="drape",
@@ -196,9 +204,12 @@ def simulate(sim: Simulation, *, steps: int = 160, progress: Progress = None) ->
         return
     from ..mesh.skinning import pose_vertices
 
-    # back to the rest pose: at each stage the cloth follows the skin (weights
-    # of the nearest body points) from the previous pose to the next, then
-    # settles against the body in that pose
+    # back to the rest pose, the way cloth tools put a garment on an A-posed
+    # body: the arms are lowered over a few keyframes; at each the cloth
+    # follows the skin (weights of the nearest body points) from the previous
+    # pose to the next, then drapes against the body in that pose under
+    # gravity. In one jump with a short settle the sides of the shirt, draped
+    # while the arms were up, stood off the body below the armpits
     levels = np.linspace(1.0, 0.0, POSE_STAGES + 1)
     collider = sim.collider
     for k, (s0, s1) in enumerate(itertools.pairwise(levels)):
@@ -216,11 +227,11 @@ def simulate(sim: Simulation, *, steps: int = 160, progress: Progress = None) ->
         drape(
             cloth,
             BodyCollider(posed, character.faces, proxies=sim.proxies) if sim.proxies else collider,
-            steps=POSE_STEPS,
+            steps=POSE_STEPS + (SETTLE_STEPS if s1 == 0.0 else 0),
             sew_steps=0,
+            gravity_scale=POSE_GRAVITY,
             settings=settings,
             solver=sim.solver,
-            gravity_scale=0.0,
             stage="pose",
         )
         if progress:

@@ -301,8 +301,68 @@ def place_instances(
             seat.append((inst, p2, x_ref, part, float(a2[1]), p2[: pmesh.pieces[inst.piece].n_boundary]))
     if seat:
         _seat_on_hips(character, vertices, parts, cylinders["torso"], seat, out, scene)
+    _bridge_seams(pattern, pmesh, out, scene)
     _follow_seams(pattern, pmesh, cylinders, out, scene)
     return out
+
+
+BRIDGE_GAP_CM = 3.0  # median placed gap of a seam above which a small torso piece is laid across to its partners
+
+
+def _bridge_seams(pattern: Pattern, pmesh: PatternMesh, out: dict[str, np.ndarray], scene) -> None:
+    """Lay a small torso piece across the seams it shares with larger torso pieces (in place).
+
+    A shirt yoke hangs from the back neck point on the torso cylinder and
+    stands up behind the neck, while the fronts' shoulder edges it is sewn to
+    lie in front: a cylinder has no top, and the shoulder seams started
+    30-35 cm apart. When a piece on the front or back of the torso is sewn to
+    larger torso pieces of both the front and the back, and one of those
+    seams starts more than :data:`BRIDGE_GAP_CM` open,
+    its vertices sewn to larger torso pieces take their partners' positions
+    and the rest of the piece follows as a harmonic (graph-Laplacian) fill
+    between them, moved out of the body: the yoke lies over the shoulders
+    from the back's yoke seam to the fronts' shoulder edges.
+    """
+    size = {k: len(pmesh.pieces[k].points) for k in pmesh.pieces}
+    for inst in pmesh.instances:
+        side = str(pattern.piece(inst.piece).placement.side)
+        part = instance_part(pattern, inst)
+        if part != "torso" or side not in ("front", "back"):
+            continue
+        n = size[inst.piece]
+        target = np.full((n, 3), np.nan)
+        far = False
+        sides = set()
+        neck = []  # edges sewn to larger pieces off the torso (collar, sleeve caps) go onto theirs
+        for sp in pmesh.seams:
+            for me, va, other, vb in (
+                (sp.a, sp.a_vertices, sp.b, sp.b_vertices),
+                (sp.b, sp.b_vertices, sp.a, sp.a_vertices),
+            ):
+                if me.key != inst.key or other.key == inst.key:
+                    continue
+                if instance_part(pattern, other) != "torso" and size[other.piece] > n:
+                    neck.append((va, out[other.key][vb]))
+                    continue
+                if instance_part(pattern, other) != "torso" or size[other.piece] <= n:
+                    continue
+                theirs = out[other.key][vb]
+                target[va] = theirs
+                sides.add(str(pattern.piece(other.piece).placement.side))
+                far |= float(np.median(np.linalg.norm(out[inst.key][va] - theirs, axis=1))) > BRIDGE_GAP_CM
+        for va, theirs in neck:  # corners shared with a shoulder seam stay on the front's
+            keep = ~np.isfinite(target[va, 0])
+            target[va[keep]] = theirs[keep]
+        fixed = np.isfinite(target[:, 0])
+        # only a piece between larger pieces of the front and the back (a yoke);
+        # a front sewn to a larger back stays where it is
+        if not far or sides != {"front", "back"} or fixed.sum() < 3 or fixed.all():
+            continue
+        x = _harmonic_fill(pmesh.pieces[inst.piece].faces, np.zeros((n, 3)), fixed, target[fixed])
+        if scene is not None:
+            x, _ = scene.push_out(x, CLEARANCE_CM, robust=True)
+        log.debug("%s laid across its seams to larger pieces", inst.key)
+        out[inst.key] = x
 
 
 def _centre_line(pmesh: PatternMesh, inst: Instance, p2: np.ndarray) -> np.ndarray:
@@ -580,6 +640,32 @@ def _row_radii(pmesh: PatternMesh, inst: Instance, part: str, side: str, radius_
     width = np.maximum.accumulate(width)  # the cap keeps the widest row's radius
     w = np.interp(pts[:, 1], grid, width)
     return np.maximum(w / (2 * np.pi), 1.0)
+
+
+def _harmonic_fill(faces: np.ndarray, base: np.ndarray, fixed: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """(n, 3) ``base`` + a displacement equal to ``values - base`` on ``fixed`` and harmonic elsewhere.
+
+    The graph Laplacian of the piece's triangle mesh (uniform weights,
+    natural boundary): with ``base`` zero the free vertices span the fixed
+    ones (a membrane), with ``base`` a placed shape the piece keeps that
+    shape and moves with its fixed vertices.
+    """
+    from scipy.sparse import coo_matrix, diags
+    from scipy.sparse.linalg import spsolve
+
+    n = len(base)
+    e = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    adj = coo_matrix((np.ones(2 * len(e)), (e.ravel(), e[:, ::-1].ravel())), shape=(n, n)).tocsr()
+    adj.data[:] = 1.0
+    lap = (diags(np.asarray(adj.sum(axis=1)).ravel()) - adj).tocsr()
+    free = ~fixed
+    known = values - base[fixed]
+    x = np.array(base, dtype=np.float64)
+    x[fixed] = values
+    if free.any():
+        rhs = -(lap[free][:, fixed] @ known)
+        x[free] += np.column_stack([spsolve(lap[free][:, free].tocsc(), rhs[:, j]) for j in range(3)])
+    return x
 
 
 def _follow_seams(

@@ -149,6 +149,25 @@ def test_cuff_is_placed_on_the_sleeve_hem_it_is_sewn_to(placed_library):
 
 
 @pytest.mark.shared
+def test_yoke_lies_over_the_shoulders_between_the_back_and_the_fronts(placed_library, character_e):
+    pm, placed = placed_library["shirt"]
+    gaps = dict(_seam_gaps(pm, placed, "shoulder_"))
+    gaps.update(_seam_gaps(pm, placed, "yoke"))
+    assert set(gaps) == {"shoulder_right", "shoulder_left", "yoke"}
+    for seam, gap in gaps.items():
+        # standing up behind the neck on the torso cylinder the yoke's shoulder
+        # edges started 30-35 cm from the fronts'
+        assert gap.max() < 0.5, (seam, gap.max())
+    yoke = placed["yoke"]
+    scene = BodyCollider(np.asarray(character_e.vertices), character_e.faces)
+    assert not scene.inside(yoke).any()
+    # it goes over the top of the shoulders: from the back to the front of the body
+    body = np.asarray(character_e.vertices)
+    assert yoke[:, 2].max() > np.median(body[:, 2])
+    assert yoke[:, 2].min() < np.median(body[:, 2]) - 5.0
+
+
+@pytest.mark.shared
 def test_sleeves_start_as_tubes_round_the_arm(placed_library):
     pm, placed = placed_library["shirt"]
     # the underarm seam's two edges start side by side all along the sleeve
