@@ -42,7 +42,7 @@ import numpy as np
 from ..errors import InputError
 from ..pattern.geometry import boundary_indices
 from ..pattern.model import Pattern
-from .grid import PatternGrid
+from .grid import PatternGrid, pattern_darts
 
 __all__ = [
     "Evaluation",
@@ -347,8 +347,6 @@ def objective_data(
 
     crit = np.concatenate([grid.point_offsets[k] + g.critical for k, g in enumerate(grid.pieces)])
     # darts: (first rim, point, last rim) of every dart, global indices
-    from .grid import pattern_darts
-
     dart_idx = [grid.point_offsets[grid.piece_index(name)] + np.array(t)
                 for name, triples in pattern_darts(pattern).items() for t in triples]
     darts = np.array(dart_idx, dtype=np.int64).reshape(-1, 3)

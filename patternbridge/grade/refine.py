@@ -9,6 +9,7 @@ Gauss–Newton method (sequential quadratic programming):
     subject to  c(x) = 0                       (seam length mismatches, notch offsets)
                 A x = 0                        (straight grain-parallel edges stay straight, no tilt;
                                                 grain lines keep their direction)
+                ℓ(x) = ℓ_ref                   (every dart keeps its length; its intake is free)
                 |m(x) − t| ≤ tol               (every measurement within a band around its target)
 
 A small L1 cost on ``m(x) − t`` inside the band (``w_fit``) keeps most

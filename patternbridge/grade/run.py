@@ -16,9 +16,11 @@
    of NSGA-II's front: a constrained Gauss–Newton method minimises the
    change of shape subject to every seam and notch closed, every
    measurement within a band around its target (with a small cost inside
-   it), the straight grain-parallel edges kept straight and the grain lines
-   kept in their direction; the design-preservation weight steps down while
-   the result changes the design more than proportional scaling;
+   it), the straight grain-parallel edges kept straight, the grain lines
+   kept in their direction and every dart at its length; the
+   design-preservation (grid-interval) weight, and after it the all-vertex
+   angle weight, step down while the result changes the design more than
+   proportional scaling;
 5. the refined solutions join NSGA-II's front, the dominated rows are
    removed, and the issue's rule chooses on that final front: the least
    shape error among the members within tolerance on measurements and
