@@ -1,7 +1,8 @@
 """Benchmark: grade the shirt and the trousers to the six ``../shared`` characters.
 
 Usage: ``python benchmarks/fit.py [--garments shirt,trousers] [--characters A_superhero,...]
-[--seed 0] [--pop-size N] [--generations N] [--band CM] [--w-fit W] [--json OUT.json] [--check-seed]``
+[--seed 0] [--pop-size N] [--generations N] [--band CM] [--w-fit W] [--deformation bilinear|cubic]
+[--json OUT.json] [--check-seed]``
 
 For every character × garment: measure the character (timed apart), run
 :func:`patternbridge.grade.run.fit_pattern`, and print one table row with the
@@ -33,6 +34,7 @@ import numpy as np
 import pymoo
 
 from patternbridge import __version__
+from patternbridge.grade.objectives import curve_kink
 from patternbridge.grade.refine import grain_tilt
 from patternbridge.grade.report import fit_report
 from patternbridge.grade.run import fit_pattern
@@ -72,6 +74,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--generations", type=int, default=None)
     parser.add_argument("--band", type=float, default=None, help="measurement band of the final step, cm")
     parser.add_argument("--w-fit", type=float, default=None, help="cost of measurement errors inside the band")
+    parser.add_argument("--deformation", choices=("bilinear", "cubic"), default=None,
+                        help="grid deformation (default: fit_pattern's)")
     parser.add_argument("--json", type=Path, help="write every fit report here")
     parser.add_argument("--check-seed", action="store_true", help="re-run the first case, compare")
     args = parser.parse_args(argv)
@@ -87,6 +91,8 @@ def main(argv: list[str] | None = None) -> int:
         kwargs["measure_band_cm"] = args.band
     if args.w_fit is not None:
         kwargs["w_fit"] = args.w_fit
+    if args.deformation is not None:
+        kwargs["deformation"] = args.deformation
 
     print(f"# fit benchmark — patternbridge {__version__}, pymoo {pymoo.__version__}, numpy {np.__version__}, "
           f"python {platform.python_version()}, {platform.machine()}, {os.cpu_count()} cores, seed {args.seed}")
@@ -108,6 +114,11 @@ def main(argv: list[str] | None = None) -> int:
             rep["measure_seconds"] = round(t_measure, 3)
             tilt = grain_tilt(result.grid, result.chosen.x) if result.chosen.x is not None else np.zeros((1, 0))
             rep["grain_tilt_deg"] = round(float(np.degrees(np.abs(tilt)).max(initial=0.0)), 4)
+            for block, sol in ((rep, result.chosen), (rep["baselines"]["proportional"],
+                                                       result.baselines["proportional"])):
+                if sol.x is not None:
+                    pts = result.grid.outlines(sol.x[None, :])
+                    block["kink_rad"] = round(float(curve_kink(result.data, pts)[0]), 5)
             reports.append(rep)
             ours = figures(rep)
             prop = figures(rep["baselines"]["proportional"])
@@ -130,6 +141,14 @@ def main(argv: list[str] | None = None) -> int:
         prop_all = [r["baselines"]["proportional"]["shape_error_all_vertices"] for r in reports]
         print(f"# mean |Δ inner angle| over every outline vertex: ours {min(ours_all):.4f}–{max(ours_all):.4f}, "
               f"proportional {min(prop_all):.4f}–{max(prop_all):.4f}")
+        kinks = [(r["kink_rad"], r["baselines"]["proportional"]["kink_rad"]) for r in reports if "kink_rad" in r]
+        if kinks:
+            k = np.array(kinks)
+            print(f"# largest |Δ inner angle| at a vertex that is no critical point (a kink): ours "
+                  f"{k[:, 0].min():.4f}–{k[:, 0].max():.4f} (median {np.median(k[:, 0]):.4f}), proportional "
+                  f"{k[:, 1].min():.4f}–{k[:, 1].max():.4f}; per case: "
+                  + ", ".join(f"{r['character'].split('_')[0]} {r['garment']} {r['kink_rad']:.3f}"
+                              for r in reports if "kink_rad" in r))
         errs = np.array([m["error_cm"] for r in reports for m in r["measurements"]])
         means = np.array([r["mean_error_cm"] for r in reports])
         ratio = np.array([r["shape_error"] / max(r["baselines"]["proportional"]["shape_error"], 1e-12)

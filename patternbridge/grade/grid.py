@@ -18,9 +18,20 @@ surface whose control points are the grid intersections):
   sign of the corner cross products (:meth:`PatternGrid.fold_margin`).
 
 The price is C0 continuity across grid lines: a curve crossing a grid line can
-get a kink when the two cells deform differently. The shape objective measures
-angle changes at every outline vertex as well as at the critical points, which
-keeps such kinks small.
+get a kink when the two cells deform differently. The final step's angle terms
+look at every outline vertex as well as at the critical points, which keeps
+such kinks small but not absent.
+
+``deformation="cubic"`` (:func:`cubic_weights`) is the C1 alternative: the
+tensor product of 1-D cubic Hermite interpolants on the non-uniform grid lines
+(Catmull–Rom slopes, one-sided at the border, linear outside the grid). It
+still interpolates the control points at the intersections, reproduces the
+original exactly and is linear in the genes (at most 4 × 4 control points per
+point), so everything above holds except the exact fold test: a cubic cell can
+fold inside while its corners are fine, so :meth:`PatternGrid.fold_margin`
+also samples the Jacobian determinant inside every cell. It takes the kinks
+out of graded curves but changes the corners of a waist more; docs/grading.md
+(*Deformation*) has the measurements and why bilinear stays the default.
 
 Gene layout: ``X[:, offset:offset + 2 * m]`` holds the piece's control points
 row by row (``v`` rows of ``u`` columns), ``x`` then ``y`` for each point.
@@ -36,13 +47,17 @@ import numpy as np
 from ..pattern.model import Pattern, Piece, VertexKind
 
 __all__ = [
+    "DEFORMATIONS",
     "PatternGrid",
     "PieceGrid",
     "bilinear_weights",
     "build_grid",
     "critical_vertices",
+    "cubic_weights",
     "deform_pattern",
+    "fold_samples",
     "grid_lines",
+    "map_weights",
     "pattern_darts",
     "piece_grid",
     "reference_line",
@@ -196,6 +211,131 @@ def bilinear_weights(points: np.ndarray, xs: np.ndarray, ys: np.ndarray) -> tupl
     return uv, w
 
 
+DEFORMATIONS = ("bilinear", "cubic")
+"""Names of the grid deformations :func:`build_grid` offers."""
+
+
+def _hermite_slopes(nodes: np.ndarray) -> np.ndarray:
+    """``(k, k)`` matrix ``D`` giving the slope at every grid line, ``d = D @ f``.
+
+    At an interior line the chord slope between its two neighbours (the
+    non-uniform Catmull–Rom choice: the slopes of the intervals either side,
+    each weighted by its own width), exact for linear functions; at the two
+    border lines the slope of the border interval (one-sided). Weighting by
+    the own width keeps a narrow interval (a dart's, between its rims) from
+    setting the slope of the wide ones beside it: the parabola's slope
+    (weights swapped, exact for quadratics) did that and bent the waist of
+    the slim trousers more (shape error 0.0047 against 0.0046, all-vertex
+    change 0.0147 against 0.0115).
+    """
+    k = len(nodes)
+    h = np.diff(nodes)
+    d = np.zeros((k, k))
+    d[0, :2] = [-1.0 / h[0], 1.0 / h[0]]
+    d[-1, -2:] = [-1.0 / h[-1], 1.0 / h[-1]]
+    for i in range(1, k - 1):
+        a, b = h[i - 1], h[i]
+        wa, wb = a / (a + b), b / (a + b)  # weights of the slopes left and right of line i
+        d[i, i - 1] = -wa / a
+        d[i, i] = wa / a - wb / b
+        d[i, i + 1] = wb / b
+    return d
+
+
+def _basis_1d(x: np.ndarray, nodes: np.ndarray, *, cubic: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """One-direction basis of the tensor-product map at positions ``x``.
+
+    Returns
+    -------
+    param : (n,) grid parameter (integer part = interval, clipped to the border
+        interval outside the grid)
+    basis : (n, k) weights of the ``k`` grid lines' values; rows sum to 1 and
+        reproduce ``x`` itself (``basis @ nodes == x``)
+    deriv : (n, k) weights of the derivative ``d/dx`` (cm⁻¹)
+
+    Linear: the hat functions. Cubic: the C1 cubic Hermite interpolant whose
+    slopes at the lines are :func:`_hermite_slopes` of the values; outside the
+    grid both continue linearly with the border line's value and slope.
+    """
+    k = len(nodes)
+    x = np.asarray(x, dtype=np.float64)
+    n = len(x)
+    i = np.clip(np.searchsorted(nodes, x, side="right") - 1, 0, k - 2)
+    h = nodes[i + 1] - nodes[i]
+    t = (x - nodes[i]) / h
+    rows = np.arange(n)
+    basis = np.zeros((n, k))
+    deriv = np.zeros((n, k))
+    if not cubic or k == 2:
+        # (with two lines the Hermite interpolant is the straight line too)
+        np.add.at(basis, (rows, i), 1.0 - t)
+        np.add.at(basis, (rows, i + 1), t)
+        np.add.at(deriv, (rows, i), -1.0 / h)
+        np.add.at(deriv, (rows, i + 1), 1.0 / h)
+        return i + t, basis, deriv
+    slopes = _hermite_slopes(nodes)
+    inside = (t >= 0.0) & (t <= 1.0)
+    tc = np.clip(t, 0.0, 1.0)
+    t2, t3 = tc * tc, tc * tc * tc
+    h00, h10, h01, h11 = 2 * t3 - 3 * t2 + 1, t3 - 2 * t2 + tc, 3 * t2 - 2 * t3, t3 - t2
+    g00, g10, g01, g11 = 6 * t2 - 6 * tc, 3 * t2 - 4 * tc + 1, 6 * tc - 6 * t2, 3 * t2 - 2 * tc
+    basis[rows, i] += h00
+    basis[rows, i + 1] += h01
+    basis += (h * h10)[:, None] * slopes[i] + (h * h11)[:, None] * slopes[i + 1]
+    deriv[rows, i] += g00 / h
+    deriv[rows, i + 1] += g01 / h
+    deriv += g10[:, None] * slopes[i] + g11[:, None] * slopes[i + 1]
+    # outside the grid: the border line's value plus its slope times the distance
+    for out, line in ((~inside & (t < 0.0), 0), (~inside & (t > 1.0), k - 1)):
+        if out.any():
+            e = np.zeros(k)
+            e[line] = 1.0
+            basis[out] = e[None, :] + (x[out] - nodes[line])[:, None] * slopes[line][None, :]
+            deriv[out] = slopes[line][None, :]
+    return i + t, basis, deriv
+
+
+def _tensor(bx: np.ndarray, by: np.ndarray) -> np.ndarray:
+    """Row-wise tensor product: ``(n, nv * nu)`` with column ``j * nu + i`` = ``by[:, j] * bx[:, i]``."""
+    return (by[:, :, None] * bx[:, None, :]).reshape(len(bx), -1)
+
+
+def cubic_weights(points: np.ndarray, xs: np.ndarray, ys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Parametric coordinates and C1 cubic tensor-product weights of ``points``.
+
+    The map interpolates the control points at the grid intersections (a
+    point on a grid line moves with that line's controls only; one at an
+    intersection *is* its control point), is C1 across grid lines (the slope
+    at a line comes from its two neighbouring intervals, :func:`_hermite_slopes`),
+    reproduces every bilinear function of the control points exactly (so the
+    original grid reproduces the original pattern and an affine grid moves
+    points affinely) and continues linearly outside the grid. A point inside
+    depends on at most 4 × 4 control points.
+
+    Parameters and returns as :func:`bilinear_weights`.
+    """
+    points = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+    u, bx, _ = _basis_1d(points[:, 0], xs, cubic=True)
+    v, by, _ = _basis_1d(points[:, 1], ys, cubic=True)
+    return np.stack([u, v], axis=1), _tensor(bx, by)
+
+
+def map_weights(points: np.ndarray, xs: np.ndarray, ys: np.ndarray, deformation: str = "bilinear") -> np.ndarray:
+    """Weights ``(n, nv * nu)`` of ``points`` under the named grid ``deformation`` (:data:`DEFORMATIONS`)."""
+    if deformation == "bilinear":
+        return bilinear_weights(points, xs, ys)[1]
+    if deformation == "cubic":
+        return cubic_weights(points, xs, ys)[1]
+    raise ValueError(f"unknown grid deformation {deformation!r} (known: {', '.join(DEFORMATIONS)})")
+
+
+def fold_samples(nodes: np.ndarray, per_interval: int = 4) -> np.ndarray:
+    """Positions where the fold check samples the map: every line and ``per_interval - 1`` points between."""
+    t = np.arange(per_interval) / per_interval
+    inner = (nodes[:-1, None] + t[None, :] * np.diff(nodes)[:, None]).ravel()
+    return np.concatenate([inner, nodes[-1:]])
+
+
 def reference_line(piece: Piece) -> np.ndarray:
     """The line seams and measurements are measured on, ``(n, 2)`` cm.
 
@@ -240,6 +380,12 @@ class PieceGrid:
     extra_weights : (e, nv * nu)
     critical : (k,) int64 outline indices of the critical points
     extent_cm : the larger side of the bounding box
+    deformation : ``"bilinear"`` or ``"cubic"`` (:data:`DEFORMATIONS`): how
+        the weights above were made
+    fold_basis : for the cubic map, ``(bx, dbx, by, dby)``: the 1-D basis and
+        its derivative at the fold check's sample positions along x
+        ``(s_x, nu)`` and y ``(s_y, nv)`` (:func:`fold_samples`); None for the
+        bilinear map, whose corner check is exact
     """
 
     name: str
@@ -252,6 +398,8 @@ class PieceGrid:
     extra_weights: np.ndarray
     critical: np.ndarray
     extent_cm: float
+    deformation: str = "bilinear"
+    fold_basis: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
 
     @property
     def nu(self) -> int:
@@ -277,7 +425,8 @@ def split_lines(lines: np.ndarray, max_gap_cm: float) -> np.ndarray:
 
 def piece_grid(piece: Piece, *, max_lines: int = 6, min_gap_frac: float = 0.06,
                max_cell_frac: float | None = None,
-               darts: tuple[tuple[int, int, int], ...] = ()) -> PieceGrid:
+               darts: tuple[tuple[int, int, int], ...] = (),
+               deformation: str = "bilinear") -> PieceGrid:
     """Build the control grid of ``piece`` through its critical points.
 
     ``max_cell_frac`` (optional) splits every grid interval wider than that
@@ -287,8 +436,12 @@ def piece_grid(piece: Piece, *, max_lines: int = 6, min_gap_frac: float = 0.06,
     both rims and the point whatever the minimum gap, so a dart's intake can
     change on its own, as a tailor takes more or less into a dart; without
     them the dart sits inside one cell and its intake can only scale with
-    the waist around it.
+    the waist around it. ``deformation`` names the map from the control
+    points to the piece (:data:`DEFORMATIONS`): ``"bilinear"``
+    (:func:`bilinear_weights`) or ``"cubic"`` (:func:`cubic_weights`, C1).
     """
+    if deformation not in DEFORMATIONS:
+        raise ValueError(f"unknown grid deformation {deformation!r} (known: {', '.join(DEFORMATIONS)})")
     outline = piece.outline
     line = reference_line(piece)
     both = np.vstack([outline, line])
@@ -308,13 +461,19 @@ def piece_grid(piece: Piece, *, max_lines: int = 6, min_gap_frac: float = 0.06,
         ys = _force_lines(ys, fy, 0.02 * extent)
     gx, gy = np.meshgrid(xs, ys)
     control = np.stack([gx.ravel(), gy.ravel()], axis=1)
-    _, w_out = bilinear_weights(line, xs, ys)
-    _, w_cut = bilinear_weights(outline, xs, ys)
+    w_out = map_weights(line, xs, ys, deformation)
+    w_cut = map_weights(outline, xs, ys, deformation)
     extra = _piece_extra_points(piece)
-    _, w_extra = bilinear_weights(extra, xs, ys)
+    w_extra = map_weights(extra, xs, ys, deformation)
+    fold_basis = None
+    if deformation == "cubic":
+        _, bx, dbx = _basis_1d(fold_samples(xs), xs, cubic=True)
+        _, by, dby = _basis_1d(fold_samples(ys), ys, cubic=True)
+        fold_basis = (bx, dbx, by, dby)
     return PieceGrid(
         name=piece.name, xs=xs, ys=ys, control=control, outline_weights=w_out, cut_weights=w_cut,
         extra_points=extra, extra_weights=w_extra, critical=crit, extent_cm=extent,
+        deformation=deformation, fold_basis=fold_basis,
     )
 
 
@@ -344,6 +503,11 @@ class PatternGrid:
     @property
     def n_points(self) -> int:
         return int(self.point_offsets[-1])
+
+    @property
+    def deformation(self) -> str:
+        """The grids' map from control points to pieces (:data:`DEFORMATIONS`)."""
+        return self.pieces[0].deformation if self.pieces else "bilinear"
 
     def piece_index(self, name: str) -> int:
         for k, g in enumerate(self.pieces):
@@ -382,6 +546,8 @@ class PatternGrid:
 
         A value of 1 is an undeformed (or uniformly scaled, x≈y) cell; 0 or
         less means some cell stopped being a convex quad, i.e. the piece folds.
+        For the cubic map, whose cells can fold inside while their corners are
+        fine, it is the smaller of that and :meth:`jacobian_ratio`.
 
         Returns
         -------
@@ -389,11 +555,32 @@ class PatternGrid:
         """
         X = np.atleast_2d(np.asarray(X, dtype=np.float64))
         out = np.full(len(X), np.inf)
-        for k in range(len(self.pieces)):
+        for k, g in enumerate(self.pieces):
             c = self.control(X, k)
             c0 = self.control(self.x0[None, :], k)
             out = np.minimum(out, _min_corner_ratio(c, c0))
+            if g.fold_basis is not None:
+                ratio = _jacobian_det(c, g.fold_basis) / _jacobian_det(c0, g.fold_basis)
+                out = np.minimum(out, ratio.reshape(len(X), -1).min(axis=1))
         return out
+
+    def jacobian_ratio(self, X: np.ndarray) -> np.ndarray:
+        """Jacobian determinant of the cubic map relative to the original's, ``(n_pop, n_samples)``.
+
+        Sampled on every piece at every grid line and three points between
+        neighbouring lines in both directions (:func:`fold_samples`); 1 is an
+        undeformed piece, 0 or less a fold. Empty for bilinear grids.
+        """
+        X = np.atleast_2d(np.asarray(X, dtype=np.float64))
+        parts = [np.zeros((len(X), 0))]
+        for k, g in enumerate(self.pieces):
+            if g.fold_basis is None:
+                continue
+            c = self.control(X, k)
+            c0 = self.control(self.x0[None, :], k)
+            ratio = _jacobian_det(c, g.fold_basis) / _jacobian_det(c0, g.fold_basis)
+            parts.append(ratio.reshape(len(X), -1))
+        return np.concatenate(parts, axis=1)
 
     def corner_ratios(self, X: np.ndarray, *, relative: bool = True) -> np.ndarray:
         """Every cell corner cross product relative to the original, ``(n_pop, n_corners)``.
@@ -504,6 +691,17 @@ def _corner_cross(a: np.ndarray) -> np.ndarray:
     return np.stack(res, axis=-1)
 
 
+def _jacobian_det(c: np.ndarray, basis: tuple[np.ndarray, ...]) -> np.ndarray:
+    """(n_pop, s_y, s_x) Jacobian determinant of the tensor-product map at the sample lattice.
+
+    ``c`` is ``(n_pop, nv, nu, 2)``; ``basis`` is ``(bx, dbx, by, dby)``.
+    """
+    bx, dbx, by, dby = basis
+    du = np.einsum("yj,xi,pjid->pyxd", by, dbx, c, optimize=True)
+    dv = np.einsum("yj,xi,pjid->pyxd", dby, bx, c, optimize=True)
+    return du[..., 0] * dv[..., 1] - du[..., 1] * dv[..., 0]
+
+
 def _min_corner_ratio(c: np.ndarray, c0: np.ndarray) -> np.ndarray:
     """(n_pop,) min over cells and corners of cross(c) / cross(c0)."""
     ratio = _corner_cross(c) / _corner_cross(c0)
@@ -511,13 +709,16 @@ def _min_corner_ratio(c: np.ndarray, c0: np.ndarray) -> np.ndarray:
 
 
 def build_grid(pattern: Pattern, *, max_lines: int = 6, max_cell_frac: float | None = None,
-               dart_lines: bool = True) -> PatternGrid:
+               dart_lines: bool = True, deformation: str = "bilinear") -> PatternGrid:
     """Control grids for every piece of ``pattern`` and the gene layout (see :func:`piece_grid`).
 
-    ``dart_lines`` gives every dart (:func:`pattern_darts`) grid lines of its own.
+    ``dart_lines`` gives every dart (:func:`pattern_darts`) grid lines of its
+    own; ``deformation`` is the map from the controls to the pieces
+    (:data:`DEFORMATIONS`).
     """
     darts = pattern_darts(pattern) if dart_lines else {}
-    grids = tuple(piece_grid(p, max_lines=max_lines, max_cell_frac=max_cell_frac, darts=darts.get(p.name, ()))
+    grids = tuple(piece_grid(p, max_lines=max_lines, max_cell_frac=max_cell_frac, darts=darts.get(p.name, ()),
+                             deformation=deformation)
                   for p in pattern.pieces)
     var_offsets = np.concatenate([[0], np.cumsum([2 * g.n_control for g in grids])]).astype(np.int64)
     point_offsets = np.concatenate([[0], np.cumsum([len(g.outline_weights) for g in grids])]).astype(np.int64)
@@ -526,8 +727,7 @@ def build_grid(pattern: Pattern, *, max_lines: int = 6, max_cell_frac: float | N
 
 
 def _map_points(g: PieceGrid, control: np.ndarray, points: np.ndarray) -> np.ndarray:
-    _, w = bilinear_weights(points, g.xs, g.ys)
-    return w @ control
+    return map_weights(points, g.xs, g.ys, g.deformation) @ control
 
 
 def deform_pattern(grid: PatternGrid, x: np.ndarray, *, size: str | None = None) -> Pattern:

@@ -48,6 +48,7 @@ __all__ = [
     "Evaluation",
     "ObjectiveData",
     "angle_change",
+    "curve_kink",
     "dart_lengths",
     "evaluate",
     "link_shares",
@@ -566,6 +567,20 @@ def shape_error(data: ObjectiveData, points: np.ndarray) -> np.ndarray:
 def shape_error_all(data: ObjectiveData, points: np.ndarray) -> np.ndarray:
     """(n_pop,) mean ``|Δ inner angle|`` over every outline vertex (rad; a secondary figure)."""
     return np.abs(angle_change(data, points)).mean(axis=1)
+
+
+def curve_kink(data: ObjectiveData, points: np.ndarray) -> np.ndarray:
+    """(n_pop,) largest ``|Δ inner angle|`` at an outline vertex that is no critical point, rad.
+
+    Those vertices sample the design's curves and straight runs, so a large
+    change at one of them is a point the graded pattern added: the kink a
+    tailor sees at once (a secondary figure; the all-vertex mean of
+    :func:`shape_error_all` spreads it over the whole outline).
+    """
+    d = np.abs(angle_change(data, points))
+    plain = np.ones(d.shape[1], dtype=bool)
+    plain[data.critical] = False
+    return d[:, plain].max(axis=1, initial=0.0)
 
 
 def evaluate(data: ObjectiveData, points: np.ndarray) -> Evaluation:

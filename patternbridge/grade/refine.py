@@ -39,7 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .grid import PatternGrid, bilinear_weights
+from .grid import PatternGrid, map_weights
 from .objectives import (
     FOLD_MARGIN,
     ObjectiveData,
@@ -174,7 +174,7 @@ def row_basis(a: np.ndarray) -> np.ndarray:
 
 
 def _grain_weights(grid: PatternGrid) -> list[tuple[int, np.ndarray, np.ndarray]]:
-    """Per piece with a grain line: (piece index, (2, m) bilinear weights of its ends, (2,) unit direction)."""
+    """Per piece with a grain line: (piece index, (2, m) grid weights of its ends, (2,) unit direction)."""
     out = []
     for k, (piece, g) in enumerate(zip(grid.pattern.pieces, grid.pieces, strict=False)):
         line = piece.grain_line
@@ -184,7 +184,7 @@ def _grain_weights(grid: PatternGrid) -> list[tuple[int, np.ndarray, np.ndarray]
         d = pts[-1] - pts[0]
         if np.hypot(*d) < 1e-6:
             continue
-        _, w = bilinear_weights(pts[[0, -1]], g.xs, g.ys)
+        w = map_weights(pts[[0, -1]], g.xs, g.ys, g.deformation)
         out.append((k, w, d / np.hypot(*d)))
     return out
 

@@ -109,5 +109,6 @@ def fit_report(result: FitResult, *, character: str = "", garment: str = "") -> 
         "n_gen": result.n_gen,
         "n_var": int(result.grid.n_var),
         "grid": {g.name: [g.nu, g.nv] for g in result.grid.pieces},
+        "deformation": result.grid.deformation,
     }
     return out

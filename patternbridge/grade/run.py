@@ -464,6 +464,7 @@ def fit_pattern(
     n_gen: int = 120,
     max_lines: int = 6,
     max_cell_frac: float | None = 0.2,
+    deformation: str = "bilinear",
     tol_measure_cm: float = 0.5,
     tol_seam: float = 0.5,
     size: str = "fit",
@@ -491,6 +492,9 @@ def fit_pattern(
     seed : every random draw derives from it; same seed, same result
     pop_size, n_gen : NSGA-II population size and generations
     max_lines, max_cell_frac : control grid resolution (:func:`~.grid.piece_grid`)
+    deformation : map from the control points to the pieces,
+        ``"bilinear"`` or ``"cubic"`` (C1 across grid lines;
+        :func:`~.grid.cubic_weights`)
     tol_measure_cm, tol_seam : tolerances on objectives 1 and 2 for the choice
         on the Pareto front
     size : size name of the graded pieces (e.g. the character's name)
@@ -537,7 +541,8 @@ def fit_pattern(
     with single_blas_thread():
         return _fit_pattern(
             pattern, measurements, seed=seed, pop_size=pop_size, n_gen=n_gen, max_lines=max_lines,
-            max_cell_frac=max_cell_frac, tol_measure_cm=tol_measure_cm, tol_seam=tol_seam, size=size,
+            max_cell_frac=max_cell_frac, deformation=deformation, tol_measure_cm=tol_measure_cm,
+            tol_seam=tol_seam, size=size,
             do_repair=do_repair, measure_band_cm=measure_band_cm, keep_straight=keep_straight,
             keep_grain=keep_grain, refine_iter=refine_iter, w_fit=w_fit, w_design=w_design, w_share=w_share,
             design_levels=tuple(design_levels), w_all=w_all, all_levels=tuple(all_levels),
@@ -551,7 +556,8 @@ def _meets(sol: Solution, *, mean_cm: float, max_cm: float, seam_cm: float) -> b
             and sc.max_seam_mismatch_cm <= seam_cm)
 
 
-def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max_cell_frac, tol_measure_cm,
+def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max_cell_frac, deformation,
+                 tol_measure_cm,
                  tol_seam, size, do_repair, measure_band_cm, keep_straight, keep_grain, refine_iter, w_fit, w_design,
                  w_share, design_levels, w_all, all_levels, n_refine, source, progress):
     from pymoo.algorithms.moo.nsga2 import NSGA2
@@ -563,7 +569,7 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
 
     t0 = time.perf_counter()
     measurements = {str(k): float(v) for k, v in measurements.items()}
-    grid = build_grid(pattern, max_lines=max_lines, max_cell_frac=max_cell_frac)
+    grid = build_grid(pattern, max_lines=max_lines, max_cell_frac=max_cell_frac, deformation=deformation)
     data = objective_data(grid, measurements, source=source)
     linear = [straight_constraints(grid, straight_edges(grid))] if keep_straight else []
     if keep_grain:
