@@ -28,8 +28,10 @@ Objectives (all minimised)
    reported beside it.
 
 Constraint: ``G = 0.05 - fold_margin <= 0``; every grid cell stays a convex
-quad with at least 5 % of its original corner cross products, so no piece
-folds and a simple outline stays simple.
+quad with at least 5 % of its original corner cross products (with the cubic
+grid map, also the Jacobian determinant sampled inside every cell,
+:meth:`~.grid.PatternGrid.fold_margin`), so no piece folds and a simple
+outline stays simple.
 """
 
 from __future__ import annotations
