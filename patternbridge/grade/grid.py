@@ -697,9 +697,10 @@ def _jacobian_det(c: np.ndarray, basis: tuple[np.ndarray, ...]) -> np.ndarray:
     ``c`` is ``(n_pop, nv, nu, 2)``; ``basis`` is ``(bx, dbx, by, dby)``.
     """
     bx, dbx, by, dby = basis
-    du = np.einsum("yj,xi,pjid->pyxd", by, dbx, c, optimize=True)
-    dv = np.einsum("yj,xi,pjid->pyxd", dby, bx, c, optimize=True)
-    return du[..., 0] * dv[..., 1] - du[..., 1] * dv[..., 0]
+    cc = np.moveaxis(c, -1, 1)  # (n_pop, 2, nv, nu)
+    du = by @ (cc @ dbx.T)  # (n_pop, 2, s_y, s_x)
+    dv = dby @ (cc @ bx.T)
+    return du[:, 0] * dv[:, 1] - du[:, 1] * dv[:, 0]
 
 
 def _min_corner_ratio(c: np.ndarray, c0: np.ndarray) -> np.ndarray:
