@@ -33,7 +33,6 @@ Progress = Callable[[str, int, int], None] | None
 
 POSE_STAGES = 5  # keyframes of the T-pose -> rest-pose return (the arms lowered step by step)
 POSE_STEPS = 12  # cloth steps per keyframe, with gravity
-SETTLE_STEPS = 24  # more steps in the rest pose at the end
 TPOSE_GRAVITY_STEPS = 0  # steps with gravity in the T-pose after sewing, before the arms come down
 POSE_GRAVITY = 0.3  # share of gravity while the arms come down and in the final settle
 
@@ -227,7 +226,9 @@ def simulate(sim: Simulation, *, steps: int = 160, progress: Progress = None) ->
         drape(
             cloth,
             BodyCollider(posed, character.faces, proxies=sim.proxies) if sim.proxies else collider,
-            steps=POSE_STEPS + (SETTLE_STEPS if s1 == 0.0 else 0),
+            # (no longer settle in the rest pose: 24 more steps there let the
+            # sleeves ride up the forearms of the child and the heavy body)
+            steps=POSE_STEPS,
             sew_steps=0,
             gravity_scale=POSE_GRAVITY,
             settings=settings,
