@@ -33,8 +33,7 @@ Progress = Callable[[str, int, int], None] | None
 
 POSE_STAGES = 5  # keyframes of the T-pose -> rest-pose return (the arms lowered step by step)
 POSE_STEPS = 12  # cloth steps per keyframe, with gravity
-TPOSE_GRAVITY_STEPS = 0  # steps with gravity in the T-pose after sewing, before the arms come down
-POSE_GRAVITY = 0.3  # share of gravity while the arms come down and in the final settle
+POSE_GRAVITY = 0.3  # share of gravity while the arms come down
 
 
 @dataclass(eq=False)
@@ -169,7 +168,14 @@ def prepare(
 
 
 def simulate(sim: Simulation, *, steps: int = 160, progress: Progress = None) -> None:
-    """Sew and drape the cloth in the dressing pose, then bring it back to the rest pose (in place)."""
+    """Sew and drape the cloth in the dressing pose, then bring it back to the rest pose (in place).
+
+    Trousers (rest pose): ``steps`` steps, sewing without gravity for the
+    first 55 %, then draping. Tops (T-pose): those first 55 % only, then the
+    arms come down over :data:`POSE_STAGES` keyframes of :data:`POSE_STEPS`
+    steps at :data:`POSE_GRAVITY` × gravity, the cloth following the skin
+    from one keyframe to the next.
+    """
     from .collision import BodyCollider
     from .drape import drape, seam_gaps
     from .pose import apply_transforms, blend_transforms, rotations, unapply_transforms
@@ -181,11 +187,11 @@ def simulate(sim: Simulation, *, steps: int = 160, progress: Progress = None) ->
     sim.solver = drape(
         cloth,
         sim.cloth_collider,
-        # a top is sewn in the T-pose and hangs there only briefly: on
-        # horizontal arms the weight of the body of the shirt drags the
+        # a top is only sewn in the T-pose (no gravity): hanging on
+        # horizontal arms, the weight of the body of the shirt dragged the
         # sleeves toward the shoulders (they bunched up at the elbow); it
         # drapes while the arms come down
-        steps=sew_steps + TPOSE_GRAVITY_STEPS if sim.rotvecs else steps,
+        steps=sew_steps if sim.rotvecs else steps,
         sew_steps=sew_steps,
         settings=settings,
         progress=progress,
