@@ -4,7 +4,10 @@ Every constraint is a spring between two vertices that wants a target length:
 the mesh edges (stretch, rest length from the 2D pattern), the far corners of
 every pair of adjacent triangles (bending, rest length from the flat pattern)
 and the seam pairs (target length shrinking from the initial gap to zero while
-sewing, then zero). Projective dynamics (Bouaziz et al. 2014) alternates a
+sewing, then zero; much stiffer than the cloth, so that the simulation, not the
+final weld, closes the seams). Along a seam whose sides differ in length (a
+gathered or eased edge) the longer side's springs take the shorter side's
+lengths. Projective dynamics (Bouaziz et al. 2014) alternates a
 local step (each spring's target vector) with a global step whose matrix
 ``M/h² + Σ w SᵀS`` is constant, so it is factorised once. Collisions with the
 body are half-space projections rebuilt every step from the closest skin
@@ -23,7 +26,7 @@ import numpy as np
 
 from .collision import BodyCollider, separate_layers
 
-__all__ = ["Cloth", "DrapeSettings", "build_cloth", "drape", "seam_gaps", "weld_groups"]
+__all__ = ["Cloth", "DrapeSettings", "build_cloth", "drape", "gathered_lengths", "seam_gaps", "weld_groups"]
 
 log = logging.getLogger(__name__)
 
