@@ -44,6 +44,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..pattern.geometry import carry_allowance
 from ..pattern.model import Pattern, Piece, VertexKind
 
 __all__ = [
@@ -745,7 +746,11 @@ def deform_pattern(grid: PatternGrid, x: np.ndarray, *, size: str | None = None)
     pieces = []
     for k, (piece, g) in enumerate(zip(grid.pattern.pieces, grid.pieces, strict=False)):
         control = x[grid.var_offsets[k]:grid.var_offsets[k + 1]].reshape(g.n_control, 2)
-        outline = g.cut_weights @ control
+        reference = reference_line(piece)
+        if reference is piece.outline:
+            outline = g.cut_weights @ control
+        else:  # the allowance is added to the graded sew line, as CAD systems do, not stretched with it
+            outline = carry_allowance(reference, piece.outline, g.outline_weights @ control, g.cut_weights @ control)
 
         def move(points, _g=g, _c=control):
             return _map_points(_g, _c, np.asarray(points, dtype=np.float64))
@@ -761,7 +766,8 @@ def deform_pattern(grid: PatternGrid, x: np.ndarray, *, size: str | None = None)
         for notch in piece.notches:
             base = piece.outline[notch.vertex]
             tip = base + eps * np.array([np.cos(notch.angle), np.sin(notch.angle)])
-            d = move(tip[None, :])[0] - outline[notch.vertex]
+            moved = move(np.stack([base, tip]))
+            d = moved[1] - moved[0]
             notches.append(dataclasses.replace(notch, angle=float(np.arctan2(d[1], d[0]))))
         holes = [dataclasses.replace(h, position=move(h.position[None, :])[0]) for h in piece.drill_holes]
         notes = [dataclasses.replace(a, position=move(a.position[None, :])[0]) for a in piece.annotations]

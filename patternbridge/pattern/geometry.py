@@ -14,6 +14,7 @@ __all__ = [
     "arc_lengths",
     "area",
     "boundary_indices",
+    "carry_allowance",
     "edge_lengths",
     "interior_angles",
     "is_ccw",
@@ -132,3 +133,63 @@ def is_simple(outline: np.ndarray) -> bool:
     """True when a closed outline does not intersect itself."""
     ring = shapely.linearrings(np.asarray(outline, dtype=np.float64))
     return bool(shapely.is_simple(ring))
+
+
+def _vertex_frames(line: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Unit tangent, outward normal and cos(half turn) at every vertex of a CCW ring.
+
+    The tangent bisects the two edge directions, so a corner's frame does not
+    depend on how long its edges are.
+    """
+    edges = np.roll(line, -1, axis=0) - line
+    unit = edges / np.maximum(np.linalg.norm(edges, axis=1, keepdims=True), 1e-12)
+    incoming = np.roll(unit, 1, axis=0)
+    tangent = incoming + unit
+    tangent /= np.maximum(np.linalg.norm(tangent, axis=1, keepdims=True), 1e-12)
+    normal = np.stack([tangent[:, 1], -tangent[:, 0]], axis=1)  # right of travel = outside of a CCW ring
+    half_cos = np.sqrt(np.clip((1.0 + np.sum(incoming * unit, axis=1)) / 2.0, 0.0, 1.0))
+    return tangent, normal, half_cos
+
+
+SHARP_TURN_COS_HALF = 0.5  # cos of half a 120° turn: sharper turns are dart points; the cut line spans the dart
+
+
+def carry_allowance(
+    sew: np.ndarray, cut: np.ndarray, new_sew: np.ndarray, mapped_cut: np.ndarray | None = None
+) -> np.ndarray:
+    """The cut line around a reshaped sew line, with the original seam allowance.
+
+    CAD systems grade the sew (net) line and add the allowance afterwards; a
+    deformation applied to both lines would instead widen or narrow the
+    allowance wherever it stretches the piece unevenly. Every cut vertex keeps
+    its offset from its sew vertex, written in the sew line's local frame at
+    that vertex; the outward part is rescaled by the corner's mitre factor, so
+    a mitred corner whose angle changes keeps the width of both edges.
+
+    Parameters
+    ----------
+    sew, cut : (n, 2) float64, cm — the original sew line and cut line, one
+        cut vertex per sew vertex, both closed and counter-clockwise
+    new_sew : (n, 2) float64, cm — the sew line after grading
+    mapped_cut : (n, 2) float64, cm, optional — the cut line moved by the
+        grading's own deformation; taken where the sew line turns by more than
+        120° before or after (a dart point: the cut line runs straight across
+        the dart there, far from its sew vertex, and follows no sew-line frame)
+
+    Returns
+    -------
+    (n, 2) float64, cm — the graded cut line
+    """
+    sew = np.asarray(sew, dtype=np.float64)
+    new_sew = np.asarray(new_sew, dtype=np.float64)
+    offset = np.asarray(cut, dtype=np.float64) - sew
+    t0, n0, c0 = _vertex_frames(sew)
+    t1, n1, c1 = _vertex_frames(new_sew)
+    along = np.sum(offset * t0, axis=1)
+    # c0 / c1 keeps a mitre's edge widths; bounded so a corner turned nearly back on itself cannot spike
+    out = np.sum(offset * n0, axis=1) * np.clip(c0 / np.maximum(c1, 0.25), 0.25, 4.0)
+    carried = new_sew + along[:, None] * t1 + out[:, None] * n1
+    if mapped_cut is None:
+        return carried
+    sharp = (c0 < SHARP_TURN_COS_HALF) | (c1 < SHARP_TURN_COS_HALF)
+    return np.where(sharp[:, None], np.asarray(mapped_cut, dtype=np.float64), carried)

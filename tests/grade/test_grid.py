@@ -147,3 +147,46 @@ def test_dart_gets_grid_lines_through_its_rims_and_point():
             np.testing.assert_array_equal(a.ys, b.ys)
     np.testing.assert_allclose(with_lines.outlines(with_lines.x0[None, :])[0],
                                without.outlines(without.x0[None, :])[0], atol=1e-9)
+
+
+
+def _mitre_inset(outline: np.ndarray, width: float) -> np.ndarray:
+    """Each vertex where the two edges beside it, moved ``width`` inward, cross (a CCW outline)."""
+    out = []
+    n = len(outline)
+    for k in range(n):
+        p, q, r = outline[k - 1], outline[k], outline[(k + 1) % n]
+        d1, d2 = (q - p) / np.linalg.norm(q - p), (r - q) / np.linalg.norm(r - q)
+        n1, n2 = np.array([-d1[1], d1[0]]), np.array([-d2[1], d2[0]])
+        det = d1[0] * -d2[1] + d2[0] * d1[1]
+        if abs(det) < 1e-9:
+            out.append(q + width * n1)
+            continue
+        rhs = (q + width * n2) - (q + width * n1)
+        s = (rhs[0] * -d2[1] + d2[0] * rhs[1]) / det
+        out.append(q + width * n1 + s * d1)
+    return np.array(out)
+
+
+def test_graded_cut_line_keeps_the_allowance_around_the_sew_line():
+    import dataclasses
+
+    import shapely
+
+    from patternbridge.pattern.model import Polyline
+
+    pattern = skirt_pattern()
+    pieces = [dataclasses.replace(p, sew_lines=(Polyline(points=_mitre_inset(p.outline, 1.0), closed=True),))
+              for p in pattern.pieces]
+    pattern = dataclasses.replace(pattern, pieces=tuple(pieces))
+    grid = build_grid(pattern)
+    stretched = (grid.x0.reshape(-1, 2) * np.array([1.5, 1.0])).ravel()
+    for piece in deform_pattern(grid, stretched).pieces:
+        sew = piece.sew_lines[0].points
+        # shapely's mitred buffer is the independent reference for a 1 cm allowance
+        allowance = shapely.Polygon(sew).buffer(1.0, join_style="mitre", mitre_limit=10.0)
+        assert shapely.hausdorff_distance(shapely.LinearRing(piece.outline), allowance.exterior) < 1e-6
+        # moving the cut line with the grid would have widened the side allowance to 1.5 cm
+        moved = grid.pieces[0].cut_weights @ stretched[: 2 * grid.pieces[0].n_control].reshape(-1, 2)
+        if piece.name == pattern.pieces[0].name:
+            assert shapely.hausdorff_distance(shapely.LinearRing(moved), allowance.exterior) > 0.3
