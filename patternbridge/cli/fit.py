@@ -55,6 +55,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--generations", type=int, default=None, help="NSGA-II generations"
     )
     parser.add_argument(
+        "--deformation",
+        choices=("bilinear", "cubic"),
+        default="bilinear",
+        help="grid map of the pattern pieces: bilinear (default; least change at the critical points) or cubic "
+        "(C1: curves crossing a grid line stay smooth); docs/grading.md compares them",
+    )
+    parser.add_argument(
         "--no-repair",
         action="store_true",
         help="skip the final step (least shape change under the fit); keep the NSGA-II choice",
@@ -178,6 +185,7 @@ def run(args: argparse.Namespace) -> int:
         size=size,
         source=str(args.garment),
         do_repair=not args.no_repair,
+        deformation=args.deformation,
         progress=progress,
         **kwargs,
     )

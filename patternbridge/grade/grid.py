@@ -44,7 +44,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..pattern.geometry import carry_allowance
+from ..pattern.geometry import carry_allowance, is_simple
 from ..pattern.model import Pattern, Piece, VertexKind
 
 __all__ = [
@@ -750,7 +750,10 @@ def deform_pattern(grid: PatternGrid, x: np.ndarray, *, size: str | None = None)
         if reference is piece.outline:
             outline = g.cut_weights @ control
         else:  # the allowance is added to the graded sew line, as CAD systems do, not stretched with it
-            outline = carry_allowance(reference, piece.outline, g.outline_weights @ control, g.cut_weights @ control)
+            mapped = g.cut_weights @ control
+            outline = carry_allowance(reference, piece.outline, g.outline_weights @ control, mapped)
+            if not is_simple(outline):  # a squeezed short curve turned its frames across each other
+                outline = mapped
 
         def move(points, _g=g, _c=control):
             return _map_points(_g, _c, np.asarray(points, dtype=np.float64))

@@ -85,3 +85,14 @@ def test_fit_missing_character_file(inputs, tmp_path, capsys):
     code = main(["fit", str(tmp_path / "nobody.obj"), "--garment", str(pattern_path), "-o", str(tmp_path / "o")])
     assert code == 2
     assert "no such character file" in capsys.readouterr().err
+
+
+def test_fit_deformation_option_reaches_the_grader(inputs, tmp_path):
+    pattern_path, body_path = inputs
+    out = tmp_path / "cubic"
+    code = main(["fit", str(body_path), "--garment", str(pattern_path), "-o", str(out), "-q",
+                 "--pop-size", "20", "--generations", "10", "--deformation", "cubic"])
+    assert code == 0
+    rep = json.loads((out / "fit_report.json").read_text())
+    assert rep["settings"]["deformation"] == "cubic"
+    assert rep["mean_error_cm"] <= 0.5 and rep["max_seam_mm"] <= 1.0
