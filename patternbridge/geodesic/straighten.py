@@ -140,9 +140,9 @@ class _Local:
         if len(fs) < 2 or f not in fs:
             return None
         # non-manifold edge: continue into the face closest to the same plane
-        fn = self.mesh.face_normals
         others = [g for g in fs if g != f]
-        dots = np.abs(fn[others] @ fn[f])
+        fn = self.mesh.normals_of([f, *others])  # no (F, 3) table for a few rows
+        dots = np.abs(fn[1:] @ fn[0])
         return int(others[int(np.argmax(dots))])
 
     def walk(self, v: int, f: int, x: int, stop, limit: int = 64) -> list[int] | None:
