@@ -556,14 +556,9 @@ class PatternGrid:
         """
         X = np.atleast_2d(np.asarray(X, dtype=np.float64))
         out = np.full(len(X), np.inf)
-        for k, g in enumerate(self.pieces):
-            c = self.control(X, k)
-            c0 = self.control(self.x0[None, :], k)
-            out = np.minimum(out, _min_corner_ratio(c, c0))
-            if g.fold_basis is not None:
-                ratio = _jacobian_det(c, g.fold_basis) / _jacobian_det(c0, g.fold_basis)
-                out = np.minimum(out, ratio.reshape(len(X), -1).min(axis=1))
-        return out
+        for k in range(len(self.pieces)):
+            out = np.minimum(out, _min_corner_ratio(self.control(X, k), self.control(self.x0[None, :], k)))
+        return np.minimum(out, self.jacobian_ratio(X).min(axis=1, initial=np.inf))
 
     def jacobian_ratio(self, X: np.ndarray) -> np.ndarray:
         """Jacobian determinant of the cubic map relative to the original's, ``(n_pop, n_samples)``.
@@ -744,7 +739,7 @@ def deform_pattern(grid: PatternGrid, x: np.ndarray, *, size: str | None = None)
 
     x = np.asarray(x, dtype=np.float64).reshape(-1)
     pieces = []
-    for k, (piece, g) in enumerate(zip(grid.pattern.pieces, grid.pieces, strict=False)):
+    for k, (piece, g) in enumerate(zip(grid.pattern.pieces, grid.pieces, strict=True)):
         control = x[grid.var_offsets[k]:grid.var_offsets[k + 1]].reshape(g.n_control, 2)
         reference = reference_line(piece)
         if reference is piece.outline:

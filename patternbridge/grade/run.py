@@ -542,11 +542,10 @@ def fit_pattern(
         return _fit_pattern(
             pattern, measurements, seed=seed, pop_size=pop_size, n_gen=n_gen, max_lines=max_lines,
             max_cell_frac=max_cell_frac, deformation=deformation, tol_measure_cm=tol_measure_cm,
-            tol_seam=tol_seam, size=size,
-            do_repair=do_repair, measure_band_cm=measure_band_cm, keep_straight=keep_straight,
-            keep_grain=keep_grain, refine_iter=refine_iter, w_fit=w_fit, w_design=w_design, w_share=w_share,
-            design_levels=tuple(design_levels), w_all=w_all, all_levels=tuple(all_levels),
-            n_refine=n_refine, source=source, progress=progress,
+            tol_seam=tol_seam, size=size, do_repair=do_repair, measure_band_cm=measure_band_cm,
+            keep_straight=keep_straight, keep_grain=keep_grain, refine_iter=refine_iter, w_fit=w_fit,
+            w_design=w_design, w_share=w_share, design_levels=tuple(design_levels), w_all=w_all,
+            all_levels=tuple(all_levels), n_refine=n_refine, source=source, progress=progress,
         )
 
 
@@ -557,9 +556,8 @@ def _meets(sol: Solution, *, mean_cm: float, max_cm: float, seam_cm: float) -> b
 
 
 def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max_cell_frac, deformation,
-                 tol_measure_cm,
-                 tol_seam, size, do_repair, measure_band_cm, keep_straight, keep_grain, refine_iter, w_fit, w_design,
-                 w_share, design_levels, w_all, all_levels, n_refine, source, progress):
+                 tol_measure_cm, tol_seam, size, do_repair, measure_band_cm, keep_straight, keep_grain, refine_iter,
+                 w_fit, w_design, w_share, design_levels, w_all, all_levels, n_refine, source, progress):
     from pymoo.algorithms.moo.nsga2 import NSGA2
     from pymoo.optimize import minimize
 
