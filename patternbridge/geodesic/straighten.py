@@ -81,7 +81,7 @@ class _Local:
         self.fv: dict[int, tuple[int, int, int]] = {}
         self.xyz: dict[int, tuple[float, float, float]] = {}
         self.fan: dict[int, dict[int, list[int]]] = {}
-        # (previous face, face) -> (p, q, d, previous third corner, |pd|, |qd|)
+        # (previous face, face) -> unfolding step, see _hinge
         self.hinge: dict[tuple[int, int], tuple] = {}
 
     def face(self, f: int) -> tuple[int, int, int]:
@@ -378,10 +378,7 @@ def _hinge(loc: _Local, fa: int, fb: int) -> tuple:
     ):
         raise _StripError(f"faces {fa} and {fb} share no edge")
     cprev = p0 if p0 != p and p0 != q else (p1 if p1 != p and p1 != q else p2)
-    xyz = loc.xyz
-    pp = xyz.get(p) or loc.pos(p)
-    pq = xyz.get(q) or loc.pos(q)
-    pd = xyz.get(d) or loc.pos(d)
+    pp, pq, pd = loc.pos(p), loc.pos(q), loc.pos(d)
     dist = math.dist
     lpq = dist(pp, pq)
     if lpq == 0.0:
