@@ -21,6 +21,7 @@ front), ``e1 = axis x e0`` (angle +π/2, the right as seen from outside).
 from __future__ import annotations
 
 import logging
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -334,22 +335,18 @@ def _bridge_seams(pattern: Pattern, pmesh: PatternMesh, out: dict[str, np.ndarra
         far = False
         sides = set()
         neck = []  # edges sewn to larger pieces off the torso (collar, sleeve caps) go onto theirs
-        for sp in pmesh.seams:
-            for me, va, other, vb in (
-                (sp.a, sp.a_vertices, sp.b, sp.b_vertices),
-                (sp.b, sp.b_vertices, sp.a, sp.a_vertices),
-            ):
-                if me.key != inst.key or other.key == inst.key:
-                    continue
-                if instance_part(pattern, other) != "torso" and size[other.piece] > n:
-                    neck.append((va, out[other.key][vb]))
-                    continue
-                if instance_part(pattern, other) != "torso" or size[other.piece] <= n:
-                    continue
-                theirs = out[other.key][vb]
-                target[va] = theirs
-                sides.add(str(pattern.piece(other.piece).placement.side))
-                far |= float(np.median(np.linalg.norm(out[inst.key][va] - theirs, axis=1))) > BRIDGE_GAP_CM
+        for me, va, other, vb in _seam_sides(pmesh):
+            if me.key != inst.key or other.key == inst.key:
+                continue
+            if instance_part(pattern, other) != "torso" and size[other.piece] > n:
+                neck.append((va, out[other.key][vb]))
+                continue
+            if instance_part(pattern, other) != "torso" or size[other.piece] <= n:
+                continue
+            theirs = out[other.key][vb]
+            target[va] = theirs
+            sides.add(str(pattern.piece(other.piece).placement.side))
+            far |= float(np.median(np.linalg.norm(out[inst.key][va] - theirs, axis=1))) > BRIDGE_GAP_CM
         for va, theirs in neck:  # corners shared with a shoulder seam stay on the front's
             keep = ~np.isfinite(target[va, 0])
             target[va[keep]] = theirs[keep]
@@ -363,6 +360,13 @@ def _bridge_seams(pattern: Pattern, pmesh: PatternMesh, out: dict[str, np.ndarra
             x, _ = scene.push_out(x, CLEARANCE_CM, robust=True)
         log.debug("%s laid across its seams to larger pieces", inst.key)
         out[inst.key] = x
+
+
+def _seam_sides(pmesh: PatternMesh) -> Iterator[tuple[Instance, np.ndarray, Instance, np.ndarray]]:
+    """Every seam seen from each of its two sides: (instance, its sewn vertices, other instance, theirs)."""
+    for sp in pmesh.seams:
+        yield sp.a, sp.a_vertices, sp.b, sp.b_vertices
+        yield sp.b, sp.b_vertices, sp.a, sp.a_vertices
 
 
 def _centre_line(pmesh: PatternMesh, inst: Instance, p2: np.ndarray) -> np.ndarray:
@@ -473,22 +477,18 @@ def _level_backs(pmesh: PatternMesh, rows: list) -> list:
     side = {r[0].key: (i, str(r[1].side)) for i, r in enumerate(rows) if r[2] == "torso"}
     out = list(rows)
     shifts: dict[int, list[float]] = {}
-    for sp in pmesh.seams:
-        for me, va, other, vb in (
-            (sp.a, sp.a_vertices, sp.b, sp.b_vertices),
-            (sp.b, sp.b_vertices, sp.a, sp.a_vertices),
-        ):
-            if me.key not in side or other.key not in side:
-                continue
-            (i, s_me), (j, s_other) = side[me.key], side[other.key]
-            if s_me != "back" or s_other != "front":
-                continue
-            _, _, _, _, p2b, _, _, hb, a2b = rows[i]
-            _, _, _, _, p2f, _, _, hf, a2f = rows[j]
-            yb, yf = p2b[va, 1], p2f[vb, 1]
-            if np.ptp(yb) < 5.0:
-                continue
-            shifts.setdefault(i, []).append(float(np.mean((hf + yf - a2f[1]) - (hb + yb - a2b[1]))))
+    for me, va, other, vb in _seam_sides(pmesh):
+        if me.key not in side or other.key not in side:
+            continue
+        (i, s_me), (j, s_other) = side[me.key], side[other.key]
+        if s_me != "back" or s_other != "front":
+            continue
+        _, _, _, _, p2b, _, _, hb, a2b = rows[i]
+        _, _, _, _, p2f, _, _, hf, a2f = rows[j]
+        yb, yf = p2b[va, 1], p2f[vb, 1]
+        if np.ptp(yb) < 5.0:
+            continue
+        shifts.setdefault(i, []).append(float(np.mean((hf + yf - a2f[1]) - (hb + yb - a2b[1]))))
     for i, d in shifts.items():
         inst, pl, part, cyl, p2, R, th_a, h_a, a2 = out[i]
         out[i] = (inst, pl, part, cyl, p2, R, th_a, h_a + float(np.mean(d)), a2)
@@ -544,17 +544,16 @@ def _anchor_line(pmesh: PatternMesh, inst: Instance, p2: np.ndarray, mark: str, 
     """
     marks = pmesh.pieces[inst.piece].marks
     mv = marks.get(mark)
-    for sp in pmesh.seams:
-        for me, va, other in ((sp.a, sp.a_vertices, sp.b), (sp.b, sp.b_vertices, sp.a)):
-            if me.key != inst.key or other.key == inst.key or other.key not in partners:
-                continue
-            if mv is None or not np.any(va == mv):
-                continue
-            ys, xs = p2[va, 1], p2[va, 0]
-            if np.ptp(ys) < 1.0:
-                continue
-            order = np.argsort(ys)
-            return np.interp(p2[:, 1], ys[order], xs[order])
+    for me, va, other, _ in _seam_sides(pmesh):
+        if me.key != inst.key or other.key == inst.key or other.key not in partners:
+            continue
+        if mv is None or not np.any(va == mv):
+            continue
+        ys, xs = p2[va, 1], p2[va, 0]
+        if np.ptp(ys) < 1.0:
+            continue
+        order = np.argsort(ys)
+        return np.interp(p2[:, 1], ys[order], xs[order])
     return np.full(len(p2), p2[mv, 0] if mv is not None else float(p2[:, 0].mean()))
 
 
@@ -691,20 +690,16 @@ def _follow_seams(
             continue
         cyl = cylinders[part]
         mine, theirs, mine_ids = [], [], []
-        for sp in pmesh.seams:
-            for me, va, other, vb in (
-                (sp.a, sp.a_vertices, sp.b, sp.b_vertices),
-                (sp.b, sp.b_vertices, sp.a, sp.a_vertices),
+        for me, va, other, vb in _seam_sides(pmesh):
+            if (
+                me.key == inst.key
+                and other.key != inst.key
+                and instance_part(pattern, other) == part
+                and size[other.piece] > size[inst.piece]
             ):
-                if (
-                    me.key == inst.key
-                    and other.key != inst.key
-                    and instance_part(pattern, other) == part
-                    and size[other.piece] > size[inst.piece]
-                ):
-                    mine.append(instance_points2d(pmesh, inst)[va])
-                    mine_ids.append(va)
-                    theirs.append(out[other.key][vb])
+                mine.append(instance_points2d(pmesh, inst)[va])
+                mine_ids.append(va)
+                theirs.append(out[other.key][vb])
         if not mine:
             continue
         p2 = instance_points2d(pmesh, inst)
