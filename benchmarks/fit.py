@@ -34,6 +34,7 @@ import numpy as np
 import pymoo
 
 from patternbridge import __version__
+from patternbridge.grade.grid import DEFORMATIONS
 from patternbridge.grade.objectives import curve_kink
 from patternbridge.grade.refine import grain_tilt
 from patternbridge.grade.report import fit_report
@@ -74,7 +75,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--generations", type=int, default=None)
     parser.add_argument("--band", type=float, default=None, help="measurement band of the final step, cm")
     parser.add_argument("--w-fit", type=float, default=None, help="cost of measurement errors inside the band")
-    parser.add_argument("--deformation", choices=("bilinear", "cubic"), default=None,
+    parser.add_argument("--deformation", choices=DEFORMATIONS, default=None,
                         help="grid deformation (default: fit_pattern's)")
     parser.add_argument("--json", type=Path, help="write every fit report here")
     parser.add_argument("--check-seed", action="store_true", help="re-run the first case, compare")
