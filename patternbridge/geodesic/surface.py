@@ -159,14 +159,14 @@ class SurfaceMesh:
         fw.flags.writeable = False
         self.vertices = v
         self.faces = fw
-        cols, degenerate, stats = _face_geometry(v, fw)
+        cols, degenerate, sides = _face_geometry(v, fw)
         if degenerate.all():
             raise MeshError(
                 f"mesh: all {len(f)} faces have zero area; "
                 "the mesh has no usable surface"
             )
-        self._edge_stats = stats[:2]
-        self._cache["sides"] = stats[2]  # until the corner lists take them
+        self._edge_stats = _edge_stats(sides, degenerate)
+        self._cache["sides"] = sides  # until the corner lists take them
         degenerate.flags.writeable = False
         self.degenerate = degenerate
         self._normal_cols = cols
@@ -603,8 +603,8 @@ def _weld_map(v: np.ndarray) -> np.ndarray:
 
 
 def _face_geometry(v: np.ndarray, fw: np.ndarray):
-    """Unit normal columns (3 x (F,)), the zero-area mask (F,) and the
-    (longest, mean) side length, cm, of the usable faces of ``fw`` over ``v``.
+    """Unit normal columns (3 x (F,)), the zero-area mask (F,) and the side
+    lengths (F, 3), cm (None when every face has zero area) of ``fw`` over ``v``.
 
     Column gathers and in-place products on contiguous columns: several times
     faster than row gathers and ``np.cross`` on (F, 3).
@@ -647,7 +647,7 @@ def _face_geometry(v: np.ndarray, fw: np.ndarray):
     for t in nc:
         t *= inv
     if degenerate.all():
-        return tuple(nc), degenerate, (0.0, 0.0, None)
+        return tuple(nc), degenerate, None
     l02 = e2[0] * e2[0]
     l02 += e2[1] * e2[1]
     l02 += e2[2] * e2[2]
@@ -663,17 +663,17 @@ def _face_geometry(v: np.ndarray, fw: np.ndarray):
     for k, sq in enumerate((l01, l12, l02)):
         np.sqrt(sq, out=sq)
         sides[:, k] = sq
-    return tuple(nc), degenerate, _edge_stats(sides, degenerate)
+    return tuple(nc), degenerate, sides
 
 
-def _edge_stats(sides: np.ndarray, degenerate: np.ndarray):
-    """(longest, mean) side length, cm, of the usable faces, and ``sides``."""
+def _edge_stats(sides: np.ndarray, degenerate: np.ndarray) -> tuple[float, float]:
+    """(longest, mean) side length, cm, of the usable faces."""
     good = sides[~degenerate] if degenerate.any() else sides
     top = float(good.max())
     mean = (
         float(good[:, 0].sum()) + float(good[:, 1].sum()) + float(good[:, 2].sum())
     ) / good.size
-    return top, mean, sides
+    return top, mean
 
 
 def _cell_grid(v: np.ndarray):
