@@ -413,11 +413,9 @@ def drape(
     settings = settings or DrapeSettings()
     solver = solver or _Solver(cloth, settings)
     if sew_steps and anchors is not None:
-        solver.pin(anchors[0], anchors[1])
-    elif hold is not None:
-        solver.pin(hold, cloth.x)
+        solver.pin(*anchors)
     else:
-        solver.pin(None)
+        solver.pin(hold, cloth.x)  # hold None releases
     weld = weld_groups(len(cloth.x), cloth.seams)
     for k in range(steps):
         sew = (k + 1) / max(sew_steps, 1) if sew_steps else 1.0
@@ -434,7 +432,7 @@ def drape(
             layers=weld if k % layer_every == 0 else None,
         )
         if k + 1 == sew_steps:
-            solver.pin(hold, cloth.x) if hold is not None else solver.pin(None)
+            solver.pin(hold, cloth.x)
         if progress is not None and (k % 10 == 0 or k == steps - 1):
             progress(stage, k + 1, steps)
     return solver
