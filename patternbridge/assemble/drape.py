@@ -252,7 +252,7 @@ class _Solver:
         self.lu = self.lu_free
         self.pin_w = np.zeros(n)
         self.pin_x = np.zeros((n, 3))
-        self._pins: tuple[int, int] | None = None
+        self._pins: np.ndarray | None = None  # the weights the factorisation ``lu`` was made with
         self.seam_start = seam_gaps(cloth.x, cloth.seams)
 
     def pin(self, weights: np.ndarray | None, targets: np.ndarray | None = None) -> None:
@@ -267,12 +267,11 @@ class _Solver:
         if weights is None or not np.any(weights > 0):
             self.lu, self.pin_w, self._pins = self.lu_free, np.zeros(len(self.m_h2)), None
             return
-        key = (id(weights), len(weights))
         self.pin_w = np.asarray(weights, dtype=np.float64) * self.m_h2
         self.pin_x = np.asarray(targets, dtype=np.float64).copy()
-        if self._pins != key:
+        if self._pins is not weights:  # (the array is kept, so its identity is not reused)
             self.lu = splu((self.A + diags(self.pin_w)).tocsc())
-            self._pins = key
+            self._pins = weights
 
     def _push_edges(self, collider: BodyCollider, x: np.ndarray, ni: np.ndarray) -> np.ndarray:
         """Push edge midpoints and triangle centroids near ``ni`` to ``offset_cm`` outside the skin.
