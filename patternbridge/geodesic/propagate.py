@@ -163,7 +163,9 @@ def _solve_stack(base: np.ndarray, T: np.ndarray, fr: np.ndarray) -> np.ndarray:
     ab[:-1, 1, 2] = -C[:, 1, 1]
     ab[:-1, 0, 3] = -C[:, 0, 1]
     abf = ab.reshape(2 * S, 4).T  # (4, 2S), Fortran order for LAPACK
-    _, x, info = _pbsv(abf, rhs.reshape(2 * S, 1), lower=1, overwrite_ab=1, overwrite_b=1)
+    # ab is kept (LAPACK works on a copy): a failed factorisation leaves part
+    # of its factor behind, and the fallback needs the matrix itself
+    _, x, info = _pbsv(abf, rhs.reshape(2 * S, 1), lower=1, overwrite_ab=0, overwrite_b=1)
     if info != 0:  # not positive definite (degenerate bases): general banded LU
         from scipy.linalg import solve_banded
 

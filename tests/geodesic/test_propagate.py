@@ -276,3 +276,30 @@ def test_banded_fallback_when_cholesky_refuses(monkeypatch):
     out = solve_windows(pts, nrm, pts, free)
     for b in range(2):
         np.testing.assert_allclose(out[b], lsq_step(pts[b], nrm[b], pts[b]), atol=1e-8)
+
+
+def test_banded_fallback_solves_the_matrix_the_cholesky_refused():
+    """A real refusal (tangent columns longer than 1 make the matrix
+    indefinite): the general banded solver gets the matrix itself, not what a
+    failed factorisation left of it, and solves it as a dense solve does."""
+    from patternbridge.geodesic import propagate
+
+    pts, nrm, free = _random_windows(5, 3, 8)
+    t1, t2 = propagate._tangent_bases(nrm)
+    S = pts.shape[0] * pts.shape[1]
+    T = 1.8 * np.stack([t1, t2], axis=-1).reshape(S, 3, 2)
+    fr = free.reshape(S)
+    base = pts.reshape(S, 3)
+    # the same system written densely
+    M = np.diag(np.repeat(np.where(fr, 2.0, 1.0), 2))
+    for s in range(S - 1):
+        if fr[s] and fr[s + 1]:
+            C = T[s].T @ T[s + 1]  # C[a, b] = t_{s,a} . t_{s+1,b}
+            M[2 * s : 2 * s + 2, 2 * s + 2 : 2 * s + 4] = -C
+            M[2 * s + 2 : 2 * s + 4, 2 * s : 2 * s + 2] = -C.T
+    lap = np.zeros((S, 3))
+    lap[1:-1] = base[:-2] + base[2:] - 2.0 * base[1:-1]
+    rhs = np.einsum("ski,sk->si", T, lap) * fr[:, None]
+    assert np.linalg.eigvalsh(M).min() < 0  # Cholesky must refuse
+    u = propagate._solve_stack(base, T, fr)
+    np.testing.assert_allclose(u.ravel(), np.linalg.solve(M, rhs.ravel()), rtol=1e-9, atol=1e-9)
