@@ -135,12 +135,11 @@ def solve_windows(
     T = tangents.reshape(S, 3, 2)
     fr = free.reshape(S)
     base = np.where(fr[:, None], anchors_xyz.reshape(S, 3), points.reshape(S, 3))
-    u = _solve_stack(base, T, fr)
-    return (base + np.einsum("ski,si->sk", T, u)).reshape(B, w, 3)
+    return _solve_stack(base, T, fr).reshape(B, w, 3)
 
 
 def _solve_stack(base: np.ndarray, T: np.ndarray, fr: np.ndarray) -> np.ndarray:
-    """Tangent coordinates (S, 2) of samples laid end to end.
+    """Relaxed positions (S, 3), ``base + T u``, of samples laid end to end.
 
     ``base`` (S, 3) are the anchors of free samples and the positions of fixed
     ones, ``T`` (S, 3, 2) the tangent bases, ``fr`` (S,) the free mask; the first
@@ -174,7 +173,7 @@ def _solve_stack(base: np.ndarray, T: np.ndarray, fr: np.ndarray) -> np.ndarray:
         for r in range(1, 4):  # mirror the lower band into the upper
             full[3 - r, r:] = full[3 + r, :-r]
         x = solve_banded((3, 3), full, rhs.reshape(2 * S))
-    return x.reshape(S, 2)
+    return base + np.einsum("ski,si->sk", T, x.reshape(S, 2))
 
 
 def solve_lateral(points: np.ndarray, anchors_xyz: np.ndarray, normals: np.ndarray, free: np.ndarray) -> np.ndarray:
@@ -508,7 +507,7 @@ class _WindowSolver:
             else:
                 T = np.take(self.tangents, flat, axis=0)
                 base = np.where(fr[:, None], ax.T, x.T)
-                x = (base + np.einsum("ski,si->sk", T, _solve_stack(base, T, fr))).T
+                x = _solve_stack(base, T, fr).T
             X = x.reshape(3, B, w)
         if self.used + B > len(self.owner):
             self._compact(B)
