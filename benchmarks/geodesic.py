@@ -312,17 +312,11 @@ def section_subdiv(args, rng):
     _character_table("E_hires_x4", v, f, pairs, mmp=False)
 
 
-def _best_time(fn, reps):
-    """Best wall and CPU seconds of ``reps`` calls (each its own best) and the
-    last result."""
-    wall = cpu = np.inf
-    out = None
-    for _ in range(max(1, reps)):
-        t0, c0 = time.perf_counter(), time.process_time()
-        out = fn()
-        wall = min(wall, time.perf_counter() - t0)
-        cpu = min(cpu, time.process_time() - c0)
-    return wall, cpu, out
+def _timed(fn):
+    """Wall and CPU seconds of one call of ``fn`` and its result."""
+    t0, c0 = time.perf_counter(), time.process_time()
+    out = fn()
+    return time.perf_counter() - t0, time.process_time() - c0, out
 
 
 def section_propagate(args, rng):
@@ -376,7 +370,7 @@ def section_propagate(args, rng):
         for _ in range(reps):
             for key in best:
                 fn = mmp if key == "mmp" else (lambda key=key: ours(*key))
-                t, c, out = _best_time(fn, 1)
+                t, c, out = _timed(fn)
                 bt, bc, _ = best[key]
                 best[key] = (min(t, bt), min(c, bc), out)
         t_mmp, c_mmp, exact = best["mmp"]
