@@ -120,7 +120,7 @@ def project_walk(
     -------
     Walk, or None when the walk leaves through a boundary or does not arrive.
     """
-    loc = local or _Local(mesh)
+    loc = local or _Local.of(mesh)
     Q = [tuple(p) for p in np.asarray(samples, dtype=np.float64).tolist()]
     if len(Q) < 2:
         return None

@@ -189,7 +189,7 @@ def strip_from_vertex_path(
     list of face ids, consecutive ones sharing an edge, or None when a vertex
     cannot be turned around (boundary on both sides, non-manifold fan).
     """
-    loc = local or _Local(mesh)
+    loc = local or _Local.of(mesh)
     vp = [int(x) for x in vpath]
     k = len(vp)
     if k == 1:
@@ -569,7 +569,7 @@ def straighten(
     ValueError
         When the strip is not a chain of edge-adjacent faces.
     """
-    loc = local or _Local(mesh)
+    loc = local or _Local.of(mesh)
     strip = _clean([int(f) for f in strip])
     n_swings = 0
     cache: dict = {}
