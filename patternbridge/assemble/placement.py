@@ -663,7 +663,7 @@ def _harmonic_fill(faces: np.ndarray, base: np.ndarray, fixed: np.ndarray, value
     x[fixed] = values
     if free.any():
         rhs = -(lap[free][:, fixed] @ known)
-        x[free] += np.column_stack([spsolve(lap[free][:, free].tocsc(), rhs[:, j]) for j in range(3)])
+        x[free] += spsolve(lap[free][:, free].tocsc(), rhs)  # the three coordinates in one solve
     return x
 
 
