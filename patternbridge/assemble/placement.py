@@ -689,6 +689,7 @@ def _follow_seams(
         if str(pl.side) != "around":
             continue
         cyl = cylinders[part]
+        p2 = instance_points2d(pmesh, inst)
         mine, theirs, mine_ids = [], [], []
         for me, va, other, vb in _seam_sides(pmesh):
             if (
@@ -697,12 +698,11 @@ def _follow_seams(
                 and instance_part(pattern, other) == part
                 and size[other.piece] > size[inst.piece]
             ):
-                mine.append(instance_points2d(pmesh, inst)[va])
+                mine.append(p2[va])
                 mine_ids.append(va)
                 theirs.append(out[other.key][vb])
         if not mine:
             continue
-        p2 = instance_points2d(pmesh, inst)
         m2, target = np.concatenate(mine), np.concatenate(theirs)
         th_t, h_t, _ = cyl.coordinates(target)
         Rv = _row_radii(pmesh, inst, part, str(pl.side), cyl.radius_cm)
