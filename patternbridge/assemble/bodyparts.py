@@ -18,7 +18,7 @@ import numpy as np
 from ..errors import LandmarkError
 from ..mesh.character import Character
 
-__all__ = ["PARTS", "BodyParts", "segment_body"]
+__all__ = ["PARTS", "BodyParts", "crotch_height", "segment_body"]
 
 log = logging.getLogger(__name__)
 
@@ -152,3 +152,16 @@ def segment_body(character: Character, *, vertices: np.ndarray | None = None) ->
             character.name,
         )
     return BodyParts(labels=_from_landmarks(character, v), source="landmarks")
+
+
+def crotch_height(character: Character, vertices: np.ndarray, parts: BodyParts) -> float | None:
+    """Height (y, cm) of the crotch in ``vertices`` (V, 3), or None.
+
+    The ``crotch_point`` landmark's vertex, else the top of the legs; None
+    when the landmark has no vertex and no vertex is labelled a leg.
+    """
+    lm = character.landmarks.get("crotch_point")
+    if lm is not None and lm.vertex is not None:
+        return float(vertices[lm.vertex][1])
+    legs = parts.mask("left_leg") | parts.mask("right_leg")
+    return float(vertices[legs, 1].max()) if legs.any() else None

@@ -77,7 +77,7 @@ def prepare(
     InputError
         See :func:`assemble`.
     """
-    from .bodyparts import segment_body
+    from .bodyparts import crotch_height, segment_body
     from .checks import check_pattern, limbs_touching
     from .collision import BodyCollider, thigh_fill
     from .drape import DrapeSettings, build_cloth
@@ -122,9 +122,7 @@ def prepare(
     proxies: tuple = ()
     if not on_legs:
         legs = parts.mask("left_leg") | parts.mask("right_leg")
-        lm = character.landmarks.get("crotch_point")
-        crotch_y = float(body[lm.vertex][1]) if lm is not None and lm.vertex is not None else None
-        proxies = thigh_fill(body, legs, crotch_y)
+        proxies = thigh_fill(body, legs, crotch_height(character, body, parts))
     cloth_collider = BodyCollider(body, character.faces, proxies=proxies) if proxies else collider
     placed = place_instances(character, body, pattern, pmesh, cylinders, findings, scene=collider, parts=parts)
     keys = [inst.key for inst in pmesh.instances]

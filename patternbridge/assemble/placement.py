@@ -29,7 +29,7 @@ import numpy as np
 from ..errors import InputError
 from ..pattern.model import Copy, Pattern
 from ..report import Report
-from .bodyparts import PARTS, BodyParts
+from .bodyparts import PARTS, BodyParts, crotch_height
 from .mesh2d import Instance, PatternMesh
 
 __all__ = ["Cylinder", "bounding_cylinders", "mirror_name", "place_instances"]
@@ -410,14 +410,10 @@ def _seat_on_hips(
     wrappings are blended over :data:`SEAT_BLEND_CM` around the crotch.
     """
     v = np.asarray(vertices, dtype=np.float64)
-    lm = character.landmarks.get("crotch_point")
-    legs = parts.mask("left_leg") | parts.mask("right_leg")
-    if lm is not None and lm.vertex is not None:
-        crotch_y = float(v[lm.vertex][1])
-    elif legs.any():
-        crotch_y = float(v[legs, 1].max())
-    else:
+    crotch_y = crotch_height(character, v, parts)
+    if crotch_y is None:
         return
+    legs = parts.mask("left_leg") | parts.mask("right_leg")
     trunk = v[parts.mask("torso") | legs]
     lo, hi = crotch_y + SEAT_BLEND_CM[0] - 2.0, crotch_y + 60.0
     grid = np.arange(lo, hi, 1.0)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from patternbridge.assemble.bodyparts import PARTS, segment_body
+from patternbridge.assemble.bodyparts import PARTS, BodyParts, crotch_height, segment_body
 from patternbridge.assemble.collision import BodyCollider, separate_layers
 from patternbridge.errors import LandmarkError
 
@@ -91,6 +91,21 @@ def test_segmentation_without_rig_or_landmarks_is_a_landmark_error(character_e):
     bare = dataclasses.replace(character_e, skeleton=None, skin=None, landmarks={})
     with pytest.raises(LandmarkError, match="crotch_point"):
         segment_body(bare)
+
+
+@pytest.mark.shared
+def test_crotch_height_from_the_landmark_else_the_top_of_the_legs(character_e):
+    parts = segment_body(character_e)
+    v = character_e.vertices
+    y = crotch_height(character_e, v, parts)
+    assert y == v[character_e.landmarks["crotch_point"].vertex][1]
+    bare = dataclasses.replace(character_e, landmarks={})
+    legs = parts.mask("left_leg") | parts.mask("right_leg")
+    top = crotch_height(bare, v, parts)
+    assert top == v[legs, 1].max()
+    assert y < top < y + 15.0  # the leg bones weigh the skin up over the hip
+    no_legs = BodyParts(labels=np.zeros(len(v), dtype=np.int64), source="skin")
+    assert crotch_height(bare, v, no_legs) is None
 
 
 @pytest.fixture(scope="module")
