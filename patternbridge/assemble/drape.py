@@ -117,11 +117,8 @@ def build_cloth(
     uv = np.concatenate(points2d)
     group = np.repeat(np.arange(len(positions)), np.diff(offsets))
     f = np.concatenate([fc + offsets[i] for i, fc in enumerate(faces)])
-    pairs = (
-        np.concatenate([np.stack([va + offsets[a], vb + offsets[b]], axis=1) for a, b, va, vb in seams])
-        if seams
-        else np.zeros((0, 2), np.int64)
-    )
+    sewn = [(va + offsets[a], vb + offsets[b]) for a, b, va, vb in seams]  # global ids of both sides
+    pairs = np.concatenate([np.stack(s, axis=1) for s in sewn]) if sewn else np.zeros((0, 2), np.int64)
     pairs = pairs[pairs[:, 0] != pairs[:, 1]]
     edges, bends = _edges_and_bends(f)
     rest = np.linalg.norm(uv[edges[:, 0]] - uv[edges[:, 1]], axis=1)
@@ -130,7 +127,7 @@ def build_cloth(
     a2 = np.abs(u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0]) / 2
     mass = np.bincount(f.ravel(), weights=np.repeat(a2 / 3, 3), minlength=len(x)) * density_kg_cm2
     mass = np.maximum(mass, 1e-3 * mass.mean())
-    target = gathered_lengths(edges, rest, [(va + offsets[a], vb + offsets[b]) for a, b, va, vb in seams])
+    target = gathered_lengths(edges, rest, sewn)
     return Cloth(
         x=x,
         uv=uv,
