@@ -1,8 +1,8 @@
 """Benchmark: dress the six ../shared characters in the library shirt and trousers.
 
 Plain script (no asv). For every character and garment it runs
-``patternbridge.assemble.dress`` with the garment graded to the character (measure + NSGA-II with a
-small budget, not timed; ``--sample`` keeps the sample size) and prints one line: seconds, peak RSS,
+``patternbridge.assemble.dress`` with the garment graded to the character as ``patternbridge fit`` grades it
+(measure + ``fit_pattern`` with its default NSGA-II budget, not timed; ``--sample`` keeps the sample size) and prints one line: seconds, peak RSS,
 penetrating vertices, triangles crossing the skin, seam gap before and after welding, stretch
 percentiles and the worst piece. Pictures and meshes go to
 ``--out`` (default ``bench_out/assemble``), one folder per case.
@@ -49,7 +49,11 @@ def _rss_mb() -> float:
 
 
 def _graded(pattern, character, cname: str, gname: str, cache: str | None):
-    """The garment graded to the character (measure + NSGA-II, small budget), cached as JSON in ``cache``."""
+    """The garment graded to the character as ``patternbridge fit`` does (measure + ``fit_pattern``'s defaults).
+
+    Cached as JSON in ``cache``: a cache filled by an older run (a smaller
+    budget) is reused as it is.
+    """
     from patternbridge.io.pattern_json import load_pattern_json, save_pattern_json
 
     path = Path(cache) / f"{gname}_{cname}.json" if cache else None
@@ -59,7 +63,7 @@ def _graded(pattern, character, cname: str, gname: str, cache: str | None):
     from patternbridge.measure.run import measure
 
     values = measure(character, partial=True).values_cm()
-    graded = fit_pattern(pattern, values, pop_size=40, n_gen=40, size=cname).pattern
+    graded = fit_pattern(pattern, values, size=cname).pattern
     if path is not None:
         path.parent.mkdir(parents=True, exist_ok=True)
         save_pattern_json(graded, path)

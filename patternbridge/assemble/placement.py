@@ -303,6 +303,7 @@ def place_instances(
     if seat:
         _seat_on_hips(character, vertices, parts, cylinders["torso"], seat, out, scene)
     _bridge_seams(pattern, pmesh, out, scene)
+    _collar_on_neckline(pattern, pmesh, cylinders, out, scene)
     _follow_seams(pattern, pmesh, cylinders, out, scene)
     return out
 
@@ -359,6 +360,54 @@ def _bridge_seams(pattern: Pattern, pmesh: PatternMesh, out: dict[str, np.ndarra
         if scene is not None:
             x, _ = scene.push_out(x, CLEARANCE_CM, robust=True)
         log.debug("%s laid across its seams to larger pieces", inst.key)
+        out[inst.key] = x
+
+
+def _collar_on_neckline(
+    pattern: Pattern, pmesh: PatternMesh, cylinders: dict[str, Cylinder], out: dict[str, np.ndarray], scene
+) -> None:
+    """Stand a neck piece (a collar) on the torso neckline it is sewn to (in place).
+
+    Wrapped on the head's bounding cylinder, a collar covers only part of
+    its round (the cylinder's radius is the head's): its ends started at the
+    sides of the head, 23 cm apart and 25 cm from the fronts' neck edges they
+    are sewn to, and sewing dragged them round the neck, in front of it or
+    behind it depending on small differences of the grading (one end stood up
+    behind D_cartoon_child's neck, a 10 cm gap). When a seam to a torso piece
+    starts more than :data:`BRIDGE_GAP_CM` open, the collar is rebuilt column
+    by column: its vertices sewn to torso pieces take their partners'
+    positions, every other vertex stands above the neckline point at its
+    pattern x (interpolated between the sewn vertices, the ends beyond them
+    take the end's) by its pattern height above the neck edge, along the
+    cylinder's axis. The closure edges then start side by side in front.
+    """
+    for inst in pmesh.instances:
+        part = instance_part(pattern, inst)
+        if part != "head" or part not in cylinders:
+            continue
+        n = len(pmesh.pieces[inst.piece].points)
+        target = np.full((n, 3), np.nan)
+        far = False
+        for me, va, other, vb in _seam_sides(pmesh):
+            if me.key != inst.key or instance_part(pattern, other) != "torso":
+                continue
+            theirs = out[other.key][vb]
+            target[va] = theirs
+            far |= float(np.median(np.linalg.norm(out[inst.key][va] - theirs, axis=1))) > BRIDGE_GAP_CM
+        fixed = np.flatnonzero(np.isfinite(target[:, 0]))
+        if not far or len(fixed) < 3 or len(fixed) == n:
+            continue
+        p2 = instance_points2d(pmesh, inst)
+        order = fixed[np.argsort(p2[fixed, 0], kind="stable")]
+        xs = p2[order, 0]
+        xq = np.clip(p2[:, 0], xs[0], xs[-1])
+        base = np.stack([np.interp(xq, xs, target[order, k]) for k in range(3)], axis=1)
+        height = p2[:, 1] - np.interp(xq, xs, p2[order, 1])
+        x = base + height[:, None] * cylinders[part].axis
+        x[fixed] = target[fixed]
+        if scene is not None:
+            x, _ = scene.push_out(x, CLEARANCE_CM, robust=True)
+        log.debug("%s stood on the neckline it is sewn to", inst.key)
         out[inst.key] = x
 
 

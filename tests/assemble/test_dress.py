@@ -168,6 +168,24 @@ def test_yoke_lies_over_the_shoulders_between_the_back_and_the_fronts(placed_lib
 
 
 @pytest.mark.shared
+def test_collar_stands_on_the_neckline_it_is_sewn_to(placed_library, character_e):
+    pm, placed = placed_library["shirt"]
+    gaps = dict(_seam_gaps(pm, placed, "collar_"))
+    assert set(gaps) == {"collar_back", "collar_front_right", "collar_front_left", "collar_closure"}
+    for seam, gap in gaps.items():
+        # on the head's cylinder the collar's ends started at the sides of the
+        # head: 25 cm from the fronts' neck edges and 23 cm from each other
+        assert gap.max() < 1.0, (seam, gap.max())
+    collar = placed["collar"]
+    scene = BodyCollider(np.asarray(character_e.vertices), character_e.faces)
+    assert not scene.inside(collar).any()
+    # it stands up from the neckline: the top edge (pattern y above the neck
+    # edge) lies higher than the sewn edge at the centre back
+    piece = pm.pieces["collar"]
+    assert collar[piece.marks["top_cb"], 1] > collar[piece.marks["cb"], 1] + 3.0
+
+
+@pytest.mark.shared
 def test_sleeves_start_as_tubes_round_the_arm(placed_library):
     pm, placed = placed_library["shirt"]
     # the underarm seam's two edges start side by side all along the sleeve
