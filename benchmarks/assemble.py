@@ -1,11 +1,13 @@
 """Benchmark: dress the six ../shared characters in the library shirt and trousers.
 
 Plain script (no asv). For every character and garment it runs
-``patternbridge.assemble.dress`` with the garment graded to the character as ``patternbridge fit`` grades it
-(measure + ``fit_pattern`` with its default NSGA-II budget, not timed; ``--sample`` keeps the sample size) and prints one line: seconds, peak RSS,
-penetrating vertices, triangles crossing the skin, seam gap before and after welding, stretch
-percentiles and the worst piece. Pictures and meshes go to
-``--out`` (default ``bench_out/assemble``), one folder per case.
+``patternbridge.assemble.dress`` with the garment graded to the character as
+``patternbridge fit`` grades it (measure + ``fit_pattern`` with its default
+NSGA-II budget, not timed; ``--sample`` keeps the sample size) and prints one
+line: seconds, peak RSS, penetrating vertices, triangles crossing the skin,
+seam gap before and after welding, stretch percentiles and the worst piece.
+Pictures and meshes go to ``--out`` (default ``bench_out/assemble``), one
+folder per case.
 
 Targets (issue 7): at most 90 s a case on 2 cores, 0 penetrating vertices and
 triangles crossing the skin, seams closed (<= 1 mm after welding); the gap
