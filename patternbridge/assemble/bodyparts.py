@@ -18,7 +18,7 @@ import numpy as np
 from ..errors import LandmarkError
 from ..mesh.character import Character
 
-__all__ = ["PARTS", "BodyParts", "crotch_height", "segment_body"]
+__all__ = ["PARTS", "BodyParts", "crotch_height", "hand_masks", "segment_body"]
 
 log = logging.getLogger(__name__)
 
@@ -165,3 +165,50 @@ def crotch_height(character: Character, vertices: np.ndarray, parts: BodyParts) 
         return float(vertices[lm.vertex][1])
     legs = parts.mask("left_leg") | parts.mask("right_leg")
     return float(vertices[legs, 1].max()) if legs.any() else None
+
+
+HAND_SHARE = 0.22  # share of an arm's length taken by the hand, when there is no wrist bone to go by
+
+
+def hand_masks(character: Character, vertices: np.ndarray, parts: BodyParts) -> list[np.ndarray]:
+    """(V,) bool masks of the hands (the vertices beyond each wrist), one per arm the body has.
+
+    A rigged character's hand is what the wrist bone and the bones below
+    it hold most of; otherwise the distal :data:`HAND_SHARE` of the arm
+    along its principal axis, pointing away from the torso.
+    """
+    from ..mesh.skinning import find_bone
+
+    v = np.asarray(vertices, dtype=np.float64)
+    out = []
+    skel, skin = character.skeleton, character.skin
+    torso_c = v[parts.mask("torso")].mean(axis=0) if parts.mask("torso").any() else v.mean(axis=0)
+    for side in ("left", "right"):
+        arm = parts.mask(f"{side}_arm")
+        if not arm.any():
+            continue
+        mask = None
+        if skel is not None and skin is not None:
+            try:
+                wrist = find_bone(skel, "wrist", side)
+            except Exception:  # no wrist bone: cut by the arm's length below
+                wrist = None
+            if wrist is not None:
+                below = np.zeros(len(skel.names), dtype=bool)
+                for b in range(len(skel.names)):
+                    k = b
+                    while k >= 0 and not below[b]:
+                        below[b] = k == wrist
+                        k = int(skel.parents[k])
+                idx = skin.bone_indices
+                w = np.where((idx >= 0) & below[np.maximum(idx, 0)], skin.weights, 0.0).sum(axis=1)
+                mask = arm & (w > 0.5)
+        if mask is None or not mask.any():
+            pv = v[arm]
+            c = pv.mean(axis=0)
+            _, _, vt = np.linalg.svd(pv - c, full_matrices=False)
+            axis = vt[0] if vt[0] @ (torso_c - c) > 0 else -vt[0]
+            h = (v - c) @ axis
+            mask = arm & (h < h[arm].min() + HAND_SHARE * np.ptp(h[arm]))
+        out.append(mask)
+    return out

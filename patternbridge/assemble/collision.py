@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["BodyCollider", "separate_layers", "thigh_fill"]
+__all__ = ["BodyCollider", "hand_mitts", "separate_layers", "thigh_fill"]
 
 
 class BodyCollider:
@@ -386,3 +386,31 @@ def thigh_fill(body: np.ndarray, legs: np.ndarray, crotch_y: float | None) -> tu
         return ()
     hull = trimesh.convex.convex_hull(band)
     return ((np.asarray(hull.vertices), np.asarray(hull.faces)),)
+
+
+def hand_mitts(body: np.ndarray, hands: list[np.ndarray]) -> tuple[tuple[np.ndarray, np.ndarray], ...]:
+    """Closed volumes over the hands (convex hulls, like mittens) that a sleeve slides on.
+
+    A cuff laid round the hand in the dressing pose had the thumb through
+    it; cloth caught on both sides of a finger cannot get free, and sewing
+    tore the sleeve hem open round it. The cloth stays out of the hull
+    instead, which has no gaps to catch in.
+
+    Parameters
+    ----------
+    body : (V, 3) float64, cm, the body in the current pose
+    hands : (V,) bool masks of the hand vertices (:func:`~patternbridge.assemble.bodyparts.hand_masks`)
+
+    Returns
+    -------
+    ``((vertices, faces), ...)`` for :class:`BodyCollider`'s ``proxies``.
+    """
+    import trimesh
+
+    out = []
+    for mask in hands:
+        if np.count_nonzero(mask) < 10:
+            continue
+        hull = trimesh.convex.convex_hull(np.asarray(body)[mask])
+        out.append((np.asarray(hull.vertices), np.asarray(hull.faces)))
+    return tuple(out)

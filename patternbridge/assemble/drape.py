@@ -221,8 +221,7 @@ def _push_direction(x: np.ndarray, q: np.ndarray, n: np.ndarray, inside: np.ndar
 
 class _Solver:
     def __init__(self, cloth: Cloth, settings: DrapeSettings) -> None:
-        from scipy.sparse import coo_matrix, diags
-        from scipy.sparse.linalg import splu
+        from scipy.sparse import coo_matrix
 
         self.c = cloth
         self.s = settings
@@ -244,13 +243,38 @@ class _Solver:
         self.w = w
         self.n_stretch, self.n_bend = len(cloth.edges), len(cloth.bends)
         self.m_h2 = cloth.mass / h**2
-        self.A = (diags(self.m_h2) + self.St @ diags(w) @ S).tocsc()
-        self.lu_free = splu(self.A)
-        self.lu = self.lu_free
         self.pin_w = np.zeros(n)
         self.pin_x = np.zeros((n, 3))
         self._pins: np.ndarray | None = None  # the weights the factorisation ``lu`` was made with
+        self.loose: np.ndarray | None = None  # seam pairs not sewn yet (weight zero)
+        self._factorise()
         self.seam_start = seam_gaps(cloth.x, cloth.seams)
+
+    def _factorise(self) -> None:
+        from scipy.sparse import diags
+        from scipy.sparse.linalg import splu
+
+        w = self.w
+        if self.loose is not None:
+            w = w.copy()
+            w[self.n_stretch + self.n_bend :][self.loose] = 0.0
+        self.w_now = w
+        self.A = (diags(self.m_h2) + self.St @ diags(w) @ self.S).tocsc()
+        self.lu_free = splu(self.A)
+        self.lu = splu((self.A + diags(self.pin_w)).tocsc()) if self._pins is not None else self.lu_free
+
+    def loosen(self, seams: np.ndarray | None) -> None:
+        """Leave the seam pairs ``seams`` (S,) bool unsewn (no spring) until called with None."""
+        same = (seams is None and self.loose is None) or (
+            seams is not None and self.loose is not None and np.array_equal(seams, self.loose)
+        )
+        if not same:
+            self.loose = None if seams is None or not np.any(seams) else np.asarray(seams, dtype=bool).copy()
+            self._factorise()
+
+    def restart_seams(self) -> None:
+        """Sew on from where the seams are now: the gaps shrink from their present lengths (see ``sew_ramp``)."""
+        self.seam_start = seam_gaps(self.c.x, self.c.seams)
 
     def pin(self, weights: np.ndarray | None, targets: np.ndarray | None = None) -> None:
         """Hold vertices softly on ``targets`` (N, 3) with ``weights`` (N,) in units of their mass / h²; None releases.
@@ -336,7 +360,7 @@ class _Solver:
             d = self.S @ x
             ln = np.linalg.norm(d, axis=1, keepdims=True)
             p = d * (targets[:, None] / np.maximum(ln, 1e-9))
-            x = lu.solve(rhs0 + self.St @ (self.w[:, None] * p))
+            x = lu.solve(rhs0 + self.St @ (self.w_now[:, None] * p))
             # no vertex may jump through a limb in one step: when the fastest one
             # would move more than max_step_cm, the whole step is scaled down
             # (uniformly, so the cloth's shape is not torn)
@@ -395,6 +419,8 @@ def drape(
     layer_every: int = 2,
     anchors: tuple[np.ndarray, np.ndarray] | None = None,
     hold: np.ndarray | None = None,
+    loose: np.ndarray | None = None,
+    sew_ramp: tuple[float, float] | None = None,
 ) -> _Solver:
     """Run the cloth for ``steps`` time steps against ``collider`` (in place).
 
@@ -404,17 +430,27 @@ def drape(
     factorisation is reused). ``anchors`` = (weights (N,) in units of the
     vertex's mass / h², positions (N, 3)) pins vertices softly while sewing;
     ``hold`` (N,) weights pin vertices where the sewing left them for the
-    rest of the run (a waistband buttoned at the waist).
+    rest of the run (a waistband buttoned at the waist). ``loose`` (S,) bool
+    leaves those seam pairs unsewn for this call. With ``sew_steps`` 0,
+    ``sew_ramp`` = (from, to) keeps sewing during the call: the gaps shrink
+    from ``from`` to ``to`` of the way between their lengths at the
+    solver's last :meth:`~_Solver.restart_seams` and zero.
     """
     settings = settings or DrapeSettings()
     solver = solver or _Solver(cloth, settings)
+    solver.loosen(loose)
     if sew_steps and anchors is not None:
         solver.pin(*anchors)
     else:
         solver.pin(hold, cloth.x)  # hold None releases
     weld = weld_groups(len(cloth.x), cloth.seams)
     for k in range(steps):
-        sew = (k + 1) / max(sew_steps, 1) if sew_steps else 1.0
+        if sew_steps:
+            sew = (k + 1) / sew_steps
+        elif sew_ramp is not None:
+            sew = sew_ramp[0] + (sew_ramp[1] - sew_ramp[0]) * (k + 1) / max(steps, 1)
+        else:
+            sew = 1.0
         # no gravity while sewing (the pieces would fall before the seams hold them), then ramp it up
         g = (
             GRAVITY_CM_S2 * gravity_scale * float(np.clip((k - sew_steps) / 20.0, 0.0, 1.0))

@@ -25,7 +25,7 @@ from ..pattern.model import Copy, Pattern
 from ..report import Report
 from .garment import Garment
 
-__all__ = ["Simulation", "assemble", "dress", "finish", "prepare", "simulate"]
+__all__ = ["Simulation", "assemble", "dress", "finish", "limb_end_seams", "prepare", "simulate"]
 
 log = logging.getLogger(__name__)
 
@@ -34,6 +34,7 @@ Progress = Callable[[str, int, int], None] | None
 POSE_STAGES = 5  # keyframes of the T-pose -> rest-pose return (the arms lowered step by step)
 POSE_STEPS = 12  # cloth steps per keyframe, with gravity
 POSE_GRAVITY = 0.3  # share of gravity while the arms come down
+POSE_SEW_STAGES = 3  # keyframes over which the seams left open in the T-pose (cuffs) close
 
 
 @dataclass(eq=False)
@@ -53,7 +54,8 @@ class Simulation:
     cloth: object
     collider: object
     cloth_collider: object
-    proxies: tuple
+    proxies: tuple  # helper volumes that do not move with the arms (the space between the thighs)
+    hands: list  # (V,) bool masks of the hands: their mitts follow the pose
     names: tuple[str, ...]
     seam_ids: np.ndarray  # (S,) index into pmesh.seams of every sewn pair
     x_placed: np.ndarray
@@ -77,9 +79,9 @@ def prepare(
     InputError
         See :func:`assemble`.
     """
-    from .bodyparts import crotch_height, segment_body
+    from .bodyparts import crotch_height, hand_masks, segment_body
     from .checks import check_pattern, limbs_touching
-    from .collision import BodyCollider, thigh_fill
+    from .collision import BodyCollider, hand_mitts, thigh_fill
     from .drape import DrapeSettings, build_cloth
     from .mesh2d import mesh_pattern
     from .placement import bounding_cylinders, instance_part, place_instances
@@ -120,10 +122,13 @@ def prepare(
     cylinders = bounding_cylinders(body, parts, widths)
     collider = BodyCollider(body, character.faces)
     proxies: tuple = ()
+    hands: list = []
     if not on_legs:
         legs = parts.mask("left_leg") | parts.mask("right_leg")
         proxies = thigh_fill(body, legs, crotch_height(character, body, parts))
-    cloth_collider = BodyCollider(body, character.faces, proxies=proxies) if proxies else collider
+        hands = hand_masks(character, body, parts)
+    helpers = proxies + hand_mitts(body, hands)
+    cloth_collider = BodyCollider(body, character.faces, proxies=helpers) if helpers else collider
     placed = place_instances(character, body, pattern, pmesh, cylinders, findings, scene=collider, parts=parts)
     keys = [inst.key for inst in pmesh.instances]
     index = {k: i for i, k in enumerate(keys)}
@@ -156,6 +161,7 @@ def prepare(
         collider=collider,
         cloth_collider=cloth_collider,
         proxies=proxies,
+        hands=hands,
         names=tuple(keys),
         seam_ids=seam_ids.astype(np.int64),
         x_placed=cloth.x.copy(),
@@ -174,7 +180,7 @@ def simulate(sim: Simulation, *, steps: int = 160, progress: Progress = None) ->
     steps at :data:`POSE_GRAVITY` × gravity, the cloth following the skin
     from one keyframe to the next.
     """
-    from .collision import BodyCollider
+    from .collision import BodyCollider, hand_mitts
     from .drape import drape, seam_gaps
     from .pose import apply_transforms, blend_transforms, rotations, unapply_transforms
     from .weights import transfer_weights
@@ -182,6 +188,7 @@ def simulate(sim: Simulation, *, steps: int = 160, progress: Progress = None) ->
     cloth, settings, character = sim.cloth, sim.settings, sim.character
     pins = anchor_weights(sim)
     sew_steps = int(0.55 * steps)
+    late = limb_end_seams(sim.pattern, sim.pmesh)[sim.seam_ids] if sim.rotvecs else None
     sim.solver = drape(
         cloth,
         sim.cloth_collider,
@@ -196,6 +203,7 @@ def simulate(sim: Simulation, *, steps: int = 160, progress: Progress = None) ->
         stage="drape",
         anchors=(pins, sim.x_placed),
         hold=hold_weights(sim, pins),
+        loose=late,
     )
     log.debug(
         "draped: cloth y %.1f..%.1f gap %.2f",
@@ -215,6 +223,7 @@ def simulate(sim: Simulation, *, steps: int = 160, progress: Progress = None) ->
     # while the arms were up, stood off the body below the armpits
     levels = np.linspace(1.0, 0.0, POSE_STAGES + 1)
     collider = sim.collider
+    sim.solver.restart_seams()  # the cuffs are sewn on while the arms come down
     for k, (s0, s1) in enumerate(itertools.pairwise(levels)):
         joints, weights = transfer_weights(collider, character, cloth.x)
         b0 = smooth_over_cloth(cloth, blend_transforms(character, rotations(sim.rotvecs, s0), joints, weights))
@@ -227,13 +236,15 @@ def simulate(sim: Simulation, *, steps: int = 160, progress: Progress = None) ->
             else pose_vertices(character, rotations(sim.rotvecs, s1))
         )
         collider = BodyCollider(posed, character.faces)
+        helpers = sim.proxies + hand_mitts(posed, sim.hands)
         drape(
             cloth,
-            BodyCollider(posed, character.faces, proxies=sim.proxies) if sim.proxies else collider,
+            BodyCollider(posed, character.faces, proxies=helpers) if helpers else collider,
             # (no longer settle in the rest pose: 24 more steps there let the
             # sleeves ride up the forearms of the child and the heavy body)
             steps=POSE_STEPS,
             sew_steps=0,
+            sew_ramp=(min(1.0, k / POSE_SEW_STAGES), min(1.0, (k + 1) / POSE_SEW_STAGES)),
             gravity_scale=POSE_GRAVITY,
             settings=settings,
             solver=sim.solver,
@@ -242,6 +253,25 @@ def simulate(sim: Simulation, *, steps: int = 160, progress: Progress = None) ->
         if progress:
             progress("pose", k + 1, POSE_STAGES)
     sim.collider = collider
+
+
+def limb_end_seams(pattern: Pattern, pmesh) -> np.ndarray:
+    """(len(pmesh.seams),) bool: the seams between two pieces of one arm (a cuff on its sleeve).
+
+    In the T-pose a sleeve cap is sewn into the armhole by pulling the
+    sleeve toward the body (its underarm lies farther out along the arm
+    than the armpit), while a cuff closed round the wrist is caught there
+    between the hand and the thicker forearm: sewn at the same time, the
+    sleeve tore open above the cuff. These seams are left open in the
+    T-pose and close while the arms come down.
+    """
+    from .placement import instance_part
+
+    out = np.zeros(len(pmesh.seams), dtype=bool)
+    for i, sp in enumerate(pmesh.seams):
+        part = instance_part(pattern, sp.a)
+        out[i] = sp.a.key != sp.b.key and part.endswith("_arm") and instance_part(pattern, sp.b) == part
+    return out
 
 
 SMOOTH_ROUNDS = 6  # neighbour averaging rounds of the skinning transforms carrying the cloth back to rest

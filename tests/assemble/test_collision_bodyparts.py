@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 import trimesh
 
-from patternbridge.assemble.bodyparts import PARTS, BodyParts, crotch_height, segment_body
-from patternbridge.assemble.collision import BodyCollider, separate_layers
+from patternbridge.assemble.bodyparts import PARTS, BodyParts, crotch_height, hand_masks, segment_body
+from patternbridge.assemble.collision import BodyCollider, hand_mitts, separate_layers
 from patternbridge.errors import LandmarkError
 
 
@@ -166,3 +166,45 @@ def test_helper_volume_is_seen_by_closest_and_inside_only():
     assert tri[1] == -1 and tri[2] >= 0  # helper hits carry no body triangle
     # the skin checks of the report see the body only
     assert not filled.crossing_edges(p[[0]] + [0, 5, 0], p[[0]] - [0, 5, 0]).any()
+
+
+@pytest.mark.shared
+def test_hands_lie_beyond_the_wrists_rigged_or_not(character_e):
+    v = character_e.vertices
+    parts = segment_body(character_e)
+    lm = character_e.landmarks
+    for ch in (character_e, dataclasses.replace(character_e, skeleton=None, skin=None)):
+        hands = hand_masks(ch, v, segment_body(ch))
+        assert len(hands) == 2
+        for mask, side, sx in zip(hands, ("left", "right"), (1.0, -1.0), strict=True):
+            assert mask.sum() > 300
+            assert (mask & ~parts.mask(f"{side}_arm")).sum() == 0
+            wrist = v[lm[f"wrist_point_{side}"].vertex]
+            elbow = v[lm[f"elbow_point_{side}"].vertex]
+            # distal of the wrist along the forearm (a little wrist skin may come with it)
+            along = (v[mask] - wrist) @ ((wrist - elbow) / np.linalg.norm(wrist - elbow))
+            assert np.percentile(along, 5) > -3.0
+            assert along.max() > 12.0  # down to the finger tips
+            assert np.sign(v[mask, 0].mean()) == sx
+
+
+@pytest.mark.shared
+def test_hand_mitts_hold_the_hands_and_their_gaps(character_e):
+    v = character_e.vertices
+    hands = hand_masks(character_e, v, segment_body(character_e))
+    mitts = hand_mitts(v, hands)
+    assert len(mitts) == 2
+    collider = BodyCollider(v, character_e.faces, proxies=mitts)
+    for (mv, mf), mask in zip(mitts, hands, strict=True):
+        hull = trimesh.Trimesh(mv, mf)
+        assert hull.is_watertight and hull.is_convex
+        # every hand vertex is in its mitt (on or behind every face plane),
+        # and so is the space between the thumb and the palm
+        normals, origins = hull.face_normals, mv[mf[:, 0]]
+        assert np.all(np.einsum("fk,vk->vf", normals, v[mask]) - np.einsum("fk,fk->f", normals, origins) < 1e-6)
+        between = 0.5 * (v[mask][:, None] + v[mask][None, :]).reshape(-1, 3)[::997]
+        between = 0.98 * between + 0.02 * v[mask].mean(axis=0)  # off the hull's faces
+        assert collider.inside(between).all()
+    assert not BodyCollider(v, character_e.faces).inside(
+        0.5 * (v[hands[0]][:, None] + v[hands[0]][None, :]).reshape(-1, 3)[::997]
+    ).all()

@@ -78,3 +78,25 @@ def test_simulation_closes_a_gathered_seam():
     # (with both sides at their pattern lengths the seam springs fight the
     # stretch springs and the pairs stay three times farther apart)
     assert seam_gaps(cloth.x, cloth.seams).max() < 0.01
+
+
+def test_a_loose_seam_waits_and_then_closes_from_where_it_is():
+    # two strips sewn along one edge, the second one 6 cm off: left loose,
+    # the seam pulls nothing while the other cloth is sewn; released with a
+    # ramp it closes from the gap it had then, without welding
+    pts, f = _strip(9.0, 6)
+    x_a = np.c_[pts, np.zeros(14)]
+    x_b = np.c_[pts + [0.0, -8.0], np.zeros(14)]
+    cloth = build_cloth([x_a, x_b], [pts, pts], [f, f], [(0, 1, np.arange(7), np.arange(7) + 7)])
+    start = seam_gaps(cloth.x, cloth.seams)
+    loose = np.ones(len(cloth.seams), dtype=bool)
+    solver = drape(cloth, _NoBody(), steps=40, sew_steps=30, gravity_scale=0.0, layer_every=10**6, loose=loose)
+    np.testing.assert_allclose(seam_gaps(cloth.x, cloth.seams), start, atol=1e-6)
+    solver.restart_seams()
+    half = drape(cloth, _NoBody(), steps=20, sew_steps=0, gravity_scale=0.0, layer_every=10**6, solver=solver,
+                 sew_ramp=(0.0, 0.5))
+    gap_half = seam_gaps(cloth.x, cloth.seams)
+    assert np.all((gap_half > 0.3 * start) & (gap_half < 0.7 * start))  # half way: the ramp, not a jump
+    drape(cloth, _NoBody(), steps=30, sew_steps=0, gravity_scale=0.0, layer_every=10**6, solver=half,
+          sew_ramp=(0.5, 1.0))
+    assert seam_gaps(cloth.x, cloth.seams).max() < 0.01

@@ -89,3 +89,15 @@ def test_unknown_seam_piece_is_an_input_error(tshirt):
     )
     with pytest.raises(InputError, match="pocket"):
         mesh_pattern(dataclasses.replace(tshirt, seams=(*tshirt.seams, bad)))
+
+
+def test_only_the_cuffs_wait_for_the_arms_to_come_down():
+    from patternbridge.assemble.pipeline import limb_end_seams
+    from patternbridge.library.catalogue import load_garment
+
+    shirt = load_garment("shirt")
+    pm = mesh_pattern(shirt, max_edge_cm=3.0)
+    late = limb_end_seams(shirt, pm)
+    assert sorted(sp.seam for sp, lt in zip(pm.seams, late, strict=True) if lt) == ["cuff_left", "cuff_right"]
+    trousers = load_garment("trousers")
+    assert not limb_end_seams(trousers, mesh_pattern(trousers, max_edge_cm=3.0)).any()
