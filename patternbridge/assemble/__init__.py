@@ -5,7 +5,7 @@ split into parts (:mod:`.bodyparts`), each part gets a bounding cylinder and
 the triangulated pieces (:mod:`.mesh2d`) are wrapped onto it by their
 placement hints (:mod:`.placement`); a cloth solver sews and drapes them
 against the body (:mod:`.drape`, :mod:`.collision`). A rigged character is
-dressed for tops in a T-pose (:mod:`.pose`) and the cloth is carried back to
+dressed for tops with its arms raised and straight (:mod:`.pose`) and the cloth is carried back to
 the rest pose by the skin weights of the nearest body points
 (:mod:`.weights`), which it also keeps for rigging (:mod:`.export_gltf`).
 :mod:`.pipeline` chains the stages.

@@ -24,6 +24,7 @@ from ..mesh.character import Character
 from ..pattern.model import Copy, Pattern
 from ..report import Report
 from .garment import Garment
+from .pose import DRESS_ARM_DROP_DEG
 
 __all__ = ["Simulation", "assemble", "dress", "finish", "limb_end_seams", "prepare", "simulate"]
 
@@ -31,10 +32,10 @@ log = logging.getLogger(__name__)
 
 Progress = Callable[[str, int, int], None] | None
 
-POSE_STAGES = 5  # keyframes of the T-pose -> rest-pose return (the arms lowered step by step)
+POSE_STAGES = 5  # keyframes of the dressing pose -> rest pose return (the arms lowered step by step)
 POSE_STEPS = 12  # cloth steps per keyframe, with gravity
 POSE_GRAVITY = 0.3  # share of gravity while the arms come down
-POSE_SEW_STAGES = 3  # keyframes over which the seams left open in the T-pose (cuffs) close
+POSE_SEW_STAGES = 3  # keyframes over which the seams left open in the dressing pose (cuffs) close
 
 
 @dataclass(eq=False)
@@ -85,7 +86,7 @@ def prepare(
     from .drape import DrapeSettings, build_cloth
     from .mesh2d import mesh_pattern
     from .placement import bounding_cylinders, instance_part, place_instances
-    from .pose import rotations, tpose_rotvecs
+    from .pose import dressing_rotvecs, rotations
 
     t0 = time.perf_counter()
     check_pattern(pattern)
@@ -96,11 +97,11 @@ def prepare(
     rotvecs: dict[str, np.ndarray] = {}
     if rigged and not on_legs:
         try:
-            rotvecs = tpose_rotvecs(character)
+            rotvecs = dressing_rotvecs(character)
         except InputError as exc:
-            findings.add("no-t-pose", f"dressed in the rest pose: {exc}", where=character.name)
+            findings.add("no-dressing-pose", f"dressed in the rest pose: {exc}", where=character.name)
     elif not rigged and not on_legs:
-        findings.add("no-t-pose", "the character has no rig: dressed in its rest pose", where=character.name)
+        findings.add("no-dressing-pose", "the character has no rig: dressed in its rest pose", where=character.name)
     if rotvecs:
         from ..mesh.skinning import pose_vertices
 
@@ -175,7 +176,8 @@ def simulate(sim: Simulation, *, steps: int = 160, progress: Progress = None) ->
     """Sew and drape the cloth in the dressing pose, then bring it back to the rest pose (in place).
 
     Trousers (rest pose): ``steps`` steps, sewing without gravity for the
-    first 55 %, then draping. Tops (T-pose): those first 55 % only, then the
+    first 55 %, then draping. Tops (dressing pose, arms raised): those first
+    55 % only, the cuffs left unsewn (:func:`limb_end_seams`), then the
     arms come down over :data:`POSE_STAGES` keyframes of :data:`POSE_STEPS`
     steps at :data:`POSE_GRAVITY` × gravity, the cloth following the skin
     from one keyframe to the next.
@@ -192,8 +194,8 @@ def simulate(sim: Simulation, *, steps: int = 160, progress: Progress = None) ->
     sim.solver = drape(
         cloth,
         sim.cloth_collider,
-        # a top is only sewn in the T-pose (no gravity): hanging on
-        # horizontal arms, the weight of the body of the shirt dragged the
+        # a top is only sewn in the dressing pose (no gravity): hanging on
+        # raised arms, the weight of the body of the shirt dragged the
         # sleeves toward the shoulders (they bunched up at the elbow); it
         # drapes while the arms come down
         steps=sew_steps if sim.rotvecs else steps,
@@ -255,15 +257,20 @@ def simulate(sim: Simulation, *, steps: int = 160, progress: Progress = None) ->
     sim.collider = collider
 
 
+def _pose_name() -> str:
+    lowered = f"arms {DRESS_ARM_DROP_DEG:g} degrees below horizontal" if DRESS_ARM_DROP_DEG else "T-pose"
+    return f"{lowered}, then back to rest"
+
+
 def limb_end_seams(pattern: Pattern, pmesh) -> np.ndarray:
     """(len(pmesh.seams),) bool: the seams between two pieces of one arm (a cuff on its sleeve).
 
-    In the T-pose a sleeve cap is sewn into the armhole by pulling the
-    sleeve toward the body (its underarm lies farther out along the arm
+    With the arms raised a sleeve cap is sewn into the armhole by pulling
+    the sleeve toward the body (its underarm lies farther out along the arm
     than the armpit), while a cuff closed round the wrist is caught there
     between the hand and the thicker forearm: sewn at the same time, the
-    sleeve tore open above the cuff. These seams are left open in the
-    T-pose and close while the arms come down.
+    sleeve tore open above the cuff (E, in the T-pose). These seams are left
+    open in the dressing pose and close while the arms come down.
     """
     from .placement import instance_part
 
@@ -468,7 +475,7 @@ def finish(sim: Simulation) -> Garment:
         "vertices": len(ids),
         "triangles": len(cloth.faces),
         "pieces": list(names),
-        "pose": "T-pose, then back to rest" if sim.rotvecs else "rest",
+        "pose": _pose_name() if sim.rotvecs else "rest",
         "max_placement_move_cm": float(np.linalg.norm(x - sim.x_placed, axis=1).max()),
         "warnings": [str(f) for f in sim.findings],
     }

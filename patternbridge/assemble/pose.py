@@ -1,10 +1,14 @@
-"""The T-pose used for dressing tops, and the linear-blend-skinning round trip back to the rest pose.
+"""The pose used for dressing tops, and the linear-blend-skinning round trip back to the rest pose.
 
-A rigged character is dressed for tops with its upper arms raised to the
-horizontal and its elbows straight: the arms are then clear of the torso's
-bounding cylinder. After draping, the cloth follows the skin of the nearest
-body points back to the rest pose (each garment vertex carries the blended
-bone transform of its skin weights).
+A rigged character is dressed for tops with its arms straight (elbows
+unbent) and :data:`DRESS_ARM_DROP_DEG` below the horizontal, 0: a T-pose,
+the arms clear of the torso's bounding cylinder. (Lower arms let the
+sleeve caps sew in with less pull on the sleeves, but at 15 and 35 degrees
+the sleeves of the thin and the heavy body bunched up to the elbows and
+the superhero's cloth caught between arm and torso; docs/assembly.md.)
+After draping, the cloth follows the skin of the nearest body points back
+to the rest pose (each garment vertex carries the blended bone transform of
+its skin weights).
 """
 
 from __future__ import annotations
@@ -13,11 +17,23 @@ import numpy as np
 
 from ..mesh.character import Character
 
-__all__ = ["apply_transforms", "blend_transforms", "rotations", "tpose_rotvecs", "unapply_transforms"]
+__all__ = [
+    "DRESS_ARM_DROP_DEG",
+    "apply_transforms",
+    "blend_transforms",
+    "dressing_rotvecs",
+    "rotations",
+    "unapply_transforms",
+]
+
+DRESS_ARM_DROP_DEG = 0.0  # arms below the horizontal in the dressing pose (0: a T-pose)
 
 
-def tpose_rotvecs(character: Character) -> dict[str, np.ndarray]:
-    """Rotation vectors (rad) per bone name taking the rest pose to a T-pose with straight elbows.
+def dressing_rotvecs(character: Character, drop_deg: float = DRESS_ARM_DROP_DEG) -> dict[str, np.ndarray]:
+    """Rotation vectors (rad) per bone name taking the rest pose to the dressing pose.
+
+    Both arms straight (elbows unbent), pointing sideways ``drop_deg``
+    below the horizontal (0 gives a T-pose).
 
     Raises
     ------
@@ -33,7 +49,8 @@ def tpose_rotvecs(character: Character) -> dict[str, np.ndarray]:
         ua = find_bone(skel, "upperarm", side)
         la = find_bone(skel, "lowerarm", side)
         wr = find_bone(skel, "wrist", side)
-        target = np.array([sx, 0.0, 0.0])
+        a = np.radians(drop_deg)
+        target = np.array([sx * np.cos(a), -np.sin(a), 0.0])
         r_up = rotation_between(skel.heads[la] - skel.heads[ua], target)
         # the forearm turns in the world frame after the upper arm did; its
         # rotation is given in the rest frame and carried by the upper arm's
