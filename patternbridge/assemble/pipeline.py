@@ -403,6 +403,9 @@ def seam_gap_table(sim: Simulation) -> list[dict]:
     return out
 
 
+WELDED_OPEN_MM = 5.0  # a seam the simulation left wider than this is listed in the report
+
+
 def finish(sim: Simulation) -> Garment:
     """Weld the seams, clear the skin, transfer skin weights and measure (the ``drape`` report)."""
     from .drape import seam_gaps, weld_groups
@@ -410,11 +413,13 @@ def finish(sim: Simulation) -> Garment:
 
     cloth, collider, settings, character = sim.cloth, sim.collider, sim.settings, sim.character
     gaps_before = seam_gaps(cloth.x, cloth.seams)
-    worst_seam = ""
-    if len(gaps_before):
-        table = seam_gap_table(sim)
-        if table:
-            worst_seam = max(table, key=lambda r: r["max_mm"])["seam"]
+    table = seam_gap_table(sim) if len(gaps_before) else []
+    worst_seam = max(table, key=lambda r: r["max_mm"])["seam"] if table else ""
+    # the seams welding had to close by more than a stitch: where to look in the pictures
+    welded_open = sorted(
+        ({"seam": r["seam"], "max_mm": round(r["max_mm"], 1)} for r in table if r["max_mm"] > WELDED_OPEN_MM),
+        key=lambda r: -r["max_mm"],
+    )
 
     # weld the seams, then make sure nothing is left inside the skin
     weld = weld_groups(len(cloth.x), cloth.seams)
@@ -465,6 +470,7 @@ def finish(sim: Simulation) -> Garment:
         "max_seam_gap_mm": float(seam_gaps(x, cloth.seams).max(initial=0.0) * 10.0),
         "max_seam_gap_before_weld_mm": float(gaps_before.max(initial=0.0) * 10.0),
         "worst_seam_before_weld": worst_seam,
+        "seams_open_before_weld": welded_open,
         "stretch": {
             "percentiles": {f"p{q}": float(np.percentile(ratio, q)) for q in (1, 5, 50, 95, 99)},
             "max": float(ratio.max()),

@@ -229,6 +229,18 @@ def run(args: argparse.Namespace) -> int:
             f"{rep['baseline']['max_seam_mm']:.1f} mm, {rep['baseline']['shape_error']:.4f})",
             file=sys.stderr,
         )
+        drape = rep.get("drape") or {}
+        if drape.get("seams_open_before_weld"):
+            from ..assemble.pipeline import WELDED_OPEN_MM
+
+            opened = drape["seams_open_before_weld"]
+            print(
+                f"[fit] welding closed {len(opened)} seam(s) the drape left open by more than "
+                f"{WELDED_OPEN_MM:g} mm: " + ", ".join(f"{r['seam']} {r['max_mm']:.0f} mm" for r in opened[:4])
+                + (" ..." if len(opened) > 4 else "")
+                + "; look there in fit_*.png",
+                file=sys.stderr,
+            )
     print(f"wrote {len(final)} files to {out_dir}: " + ", ".join(p.name for p in final))
     return 0
 

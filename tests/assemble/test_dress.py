@@ -51,6 +51,15 @@ def test_dress_writes_every_file_and_a_json_report(dressed):
     for key in ("penetrating_vertices", "max_seam_gap_mm", "stretch", "seconds"):
         assert key in report
     assert set(report["stretch"]["percentiles"]) >= {"p5", "p50", "p95"}
+    # the seams welding closed by more than 5 mm, widest first, agree with the widest gap
+    opened = report["seams_open_before_weld"]
+    assert [r["max_mm"] for r in opened] == sorted((r["max_mm"] for r in opened), reverse=True)
+    assert all(r["max_mm"] > 5.0 for r in opened)
+    if report["max_seam_gap_before_weld_mm"] > 5.05:
+        assert opened[0]["seam"] == report["worst_seam_before_weld"]
+        assert opened[0]["max_mm"] == pytest.approx(report["max_seam_gap_before_weld_mm"], abs=0.06)
+    else:
+        assert opened == []
 
 
 @pytest.mark.shared
