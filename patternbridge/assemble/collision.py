@@ -42,6 +42,8 @@ class BodyCollider:
         # the thighs under a shirt); closest() and inside() see them, the
         # other queries see the body only
         self._proxies = [self._scene(np.asarray(v), np.asarray(f)) for v, f in proxies]
+        # their boxes: only points nearer a box than the skin need the proxy's queries
+        self._boxes = [(np.min(v, axis=0), np.max(v, axis=0)) for v, _ in proxies]
 
     @staticmethod
     def _scene(vertices: np.ndarray, faces: np.ndarray):
@@ -74,14 +76,21 @@ class BodyCollider:
         n = res["primitive_normals"].numpy().astype(np.float64)
         tri = res["primitive_ids"].numpy().astype(np.int64)
         uv = res["primitive_uvs"].numpy().astype(np.float64)
-        for scene in self._proxies:  # a nearer helper surface wins (triangle -1)
-            r = scene.compute_closest_points(self._t(points))
+        # a nearer helper surface wins (triangle -1)
+        for scene, (lo, hi) in zip(self._proxies, self._boxes, strict=True):
+            d_box = np.linalg.norm(np.maximum(np.maximum(lo - points, points - hi), 0.0), axis=1)
+            ask = np.flatnonzero(d_box * d_box <= np.einsum("ij,ij->i", points - q, points - q))
+            if len(ask) == 0:
+                continue
+            r = scene.compute_closest_points(self._t(points[ask]))
             qp = r["points"].numpy().astype(np.float64)
-            nearer = np.einsum("ij,ij->i", points - qp, points - qp) < np.einsum("ij,ij->i", points - q, points - q)
-            q[nearer] = qp[nearer]
-            n[nearer] = r["primitive_normals"].numpy().astype(np.float64)[nearer]
-            tri[nearer] = -1
-            uv[nearer] = 0.0
+            d = points[ask]
+            nearer = np.einsum("ij,ij->i", d - qp, d - qp) < np.einsum("ij,ij->i", d - q[ask], d - q[ask])
+            win = ask[nearer]
+            q[win] = qp[nearer]
+            n[win] = r["primitive_normals"].numpy().astype(np.float64)[nearer]
+            tri[win] = -1
+            uv[win] = 0.0
         signed = np.einsum("ij,ij->i", points - q, n)
         return q, n, signed, tri, uv
 
@@ -262,10 +271,12 @@ class BodyCollider:
 
     def inside(self, points: np.ndarray) -> np.ndarray:
         """(n,) bool, True where the point is inside the body (or a helper volume)."""
-        t = self._t(points)
-        out = self.scene.compute_occupancy(t).numpy() > 0.5
-        for scene in self._proxies:
-            out |= scene.compute_occupancy(t).numpy() > 0.5
+        points = np.asarray(points, dtype=np.float64)
+        out = self.scene.compute_occupancy(self._t(points)).numpy() > 0.5
+        for scene, (lo, hi) in zip(self._proxies, self._boxes, strict=True):
+            ask = np.flatnonzero(np.all((points >= lo) & (points <= hi), axis=1) & ~out)
+            if len(ask):
+                out[ask] = scene.compute_occupancy(self._t(points[ask])).numpy() > 0.5
         return out
 
     def radial_clearance(self, cyl, theta: np.ndarray, h: np.ndarray, r: np.ndarray, clearance_cm: float) -> np.ndarray:
