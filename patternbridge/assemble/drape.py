@@ -11,8 +11,9 @@ lengths. Projective dynamics (Bouaziz et al. 2014) alternates a
 local step (each spring's target vector) with a global step whose matrix
 ``M/h² + Σ w SᵀS`` is constant, so it is factorised once. Collisions with the
 body are half-space projections rebuilt every step from the closest skin
-point; friction scales down the tangential motion of vertices in contact;
-vertices of different layers are pushed apart. Seams are welded at the end by
+point; Coulomb friction bounds how far a vertex in contact slides by how far
+the skin pushed it out in that step; vertices of different layers are
+pushed apart. Seams are welded at the end by
 averaging each group of sewn vertices.
 """
 
@@ -43,7 +44,7 @@ class DrapeSettings:
     bend_weight: float = 0.8
     seam_weight: float = 5000.0
     damping: float = 0.985  # velocity kept per step
-    friction: float = 0.6  # share of tangential motion removed in contact
+    friction: float = 0.6  # Coulomb coefficient of the skin against the cloth
     offset_cm: float = 0.6  # distance kept from the skin
     thickness_cm: float = 0.35  # distance kept between layers
     density_kg_cm2: float = 1.5e-5  # 150 g/m²
@@ -392,13 +393,24 @@ class _Solver:
                     nrm[ni] = ni_n
                 if it % 2 == 1 or it == s.iterations - 1:
                     x = self._push_edges(collider, x, ni)
+        if contact.any():
+            # Coulomb friction, on the step's motion: how far the skin pushed a
+            # vertex out this step (against the inertial prediction) bounds how
+            # far it may slide along the skin; cloth pressed hard sticks, cloth
+            # lying lightly on a slope gentler than atan(friction) stays put and
+            # on a steeper one slides
+            nn = nrm[contact]
+            dx = x[contact] - x0[contact]
+            dn = np.einsum("ij,ij->i", dx, nn)[:, None] * nn
+            dt = dx - dn
+            push = np.maximum(np.einsum("ij,ij->i", x[contact] - y[contact], nn), 0.0)
+            slide = np.linalg.norm(dt, axis=1)
+            keep = np.maximum(0.0, 1.0 - s.friction * push / np.maximum(slide, 1e-12))
+            x[contact] = x0[contact] + dn + keep[:, None] * dt
         v = (x - x0) / h
         if contact.any():  # inelastic contact: no bounce off the skin
-            nn = nrm[contact]
             vn = np.einsum("ij,ij->i", v[contact], nn)
             v[contact] -= np.maximum(vn, 0.0)[:, None] * nn
-            vn = np.minimum(vn, 0.0)[:, None] * nn
-            v[contact] = vn + (1.0 - s.friction) * (v[contact] - vn)  # friction slows the sliding
         speed = np.linalg.norm(v, axis=1, keepdims=True)
         v *= np.minimum(1.0, s.max_speed_cm_s / np.maximum(speed, 1e-9))
         c.v = v * s.damping

@@ -100,3 +100,33 @@ def test_a_loose_seam_waits_and_then_closes_from_where_it_is():
     drape(cloth, _NoBody(), steps=30, sew_steps=0, gravity_scale=0.0, layer_every=10**6, solver=half,
           sew_ramp=(0.5, 1.0))
     assert seam_gaps(cloth.x, cloth.seams).max() < 0.01
+
+
+def _patch_on_slope(slope_deg: float, friction: float) -> float:
+    """How far (cm) a small cloth patch resting on a plane sloped ``slope_deg`` slides down it in 1 s of gravity."""
+    import trimesh
+
+    from patternbridge.assemble.collision import BodyCollider
+    from patternbridge.assemble.drape import DrapeSettings
+
+    tilt = trimesh.transformations.rotation_matrix(np.radians(slope_deg), [0.0, 0.0, 1.0])
+    block = trimesh.creation.box(extents=[200.0, 20.0, 200.0])
+    block.apply_transform(tilt)
+    normal = tilt[:3, :3] @ [0.0, 1.0, 0.0]
+    pts, f = _strip(3.0, 3)
+    flat = np.c_[pts[:, 0], np.zeros(len(pts)), pts[:, 1]] - [1.5, 0.0, 1.0]
+    x = flat @ tilt[:3, :3].T + (10.0 + 0.6) * normal  # on the top face, at the skin offset
+    cloth = build_cloth([x], [pts], [f], [])
+    settings = DrapeSettings(friction=friction)
+    drape(cloth, BodyCollider(block.vertices, block.faces), steps=60, sew_steps=0, settings=settings,
+          layer_every=10**6)
+    down = tilt[:3, :3] @ [-1.0, 0.0, 0.0]  # the slope's downhill direction
+    return float(np.mean((cloth.x - x) @ down))
+
+
+def test_cloth_on_a_slope_sticks_below_the_friction_angle_and_slides_above():
+    # Coulomb friction: it holds on a slope gentler than atan(0.6) = 31 degrees and not on a steeper one;
+    # without friction it slides on the gentle one too
+    assert abs(_patch_on_slope(15.0, 0.6)) < 0.5
+    assert _patch_on_slope(50.0, 0.6) > 20.0
+    assert _patch_on_slope(15.0, 0.0) > 20.0
