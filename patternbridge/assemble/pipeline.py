@@ -35,7 +35,7 @@ Progress = Callable[[str, int, int], None] | None
 POSE_STAGES = 5  # keyframes of the dressing pose -> rest pose return (the arms lowered step by step)
 POSE_STEPS = 12  # cloth steps per keyframe, with gravity
 POSE_GRAVITY = 0.3  # share of gravity while the arms come down
-POSE_SEW_STAGES = 3  # keyframes over which the seams left open in the dressing pose (cuffs) close
+POSE_SEW_STAGES = 2  # keyframes over which the seams left open in the dressing pose (cuffs) close
 
 
 @dataclass(eq=False)
