@@ -14,7 +14,11 @@ triangles crossing the skin, seams closed (<= 1 mm after welding); the gap
 before welding (``gap0``, aim <= 5 mm, so that welding is cosmetic) shows how
 well the simulation sewed them and names the seam where it is largest.
 
-    .venv/bin/python benchmarks/assemble.py [--characters A_superhero ...] [--garments shirt trousers]
+    .venv/bin/python benchmarks/assemble.py [--characters A_superhero ...] [--garments shirt trousers] [--seeds 0 1 2]
+
+The gap before welding is chaotic (it moves by tens of millimetres with the
+seed of the start's jitter); ``--seeds`` dresses every case once per seed
+and prints the median and the largest per case.
 """
 
 from __future__ import annotations
@@ -93,6 +97,14 @@ def main(argv: list[str] | None = None) -> int:
         action="store_true",
         help="grade each garment to the character first (the default; kept for old command lines)",
     )
+    ap.add_argument(
+        "--seeds",
+        nargs="*",
+        type=int,
+        default=[0],
+        help="dress each case once per seed (the start's jitter); with more than one, a summary line per case "
+        "gives the median and the largest gap before welding: a single run does not rank two schedules",
+    )
     args = ap.parse_args(argv)
 
     import numpy as np
@@ -118,28 +130,34 @@ def main(argv: list[str] | None = None) -> int:
             pattern = load_garment(gname)
             if not args.sample:
                 pattern = _graded(pattern, character, cname, gname, args.graded_cache)
-            out = Path(args.out) / f"{gname}_{cname}"
-            t = time.perf_counter()
-            r = dress(character, pattern, out)
-            secs = time.perf_counter() - t
-            st = r["stretch"]["percentiles"]
-            worst = r["stretch"]["worst_pieces"][0] if r["stretch"]["worst_pieces"] else {"piece": "-", "p95": 0}
-            print(
-                f"{gname + ' on ' + cname:34s} {secs:6.1f} {_rss_mb():7.0f} {r['penetrating_vertices']:4d} "
-                f"{r['crossing_triangles']:4d} {r['max_seam_gap_before_weld_mm']:8.1f} {r['max_seam_gap_mm']:7.2f} "
-                f"{st['p5']:5.2f} {st['p50']:5.2f} {st['p95']:5.2f} {st['p99']:5.2f}  "
-                f"{worst['piece']} {worst['p95']:.2f}"
-                f"  (gap0 at {r.get('worst_seam_before_weld', '-')})",
-                flush=True,
-            )
-            sewn &= r["max_seam_gap_before_weld_mm"] <= 5.0
-            ok &= (
-                secs <= 90
-                and r["penetrating_vertices"] == 0
-                and r["crossing_triangles"] == 0
-                and r["max_seam_gap_mm"] <= 1.0
-            )
-            rows.append({"character": cname, "garment": gname, "seconds": secs, **r})
+            gaps0 = []
+            for seed in args.seeds:
+                case = f"{gname} on {cname}" + (f" s{seed}" if len(args.seeds) > 1 else "")
+                out = Path(args.out) / (f"{gname}_{cname}" + (f"_s{seed}" if len(args.seeds) > 1 else ""))
+                t = time.perf_counter()
+                r = dress(character, pattern, out, seed=seed)
+                secs = time.perf_counter() - t
+                st = r["stretch"]["percentiles"]
+                worst = r["stretch"]["worst_pieces"][0] if r["stretch"]["worst_pieces"] else {"piece": "-", "p95": 0}
+                print(
+                    f"{case:34s} {secs:6.1f} {_rss_mb():7.0f} {r['penetrating_vertices']:4d} "
+                    f"{r['crossing_triangles']:4d} {r['max_seam_gap_before_weld_mm']:8.1f} {r['max_seam_gap_mm']:7.2f} "
+                    f"{st['p5']:5.2f} {st['p50']:5.2f} {st['p95']:5.2f} {st['p99']:5.2f}  "
+                    f"{worst['piece']} {worst['p95']:.2f}"
+                    f"  (gap0 at {r.get('worst_seam_before_weld', '-')})",
+                    flush=True,
+                )
+                gaps0.append(r["max_seam_gap_before_weld_mm"])
+                sewn &= r["max_seam_gap_before_weld_mm"] <= 5.0
+                ok &= (
+                    secs <= 90
+                    and r["penetrating_vertices"] == 0
+                    and r["crossing_triangles"] == 0
+                    and r["max_seam_gap_mm"] <= 1.0
+                )
+                rows.append({"character": cname, "garment": gname, "seed": seed, "seconds": secs, **r})
+            if len(gaps0) > 1:
+                print(f"#   {gname} on {cname}: gap0 median {np.median(gaps0):.1f} mm, largest {max(gaps0):.1f} mm")
     if args.json:
         Path(args.json).write_text(json.dumps(rows, indent=1))
     print("# all targets met" if ok else "# some targets missed")
