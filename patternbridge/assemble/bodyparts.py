@@ -18,7 +18,7 @@ import numpy as np
 from ..errors import LandmarkError
 from ..mesh.character import Character
 
-__all__ = ["PARTS", "BodyParts", "crotch_height", "hand_masks", "segment_body"]
+__all__ = ["HAND_SHARE", "PARTS", "BodyParts", "crotch_height", "hand_masks", "limb_axis", "segment_body"]
 
 log = logging.getLogger(__name__)
 
@@ -55,7 +55,6 @@ def _bone_parts(character: Character) -> np.ndarray:
     from ..mesh.skinning import find_bone
 
     skel = character.skeleton
-    n = len(skel.names)
     roots: dict[int, int] = {}
     for role, side, part in (
         ("upperarm", "left", "left_arm"),
@@ -68,15 +67,27 @@ def _bone_parts(character: Character) -> np.ndarray:
             roots[find_bone(skel, role, side)] = _INDEX[part]
         except Exception:  # a rig without that bone: the part falls back to the torso
             continue
-    out = np.zeros(n, dtype=np.int64)
-    for b in range(n):
+    first = _first_ancestor(skel.parents, set(roots))
+    return np.array([roots.get(int(r), _INDEX["torso"]) for r in first], dtype=np.int64)
+
+
+def _first_ancestor(parents: np.ndarray, roots: set[int]) -> np.ndarray:
+    """(B,) int64: for every bone the first of ``roots`` met walking up from it (itself included), else -1."""
+    out = np.full(len(parents), -1, dtype=np.int64)
+    for b in range(len(parents)):
         k = b
-        while k >= 0:
-            if k in roots:
-                out[b] = roots[k]
-                break
-            k = int(skel.parents[k])
+        while k >= 0 and k not in roots:
+            k = int(parents[k])
+        out[b] = k
     return out
+
+
+def limb_axis(points: np.ndarray, toward: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Centre (3,) and unit principal axis (3,) of a limb's ``points`` (n, 3), the axis pointing to ``toward``."""
+    c = points.mean(axis=0)
+    axis = np.linalg.svd(points - c, full_matrices=False)[2][0]
+    axis = axis / np.linalg.norm(axis)
+    return c, (axis if axis @ (toward - c) >= 0 else -axis)
 
 
 def _from_skin(character: Character) -> np.ndarray:
@@ -194,20 +205,12 @@ def hand_masks(character: Character, vertices: np.ndarray, parts: BodyParts) -> 
             except Exception:  # no wrist bone: cut by the arm's length below
                 wrist = None
             if wrist is not None:
-                below = np.zeros(len(skel.names), dtype=bool)
-                for b in range(len(skel.names)):
-                    k = b
-                    while k >= 0 and not below[b]:
-                        below[b] = k == wrist
-                        k = int(skel.parents[k])
+                below = _first_ancestor(skel.parents, {wrist}) == wrist
                 idx = skin.bone_indices
                 w = np.where((idx >= 0) & below[np.maximum(idx, 0)], skin.weights, 0.0).sum(axis=1)
                 mask = arm & (w > 0.5)
         if mask is None or not mask.any():
-            pv = v[arm]
-            c = pv.mean(axis=0)
-            _, _, vt = np.linalg.svd(pv - c, full_matrices=False)
-            axis = vt[0] if vt[0] @ (torso_c - c) > 0 else -vt[0]
+            c, axis = limb_axis(v[arm], torso_c)
             h = (v - c) @ axis
             mask = arm & (h < h[arm].min() + HAND_SHARE * np.ptp(h[arm]))
         out.append(mask)

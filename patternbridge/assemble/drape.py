@@ -266,11 +266,9 @@ class _Solver:
 
     def loosen(self, seams: np.ndarray | None) -> None:
         """Leave the seam pairs ``seams`` (S,) bool unsewn (no spring) until called with None."""
-        same = (seams is None and self.loose is None) or (
-            seams is not None and self.loose is not None and np.array_equal(seams, self.loose)
-        )
-        if not same:
-            self.loose = None if seams is None or not np.any(seams) else np.asarray(seams, dtype=bool).copy()
+        new = None if seams is None or not np.any(seams) else np.asarray(seams, dtype=bool).copy()
+        if (new is None) != (self.loose is None) or (new is not None and not np.array_equal(new, self.loose)):
+            self.loose = new
             self._factorise()
 
     def restart_seams(self) -> None:

@@ -29,7 +29,7 @@ import numpy as np
 from ..errors import InputError
 from ..pattern.model import Copy, Pattern
 from ..report import Report
-from .bodyparts import PARTS, BodyParts, crotch_height
+from .bodyparts import HAND_SHARE, PARTS, BodyParts, crotch_height, limb_axis
 from .mesh2d import Instance, PatternMesh
 
 __all__ = ["Cylinder", "bounding_cylinders", "mirror_name", "place_instances"]
@@ -39,7 +39,7 @@ log = logging.getLogger(__name__)
 MARGIN_CM = 1.5  # cylinder radius above the part's largest radius
 CLEARANCE_CM = 1.0  # distance kept from the skin when a wrapped point is moved out
 _DISTAL = {
-    "arm": 0.22,
+    "arm": HAND_SHARE,
     "leg": 0.12,
 }  # share of a limb's length taken by the hand / the foot
 
@@ -133,20 +133,11 @@ def bounding_cylinders(
             axis = np.array([0.0, 1.0, 0.0])
             c = 0.5 * (pv.min(axis=0) + pv.max(axis=0))
         else:
-            c = pv.mean(axis=0)
-            _, _, vt = np.linalg.svd(pv - c, full_matrices=False)
-            axis = vt[0] / np.linalg.norm(vt[0])
-            if axis @ (torso_c - c) < 0:
-                axis = -axis
+            c, axis = limb_axis(pv, torso_c)
             # leave the hand or the foot out (the distal share of the limb's length)
             h = (pv - c) @ axis
-            cut = h.min() + _DISTAL[part.split("_")[1]] * np.ptp(h)
-            pv = pv[h > cut]
-            c = pv.mean(axis=0)
-            _, _, vt = np.linalg.svd(pv - c, full_matrices=False)
-            axis = vt[0] / np.linalg.norm(vt[0])
-            if axis @ (torso_c - c) < 0:
-                axis = -axis
+            pv = pv[h > h.min() + _DISTAL[part.split("_")[1]] * np.ptp(h)]
+            c, axis = limb_axis(pv, torso_c)
         e0, e1 = _frame(axis)
         d = pv - c
         h = d @ axis
@@ -356,7 +347,7 @@ def _bridge_seams(pattern: Pattern, pmesh: PatternMesh, out: dict[str, np.ndarra
         # a front sewn to a larger back stays where it is
         if not far or sides != {"front", "back"} or fixed.sum() < 3 or fixed.all():
             continue
-        x = _harmonic_fill(pmesh.pieces[inst.piece].faces, np.zeros((n, 3)), fixed, target[fixed])
+        x = _harmonic_fill(pmesh.pieces[inst.piece].faces, fixed, target[fixed])
         if scene is not None:
             x, _ = scene.push_out(x, CLEARANCE_CM, robust=True)
         log.debug("%s laid across its seams to larger pieces", inst.key)
@@ -686,29 +677,26 @@ def _row_radii(pmesh: PatternMesh, inst: Instance, part: str, side: str, radius_
     return np.maximum(w / (2 * np.pi), 1.0)
 
 
-def _harmonic_fill(faces: np.ndarray, base: np.ndarray, fixed: np.ndarray, values: np.ndarray) -> np.ndarray:
-    """(n, 3) ``base`` + a displacement equal to ``values - base`` on ``fixed`` and harmonic elsewhere.
+def _harmonic_fill(faces: np.ndarray, fixed: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """(n, 3) positions equal to ``values`` on ``fixed`` (n,) bool and harmonic elsewhere.
 
     The graph Laplacian of the piece's triangle mesh (uniform weights,
-    natural boundary): with ``base`` zero the free vertices span the fixed
-    ones (a membrane), with ``base`` a placed shape the piece keeps that
-    shape and moves with its fixed vertices.
+    natural boundary): the free vertices span the fixed ones like a membrane.
     """
     from scipy.sparse import coo_matrix, diags
     from scipy.sparse.linalg import spsolve
 
-    n = len(base)
+    n = len(fixed)
     e = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
     adj = coo_matrix((np.ones(2 * len(e)), (e.ravel(), e[:, ::-1].ravel())), shape=(n, n)).tocsr()
     adj.data[:] = 1.0
     lap = (diags(np.asarray(adj.sum(axis=1)).ravel()) - adj).tocsr()
     free = ~fixed
-    known = values - base[fixed]
-    x = np.array(base, dtype=np.float64)
+    x = np.zeros((n, 3))
     x[fixed] = values
     if free.any():
-        rhs = -(lap[free][:, fixed] @ known)
-        x[free] += spsolve(lap[free][:, free].tocsc(), rhs)  # the three coordinates in one solve
+        # the three coordinates in one solve
+        x[free] = spsolve(lap[free][:, free].tocsc(), -(lap[free][:, fixed] @ values))
     return x
 
 
