@@ -12,6 +12,7 @@ moved into place at the end, so a failed run leaves no partial outputs.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import re
 import shutil
@@ -149,6 +150,9 @@ def run(args: argparse.Namespace) -> int:
         stage("measuring")
         meas = measure(character, progress=progress, partial=True)
         char_name = getattr(character, "name", "") or char_path.stem
+        # the landmarks measuring found (from the rig or the geometry) also
+        # place the pattern: a bare mesh has none of its own
+        character = dataclasses.replace(character, landmarks={**meas.landmarks, **character.landmarks})
     values = meas.values_cm()
     needed = sorted({lk.measurement for lk in pattern.measurements})
     lacking = [m for m in needed if m not in values]
@@ -191,6 +195,7 @@ def run(args: argparse.Namespace) -> int:
     )
     rep = fit_report(result, character=char_name, garment=garment)
 
+    created = not out_dir.exists()
     out_dir.mkdir(parents=True, exist_ok=True)
     tmp_dir = Path(tempfile.mkdtemp(prefix=".fit-", dir=out_dir))
     try:
@@ -218,6 +223,11 @@ def run(args: argparse.Namespace) -> int:
             else:
                 src.replace(dst)
             final.append(dst)
+    except BaseException:
+        shutil.rmtree(tmp_dir, ignore_errors=True)
+        if created:  # nothing half-written: not even the folder
+            shutil.rmtree(out_dir, ignore_errors=True)
+        raise
     finally:
         shutil.rmtree(tmp_dir, ignore_errors=True)
 
@@ -281,8 +291,6 @@ def _write_outputs(
 
     base = pattern
     if not base.sizes:
-        import dataclasses
-
         sample = base.sample_size or "base"
         base = dataclasses.replace(base, sample_size=sample, sizes=(sample,))
     outlines = {p.name: p.outline for p in result.pattern.pieces}

@@ -534,7 +534,10 @@ def load_character(
     height = float(np.ptp(vertices @ rot.T[:, 1]))
     if units is not None:
         unit = units
-        factor = unit_factor(unit)
+        try:
+            factor = unit_factor(unit)
+        except UnitsError as exc:
+            raise UnitsError(f"{path}: --units: {exc}") from None
         units_why = "given"
         stature = height * factor
         lo, hi = STATURE_RANGE_CM

@@ -96,3 +96,42 @@ def test_fit_deformation_option_reaches_the_grader(inputs, tmp_path):
     rep = json.loads((out / "fit_report.json").read_text())
     assert rep["settings"]["deformation"] == "cubic"
     assert rep["mean_error_cm"] <= 0.5 and rep["max_seam_mm"] <= 1.0
+
+
+@pytest.mark.shared
+def test_fit_on_a_bare_mesh_dresses_with_the_landmarks_it_found_and_a_failure_leaves_nothing(
+    characters_dir, tmp_path, monkeypatch, capsys
+):
+    # an OBJ without its sidecar: no rig, no landmarks of its own; measuring
+    # detects them, and the assembler must get them (it used to stop with
+    # "cannot segment the body without a rig ... missing")
+    import shutil
+
+    import patternbridge.assemble as assemble
+    from patternbridge.errors import InputError
+
+    mesh = tmp_path / "bare.obj"
+    shutil.copy(characters_dir / "E_average_male.obj", mesh)
+    seen = {}
+
+    def stop(character, *args, **kwargs):
+        seen["landmarks"] = set(character.landmarks)
+        seen["rigged"] = character.skeleton is not None
+        raise InputError("stopped in the assembler")
+
+    monkeypatch.setattr(assemble, "dress", stop)
+    out = tmp_path / "out"
+    code = main(["fit", str(mesh), "--garment", "shirt", "-o", str(out), "-q",
+                 "--pop-size", "8", "--generations", "2"])
+    assert code == 2
+    assert "stopped in the assembler" in capsys.readouterr().err
+    assert not seen["rigged"]
+    assert {"crotch_point", "armpit_point_left", "armpit_point_right", "front_neck_point",
+            "back_neck_point", "wrist_point_left"} <= seen["landmarks"]
+    # nothing half-written: the output folder the run made is gone
+    assert not out.exists()
+    # a folder that was there before stays, empty as it was
+    out.mkdir()
+    assert main(["fit", str(mesh), "--garment", "shirt", "-o", str(out), "-q",
+                 "--pop-size", "8", "--generations", "2"]) == 2
+    assert out.is_dir() and not any(out.iterdir())

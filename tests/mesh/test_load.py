@@ -69,8 +69,9 @@ def test_overrides(tmp_path, b_mesh):
         load_character(path, units="m")
     with pytest.raises(InputError, match="unknown up axis"):
         load_character(path, up="W")
-    with pytest.raises(UnitsError, match="unknown length unit"):
+    with pytest.raises(UnitsError, match="unknown length unit") as bad_unit:
         load_character(path, units="furlong")
+    assert str(bad_unit.value).startswith(f"{path}: --units: ")  # names the file and the option
 
 
 def test_implausible_size_is_a_units_error(tmp_path, b_mesh):
