@@ -184,6 +184,8 @@ class BodyCollider:
         crossing triangle, and its centroid, that lie inside the skin or
         closer than ``offset_cm`` are pushed to ``offset_cm`` outside; each
         push moves the corners the point is made of (averaged per vertex).
+        A corner that the move would put inside the body (out of one
+        surface into another, where an arm lies against the torso) stays.
 
         Returns
         -------
@@ -230,7 +232,13 @@ class BodyCollider:
             for k in range(3):
                 np.add.at(delta, idx[:, k], corr * (wts[:, k] > 0)[:, None])
                 np.add.at(cnt, idx[:, k], (wts[:, k] > 0).astype(float))
-            x += delta / np.maximum(cnt, 1.0)[:, None]
+            moved = np.flatnonzero(cnt > 0)
+            step = x[moved] + delta[moved] / cnt[moved, None]
+            # out of one surface must not be into another (cloth in an armpit)
+            keep = ~self.inside(step)
+            if not keep.any():
+                break
+            x[moved[keep]] = step[keep]
         return x
 
     def escape(

@@ -438,7 +438,10 @@ def finish(sim: Simulation) -> Garment:
     inside = collider.inside(wx)
     if inside.any():  # caught where two body parts touch: out the shortest straight way
         wx[inside] = collider.escape(wx[inside], 0.5 * settings.offset_cm)
-        inside = collider.inside(wx)
+    # pushing single vertices out can leave an edge between them grazing the
+    # skin where two body parts meet (an armpit): clear the triangles again
+    wx = collider.clear_triangles(wx, inv[cloth.faces], 0.5 * settings.offset_cm)
+    inside = collider.inside(wx)
     x = wx[inv]
     seconds = time.perf_counter() - sim.t0
 

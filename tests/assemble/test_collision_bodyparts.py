@@ -151,6 +151,25 @@ def test_clear_triangles_lifts_a_strip_off_a_limb(limb):
     assert not limb.inside(out).any()
 
 
+def test_clear_triangles_does_not_push_cloth_from_one_body_part_into_another():
+    # a ball (a torso) with a slab 3 mm above it (an arm against it): an edge
+    # dips 1 mm into the ball; lifting it the full 6 mm offset off the ball
+    # would put its corners into the slab, which is worse than the graze
+    ball = trimesh.creation.icosphere(subdivisions=4, radius=5.0)
+    slab = trimesh.creation.box(extents=[20.0, 4.6, 20.0])
+    slab.apply_translation([0.0, 5.3 + 2.3, 0.0])
+    both = trimesh.util.concatenate([ball, slab])
+    body = BodyCollider(both.vertices, both.faces)
+    v = np.array([[-2.0, 4.9, 0.0], [2.0, 4.9, 0.0], [0.0, 4.9, 3.0]])
+    f = np.array([[0, 1, 2]])
+    assert body.crossing_triangles(v, f).all() and not body.inside(v).any()
+    for rounds in (1, 4, 16):  # after any number of rounds
+        assert not body.inside(body.clear_triangles(v, f, 0.6, rounds=rounds)).any()
+    # a smaller offset fits in the gap: the triangle is cleared
+    out = body.clear_triangles(v, f, 0.1)
+    assert not body.crossing_triangles(out, f).any() and not body.inside(out).any()
+
+
 def test_helper_volume_is_seen_by_closest_and_inside_only():
     ball = trimesh.creation.icosphere(subdivisions=3, radius=5.0)
     box = trimesh.creation.box(extents=(4.0, 4.0, 4.0))
