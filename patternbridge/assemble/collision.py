@@ -170,6 +170,100 @@ class BodyCollider:
         hit = self.crossing_edges(a, b) | self.crossing_edges(b, a)
         return hit.reshape(-1, 3).any(axis=1)
 
+    def _skin_edges(self) -> tuple[np.ndarray, np.ndarray]:
+        """The body's unique edges (E, 2) and its unit vertex normals (V, 3), made once."""
+        if getattr(self, "_edges", None) is None:
+            f = self.faces
+            e = np.sort(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]]), axis=1)
+            self._edges = np.unique(e, axis=0)
+            v = self.vertices
+            fn = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])  # area-weighted
+            vn = np.zeros_like(v)
+            for k in range(3):
+                np.add.at(vn, f[:, k], fn)
+            self._normals = vn / np.maximum(np.linalg.norm(vn, axis=1, keepdims=True), 1e-12)
+        return self._edges, self._normals
+
+    def skin_through(self, vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Where the skin pokes through a cloth mesh between its vertices (a nipple, a knuckle).
+
+        The cloth's own edges can all stay outside the body while a tip of
+        the skin passes through the inside of a triangle; this casts the
+        body's edges near the cloth against it.
+
+        Returns
+        -------
+        triangles : (k,) int64, the cloth triangle each piercing skin edge meets
+        edges : (k, 2) int64, those skin edges (body vertex ids)
+        """
+        x = np.asarray(vertices, dtype=np.float64)
+        f = np.asarray(faces, dtype=np.int64)
+        edges, _ = self._skin_edges()
+        none = (np.zeros(0, np.int64), np.zeros((0, 2), np.int64))
+        if len(f) == 0 or len(edges) == 0:
+            return none
+        cloth = self._scene(x, f)
+        a, b = self.vertices[edges[:, 0]], self.vertices[edges[:, 1]]
+        length = np.linalg.norm(b - a, axis=1)
+        # only edges with an end nearer the cloth than the edge is long can reach it
+        near = cloth.compute_distance(self._t(self.vertices)).numpy().astype(np.float64)
+        cand = np.flatnonzero((np.minimum(near[edges[:, 0]], near[edges[:, 1]]) <= length) & (length > 1e-9))
+        if len(cand) == 0:
+            return none
+        d = (b[cand] - a[cand]) / length[cand, None]
+        out_t, out_e = [], []
+        for start, direction in ((a[cand], d), (b[cand], -d)):
+            hit = cloth.cast_rays(self._t(np.concatenate([start, direction], axis=1)))
+            t = hit["t_hit"].numpy().astype(np.float64)
+            prim = hit["primitive_ids"].numpy().astype(np.int64)
+            ok = np.isfinite(t) & (t < length[cand])
+            out_t.append(prim[ok])
+            out_e.append(edges[cand[ok]])
+        tri = np.concatenate(out_t)
+        e = np.concatenate(out_e)
+        key = np.unique(np.concatenate([tri[:, None], e], axis=1), axis=0)
+        return key[:, 0], key[:, 1:]
+
+    def lift_over_skin(
+        self, vertices: np.ndarray, faces: np.ndarray, offset_cm: float, *, rounds: int = 4
+    ) -> np.ndarray:
+        """Lift cloth triangles the skin pokes through (:meth:`skin_through`) off it.
+
+        The corners of a pierced triangle move out from the skin, round after
+        round farther (1.5, 2, 2.5 ... × ``offset_cm``), until the tip no
+        longer reaches through; a corner the move would put inside the body
+        (into the next body part) stays.
+
+        The round that left the fewest triangles through the skin either way
+        (this test and :meth:`crossing_triangles`) is returned. A long
+        triangle whose corners are all far from the skin (a cuff tangled
+        round a thumb) is not moved: it is left for the report.
+
+        Returns
+        -------
+        (V, 3) float64, the moved copy
+        """
+        x = np.array(vertices, dtype=np.float64)
+        f = np.asarray(faces, dtype=np.int64)
+
+        def through(y: np.ndarray) -> int:
+            return len(np.unique(self.skin_through(y, f)[0])) + int(np.count_nonzero(self.crossing_triangles(y, f)))
+
+        best, bad = x, through(x)
+        for k in range(rounds):
+            tri, _ = self.skin_through(x, f)
+            if len(tri) == 0:
+                break
+            x = x.copy()
+            corners = np.unique(f[tri])
+            moved, pushed = self.push_out(x[corners], offset_cm * (1.5 + 0.5 * k), robust=True)
+            pushed &= ~self.inside(moved)
+            x[corners[pushed]] = moved[pushed]
+            now = through(x)
+            if now < bad:
+                best, bad = x, now
+        return best
+
     def clear_triangles(
         self,
         vertices: np.ndarray,

@@ -441,6 +441,8 @@ def finish(sim: Simulation) -> Garment:
     # pushing single vertices out can leave an edge between them grazing the
     # skin where two body parts meet (an armpit): clear the triangles again
     wx = collider.clear_triangles(wx, inv[cloth.faces], 0.5 * settings.offset_cm)
+    # and no tip of the skin may poke through a triangle between its corners
+    wx = collider.lift_over_skin(wx, inv[cloth.faces], settings.offset_cm)
     inside = collider.inside(wx)
     x = wx[inv]
     seconds = time.perf_counter() - sim.t0
@@ -469,7 +471,7 @@ def finish(sim: Simulation) -> Garment:
     worst = sorted(per.items(), key=lambda kv: -kv[1])[:3]
     report = {
         "penetrating_vertices": int(np.count_nonzero(inside)),
-        "crossing_triangles": int(np.count_nonzero(collider.crossing_triangles(wx, inv[cloth.faces]))),
+        "crossing_triangles": _crossing_count(collider, wx, inv[cloth.faces]),
         "max_seam_gap_mm": float(seam_gaps(x, cloth.seams).max(initial=0.0) * 10.0),
         "max_seam_gap_before_weld_mm": float(gaps_before.max(initial=0.0) * 10.0),
         "worst_seam_before_weld": worst_seam,
@@ -501,6 +503,13 @@ def finish(sim: Simulation) -> Garment:
         report=report,
         findings=sim.findings,
     )
+
+
+def _crossing_count(collider, x: np.ndarray, faces: np.ndarray) -> int:
+    """Garment triangles that cross the skin either way: an edge through the body, or the skin through them."""
+    crossing = collider.crossing_triangles(x, faces)
+    crossing[collider.skin_through(x, faces)[0]] = True
+    return int(np.count_nonzero(crossing))
 
 
 def assemble(

@@ -170,6 +170,27 @@ def test_clear_triangles_does_not_push_cloth_from_one_body_part_into_another():
     assert not body.crossing_triangles(out, f).any() and not body.inside(out).any()
 
 
+def test_a_tip_of_skin_through_a_triangle_is_found_and_lifted_off():
+    # a ball with one vertex pulled out into a 9 mm spike (a nipple); a cloth
+    # of two large triangles 5 mm above the ball: the spike passes through
+    # the inside of one triangle, no cloth vertex or edge meets the body
+    ball = trimesh.creation.icosphere(subdivisions=3, radius=5.0)
+    v = np.array(ball.vertices)
+    top = int(np.argmax(v[:, 1]))
+    v[top] = [0.0, 5.9, 0.0]
+    body = BodyCollider(v, ball.faces)
+    cloth = np.array([[-1.0, 5.5, -1.0], [5.0, 5.5, -1.0], [-1.0, 5.5, 5.0], [5.0, 5.5, 5.0]])
+    f = np.array([[0, 2, 1], [1, 2, 3]])
+    assert not body.crossing_triangles(cloth, f).any() and not body.inside(cloth).any()
+    tri, edges = body.skin_through(cloth, f)
+    assert set(tri) == {0}
+    assert (edges == top).any(axis=1).all()  # the skin edges through it all run to the spike
+    out = body.lift_over_skin(cloth, f, 0.6)
+    assert len(body.skin_through(out, f)[0]) == 0
+    assert not body.crossing_triangles(out, f).any() and not body.inside(out).any()
+    assert np.linalg.norm(out - cloth, axis=1).max() < 2.0  # lifted, not thrown
+
+
 def test_helper_volume_is_seen_by_closest_and_inside_only():
     ball = trimesh.creation.icosphere(subdivisions=3, radius=5.0)
     box = trimesh.creation.box(extents=(4.0, 4.0, 4.0))
