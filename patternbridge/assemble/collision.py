@@ -231,13 +231,17 @@ class BodyCollider:
 
         The corners of a pierced triangle move out from the skin, round after
         round farther (1.5, 2, 2.5 ... × ``offset_cm``), until the tip no
-        longer reaches through; a corner the move would put inside the body
-        (into the next body part) stays.
+        longer reaches through.
 
-        The round that left the fewest triangles through the skin either way
-        (this test and :meth:`crossing_triangles`) is returned. A long
-        triangle whose corners are all far from the skin (a cuff tangled
-        round a thumb) is not moved: it is left for the report.
+        A corner whose push would end inside the body (in a crease such as an
+        armpit, out of one surface is into the other) leaves the crease by
+        the shortest free way instead (:meth:`escape`). A long triangle whose
+        corners all lie farther out than the push (stretched over an elbow)
+        moves along its own normal, past the skin edges through it on the
+        nearer side, when that leaves fewer through. The round that left
+        the fewest triangles through the skin either way (this test and
+        :meth:`crossing_triangles`) is returned; cloth still caught (a cuff
+        tangled round a thumb) is left for the report.
 
         Returns
         -------
@@ -257,12 +261,50 @@ class BodyCollider:
             x = x.copy()
             corners = np.unique(f[tri])
             moved, pushed = self.push_out(x[corners], offset_cm * (1.5 + 0.5 * k), robust=True)
-            pushed &= ~self.inside(moved)
+            jammed = pushed & self.inside(moved)
+            pushed &= ~jammed
             x[corners[pushed]] = moved[pushed]
+            if jammed.any():
+                # in a crease (an armpit) the way out of one surface is into the
+                # other: out of the crease by the shortest free way instead
+                x[corners[jammed]] = self.escape(x[corners[jammed]], offset_cm * (1.5 + 0.5 * k))
             now = through(x)
+            tri, edges = self.skin_through(x, f)
+            # a long triangle whose corners are all farther out than the push
+            # (stretched over an elbow) moves along its own normal instead
+            far = ~np.isin(f[tri], corners[pushed | jammed]).any(axis=1)
+            if far.any():
+                y = self._slide_off(x, f, tri[far], edges[far], 0.5 * offset_cm)
+                if (then := through(y)) < now:
+                    x, now = y, then
             if now < bad:
                 best, bad = x, now
         return best
+
+    def _slide_off(
+        self, x: np.ndarray, f: np.ndarray, tri: np.ndarray, edges: np.ndarray, offset_cm: float
+    ) -> np.ndarray:
+        """Move triangles along their normals past the skin edges through them, to the nearer side.
+
+        A corner shared by several takes the largest move; a corner the move
+        would put inside the body stays.
+        """
+        p = x[f[tri]]  # (k, 3, 3)
+        n = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+        n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-12)
+        d = np.einsum("kij,kj->ki", self.vertices[edges] - p[:, :1], n)  # both ends of each skin edge
+        up, down = d.max(axis=1), -d.min(axis=1)
+        step = np.where(up <= down, up + offset_cm, -(down + offset_cm))
+        corners = f[tri].ravel()
+        moves = np.repeat(step[:, None] * n, 3, axis=0)
+        order = np.argsort(np.abs(np.repeat(step, 3)), kind="stable")
+        corners, moves = corners[order], moves[order]
+        last = len(corners) - 1 - np.unique(corners[::-1], return_index=True)[1]  # each corner's largest move
+        target = x[corners[last]] + moves[last]
+        ok = ~self.inside(target)
+        out = x.copy()
+        out[corners[last][ok]] = target[ok]
+        return out
 
     def clear_triangles(
         self,

@@ -191,6 +191,23 @@ def test_a_tip_of_skin_through_a_triangle_is_found_and_lifted_off():
     assert np.linalg.norm(out - cloth, axis=1).max() < 2.0  # lifted, not thrown
 
 
+def test_a_long_triangle_far_from_the_skin_slides_off_a_tip_along_its_normal():
+    # a 12 cm triangle whose corners lie 3 cm and more from the ball, the
+    # spike reaching 0.5 mm through its middle (a stretched sleeve over an
+    # elbow): pushing the corners off the skin does not move them
+    ball = trimesh.creation.icosphere(subdivisions=3, radius=5.0)
+    v = np.array(ball.vertices)
+    v[int(np.argmax(v[:, 1]))] = [0.0, 5.9, 0.0]
+    body = BodyCollider(v, ball.faces)
+    cloth = np.array([[-6.0, 5.85, -3.0], [0.0, 5.85, 6.0], [6.0, 5.85, -3.0]])
+    f = np.array([[0, 1, 2]])
+    assert set(body.skin_through(cloth, f)[0]) == {0} and body.signed_distance(cloth).min() > 3.0
+    out = body.lift_over_skin(cloth, f, 0.6)
+    assert len(body.skin_through(out, f)[0]) == 0 and not body.crossing_triangles(out, f).any()
+    np.testing.assert_allclose(out[:, 1] - cloth[:, 1], 0.05 + 0.3, atol=0.02)  # just past the tip
+    np.testing.assert_allclose(out[:, [0, 2]], cloth[:, [0, 2]])
+
+
 def test_helper_volume_is_seen_by_closest_and_inside_only():
     ball = trimesh.creation.icosphere(subdivisions=3, radius=5.0)
     box = trimesh.creation.box(extents=(4.0, 4.0, 4.0))
