@@ -4,8 +4,9 @@ Plain script (no asv). For every character and garment it runs
 ``patternbridge.assemble.dress`` with the garment graded to the character as
 ``patternbridge fit`` grades it (measure + ``fit_pattern`` with its default
 NSGA-II budget, not timed; ``--sample`` keeps the sample size) and prints one
-line: seconds, peak RSS, penetrating vertices, triangles crossing the skin,
-seam gap before and after welding, stretch percentiles and the worst piece.
+line: seconds, peak RSS, penetrating vertices, triangles crossing the skin
+(either way: a garment edge through the body, or the skin through a
+triangle), seam gap before and after welding, stretch percentiles and the worst piece.
 Pictures and meshes go to ``--out`` (default ``bench_out/assemble``), one
 folder per case.
 
