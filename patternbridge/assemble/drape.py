@@ -243,7 +243,8 @@ class _Solver:
         self.S, self.St = S, S.T.tocsr()
         self.w = w
         self.n_stretch, self.n_bend = len(cloth.edges), len(cloth.bends)
-        self.m_h2 = cloth.mass / h**2
+        self.mass_h2 = cloth.mass / h**2
+        self.m_h2 = self.mass_h2  # the inertia in the system: the masses, or scaled (``weigh``)
         self.pin_w = np.zeros(n)
         self.pin_x = np.zeros((n, 3))
         self._pins: np.ndarray | None = None  # the weights the factorisation ``lu`` was made with
@@ -271,6 +272,17 @@ class _Solver:
             self.loose = new
             self._factorise()
 
+    def weigh(self, scale: np.ndarray | None) -> None:
+        """Scale every vertex's inertia by ``scale`` (N,) (None: the plain masses) and refactorise if it changed.
+
+        Without gravity a vertex's mass only decides how much of a seam's
+        closing it takes: heavier cloth stays, lighter cloth comes to it.
+        """
+        m_h2 = self.mass_h2 if scale is None else self.mass_h2 * np.asarray(scale, dtype=np.float64)
+        if not np.array_equal(m_h2, self.m_h2):
+            self.m_h2 = m_h2
+            self._factorise()
+
     def restart_seams(self) -> None:
         """Sew on from where the seams are now: the gaps shrink from their present lengths (see ``sew_ramp``)."""
         self.seam_start = seam_gaps(self.c.x, self.c.seams)
@@ -287,7 +299,7 @@ class _Solver:
         if weights is None or not np.any(weights > 0):
             self.lu, self.pin_w, self._pins = self.lu_free, np.zeros(len(self.m_h2)), None
             return
-        self.pin_w = np.asarray(weights, dtype=np.float64) * self.m_h2
+        self.pin_w = np.asarray(weights, dtype=np.float64) * self.mass_h2
         self.pin_x = np.asarray(targets, dtype=np.float64).copy()
         if self._pins is not weights:  # (the array is kept, so its identity is not reused)
             self.lu = splu((self.A + diags(self.pin_w)).tocsc())
@@ -431,6 +443,7 @@ def drape(
     hold: np.ndarray | None = None,
     loose: np.ndarray | None = None,
     sew_ramp: tuple[float, float] | None = None,
+    inertia: np.ndarray | None = None,
 ) -> _Solver:
     """Run the cloth for ``steps`` time steps against ``collider`` (in place).
 
@@ -444,11 +457,14 @@ def drape(
     leaves those seam pairs unsewn for this call. With ``sew_steps`` 0,
     ``sew_ramp`` = (from, to) keeps sewing during the call: the gaps shrink
     from ``from`` to ``to`` of the way between their lengths at the
-    solver's last :meth:`~_Solver.restart_seams` and zero.
+    solver's last :meth:`~_Solver.restart_seams` and zero. ``inertia`` (N,)
+    scales the vertices' masses in the solver for this call (see
+    :meth:`~_Solver.weigh`).
     """
     settings = settings or DrapeSettings()
     solver = solver or _Solver(cloth, settings)
     solver.loosen(loose)
+    solver.weigh(inertia)
     if sew_steps and anchors is not None:
         solver.pin(*anchors)
     else:

@@ -102,6 +102,31 @@ def test_a_loose_seam_waits_and_then_closes_from_where_it_is():
     assert seam_gaps(cloth.x, cloth.seams).max() < 0.01
 
 
+def test_the_heavier_side_of_a_seam_stays_and_the_lighter_comes_to_it():
+    # two strips 6 cm apart sewn along one edge, without gravity: with equal
+    # masses they meet half way; with the second one 30 times as heavy the
+    # first one does nearly all of the moving; the next call is back to the
+    # plain masses
+    def sew(inertia):
+        pts, f = _strip(9.0, 6)
+        x_a = np.c_[pts, np.zeros(14)]
+        x_b = np.c_[pts + [0.0, -8.0], np.zeros(14)]
+        cloth = build_cloth([x_a, x_b], [pts, pts], [f, f], [(0, 1, np.arange(7), np.arange(7) + 7)])
+        before = cloth.x.copy()
+        solver = drape(cloth, _NoBody(), steps=40, sew_steps=30, gravity_scale=0.0, layer_every=10**6, inertia=inertia)
+        assert seam_gaps(cloth.x, cloth.seams).max() < 0.05
+        moved = np.linalg.norm(cloth.x - before, axis=1)
+        return moved[:14].mean(), moved[14:].mean(), solver
+
+    a, b, _ = sew(None)
+    assert abs(a - b) < 0.1 * (a + b)
+    a, b, solver = sew(np.r_[np.ones(14), np.full(14, 30.0)])
+    assert b < 0.1 * a
+    np.testing.assert_allclose(solver.m_h2[14:], 30.0 * solver.m_h2[:14])
+    solver.weigh(None)
+    np.testing.assert_allclose(solver.m_h2, solver.mass_h2)
+
+
 def _patch_on_slope(slope_deg: float, friction: float) -> float:
     """How far (cm) a small cloth patch resting on a plane sloped ``slope_deg`` slides down it in 1 s of gravity."""
     import trimesh
