@@ -35,7 +35,7 @@ Progress = Callable[[str, int, int], None] | None
 POSE_STAGES = 5  # keyframes of the dressing pose -> rest pose return (the arms lowered step by step)
 POSE_STEPS = 12  # cloth steps per keyframe, with gravity
 POSE_GRAVITY = 0.3  # share of gravity while the arms come down
-POSE_SEW_STAGES = 2  # keyframes over which the seams left open in the dressing pose (cuffs) close
+POSE_SEW_STAGES = 3  # keyframes over which the seams left open in the dressing pose (cuffs) close
 SEW_ARM_INERTIA = 30.0  # the arm pieces' mass multiple while a top is sewn (see sewing_inertia)
 
 
@@ -474,6 +474,7 @@ def finish(sim: Simulation) -> Garment:
         joints = np.zeros((len(x), 0), np.int64)
         weights = np.zeros((len(x), 0))
     names = sim.names
+    crossing = _crossing(collider, wx, inv[cloth.faces])
     # edges shorter than 1 mm in the pattern (a corner collapsed by grading)
     # would make any ratio meaningless: they are counted, not measured
     measured = cloth.rest >= 0.1
@@ -491,7 +492,8 @@ def finish(sim: Simulation) -> Garment:
     worst = sorted(per.items(), key=lambda kv: -kv[1])[:3]
     report = {
         "penetrating_vertices": int(np.count_nonzero(inside)),
-        "crossing_triangles": _crossing_count(collider, wx, inv[cloth.faces]),
+        "crossing_triangles": int(np.count_nonzero(crossing)),
+        "crossing_pieces": sorted({names[g] for g in cloth.group[cloth.faces[crossing, 0]]}),
         "max_seam_gap_mm": float(seam_gaps(x, cloth.seams).max(initial=0.0) * 10.0),
         "max_seam_gap_before_weld_mm": float(gaps_before.max(initial=0.0) * 10.0),
         "worst_seam_before_weld": worst_seam,
@@ -525,11 +527,11 @@ def finish(sim: Simulation) -> Garment:
     )
 
 
-def _crossing_count(collider, x: np.ndarray, faces: np.ndarray) -> int:
-    """Garment triangles that cross the skin either way: an edge through the body, or the skin through them."""
+def _crossing(collider, x: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """(F,) bool: garment triangles crossing the skin either way (an edge through the body, the skin through them)."""
     crossing = collider.crossing_triangles(x, faces)
     crossing[collider.skin_through(x, faces)[0]] = True
-    return int(np.count_nonzero(crossing))
+    return crossing
 
 
 def assemble(

@@ -239,20 +239,33 @@ def run(args: argparse.Namespace) -> int:
             f"{rep['baseline']['max_seam_mm']:.1f} mm, {rep['baseline']['shape_error']:.4f})",
             file=sys.stderr,
         )
-        drape = rep.get("drape") or {}
-        if drape.get("seams_open_before_weld"):
-            from ..assemble.pipeline import WELDED_OPEN_MM
-
-            opened = drape["seams_open_before_weld"]
-            print(
-                f"[fit] welding closed {len(opened)} seam(s) the drape left open by more than "
-                f"{WELDED_OPEN_MM:g} mm: " + ", ".join(f"{r['seam']} {r['max_mm']:.0f} mm" for r in opened[:4])
-                + (" ..." if len(opened) > 4 else "")
-                + "; look there in fit_*.png",
-                file=sys.stderr,
-            )
+        for line in drape_warnings(rep.get("drape") or {}):
+            print(line, file=sys.stderr)
     print(f"wrote {len(final)} files to {out_dir}: " + ", ".join(p.name for p in final))
     return 0
+
+
+def drape_warnings(drape: dict) -> list[str]:
+    """One line per thing in the ``drape`` report a user should look at in the pictures."""
+    from ..assemble.pipeline import WELDED_OPEN_MM
+
+    out = []
+    opened = drape.get("seams_open_before_weld") or []
+    if opened:
+        out.append(
+            f"[fit] welding closed {len(opened)} seam(s) the drape left open by more than "
+            f"{WELDED_OPEN_MM:g} mm: " + ", ".join(f"{r['seam']} {r['max_mm']:.0f} mm" for r in opened[:4])
+            + (" ..." if len(opened) > 4 else "")
+            + "; look there in fit_*.png"
+        )
+    inside, crossing = drape.get("penetrating_vertices", 0), drape.get("crossing_triangles", 0)
+    if inside or crossing:
+        where = drape.get("crossing_pieces") or []
+        out.append(
+            f"[fit] the garment still passes through the skin: {inside} vertices inside, {crossing} triangle(s) "
+            "crossing" + (f" on {', '.join(where)}" if where else "") + "; look there in fit_*.png"
+        )
+    return out
 
 
 def _write_outputs(

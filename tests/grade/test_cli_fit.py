@@ -135,3 +135,21 @@ def test_fit_on_a_bare_mesh_dresses_with_the_landmarks_it_found_and_a_failure_le
     assert main(["fit", str(mesh), "--garment", "shirt", "-o", str(out), "-q",
                  "--pop-size", "8", "--generations", "2"]) == 2
     assert out.is_dir() and not any(out.iterdir())
+
+
+def test_the_drape_warnings_name_the_seams_welded_and_the_pieces_through_the_skin():
+    from patternbridge.cli.fit import drape_warnings
+
+    clean = {"penetrating_vertices": 0, "crossing_triangles": 0, "seams_open_before_weld": []}
+    assert drape_warnings(clean) == []
+    lines = drape_warnings(
+        {
+            "penetrating_vertices": 0,
+            "crossing_triangles": 2,
+            "crossing_pieces": ["cuff~mirror"],
+            "seams_open_before_weld": [{"seam": "cuff_closure_left", "max_mm": 10.6}],
+        }
+    )
+    assert len(lines) == 2
+    assert "cuff_closure_left 11 mm" in lines[0]
+    assert "2 triangle(s) crossing on cuff~mirror" in lines[1]
