@@ -11,6 +11,8 @@ the arms.
 
 from __future__ import annotations
 
+from functools import cached_property
+
 import numpy as np
 
 __all__ = ["BodyCollider", "hand_mitts", "separate_layers", "thigh_fill"]
@@ -170,19 +172,11 @@ class BodyCollider:
         hit = self.crossing_edges(a, b) | self.crossing_edges(b, a)
         return hit.reshape(-1, 3).any(axis=1)
 
-    def _skin_edges(self) -> tuple[np.ndarray, np.ndarray]:
-        """The body's unique edges (E, 2) and its unit vertex normals (V, 3), made once."""
-        if getattr(self, "_edges", None) is None:
-            f = self.faces
-            e = np.sort(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]]), axis=1)
-            self._edges = np.unique(e, axis=0)
-            v = self.vertices
-            fn = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])  # area-weighted
-            vn = np.zeros_like(v)
-            for k in range(3):
-                np.add.at(vn, f[:, k], fn)
-            self._normals = vn / np.maximum(np.linalg.norm(vn, axis=1, keepdims=True), 1e-12)
-        return self._edges, self._normals
+    @cached_property
+    def _skin_edges(self) -> np.ndarray:
+        """The body's unique edges (E, 2), made on first use."""
+        f = self.faces
+        return np.unique(np.sort(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]]), axis=1), axis=0)
 
     def skin_through(self, vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Where the skin pokes through a cloth mesh between its vertices (a nipple, a knuckle).
@@ -198,7 +192,7 @@ class BodyCollider:
         """
         x = np.asarray(vertices, dtype=np.float64)
         f = np.asarray(faces, dtype=np.int64)
-        edges, _ = self._skin_edges()
+        edges = self._skin_edges
         none = (np.zeros(0, np.int64), np.zeros((0, 2), np.int64))
         if len(f) == 0 or len(edges) == 0:
             return none
@@ -250,12 +244,14 @@ class BodyCollider:
         x = np.array(vertices, dtype=np.float64)
         f = np.asarray(faces, dtype=np.int64)
 
-        def through(y: np.ndarray) -> int:
-            return len(np.unique(self.skin_through(y, f)[0])) + int(np.count_nonzero(self.crossing_triangles(y, f)))
+        def through(y: np.ndarray) -> tuple[int, np.ndarray, np.ndarray]:
+            """Triangles through the skin either way, and where the skin pokes through."""
+            tri, edges = self.skin_through(y, f)
+            return len(np.unique(tri)) + int(np.count_nonzero(self.crossing_triangles(y, f))), tri, edges
 
-        best, bad = x, through(x)
+        bad, tri, edges = through(x)
+        best = x
         for k in range(rounds):
-            tri, _ = self.skin_through(x, f)
             if len(tri) == 0:
                 break
             x = x.copy()
@@ -268,15 +264,15 @@ class BodyCollider:
                 # in a crease (an armpit) the way out of one surface is into the
                 # other: out of the crease by the shortest free way instead
                 x[corners[jammed]] = self.escape(x[corners[jammed]], offset_cm * (1.5 + 0.5 * k))
-            now = through(x)
-            tri, edges = self.skin_through(x, f)
+            now, tri, edges = through(x)
             # a long triangle whose corners are all farther out than the push
             # (stretched over an elbow) moves along its own normal instead
             far = ~np.isin(f[tri], corners[pushed | jammed]).any(axis=1)
             if far.any():
                 y = self._slide_off(x, f, tri[far], edges[far], 0.5 * offset_cm)
-                if (then := through(y)) < now:
-                    x, now = y, then
+                then, tri_y, edges_y = through(y)
+                if then < now:
+                    x, now, tri, edges = y, then, tri_y, edges_y
             if now < bad:
                 best, bad = x, now
         return best
