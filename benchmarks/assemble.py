@@ -6,7 +6,9 @@ Plain script (no asv). For every character and garment it runs
 NSGA-II budget, not timed; ``--sample`` keeps the sample size) and prints one
 line: seconds, peak RSS, penetrating vertices, triangles crossing the skin
 (either way: a garment edge through the body, or the skin through a
-triangle), seam gap before and after welding, stretch percentiles and the worst piece.
+triangle), triangles where a piece passes through itself (``self``, a fold
+pushed through the cloth beside it), seam gap before and after welding,
+stretch percentiles and the worst piece.
 Pictures and meshes go to ``--out`` (default ``bench_out/assemble``), one
 folder per case.
 
@@ -119,7 +121,7 @@ def main(argv: list[str] | None = None) -> int:
         f"cores {os.cpu_count()}  {platform.machine()}"
     )
     print(
-        f"{'case':34s} {'s':>6s} {'RSS MB':>7s} {'pen':>4s} {'tri':>4s} {'gap0 mm':>8s} {'gap mm':>7s} "
+        f"{'case':34s} {'s':>6s} {'RSS MB':>7s} {'pen':>4s} {'tri':>4s} {'self':>5s} {'gap0 mm':>8s} {'gap mm':>7s} "
         f"{'p5':>5s} {'p50':>5s} {'p95':>5s} {'p99':>5s}  worst"
     )
     rows = []
@@ -142,7 +144,8 @@ def main(argv: list[str] | None = None) -> int:
                 worst = r["stretch"]["worst_pieces"][0] if r["stretch"]["worst_pieces"] else {"piece": "-", "p95": 0}
                 print(
                     f"{case:34s} {secs:6.1f} {_rss_mb():7.0f} {r['penetrating_vertices']:4d} "
-                    f"{r['crossing_triangles']:4d} {r['max_seam_gap_before_weld_mm']:8.1f} {r['max_seam_gap_mm']:7.2f} "
+                    f"{r['crossing_triangles']:4d} {r['self_crossing_triangles']:5d} "
+                    f"{r['max_seam_gap_before_weld_mm']:8.1f} {r['max_seam_gap_mm']:7.2f} "
                     f"{st['p5']:5.2f} {st['p50']:5.2f} {st['p95']:5.2f} {st['p99']:5.2f}  "
                     f"{worst['piece']} {worst['p95']:.2f}"
                     f"  (gap0 at {r.get('worst_seam_before_weld', '-')})",

@@ -86,7 +86,7 @@ def prepare(
     from .collision import BodyCollider, hand_mitts, thigh_fill
     from .drape import DrapeSettings, build_cloth
     from .mesh2d import mesh_pattern
-    from .placement import bounding_cylinders, instance_part, place_instances
+    from .placement import bounding_cylinders, place_instances
     from .pose import dressing_rotvecs, rotations
 
     t0 = time.perf_counter()
@@ -116,12 +116,7 @@ def prepare(
     if progress:
         progress("mesh", 0, 1)
     pmesh = mesh_pattern(pattern, max_edge_cm=max_edge_cm)
-    widths: dict[str, float] = {}
-    for inst in pmesh.instances:
-        p2 = pmesh.pieces[inst.piece].points
-        part = instance_part(pattern, inst)
-        widths[part] = widths.get(part, 0.0) + float(np.ptp(p2[:, 0])) + 1.0
-    cylinders = bounding_cylinders(body, parts, widths)
+    cylinders = bounding_cylinders(body, parts)  # (place_instances widens them to carry the pieces)
     collider = BodyCollider(body, character.faces)
     proxies: tuple = ()
     hands: list = []
@@ -429,6 +424,7 @@ WELDED_OPEN_MM = 5.0  # a seam the simulation left wider than this is listed in 
 def finish(sim: Simulation) -> Garment:
     """Weld the seams, clear the skin, transfer skin weights and measure (the ``drape`` report)."""
     from .drape import seam_gaps, weld_groups
+    from .selfcross import self_crossing
     from .weights import transfer_weights
 
     cloth, collider, settings, character = sim.cloth, sim.collider, sim.settings, sim.character
@@ -475,6 +471,9 @@ def finish(sim: Simulation) -> Garment:
         weights = np.zeros((len(x), 0))
     names = sim.names
     crossing = _crossing(collider, wx, inv[cloth.faces])
+    face_piece = cloth.group[cloth.faces[:, 0]]
+    folded = self_crossing(wx, inv[cloth.faces], face_piece)
+    folded_pieces, folded_counts = np.unique(face_piece[folded], return_counts=True)
     # edges shorter than 1 mm in the pattern (a corner collapsed by grading)
     # would make any ratio meaningless: they are counted, not measured
     measured = cloth.rest >= 0.1
@@ -493,7 +492,9 @@ def finish(sim: Simulation) -> Garment:
     report = {
         "penetrating_vertices": int(np.count_nonzero(inside)),
         "crossing_triangles": int(np.count_nonzero(crossing)),
-        "crossing_pieces": sorted({names[g] for g in cloth.group[cloth.faces[crossing, 0]]}),
+        "crossing_pieces": sorted({names[g] for g in face_piece[crossing]}),
+        "self_crossing_triangles": int(np.count_nonzero(folded)),
+        "self_crossing_pieces": {names[g]: int(c) for g, c in zip(folded_pieces, folded_counts, strict=True)},
         "max_seam_gap_mm": float(seam_gaps(x, cloth.seams).max(initial=0.0) * 10.0),
         "max_seam_gap_before_weld_mm": float(gaps_before.max(initial=0.0) * 10.0),
         "worst_seam_before_weld": worst_seam,

@@ -2,8 +2,9 @@
 
 Each body part gets a cylinder: the torso and the head stand on the vertical
 axis, the limbs on the principal axis of their vertices (PCA), pointing
-toward the body. Its radius is a little above the part's largest radius, or
-the summed width of the pieces it carries divided by 2π when that is larger
+toward the body. Its radius is a little above the part's typical radius
+(90th percentile; thicker places are cleared when wrapping), or the width
+of the pieces side by side at one height divided by 2π when that is larger
 (the pieces then lie side by side around it, as in the source method). A
 piece is laid on the unrolled cylinder with its anchor mark on the anchor
 landmark: pattern +x runs around the cylinder (to the right as seen from
@@ -36,8 +37,9 @@ __all__ = ["Cylinder", "bounding_cylinders", "mirror_name", "place_instances"]
 
 log = logging.getLogger(__name__)
 
-MARGIN_CM = 1.5  # cylinder radius above the part's largest radius
+MARGIN_CM = 1.5  # cylinder radius above the part's typical radius
 CLEARANCE_CM = 1.0  # distance kept from the skin when a wrapped point is moved out
+TYPICAL_RADIUS_PERCENTILE = 90.0  # of the distances from the axis: a limb's or the torso's cylinder radius
 _DISTAL = {
     "arm": HAND_SHARE,
     "leg": 0.12,
@@ -143,13 +145,11 @@ def bounding_cylinders(
         h = d @ axis
         r = np.linalg.norm(d - h[:, None] * axis, axis=1)
         body_r = float(np.max(r))
-        if part in ("torso", "head"):
-            base = body_r
-        else:
-            # a limb's pieces should go all the way round it, or the seams would
-            # pull across the limb: the typical radius (90th percentile) is used
-            # and the thicker parts are cleared along the radius when wrapping
-            base = float(np.percentile(r, 90))
+        # the pieces should go all the way round a limb or the torso, or the
+        # seams would start a hand's width open and pull the cloth across
+        # the body: the typical radius is used and the thicker parts (a
+        # shoulder, a belly) are cleared along the radius when wrapping
+        base = body_r if part == "head" else float(np.percentile(r, TYPICAL_RADIUS_PERCENTILE))
         radius = max(base + MARGIN_CM, widths_cm.get(part, 0.0) / (2 * np.pi))
         out[part] = Cylinder(
             part=part,
@@ -260,6 +260,7 @@ def place_instances(
             a2 = 0.5 * (p2.min(axis=0) + p2.max(axis=0))
         rows.append((inst, pl, part, cyl, p2, R, th_a, h_a, a2))
     rows = _level_backs(pmesh, rows)
+    rows, cylinders = _widen_for_rows(pattern, pmesh, rows, cylinders)
     shared = _shared_row_radii(pmesh, rows)
     seat: list = []
     for inst, pl, part, cyl, p2, R, th_a, h_a, a2 in rows:
@@ -320,7 +321,7 @@ def _bridge_seams(pattern: Pattern, pmesh: PatternMesh, out: dict[str, np.ndarra
     for inst in pmesh.instances:
         side = str(pattern.piece(inst.piece).placement.side)
         part = instance_part(pattern, inst)
-        if part != "torso" or side not in ("front", "back"):
+        if part != "torso" or side not in ("front", "back") or not _over_shoulders(pattern, pmesh, inst):
             continue
         n = size[inst.piece]
         target = np.full((n, 3), np.nan)
@@ -352,6 +353,20 @@ def _bridge_seams(pattern: Pattern, pmesh: PatternMesh, out: dict[str, np.ndarra
             x, _ = scene.push_out(x, CLEARANCE_CM, robust=True)
         log.debug("%s laid across its seams to larger pieces", inst.key)
         out[inst.key] = x
+
+
+def _over_shoulders(pattern: Pattern, pmesh: PatternMesh, inst: Instance) -> bool:
+    """Whether ``inst`` is sewn to larger torso pieces both on the front and on the back (a yoke)."""
+    size = {k: len(pmesh.pieces[k].points) for k in pmesh.pieces}
+    sides = {
+        str(pattern.piece(other.piece).placement.side)
+        for me, _, other, _ in _seam_sides(pmesh)
+        if me.key == inst.key
+        and other.key != inst.key
+        and instance_part(pattern, other) == "torso"
+        and size[other.piece] > size[inst.piece]
+    }
+    return {"front", "back"} <= sides
 
 
 def _collar_on_neckline(
@@ -529,6 +544,57 @@ def _level_backs(pmesh: PatternMesh, rows: list) -> list:
         inst, pl, part, cyl, p2, R, th_a, h_a, a2 = out[i]
         out[i] = (inst, pl, part, cyl, p2, R, th_a, h_a + float(np.mean(d)), a2)
     return out
+
+
+ROW_WIDTH_INSET_CM = 2.0  # a piece's rows nearer its top or bottom than this do not count (see _widen_for_rows)
+
+
+def _widen_for_rows(
+    pattern: Pattern, pmesh: PatternMesh, rows: list, cylinders: dict[str, Cylinder]
+) -> tuple[list, dict[str, Cylinder]]:
+    """Cylinders widened so that the pieces side by side at any height fit once round (``rows`` and ``cylinders``).
+
+    At every height the pieces a part carries lie side by side round its
+    cylinder, 1 cm apart: the radius is at least the widest such row / 2π.
+    Pieces above one another (a yoke over a back) do not add up; their rows
+    within :data:`ROW_WIDTH_INSET_CM` of a piece's top or bottom are left
+    out, where a piece meets the one sewn above or below it, and a yoke,
+    laid over the shoulders, does not count. (Summing every piece's full
+    width, yoke included, made E's torso cylinder 26 cm in radius for a
+    body 17 cm round at the 90th percentile: the side seams started 32 cm
+    open, and closing them drew the back up into a fold across it.)
+    """
+    import dataclasses
+
+    spans: dict[str, list] = {}
+    for inst, _, part, _, p2, _, _, h_a, a2 in rows:
+        if part == "torso" and _over_shoulders(pattern, pmesh, inst):
+            continue  # laid across the shoulders (see _bridge_seams), not round the cylinder
+        b = p2[: pmesh.pieces[inst.piece].n_boundary]
+        spans.setdefault(part, []).append((h_a - a2[1], b))
+    wide: dict[str, float] = {}
+    for part, members in spans.items():
+        lo = min(off + b[:, 1].min() for off, b in members)
+        hi = max(off + b[:, 1].max() for off, b in members)
+        grid = np.linspace(lo, hi, 400)
+        total = np.zeros_like(grid)
+        for off, b in members:
+            y = grid - off
+            inner = (y > b[:, 1].min() + ROW_WIDTH_INSET_CM) & (y < b[:, 1].max() - ROW_WIDTH_INSET_CM)
+            w = _widths(b, y)
+            total += np.where(inner & (w > 0), w + 1.0, 0.0)
+        wide[part] = float(total.max()) / (2 * np.pi)
+    out = dict(cylinders)
+    for part, r in wide.items():
+        if part in out and r > out[part].radius_cm:
+            out[part] = dataclasses.replace(out[part], radius_cm=r)
+        log.debug("%s: cylinder radius %.1f cm (pieces side by side: %.1f cm)", part, out[part].radius_cm, r)
+    fixed = []
+    for inst, pl, part, cyl, p2, R, th_a, h_a, a2 in rows:
+        if out[part].radius_cm > R:  # (a band keeps its own centre, see _band_cylinder)
+            cyl = dataclasses.replace(cyl, radius_cm=out[part].radius_cm)
+        fixed.append((inst, pl, part, cyl, p2, cyl.radius_cm, th_a, h_a, a2))
+    return fixed, out
 
 
 def _held_widths(boundary: np.ndarray, ys: np.ndarray, hold_cm: float = 4.0) -> np.ndarray:
