@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .collision import BodyCollider, separate_layers
+from .selfcross import keep_sides
 
 __all__ = ["Cloth", "DrapeSettings", "build_cloth", "drape", "gathered_lengths", "seam_gaps", "weld_groups"]
 
@@ -50,6 +51,7 @@ class DrapeSettings:
     density_kg_cm2: float = 1.5e-5  # 150 g/m²
     max_speed_cm_s: float = 150.0
     max_step_cm: float = 1.0
+    keep_sides: bool = True  # a vertex stays on its side of the cloth's triangles (see selfcross.keep_sides)
 
 
 @dataclass(eq=False)
@@ -251,6 +253,7 @@ class _Solver:
         self.loose: np.ndarray | None = None  # seam pairs not sewn yet (weight zero)
         self._factorise()
         self.seam_start = seam_gaps(cloth.x, cloth.seams)
+        self.weld = weld_groups(n, cloth.seams)
 
     def _factorise(self) -> None:
         from scipy.sparse import diags
@@ -417,6 +420,8 @@ class _Solver:
             slide = np.linalg.norm(dt, axis=1)
             keep = np.maximum(0.0, 1.0 - s.friction * push / np.maximum(slide, 1e-12))
             x[contact] = x0[contact] + dn + keep[:, None] * dt
+        if s.keep_sides:  # last, after the skin's pushes: they must not drive one layer through another
+            x = keep_sides(x, x0, c.faces, self.weld, s.thickness_cm)
         v = (x - x0) / h
         if contact.any():  # inelastic contact: no bounce off the skin
             vn = np.einsum("ij,ij->i", v[contact], nn)

@@ -53,3 +53,39 @@ def test_triangles_sharing_a_vertex_never_count():
     v = np.concatenate([centre, ring])
     f = np.array([[0, 1 + k, 1 + (k + 1) % 8] for k in range(8)])
     assert not self_crossing(v, f, np.zeros(len(f), int)).any()
+
+
+def _one_triangle_and_a_vertex(start, end):
+    tri = np.array([[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 2.0, 0.0]])
+    x0 = np.concatenate([tri, [start]])
+    x = np.concatenate([tri, [end]])
+    return x0, x, np.array([[0, 1, 2]])
+
+
+def test_a_vertex_through_a_triangle_goes_back_to_its_side_at_the_thickness():
+    from patternbridge.assemble.selfcross import keep_sides
+
+    x0, x, f = _one_triangle_and_a_vertex([0.5, 0.5, 0.5], [0.5, 0.5, -0.4])
+    out = keep_sides(x, x0, f, np.arange(4), 0.35)
+    # the vertex and the triangle share the move: the vertex rises, the corners sink
+    assert out[3, 2] > 0 and np.all(out[:3, 2] <= 0) and out[:3, 2].min() < 0
+    # at the vertex's foot the cloth now lies the thickness below it
+    foot = out[0] + (out[1] - out[0]) * 0.25 + (out[2] - out[0]) * 0.25  # barycentric (0.5, 0.25, 0.25)
+    assert abs((out[3] - foot)[2] - 0.35) < 1e-9
+    # the same move from below is held below
+    x0, x, f = _one_triangle_and_a_vertex([0.5, 0.5, -0.5], [0.5, 0.5, 0.4])
+    assert keep_sides(x, x0, f, np.arange(4), 0.35)[3, 2] < 0
+
+
+def test_keep_sides_leaves_far_vertices_sewn_vertices_and_free_edges_alone():
+    from patternbridge.assemble.selfcross import keep_sides
+
+    # farther than the thickness, on its side: nothing moves
+    x0, x, f = _one_triangle_and_a_vertex([0.5, 0.5, 0.8], [0.5, 0.5, 0.5])
+    np.testing.assert_array_equal(keep_sides(x, x0, f, np.arange(4), 0.35), x)
+    # sewn to a corner (one weld group): a seam closing is not a layer passing through
+    x0, x, f = _one_triangle_and_a_vertex([0.5, 0.5, 0.5], [0.5, 0.5, -0.4])
+    np.testing.assert_array_equal(keep_sides(x, x0, f, np.array([0, 1, 2, 0]), 0.35), x)
+    # coming round the triangle's free edge (outside it at the start): a fold turning over, not a crossing
+    x0, x, f = _one_triangle_and_a_vertex([2.5, 0.5, 0.3], [0.5, 0.5, -0.3])
+    np.testing.assert_array_equal(keep_sides(x, x0, f, np.arange(4), 0.35), x)
