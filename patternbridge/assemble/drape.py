@@ -51,6 +51,8 @@ class DrapeSettings:
     density_kg_cm2: float = 1.5e-5  # 150 g/m²
     max_speed_cm_s: float = 150.0
     max_step_cm: float = 1.0
+    # seams left unsewn for now (``loose``) hold their starting gaps with this share of the seam weight
+    loose_share: float = 0.1
     keep_sides: bool = True  # a vertex stays on its side of the cloth's triangles (see selfcross.keep_sides)
 
 
@@ -250,7 +252,7 @@ class _Solver:
         self.pin_w = np.zeros(n)
         self.pin_x = np.zeros((n, 3))
         self._pins: np.ndarray | None = None  # the weights the factorisation ``lu`` was made with
-        self.loose: np.ndarray | None = None  # seam pairs not sewn yet (weight zero)
+        self.loose: np.ndarray | None = None  # seam pairs not sewn yet (held at their gaps, see ``loosen``)
         self._factorise()
         self.seam_start = seam_gaps(cloth.x, cloth.seams)
         self.weld = weld_groups(n, cloth.seams)
@@ -262,14 +264,22 @@ class _Solver:
         w = self.w
         if self.loose is not None:
             w = w.copy()
-            w[self.n_stretch + self.n_bend :][self.loose] = 0.0
+            w[self.n_stretch + self.n_bend :][self.loose] *= self.s.loose_share
         self.w_now = w
         self.A = (diags(self.m_h2) + self.St @ diags(w) @ self.S).tocsc()
         self.lu_free = splu(self.A)
         self.lu = splu((self.A + diags(self.pin_w)).tocsc()) if self._pins is not None else self.lu_free
 
     def loosen(self, seams: np.ndarray | None) -> None:
-        """Leave the seam pairs ``seams`` (S,) bool unsewn (no spring) until called with None."""
+        """Leave the seam pairs ``seams`` (S,) bool unsewn until called with None.
+
+        They keep a spring at ``loose_share`` of the seam weight holding them
+        at their gaps of the last :meth:`restart_seams` (or the start): the two
+        sides move together without closing. With no spring at all a cuff left
+        free on a raised arm turned 60-80° round the wrist and slid up the
+        forearm ahead of its sleeve, and closing it later twisted the hem
+        round the thumb.
+        """
         new = None if seams is None or not np.any(seams) else np.asarray(seams, dtype=bool).copy()
         if (new is None) != (self.loose is None) or (new is not None and not np.array_equal(new, self.loose)):
             self.loose = new
@@ -363,7 +373,10 @@ class _Solver:
         inside = collider.inside(y)
         signed = np.where(inside, -np.abs(signed), np.abs(signed))
         near = inside | (signed < s.offset_cm + s.max_speed_cm_s * h * 1.5)
-        targets = np.concatenate([c.target, c.bend_rest, self.seam_start * max(0.0, 1.0 - sew)])
+        closing = np.full(len(c.seams), max(0.0, 1.0 - sew))
+        if self.loose is not None:
+            closing[self.loose] = 1.0  # held at their starting gaps, not sewn
+        targets = np.concatenate([c.target, c.bend_rest, self.seam_start * closing])
         rhs0 = self.m_h2[:, None] * y
         if self._pins is not None:
             rhs0 = rhs0 + self.pin_w[:, None] * self.pin_x
@@ -459,7 +472,8 @@ def drape(
     vertex's mass / h², positions (N, 3)) pins vertices softly while sewing;
     ``hold`` (N,) weights pin vertices where the sewing left them for the
     rest of the run (a waistband buttoned at the waist). ``loose`` (S,) bool
-    leaves those seam pairs unsewn for this call. With ``sew_steps`` 0,
+    leaves those seam pairs unsewn for this call (held at their gaps, see
+    :meth:`~_Solver.loosen`). With ``sew_steps`` 0,
     ``sew_ramp`` = (from, to) keeps sewing during the call: the gaps shrink
     from ``from`` to ``to`` of the way between their lengths at the
     solver's last :meth:`~_Solver.restart_seams` and zero. ``inertia`` (N,)

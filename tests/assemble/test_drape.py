@@ -102,6 +102,39 @@ def test_a_loose_seam_waits_and_then_closes_from_where_it_is():
     assert seam_gaps(cloth.x, cloth.seams).max() < 0.01
 
 
+def test_a_loose_seam_keeps_its_two_sides_together_without_closing():
+    # a cuff left unsewn on a raised arm: when its sleeve slides, it follows
+    # at the same gap (with no spring at all it stayed behind and turned
+    # round the wrist)
+    from patternbridge.assemble.drape import DrapeSettings
+
+    def slide(share):
+        pts, f = _strip(9.0, 6)
+        x_a = np.c_[pts, np.zeros(14)]
+        x_b = np.c_[pts + [0.0, -3.0], np.zeros(14)]
+        cloth = build_cloth([x_a, x_b], [pts, pts], [f, f], [(0, 1, np.arange(7), np.arange(7) + 7)])
+        start, before = seam_gaps(cloth.x, cloth.seams), cloth.x.copy()
+        cloth.v[:14] = [60.0, 0.0, 0.0]  # the sleeve side slides along x
+        drape(
+            cloth,
+            _NoBody(),
+            steps=40,
+            sew_steps=30,
+            gravity_scale=0.0,
+            layer_every=10**6,
+            loose=np.ones(len(cloth.seams), dtype=bool),
+            settings=DrapeSettings(loose_share=share),
+        )
+        moved = (cloth.x - before)[:, 0]
+        return moved[:14].mean(), moved[14:].mean(), seam_gaps(cloth.x, cloth.seams), start
+
+    a, b, gaps, start = slide(0.1)
+    assert a > 5.0 and abs(b - a) < 0.2 * a  # the other side came along
+    assert np.all(np.abs(gaps - start) < 0.3)  # at its gap: not sewn
+    a, b, gaps, _ = slide(0.0)
+    assert a > 5.0 and abs(b) < 1e-6  # no spring: left behind
+
+
 def test_the_heavier_side_of_a_seam_stays_and_the_lighter_comes_to_it():
     # two strips 6 cm apart sewn along one edge, without gravity: with equal
     # masses they meet half way; with the second one 30 times as heavy the
