@@ -232,7 +232,10 @@ class BodyCollider:
         the shortest free way instead (:meth:`escape`). A long triangle whose
         corners all lie farther out than the push (stretched over an elbow)
         moves along its own normal, past the skin edges through it on the
-        nearer side, when that leaves fewer through. The round that left
+        nearer side, when that leaves fewer through; and every round also
+        tries that move for all the pierced triangles at once, kept when it
+        leaves fewer than the pushes (beside an armpit the corners' pushes
+        drove an edge into the arm: A's shirt, seed 2). The round that left
         the fewest triangles through the skin either way (this test and
         :meth:`crossing_triangles`) is returned; cloth still caught (a cuff
         tangled round a thumb) is left for the report.
@@ -254,6 +257,11 @@ class BodyCollider:
         for k in range(rounds):
             if len(tri) == 0:
                 break
+            # every pierced triangle moved along its own normal past the tip,
+            # kept when it beats pushing the corners out (below): near a crease
+            # the corners' pushes can drive an edge into the other surface
+            slid = self._slide_off(x, f, tri, edges, 0.5 * offset_cm)
+            slid_bad, slid_tri, slid_edges = through(slid)
             x = x.copy()
             corners = np.unique(f[tri])
             moved, pushed = self.push_out(x[corners], offset_cm * (1.5 + 0.5 * k), robust=True)
@@ -273,6 +281,8 @@ class BodyCollider:
                 then, tri_y, edges_y = through(y)
                 if then < now:
                     x, now, tri, edges = y, then, tri_y, edges_y
+            if slid_bad < now:
+                x, now, tri, edges = slid, slid_bad, slid_tri, slid_edges
             if now < bad:
                 best, bad = x, now
         return best
