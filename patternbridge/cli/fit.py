@@ -265,6 +265,14 @@ def drape_warnings(drape: dict) -> list[str]:
             f"[fit] the garment still passes through the skin: {inside} vertices inside, {crossing} triangle(s) "
             "crossing" + (f" on {', '.join(where)}" if where else "") + "; look there in fit_*.png"
         )
+    folded = drape.get("self_crossing_pieces") or {}
+    if folded:
+        most = sorted(folded.items(), key=lambda kv: -kv[1])
+        out.append(
+            f"[fit] the garment passes through itself in {sum(folded.values())} triangle(s), most on "
+            + ", ".join(f"{piece} {n}" for piece, n in most[:3])
+            + " (folds pushed through the cloth beside them); look there before simulating it further"
+        )
     return out
 
 

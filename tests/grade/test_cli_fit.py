@@ -153,3 +153,8 @@ def test_the_drape_warnings_name_the_seams_welded_and_the_pieces_through_the_ski
     assert len(lines) == 2
     assert "cuff_closure_left 11 mm" in lines[0]
     assert "2 triangle(s) crossing on cuff~mirror" in lines[1]
+    folded = drape_warnings({**clean, "self_crossing_pieces": {"back": 4, "sleeve": 30, "cuff": 2, "collar": 1}})
+    assert folded == [
+        "[fit] the garment passes through itself in 37 triangle(s), most on sleeve 30, back 4, cuff 2 "
+        "(folds pushed through the cloth beside them); look there before simulating it further"
+    ]
