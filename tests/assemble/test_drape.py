@@ -80,14 +80,19 @@ def test_simulation_closes_a_gathered_seam():
     assert seam_gaps(cloth.x, cloth.seams).max() < 0.01
 
 
+def _two_strips(gap_cm: float):
+    """Two 9 cm strips, the second ``gap_cm`` below the first, sewn edge to edge (pairs 0-6 with 7-13)."""
+    pts, f = _strip(9.0, 6)
+    x_a = np.c_[pts, np.zeros(14)]
+    x_b = np.c_[pts + [0.0, -gap_cm], np.zeros(14)]
+    return build_cloth([x_a, x_b], [pts, pts], [f, f], [(0, 1, np.arange(7), np.arange(7) + 7)])
+
+
 def test_a_loose_seam_waits_and_then_closes_from_where_it_is():
     # two strips sewn along one edge, the second one 6 cm off: left loose,
     # the seam pulls nothing while the other cloth is sewn; released with a
     # ramp it closes from the gap it had then, without welding
-    pts, f = _strip(9.0, 6)
-    x_a = np.c_[pts, np.zeros(14)]
-    x_b = np.c_[pts + [0.0, -8.0], np.zeros(14)]
-    cloth = build_cloth([x_a, x_b], [pts, pts], [f, f], [(0, 1, np.arange(7), np.arange(7) + 7)])
+    cloth = _two_strips(8.0)
     start = seam_gaps(cloth.x, cloth.seams)
     loose = np.ones(len(cloth.seams), dtype=bool)
     solver = drape(cloth, _NoBody(), steps=40, sew_steps=30, gravity_scale=0.0, layer_every=10**6, loose=loose)
@@ -109,10 +114,7 @@ def test_a_loose_seam_keeps_its_two_sides_together_without_closing():
     from patternbridge.assemble.drape import DrapeSettings
 
     def slide(share):
-        pts, f = _strip(9.0, 6)
-        x_a = np.c_[pts, np.zeros(14)]
-        x_b = np.c_[pts + [0.0, -3.0], np.zeros(14)]
-        cloth = build_cloth([x_a, x_b], [pts, pts], [f, f], [(0, 1, np.arange(7), np.arange(7) + 7)])
+        cloth = _two_strips(3.0)
         start, before = seam_gaps(cloth.x, cloth.seams), cloth.x.copy()
         cloth.v[:14] = [60.0, 0.0, 0.0]  # the sleeve side slides along x
         drape(
@@ -141,10 +143,7 @@ def test_the_heavier_side_of_a_seam_stays_and_the_lighter_comes_to_it():
     # first one does nearly all of the moving; the next call is back to the
     # plain masses
     def sew(inertia):
-        pts, f = _strip(9.0, 6)
-        x_a = np.c_[pts, np.zeros(14)]
-        x_b = np.c_[pts + [0.0, -8.0], np.zeros(14)]
-        cloth = build_cloth([x_a, x_b], [pts, pts], [f, f], [(0, 1, np.arange(7), np.arange(7) + 7)])
+        cloth = _two_strips(8.0)
         before = cloth.x.copy()
         solver = drape(cloth, _NoBody(), steps=40, sew_steps=30, gravity_scale=0.0, layer_every=10**6, inertia=inertia)
         assert seam_gaps(cloth.x, cloth.seams).max() < 0.05
