@@ -13,8 +13,9 @@ local step (each spring's target vector) with a global step whose matrix
 body are half-space projections rebuilt every step from the closest skin
 point; Coulomb friction bounds how far a vertex in contact slides by how far
 the skin pushed it out in that step; vertices of different layers are
-pushed apart. Seams are welded at the end by
-averaging each group of sewn vertices.
+pushed apart, and every vertex stays on its side of the cloth's nearby
+triangles (:func:`~patternbridge.assemble.selfcross.keep_sides`). Seams
+are welded at the end by averaging each group of sewn vertices.
 """
 
 from __future__ import annotations

@@ -1,17 +1,20 @@
-"""Where a garment passes through itself: a piece's edges cast against the same piece's triangles.
+"""Cloth against itself: where a garment passes through itself, and keeping it from doing so.
 
 A fold the solver pushed through the cloth beside it (the lower back tucked
 under the upper back, a sleeve's underside caught inside itself) shows as
 a jagged line in the pictures and catches the animator's cloth simulation
 in a knot. Vertex-to-vertex layer separation does not see it once the
-vertices have passed each other, so the report counts it from the geometry.
+vertices have passed each other: :func:`self_crossing` counts it from the
+geometry for the report (a piece's edges cast against the same piece's
+triangles), and :func:`keep_sides`, run at every solver step, keeps each
+vertex on the side of the nearby triangles it came from.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["self_crossing"]
+__all__ = ["keep_sides", "self_crossing"]
 
 _EPS_CM = 1e-3  # an edge's ends are left out: the triangles round a vertex touch it there
 
@@ -116,6 +119,7 @@ def keep_sides(
     from scipy.spatial import cKDTree
 
     x = np.asarray(x, dtype=np.float64)
+    x0 = np.asarray(x0, dtype=np.float64)
     f = np.asarray(faces, dtype=np.int64)
     tri = x[f]
     centre = tri.mean(axis=1)
@@ -129,7 +133,7 @@ def keep_sides(
     close = pairs["v"] <= radius[t] + thickness_cm
     v, t = v[close], t[close]
     # cheap plane distances first: most pairs are far from each other's plane and stay on their side
-    n0, n1 = _normals(np.asarray(x0, dtype=np.float64)[f]), _normals(tri)
+    n0, n1 = _normals(x0[f]), _normals(tri)
     d0 = np.einsum("ij,ij->i", x0[v] - x0[f[t, 0]], n0[t])
     d1 = np.einsum("ij,ij->i", x[v] - x[f[t, 0]], n1[t])
     side = np.sign(d0)
