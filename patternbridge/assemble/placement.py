@@ -356,7 +356,9 @@ def _bridge_seams(pattern: Pattern, pmesh: PatternMesh, out: dict[str, np.ndarra
 
 
 def _over_shoulders(pattern: Pattern, pmesh: PatternMesh, inst: Instance) -> bool:
-    """Whether ``inst`` is sewn to larger torso pieces both on the front and on the back (a yoke)."""
+    """Whether ``inst`` is a torso piece sewn to larger torso pieces both on the front and on the back (a yoke)."""
+    if instance_part(pattern, inst) != "torso":
+        return False
     size = {k: len(pmesh.pieces[k].points) for k in pmesh.pieces}
     sides = {
         str(pattern.piece(other.piece).placement.side)
@@ -568,7 +570,7 @@ def _widen_for_rows(
 
     spans: dict[str, list] = {}
     for inst, _, part, _, p2, _, _, h_a, a2 in rows:
-        if part == "torso" and _over_shoulders(pattern, pmesh, inst):
+        if _over_shoulders(pattern, pmesh, inst):
             continue  # laid across the shoulders (see _bridge_seams), not round the cylinder
         b = p2[: pmesh.pieces[inst.piece].n_boundary]
         spans.setdefault(part, []).append((h_a - a2[1], b))

@@ -255,6 +255,21 @@ def test_pins_free_the_cloth_near_open_seams(character_e):
     assert far.any() and np.all(w[far] == w.max())
 
 
+def test_only_the_yoke_lies_over_the_shoulders_and_the_torso_cylinder_carries_the_rest():
+    # the yoke is sewn to the fronts and to the back; counted round the
+    # torso it widened E's cylinder from 18 to 26 cm
+    from patternbridge.assemble.mesh2d import mesh_pattern
+    from patternbridge.assemble.placement import _over_shoulders
+    from patternbridge.library import load_garment
+
+    shirt = load_garment("shirt")
+    pmesh = mesh_pattern(shirt, max_edge_cm=4.0)
+    assert {inst.key for inst in pmesh.instances if _over_shoulders(shirt, pmesh, inst)} == {"yoke"}
+    trousers = load_garment("trousers")
+    pmesh = mesh_pattern(trousers, max_edge_cm=4.0)
+    assert not any(_over_shoulders(trousers, pmesh, inst) for inst in pmesh.instances)
+
+
 def test_widths_of_a_trapezoid():
     from patternbridge.assemble.placement import _widths
 
