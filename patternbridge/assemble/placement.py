@@ -300,6 +300,7 @@ def place_instances(
     return out
 
 
+SIDE_SEAM_CM = 10.0  # a seam to a front running farther than this down a piece is a side seam, not a shoulder
 BRIDGE_GAP_CM = 3.0  # median placed gap of a seam above which a small torso piece is laid across to its partners
 
 
@@ -356,18 +357,25 @@ def _bridge_seams(pattern: Pattern, pmesh: PatternMesh, out: dict[str, np.ndarra
 
 
 def _over_shoulders(pattern: Pattern, pmesh: PatternMesh, inst: Instance) -> bool:
-    """Whether ``inst`` is a torso piece sewn to larger torso pieces both on the front and on the back (a yoke)."""
+    """Whether ``inst`` is a yoke: a torso piece sewn to larger torso pieces on the front and on the back, and
+    to the fronts only across (shoulder seams, no side seam running :data:`SIDE_SEAM_CM` down the piece).
+
+    A dress's back bodice half is sewn to the larger front bodice and skirt back too, but down its sides: it
+    goes round the body, and laid over the shoulders its centre back started 21 cm from its mirror's.
+    """
     if instance_part(pattern, inst) != "torso":
         return False
     size = {k: len(pmesh.pieces[k].points) for k in pmesh.pieces}
-    sides = {
-        str(pattern.piece(other.piece).placement.side)
-        for me, _, other, _ in _seam_sides(pmesh)
-        if me.key == inst.key
-        and other.key != inst.key
-        and instance_part(pattern, other) == "torso"
-        and size[other.piece] > size[inst.piece]
-    }
+    points = pmesh.pieces[inst.piece].points
+    sides = set()
+    for me, va, other, _ in _seam_sides(pmesh):
+        if me.key != inst.key or other.key == inst.key or instance_part(pattern, other) != "torso":
+            continue
+        side = str(pattern.piece(other.piece).placement.side)
+        if side == "front" and float(np.ptp(points[va, 1])) > SIDE_SEAM_CM:
+            return False
+        if size[other.piece] > size[inst.piece]:
+            sides.add(side)
     return {"front", "back"} <= sides
 
 
