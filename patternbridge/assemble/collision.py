@@ -15,7 +15,19 @@ from functools import cached_property
 
 import numpy as np
 
-__all__ = ["BodyCollider", "hand_mitts", "separate_layers", "thigh_fill"]
+__all__ = ["BodyCollider", "hand_mitts", "separate_layers", "thigh_fill", "triangle_scene"]
+
+
+def triangle_scene(vertices: np.ndarray, faces: np.ndarray):
+    """An Open3D ``RaycastingScene`` of one triangle mesh (``vertices`` (V, 3) cm, ``faces`` (F, 3))."""
+    import open3d as o3d
+
+    scene = o3d.t.geometry.RaycastingScene()
+    scene.add_triangles(
+        o3d.core.Tensor(np.asarray(vertices, dtype=np.float32)),
+        o3d.core.Tensor(np.asarray(faces, dtype=np.uint32)),
+    )
+    return scene
 
 
 class BodyCollider:
@@ -47,16 +59,7 @@ class BodyCollider:
         # their boxes: only points nearer a box than the skin need the proxy's queries
         self._boxes = [(np.min(v, axis=0), np.max(v, axis=0)) for v, _ in proxies]
 
-    @staticmethod
-    def _scene(vertices: np.ndarray, faces: np.ndarray):
-        import open3d as o3d
-
-        scene = o3d.t.geometry.RaycastingScene()
-        scene.add_triangles(
-            o3d.core.Tensor(np.asarray(vertices, dtype=np.float32)),
-            o3d.core.Tensor(np.asarray(faces, dtype=np.uint32)),
-        )
-        return scene
+    _scene = staticmethod(triangle_scene)
 
     def _t(self, a: np.ndarray):
         return self._o3c.Tensor(np.ascontiguousarray(a, dtype=np.float32))

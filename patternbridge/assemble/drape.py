@@ -489,7 +489,6 @@ def drape(
         solver.pin(*anchors)
     else:
         solver.pin(hold, cloth.x)  # hold None releases
-    weld = weld_groups(len(cloth.x), cloth.seams)
     for k in range(steps):
         if sew_steps:
             sew = (k + 1) / sew_steps
@@ -507,7 +506,7 @@ def drape(
             collider,
             g,
             min(sew, 1.0),
-            layers=weld if k % layer_every == 0 else None,
+            layers=solver.weld if k % layer_every == 0 else None,
         )
         if k + 1 == sew_steps:
             solver.pin(hold, cloth.x)

@@ -258,8 +258,9 @@ def sewing_inertia(sim: Simulation, arms: float = SEW_ARM_INERTIA) -> np.ndarray
     """(N,) mass multiples while a top is sewn in the dressing pose: ``arms`` on the arm pieces, 1 elsewhere.
 
     The sleeve caps are placed at the shoulder points, the bodice on the
-    torso's cylinder, which is as wide as the body's widest part: the
-    armhole seams start 12-30 cm open. With equal masses closing them
+    torso's cylinder: the armhole seams start 9-23 cm open (12-30 cm when
+    the cylinder was as wide as the body's widest part, where this was
+    measured). With equal masses closing them
     dragged the sleeves 10-13 cm up the raised arms (C's sleeve hem), and
     left them shortened and stretched across the top (edge stretch 1.9);
     that stretch then drew the hems up the forearms while the arms came
@@ -440,6 +441,7 @@ def finish(sim: Simulation) -> Garment:
     # weld the seams, then make sure nothing is left inside the skin
     weld = weld_groups(len(cloth.x), cloth.seams)
     ids, inv = np.unique(weld, return_inverse=True)
+    wf = inv[cloth.faces]  # the triangles on the welded vertices
     cnt = np.bincount(inv, minlength=len(ids))[:, None]
     wx = np.zeros((len(ids), 3))
     np.add.at(wx, inv, cloth.x)
@@ -449,16 +451,16 @@ def finish(sim: Simulation) -> Garment:
         if not moved.any():
             break
     # no triangle may cut the skin either (a long edge over a thin limb)
-    wx = collider.clear_triangles(wx, inv[cloth.faces], settings.offset_cm)
+    wx = collider.clear_triangles(wx, wf, settings.offset_cm)
     wx, _ = collider.push_out(wx, 0.5 * settings.offset_cm, robust=True)
     inside = collider.inside(wx)
     if inside.any():  # caught where two body parts touch: out the shortest straight way
         wx[inside] = collider.escape(wx[inside], 0.5 * settings.offset_cm)
     # pushing single vertices out can leave an edge between them grazing the
     # skin where two body parts meet (an armpit): clear the triangles again
-    wx = collider.clear_triangles(wx, inv[cloth.faces], 0.5 * settings.offset_cm)
+    wx = collider.clear_triangles(wx, wf, 0.5 * settings.offset_cm)
     # and no tip of the skin may poke through a triangle between its corners
-    wx = collider.lift_over_skin(wx, inv[cloth.faces], settings.offset_cm)
+    wx = collider.lift_over_skin(wx, wf, settings.offset_cm)
     inside = collider.inside(wx)
     x = wx[inv]
     seconds = time.perf_counter() - sim.t0
@@ -470,9 +472,9 @@ def finish(sim: Simulation) -> Garment:
         joints = np.zeros((len(x), 0), np.int64)
         weights = np.zeros((len(x), 0))
     names = sim.names
-    crossing = _crossing(collider, wx, inv[cloth.faces])
+    crossing = _crossing(collider, wx, wf)
     face_piece = cloth.group[cloth.faces[:, 0]]
-    folded = self_crossing(wx, inv[cloth.faces], face_piece)
+    folded = self_crossing(wx, wf, face_piece)
     folded_pieces, folded_counts = np.unique(face_piece[folded], return_counts=True)
     # edges shorter than 1 mm in the pattern (a corner collapsed by grading)
     # would make any ratio meaningless: they are counted, not measured

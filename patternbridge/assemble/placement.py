@@ -320,14 +320,11 @@ def _bridge_seams(pattern: Pattern, pmesh: PatternMesh, out: dict[str, np.ndarra
     """
     size = {k: len(pmesh.pieces[k].points) for k in pmesh.pieces}
     for inst in pmesh.instances:
-        side = str(pattern.piece(inst.piece).placement.side)
-        part = instance_part(pattern, inst)
-        if part != "torso" or side not in ("front", "back") or not _over_shoulders(pattern, pmesh, inst):
+        if not _over_shoulders(pattern, pmesh, inst):  # only a yoke; a front sewn to a larger back stays
             continue
         n = size[inst.piece]
         target = np.full((n, 3), np.nan)
         far = False
-        sides = set()
         neck = []  # edges sewn to larger pieces off the torso (collar, sleeve caps) go onto theirs
         for me, va, other, vb in _seam_sides(pmesh):
             if me.key != inst.key or other.key == inst.key:
@@ -339,15 +336,12 @@ def _bridge_seams(pattern: Pattern, pmesh: PatternMesh, out: dict[str, np.ndarra
                 continue
             theirs = out[other.key][vb]
             target[va] = theirs
-            sides.add(str(pattern.piece(other.piece).placement.side))
             far |= float(np.median(np.linalg.norm(out[inst.key][va] - theirs, axis=1))) > BRIDGE_GAP_CM
         for va, theirs in neck:  # corners shared with a shoulder seam stay on the front's
             keep = ~np.isfinite(target[va, 0])
             target[va[keep]] = theirs[keep]
         fixed = np.isfinite(target[:, 0])
-        # only a piece between larger pieces of the front and the back (a yoke);
-        # a front sewn to a larger back stays where it is
-        if not far or sides != {"front", "back"} or fixed.sum() < 3 or fixed.all():
+        if not far or fixed.sum() < 3 or fixed.all():
             continue
         x = _harmonic_fill(pmesh.pieces[inst.piece].faces, fixed, target[fixed])
         if scene is not None:
@@ -357,13 +351,16 @@ def _bridge_seams(pattern: Pattern, pmesh: PatternMesh, out: dict[str, np.ndarra
 
 
 def _over_shoulders(pattern: Pattern, pmesh: PatternMesh, inst: Instance) -> bool:
-    """Whether ``inst`` is a yoke: a torso piece sewn to larger torso pieces on the front and on the back, and
-    to the fronts only across (shoulder seams, no side seam running :data:`SIDE_SEAM_CM` down the piece).
+    """Whether ``inst`` is a yoke: a front or back torso piece sewn to larger torso pieces on the front and on
+    the back, and to the fronts only across (shoulder seams, no side seam running :data:`SIDE_SEAM_CM` down
+    the piece).
 
     A dress's back bodice half is sewn to the larger front bodice and skirt back too, but down its sides: it
-    goes round the body, and laid over the shoulders its centre back started 21 cm from its mirror's.
+    goes round the body, and laid over the shoulders its centre back started 21 cm from its mirror's. A
+    skirt's waistband goes round the body (side ``around``).
     """
-    if instance_part(pattern, inst) != "torso":
+    own_side = str(pattern.piece(inst.piece).placement.side)
+    if instance_part(pattern, inst) != "torso" or own_side not in ("front", "back"):
         return False
     size = {k: len(pmesh.pieces[k].points) for k in pmesh.pieces}
     points = pmesh.pieces[inst.piece].points
@@ -376,7 +373,7 @@ def _over_shoulders(pattern: Pattern, pmesh: PatternMesh, inst: Instance) -> boo
             return False
         if size[other.piece] > size[inst.piece]:
             sides.add(side)
-    return {"front", "back"} <= sides
+    return sides == {"front", "back"}
 
 
 def _collar_on_neckline(
@@ -579,7 +576,7 @@ def _widen_for_rows(
     spans: dict[str, list] = {}
     for inst, _, part, _, p2, _, _, h_a, a2 in rows:
         if _over_shoulders(pattern, pmesh, inst):
-            continue  # laid across the shoulders (see _bridge_seams), not round the cylinder
+            continue  # a yoke: laid across the shoulders (see _bridge_seams), not round the cylinder
         b = p2[: pmesh.pieces[inst.piece].n_boundary]
         spans.setdefault(part, []).append((h_a - a2[1], b))
     wide: dict[str, float] = {}

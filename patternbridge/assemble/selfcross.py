@@ -35,6 +35,8 @@ def self_crossing(vertices: np.ndarray, faces: np.ndarray, group: np.ndarray) ->
     """
     import open3d as o3d
 
+    from .collision import triangle_scene
+
     x = np.asarray(vertices, dtype=np.float64)
     f = np.asarray(faces, dtype=np.int64)
     group = np.asarray(group)
@@ -44,11 +46,7 @@ def self_crossing(vertices: np.ndarray, faces: np.ndarray, group: np.ndarray) ->
         if len(ids) < 2:
             continue
         fg = f[ids]
-        scene = o3d.t.geometry.RaycastingScene()
-        scene.add_triangles(
-            o3d.core.Tensor(x.astype(np.float32)),
-            o3d.core.Tensor(fg.astype(np.uint32)),
-        )
+        scene = triangle_scene(x, fg)
         owner = np.repeat(np.arange(len(fg)), 3)
         ends = (fg.ravel(), np.roll(fg, -1, axis=1).ravel())
         for start, stop in (ends, ends[::-1]):
@@ -74,8 +72,7 @@ def self_crossing(vertices: np.ndarray, faces: np.ndarray, group: np.ndarray) ->
 def _through(p: np.ndarray, q: np.ndarray, tri: np.ndarray, tol: float = 1e-6) -> np.ndarray:
     """(n,) bool: segments ``p``→``q`` (n, 3) passing through the triangles ``tri`` (n, 3, 3), ends strictly apart."""
     a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
-    n = np.cross(b - a, c - a)
-    n /= np.maximum(np.linalg.norm(n, axis=1), 1e-12)[:, None]
+    n = _normals(tri)
     dp = np.einsum("ij,ij->i", p - a, n)
     dq = np.einsum("ij,ij->i", q - a, n)
     across = (dp * dq < 0) & (np.abs(dp) > tol) & (np.abs(dq) > tol)
