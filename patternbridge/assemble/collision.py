@@ -161,6 +161,33 @@ class BodyCollider:
         out[ok] = np.isfinite(t) & (t < ln[ok])
         return out
 
+    def keep_edges_out(
+        self, x: np.ndarray, x0: np.ndarray, edges: np.ndarray, crossed0: np.ndarray, *, rounds: int = 4
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Send back to ``x0`` the ends of the edges (E, 2) that cross the skin at ``x`` but did not at ``x0``.
+
+        The solver keeps vertices out of the skin; an edge between two
+        vertices outside can still cut a thin limb (a sleeve's hem drawn over
+        the wrist), and once across it the cloth is hooked round the limb
+        where no push on single vertices frees it. The skin does not move
+        during a step, so an edge that was clear at its start crossed it in
+        the step: its ends return to where they were (``x0``, outside), and
+        again for the edges that return makes cross, up to ``rounds`` times.
+        ``crossed0`` (E,) bool marks the edges across at ``x0`` (left to the
+        clean-up). Returns the corrected ``x`` and the edges across now.
+        """
+        x = np.array(x, dtype=np.float64)
+        crossed = self.crossing_edges(x[edges[:, 0]], x[edges[:, 1]])
+        for _ in range(rounds):
+            new = crossed & ~crossed0
+            if not new.any():
+                break
+            back = np.unique(edges[new])
+            x[back] = x0[back]
+            near = np.isin(edges, back).any(axis=1)
+            crossed[near] = self.crossing_edges(x[edges[near, 0]], x[edges[near, 1]])
+        return x, crossed
+
     def crossing_triangles(self, vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
         """(F,) bool: a triangle of the mesh ``vertices`` (V, 3) / ``faces`` (F, 3) crosses the skin.
 

@@ -257,6 +257,8 @@ class _Solver:
         self._factorise()
         self.seam_start = seam_gaps(cloth.x, cloth.seams)
         self.weld = weld_groups(n, cloth.seams)
+        self.guard_edges = False  # see drape(guard_edges=)
+        self._crossed: tuple | None = None  # (collider, (E,) bool edges across its skin at the last step's end)
 
     def _factorise(self) -> None:
         from scipy.sparse import diags
@@ -436,6 +438,11 @@ class _Solver:
             x[contact] = x0[contact] + dn + keep[:, None] * dt
         if s.keep_sides:  # last, after the skin's pushes: they must not drive one layer through another
             x = keep_sides(x, x0, c.faces, self.weld, s.thickness_cm)
+        if self.guard_edges:
+            if self._crossed is None or self._crossed[0] is not collider:
+                self._crossed = (collider, collider.crossing_edges(x0[c.edges[:, 0]], x0[c.edges[:, 1]]))
+            x, crossed = collider.keep_edges_out(x, x0, c.edges, self._crossed[1])
+            self._crossed = (collider, crossed)
         v = (x - x0) / h
         if contact.any():  # inelastic contact: no bounce off the skin
             vn = np.einsum("ij,ij->i", v[contact], nn)
@@ -463,6 +470,7 @@ def drape(
     loose: np.ndarray | None = None,
     sew_ramp: tuple[float, float] | None = None,
     inertia: np.ndarray | None = None,
+    guard_edges: bool = False,
 ) -> _Solver:
     """Run the cloth for ``steps`` time steps against ``collider`` (in place).
 
@@ -479,12 +487,15 @@ def drape(
     from ``from`` to ``to`` of the way between their lengths at the
     solver's last :meth:`~_Solver.restart_seams` and zero. ``inertia`` (N,)
     scales the vertices' masses in the solver for this call (see
-    :meth:`~_Solver.weigh`).
+    :meth:`~_Solver.weigh`). ``guard_edges`` keeps every edge that starts
+    a step clear of the skin clear of it at the step's end
+    (:meth:`~patternbridge.assemble.collision.BodyCollider.keep_edges_out`).
     """
     settings = settings or DrapeSettings()
     solver = solver or _Solver(cloth, settings)
     solver.loosen(loose)
     solver.weigh(inertia)
+    solver.guard_edges = guard_edges
     if sew_steps and anchors is not None:
         solver.pin(*anchors)
     else:
