@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .collision import BodyCollider, separate_layers
-from .selfcross import keep_sides
+from .selfcross import keep_sides, keep_uncrossed, self_crossing
 
 __all__ = ["Cloth", "DrapeSettings", "build_cloth", "drape", "gathered_lengths", "seam_gaps", "weld_groups"]
 
@@ -257,8 +257,10 @@ class _Solver:
         self._factorise()
         self.seam_start = seam_gaps(cloth.x, cloth.seams)
         self.weld = weld_groups(n, cloth.seams)
-        self.guard_edges = False  # see drape(guard_edges=)
+        self.guard_crossings = False  # see drape(guard_crossings=)
         self._crossed: tuple | None = None  # (collider, (E,) bool edges across its skin at the last step's end)
+        self.face_group = cloth.group[cloth.faces[:, 0]]
+        self._folded: np.ndarray | None = None  # (F,) bool triangles through their piece at the last step's end
 
     def _factorise(self) -> None:
         from scipy.sparse import diags
@@ -438,7 +440,10 @@ class _Solver:
             x[contact] = x0[contact] + dn + keep[:, None] * dt
         if s.keep_sides:  # last, after the skin's pushes: they must not drive one layer through another
             x = keep_sides(x, x0, c.faces, self.weld, s.thickness_cm)
-        if self.guard_edges:
+        if self.guard_crossings:  # what crosses goes back to the step's start
+            if self._folded is None:
+                self._folded = self_crossing(x0, c.faces, self.face_group, self.weld)
+            x, self._folded = keep_uncrossed(x, x0, c.faces, self.face_group, self.weld, self._folded)
             if self._crossed is None or self._crossed[0] is not collider:
                 self._crossed = (collider, collider.crossing_edges(x0[c.edges[:, 0]], x0[c.edges[:, 1]]))
             x, crossed = collider.keep_edges_out(x, x0, c.edges, self._crossed[1])
@@ -470,7 +475,7 @@ def drape(
     loose: np.ndarray | None = None,
     sew_ramp: tuple[float, float] | None = None,
     inertia: np.ndarray | None = None,
-    guard_edges: bool = False,
+    guard_crossings: bool = False,
 ) -> _Solver:
     """Run the cloth for ``steps`` time steps against ``collider`` (in place).
 
@@ -487,15 +492,20 @@ def drape(
     from ``from`` to ``to`` of the way between their lengths at the
     solver's last :meth:`~_Solver.restart_seams` and zero. ``inertia`` (N,)
     scales the vertices' masses in the solver for this call (see
-    :meth:`~_Solver.weigh`). ``guard_edges`` keeps every edge that starts
-    a step clear of the skin clear of it at the step's end
-    (:meth:`~patternbridge.assemble.collision.BodyCollider.keep_edges_out`).
+    :meth:`~_Solver.weigh`). ``guard_crossings`` keeps what is clear at
+    the start of a step clear at its end: every triangle of the cloth
+    clear of its own piece (:func:`~patternbridge.assemble.selfcross.keep_uncrossed`)
+    and every edge clear of the skin
+    (:meth:`~patternbridge.assemble.collision.BodyCollider.keep_edges_out`);
+    the vertices that would cross go back. Not while sewing: pieces held
+    back there keep their seams open.
     """
     settings = settings or DrapeSettings()
     solver = solver or _Solver(cloth, settings)
     solver.loosen(loose)
     solver.weigh(inertia)
-    solver.guard_edges = guard_edges
+    solver.guard_crossings = guard_crossings
+    solver._folded = None  # the cloth may have been moved since the last call
     if sew_steps and anchors is not None:
         solver.pin(*anchors)
     else:

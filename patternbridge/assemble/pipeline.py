@@ -248,7 +248,7 @@ def simulate(sim: Simulation, *, steps: int = 160, progress: Progress = None) ->
             settings=settings,
             solver=sim.solver,
             stage="pose",
-            guard_edges=True,
+            guard_crossings=True,
         )
         if progress:
             progress("pose", k + 1, POSE_STAGES)

@@ -14,12 +14,14 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["keep_sides", "self_crossing"]
+__all__ = ["keep_sides", "keep_uncrossed", "self_crossing"]
 
 _EPS_CM = 1e-3  # an edge's ends are left out: the triangles round a vertex touch it there
 
 
-def self_crossing(vertices: np.ndarray, faces: np.ndarray, group: np.ndarray) -> np.ndarray:
+def self_crossing(
+    vertices: np.ndarray, faces: np.ndarray, group: np.ndarray, same: np.ndarray | None = None
+) -> np.ndarray:
     """(F,) bool: triangles crossing, or crossed by, a triangle of the same piece they share no vertex with.
 
     Parameters
@@ -27,6 +29,8 @@ def self_crossing(vertices: np.ndarray, faces: np.ndarray, group: np.ndarray) ->
     vertices : (V, 3) float64, cm — welded: the two sides of a seam share vertices
     faces : (F, 3) int64
     group : (F,) int64 — the piece of every triangle
+    same : (V,) int64, optional — vertices with one label count as one
+        (the sides of a seam before welding, see ``drape.weld_groups``)
 
     Every edge of a piece is cast as a ray, from each end, against that
     piece's triangles; a hit strictly between its ends on a triangle that
@@ -40,6 +44,7 @@ def self_crossing(vertices: np.ndarray, faces: np.ndarray, group: np.ndarray) ->
     x = np.asarray(vertices, dtype=np.float64)
     f = np.asarray(faces, dtype=np.int64)
     group = np.asarray(group)
+    same = np.arange(len(x)) if same is None else np.asarray(same)
     out = np.zeros(len(f), dtype=bool)
     for g in np.unique(group):
         ids = np.flatnonzero(group == g)
@@ -59,7 +64,8 @@ def self_crossing(vertices: np.ndarray, faces: np.ndarray, group: np.ndarray) ->
             prim = hit["primitive_ids"].numpy().astype(np.int64)
             ok = (length > 1e-9) & np.isfinite(t) & (t < length - 2 * _EPS_CM)
             other = fg[np.where(ok, prim, 0)]
-            ok &= ~((other == start[:, None]).any(axis=1) | (other == stop[:, None]).any(axis=1))
+            mine = same[other]
+            ok &= ~((mine == same[start][:, None]).any(axis=1) | (mine == same[stop][:, None]).any(axis=1))
             # the ray caster reports edges lying in a triangle's plane as hits
             # anywhere along their line (a flat stretch of cloth): only an edge
             # going through the triangle counts
@@ -154,6 +160,46 @@ def keep_sides(
         np.add.at(delta, f[t, k], -bary[:, k, None] * push)
         np.add.at(count, f[t, k], 1.0)
     return x + delta / np.maximum(count, 1.0)[:, None]
+
+
+def keep_uncrossed(
+    x: np.ndarray,
+    x0: np.ndarray,
+    faces: np.ndarray,
+    group: np.ndarray,
+    same: np.ndarray,
+    crossed0: np.ndarray,
+    *,
+    rounds: int = 3,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Send back to ``x0`` the corners of the triangles that cross their piece at ``x`` but did not at ``x0``.
+
+    Parameters
+    ----------
+    x, x0 : (N, 3) float64, cm — the cloth now and at the start of the step
+    faces : (F, 3) int64
+    group : (F,) int64 — the piece of every triangle
+    same : (N,) int64 — weld group of every vertex (see :func:`self_crossing`)
+    crossed0 : (F,) bool — :func:`self_crossing` at ``x0`` (left to the solver to undo)
+
+    :func:`keep_sides` holds a vertex on its side of the triangles under
+    it; an edge can still cut through a triangle between its corners where
+    the cloth crumples (a sleeve gathered as the arm comes down). The
+    triangles that crossed in the step get their corners back where they
+    were, and again for those the return makes cross, up to ``rounds``
+    times. Returns the corrected ``x`` and :func:`self_crossing` of it.
+    """
+    x = np.array(x, dtype=np.float64)
+    f = np.asarray(faces, dtype=np.int64)
+    crossed = self_crossing(x, f, group, same)
+    for _ in range(rounds):
+        new = crossed & ~crossed0
+        if not new.any():
+            break
+        back = np.unique(f[new])
+        x[back] = x0[back]
+        crossed = self_crossing(x, f, group, same)
+    return x, crossed
 
 
 def _normals(tri: np.ndarray) -> np.ndarray:

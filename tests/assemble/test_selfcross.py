@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from patternbridge.assemble.selfcross import self_crossing
+from patternbridge.assemble.selfcross import keep_uncrossed, self_crossing
 
 
 def _grid(nx: int, ny: int, size: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
@@ -89,3 +89,49 @@ def test_keep_sides_leaves_far_vertices_sewn_vertices_and_free_edges_alone():
     # coming round the triangle's free edge (outside it at the start): a fold turning over, not a crossing
     x0, x, f = _one_triangle_and_a_vertex([2.5, 0.5, 0.3], [0.5, 0.5, -0.3])
     np.testing.assert_array_equal(keep_sides(x, x0, f, np.arange(4), 0.35), x)
+
+
+def _sheet_and_spike(dz: float = 0.0):
+    """A triangle in the xy plane (vertices 0-2) and a spike (3-5) standing over its middle, ``dz`` lower."""
+    v = np.array(
+        [[-4, -4, 0], [4, -4, 0], [0, 4, 0], [0, 0, 1], [1, 0, 1], [0, 1, 3]],
+        dtype=float,
+    )
+    v[3:, 2] -= dz
+    return v, np.array([[0, 1, 2], [3, 4, 5]])
+
+
+def test_vertices_sewn_together_count_as_one():
+    # the spike pushed 2 cm down cuts the sheet with its two edges to its
+    # top (5); if the top is labelled one with a sheet corner (they are
+    # sewn), the triangles meet there and the crossing does not count
+    v, f = _sheet_and_spike(2.0)
+    one_piece = np.zeros(2, int)
+    np.testing.assert_array_equal(self_crossing(v, f, one_piece), [True, True])
+    same = np.array([0, 1, 2, 3, 4, 0])
+    assert not self_crossing(v, f, one_piece, same).any()
+
+
+def test_a_triangle_pushed_through_its_piece_goes_back_and_other_pieces_and_old_crossings_are_left():
+    # piece 0: the spike is pushed down through the sheet in the step (sent
+    # back); piece 1: the same motion far away, across already at the start
+    # (left to move); piece 2: one triangle of its own moves through piece
+    # 0's sheet (not this guard's business)
+    a0, f = _sheet_and_spike(0.0)
+    b0, _ = _sheet_and_spike(2.0)
+    b0[:, 0] += 50.0
+    c0 = np.array([[-1, -1, 0.5], [1, -1, 0.5], [0, -0.5, 2.0]])
+    x0 = np.concatenate([a0, b0, c0])
+    faces = np.concatenate([f, f + 6, [[12, 13, 14]]])
+    group = np.array([0, 0, 1, 1, 2])
+    same = np.arange(len(x0))
+    crossed0 = self_crossing(x0, faces, group, same)
+    np.testing.assert_array_equal(crossed0, [False, False, True, True, False])
+    x = x0.copy()
+    x[3:6, 2] -= 2.0
+    x[9:12, 2] -= 0.5
+    x[12:15, 2] -= 1.0
+    out, crossed = keep_uncrossed(x, x0, faces, group, same, crossed0)
+    np.testing.assert_array_equal(out[:6], x0[:6])
+    np.testing.assert_array_equal(out[6:], x[6:])
+    np.testing.assert_array_equal(crossed, [False, False, True, True, False])
