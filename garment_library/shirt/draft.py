@@ -508,14 +508,6 @@ LINKS = [
         None,
         leg("yoke", "shoulder_point_left", "shoulder_point_right"),
     ),
-    # the hem lies below the seat: at least as wide as the hips, or the shirt
-    # grips them and its tail curls under the buttocks
-    link(
-        "hip_girth",
-        None,
-        leg("front", "side_hem", "cf_hem", factor=2),
-        leg("back", "side_hem_left", "side_hem_right"),
-    ),
     link("back_width", None, leg("back", "ab_notch_left", "ab_notch")),
     link("shoulder_length_right", 1.0, leg("front", "neck_side", "shoulder_point")),
     link("front_length", None, leg("front", "cf_neck", "cf_waist")),

@@ -135,3 +135,9 @@ def test_a_triangle_pushed_through_its_piece_goes_back_and_other_pieces_and_old_
     np.testing.assert_array_equal(out[:6], x0[:6])
     np.testing.assert_array_equal(out[6:], x[6:])
     np.testing.assert_array_equal(crossed, [False, False, True, True, False])
+    # the spike's top sewn to piece 2 (one label): the seam moves it, the
+    # rest of the spike goes back
+    same[5] = 14
+    out, _ = keep_uncrossed(x, x0, faces, group, same, crossed0)
+    np.testing.assert_array_equal(out[[3, 4]], x0[[3, 4]])
+    np.testing.assert_array_equal(out[5], x[5])
