@@ -10,7 +10,12 @@ Objectives (all minimised)
 1. **Measurement error**, cm: mean over the pattern's measurement links of
    ``|target - achieved|`` with ``target = body measurement + ease`` and
    ``achieved = Σ factor · length(leg)`` (thesis eq. 4.5; a link may run over
-   several pieces sewn together).
+   several pieces sewn together); an ``at_least`` link counts only when it
+   falls short (:func:`link_error`). A leg taken across the grain also
+   counts how far its end marks have slid up or down against each other
+   (:func:`level_slip`): a girth is taken at its level, and without this a
+   chest line could tilt, or a side waist slide down the seam, to reach
+   the target.
 2. **Seam error**, cm: mean over seams of
    ``|L_b - L_a - ease|`` (whole-seam length mismatch)
    ``+ Σ_k |l_b,k - l_a,k - ease/(K-1)| / (K-1)`` (eq. 4.7: the two sides are
@@ -50,9 +55,12 @@ __all__ = [
     "Evaluation",
     "ObjectiveData",
     "angle_change",
+    "chord_lengths",
     "curve_kink",
     "dart_lengths",
     "evaluate",
+    "level_slip",
+    "link_error",
     "link_shares",
     "measurement_error",
     "objective_data",
@@ -81,9 +89,13 @@ class ObjectiveData:
     link_ids: tuple[str, ...]
     link_measurements: tuple[str, ...]
     target_cm: np.ndarray  # (L,)
+    at_least: np.ndarray  # (L,) bool: no error when the distance exceeds the target
     link_edges: np.ndarray  # (N, L) factor per boundary edge
     chord_a: np.ndarray  # (C,)
     chord_b: np.ndarray  # (C,)
+    chord_across: np.ndarray  # (C, 2) unit vector square to the grain for an "across" leg, else 0
+    chord_grain: np.ndarray  # (C, 2) the grain's unit vector for an "across" leg, else 0
+    chord_level0: np.ndarray  # (C,) original rise of each chord along the grain, cm
     link_chords: np.ndarray  # (C, L)
     # seams
     seam_ids: tuple[str, ...]
@@ -250,17 +262,23 @@ def objective_data(
     L = len(pattern.measurements)
     link_edges = np.zeros((n, L))
     chords: list[tuple[int, int, int, float]] = []
+    chord_dirs: list[np.ndarray] = []  # across the grain, or 0 for a plain chord
     for j, link in enumerate(pattern.measurements):
         if not link.legs:
             raise InputError(f"{source}: measurement link {link.id!r} has no legs; give it at least one")
         for leg in link.legs:
             idx = _range_points(grid, leg.piece, leg.start, leg.end, f"{source}: link {link.id!r}")
-            if leg.along == "chord":
+            if leg.along in ("chord", "across"):
                 chords.append((int(idx[0]), int(idx[-1]), j, leg.factor))
+                across = pattern.pieces[grid.piece_index(leg.piece)].across_grain
+                chord_dirs.append(across if leg.along == "across" else np.zeros(2))
             else:
                 np.add.at(link_edges, (idx[:-1], j), leg.factor)
     chord_a = np.array([c[0] for c in chords], dtype=np.int64)
     chord_b = np.array([c[1] for c in chords], dtype=np.int64)
+    chord_across = np.array(chord_dirs, dtype=np.float64).reshape(len(chords), 2)
+    chord_grain = np.stack([-chord_across[:, 1], chord_across[:, 0]], axis=1)
+    chord_level0 = np.einsum("cj,cj->c", points0[chord_b] - points0[chord_a], chord_grain)
     link_chords = np.zeros((len(chords), L))
     for r, c in enumerate(chords):
         link_chords[r, c[2]] += c[3]
@@ -373,7 +391,9 @@ def objective_data(
         span_a=np.array(span_a, dtype=np.int64), span_b=np.array(span_b, dtype=np.int64),
         link_ids=tuple(lk.id for lk in pattern.measurements),
         link_measurements=tuple(lk.measurement for lk in pattern.measurements),
-        target_cm=target, link_edges=link_edges, chord_a=chord_a, chord_b=chord_b,
+        target_cm=target, link_edges=link_edges,
+        at_least=np.array([lk.at_least for lk in pattern.measurements], dtype=bool), chord_a=chord_a, chord_b=chord_b,
+        chord_across=chord_across, chord_grain=chord_grain, chord_level0=chord_level0,
         link_chords=link_chords,
         seam_ids=tuple(s.id for s in pattern.seams), seam_labels=tuple(labels),
         seam_ease_cm=np.array([s.ease_cm for s in pattern.seams], dtype=np.float64),
@@ -432,14 +452,43 @@ def measurement_error(data: ObjectiveData, points: np.ndarray) -> tuple[np.ndarr
     Returns
     -------
     achieved : (n_pop, L) float64, cm
-    error : (n_pop,) float64, cm — mean ``|target - achieved|``
+    error : (n_pop,) float64, cm — mean over links of ``|link_error|`` plus
+        ``factor · |level_slip|`` of their legs taken across the grain
     """
     edges = _edge_lengths(data, points)
     achieved = edges @ data.link_edges
+    error = np.abs(link_error(data, achieved))
     if len(data.chord_a):
-        chord = np.linalg.norm(points[:, data.chord_b, :] - points[:, data.chord_a, :], axis=-1)
+        chord = chord_lengths(data, points)
         achieved = achieved + chord @ data.link_chords
-    return achieved, np.mean(np.abs(achieved - data.target_cm), axis=1)
+        error = np.abs(link_error(data, achieved)) + np.abs(level_slip(data, points)) @ np.abs(data.link_chords)
+    return achieved, np.mean(error, axis=1)
+
+
+def level_slip(data: ObjectiveData, points: np.ndarray) -> np.ndarray:
+    """How far each chord's end has moved along the grain against its start, ``(n_pop, C)`` cm.
+
+    0 for plain chords: only legs taken across the grain keep their level.
+    """
+    v = points[:, data.chord_b, :] - points[:, data.chord_a, :]
+    rise = np.einsum("pcj,cj->pc", v, data.chord_grain)
+    return np.where(np.any(data.chord_grain != 0.0, axis=1), rise - data.chord_level0, 0.0)
+
+
+def chord_lengths(data: ObjectiveData, points: np.ndarray) -> np.ndarray:
+    """Length of every chord leg, ``(n_pop, C)`` cm: straight, or its span across the grain."""
+    v = points[:, data.chord_b, :] - points[:, data.chord_a, :]
+    across = np.abs(np.einsum("pcj,cj->pc", v, data.chord_across))
+    return np.where(np.any(data.chord_across != 0.0, axis=1), across, np.linalg.norm(v, axis=-1))
+
+
+def link_error(data: ObjectiveData, achieved: np.ndarray) -> np.ndarray:
+    """Signed ``achieved - target`` per link, 0 where an ``at_least`` link is exceeded.
+
+    ``achieved`` is ``(..., L)`` cm; the result has its shape.
+    """
+    e = np.asarray(achieved, dtype=np.float64) - data.target_cm
+    return np.where(data.at_least & (e > 0.0), 0.0, e)
 
 
 def dart_lengths(data: ObjectiveData, points: np.ndarray) -> np.ndarray:
@@ -480,7 +529,7 @@ def link_shares(data: ObjectiveData, points: np.ndarray) -> tuple[np.ndarray, np
         part[:, p] = edges[:, mask] @ data.link_edges[mask]
         on_piece[p] |= np.any(data.link_edges[mask] != 0, axis=0)
     if len(data.chord_a):
-        chord = np.linalg.norm(points[:, data.chord_b, :] - points[:, data.chord_a, :], axis=-1)
+        chord = chord_lengths(data, points)
         cp = data.piece_of_point[data.chord_a]
         for p in range(P):
             mask = cp == p
@@ -668,7 +717,10 @@ def residuals(
     """
     points = np.asarray(points, dtype=np.float64)
     achieved, _ = measurement_error(data, points)
-    parts = [w_measure * _slack(achieved - data.target_cm, measure_slack_cm)]
+    parts = [w_measure * _slack(link_error(data, achieved), measure_slack_cm)]
+    level = np.any(data.chord_grain != 0.0, axis=1)
+    if level.any():
+        parts.append(w_measure * level_slip(data, points)[:, level])
     if data.n_seams and (w_seam or w_interval or w_notch or w_turn):  # all zero: no seam columns
         edges = _edge_lengths(data, points)
         mismatch, edge_dev, ang_dev, notch, _ = _seam_terms(data, points, edges)

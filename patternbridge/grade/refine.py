@@ -47,6 +47,8 @@ from .objectives import (
     _seam_terms,
     angle_change,
     dart_lengths,
+    level_slip,
+    link_error,
     link_shares,
     measurement_error,
     residuals,
@@ -427,6 +429,7 @@ def refine(
     wc0 = w_shape * np.sqrt(1.0 / (n_pieces * np.maximum(per_piece[crit_piece], 1.0)))
     wa0 = w_all * np.sqrt(1.0 / max(len(data.points0), 1))
     wm0 = np.sqrt(w_fit / max(len(data.target_cm), 1))
+    level = np.any(data.chord_grain != 0.0, axis=1)
     ext = float(np.mean(data.extent_cm))
     x_ref = np.asarray(x if x_design is None else x_design, dtype=np.float64)
     dart_ref = dart_lengths(data, grid.outlines(x_ref[None, :]))[0] if keep_darts else None
@@ -446,6 +449,8 @@ def refine(
         squeeze = np.maximum(0.0, min_cell_ratio - grid.corner_ratios(X))
         terms = [wc * d[:, data.critical], wa * d, s, (w_bend / ext) * grid.bending(X), w_cell * squeeze]
         c = [X @ A_st.T]  # straight edges: linear, cm
+        if level.any():  # girths across the grain stay at their levels
+            c.append(level_slip(data, pts)[:, level])
         if dart_ref is not None and len(dart_ref):
             c.append(dart_lengths(data, pts) - dart_ref)
         if data.n_seams:
@@ -459,7 +464,7 @@ def refine(
             terms.append(w_sh * (sh - share_ref).reshape(len(X), -1))
         achieved, _ = measurement_error(data, pts)
         if w_fit > 0:
-            terms.append(wm * (achieved - data.target_cm))
+            terms.append(wm * link_error(data, achieved))
         s = np.concatenate(terms, axis=1)
         c = np.concatenate(c, axis=1)
         return s, c, achieved
@@ -471,20 +476,20 @@ def refine(
         # small ones) rather than its square
         pts = grid.outlines(x[None, :])
         d = np.abs(angle_change(data, pts)[0])
-        e = np.abs(measurement_error(data, pts)[0][0] - data.target_cm)
+        e = np.abs(link_error(data, measurement_error(data, pts)[0][0]))
         wm = wm0 / np.sqrt(e + fit_eps_cm)
         if irls_eps <= 0:
             return wc0, wa0, wm
         return wc0 / np.sqrt(d[data.critical] + irls_eps), wa0 / np.sqrt(d + irls_eps), wm
 
     def violation(c, m):
-        over = np.maximum(np.abs(m - data.target_cm) - measure_tol_cm, 0.0)
+        over = np.maximum(np.abs(link_error(data, m)) - measure_tol_cm, 0.0)
         v = np.concatenate([np.abs(c), over])
         return v
 
     def band(m, alpha):
         lo = data.target_cm - measure_tol_cm - m
-        hi = data.target_cm + measure_tol_cm - m
+        hi = np.where(data.at_least, np.inf, data.target_cm + measure_tol_cm - m)
         lo = np.where(lo > 0, alpha * lo, lo)  # below the band: move up by alpha of the way
         hi = np.where(hi < 0, alpha * hi, hi)
         return lo, hi

@@ -18,13 +18,14 @@ def _r(value: float, digits: int = 4) -> float:
 def scores_dict(result: FitResult, scores: Scores) -> dict[str, Any]:
     """Measurements, seams and shape figures of one solution (report layout).
 
-    ``measurements``: one entry per measurement link, ``error_cm`` is
-    ``|achieved - target|`` and ``delta_cm`` the signed ``achieved - target``.
+    ``measurements``: one entry per measurement link, ``delta_cm`` is the
+    signed ``achieved - target`` and ``error_cm`` its size, 0 for an
+    ``at_least`` link that is exceeded (marked ``"at_least": true``).
     ``seams``: one entry per seam, ``mismatch_mm`` is
     ``|L_b - L_a - ease|`` and ``notch_mm`` the worst notch misalignment on it.
     """
     data = result.data
-    err = scores.achieved_cm - scores.target_cm
+    err = scores.error_cm
     measurements = [
         {
             "id": link_id,
@@ -33,10 +34,11 @@ def scores_dict(result: FitResult, scores: Scores) -> dict[str, Any]:
             "target_cm": _r(t, 3),
             "achieved_cm": _r(a, 3),
             "error_cm": _r(abs(e), 3),
-            "delta_cm": _r(e, 3),
+            "delta_cm": _r(a - t, 3),
+            **({"at_least": True} if least else {}),
         }
-        for link_id, meas, t, a, e in zip(data.link_ids, data.link_measurements,
-                                          scores.target_cm, scores.achieved_cm, err, strict=False)
+        for link_id, meas, t, a, e, least in zip(data.link_ids, data.link_measurements, scores.target_cm,
+                                                 scores.achieved_cm, err, data.at_least, strict=True)
     ]
     seams = []
     for s, (seam_id, (a, b)) in enumerate(zip(data.seam_ids, data.seam_labels, strict=False)):

@@ -40,7 +40,7 @@ import numpy as np
 from ..errors import SolverError
 from ..pattern.model import Pattern
 from .grid import PatternGrid, build_grid, deform_pattern
-from .objectives import FOLD_MARGIN, ObjectiveData, evaluate, objective_data, residuals
+from .objectives import FOLD_MARGIN, ObjectiveData, chord_lengths, evaluate, link_error, objective_data, residuals
 
 __all__ = [
     "FitResult",
@@ -68,6 +68,7 @@ class Scores:
     """Figures of one solution.
 
     target_cm, achieved_cm : (L,) per measurement link
+    error_cm : (L,) signed ``achieved - target``, 0 where an ``at_least`` link is exceeded
     seam_mismatch_cm : (S,) ``L_b - L_a - ease`` per seam
     notch_cm : (M,) notch misalignment per notch pair ; notch_seam : (M,) seam index
     measurement_error : mean |error| cm (objective 1) ; seam_error : objective 2 ;
@@ -78,6 +79,7 @@ class Scores:
 
     target_cm: np.ndarray
     achieved_cm: np.ndarray
+    error_cm: np.ndarray
     seam_mismatch_cm: np.ndarray
     notch_cm: np.ndarray
     notch_seam: np.ndarray
@@ -90,7 +92,7 @@ class Scores:
 
     @property
     def max_measurement_error(self) -> float:
-        err = np.abs(self.achieved_cm - self.target_cm)
+        err = np.abs(self.error_cm)
         return float(err.max()) if len(err) else 0.0
 
     @property
@@ -164,6 +166,7 @@ def score_points(data: ObjectiveData, points: np.ndarray, *, fold_margin: float,
     return Scores(
         target_cm=data.target_cm.copy(),
         achieved_cm=ev.achieved_cm[0],
+        error_cm=link_error(data, ev.achieved_cm[0]),
         seam_mismatch_cm=ev.seam_mismatch_cm[0],
         notch_cm=ev.notch_cm[0],
         notch_seam=data.notch_seam.copy(),
@@ -214,7 +217,7 @@ def _piece_link_shares(data: ObjectiveData, grid: PatternGrid) -> tuple[np.ndarr
     if len(data.chord_a):
         cd = points0[data.chord_b] - points0[data.chord_a]
         cw = np.abs(data.link_chords)
-        np.add.at(length, piece_of_point[data.chord_a], cw * np.linalg.norm(cd, axis=1)[:, None])
+        np.add.at(length, piece_of_point[data.chord_a], cw * chord_lengths(data, points0[None])[0][:, None])
         np.add.at(horiz, piece_of_point[data.chord_a], cw * np.abs(cd[:, 0])[:, None])
     # horizontal fraction by |dx| / (|dx| + |dy|) of the piece's part of each link
     vert = np.zeros((P, L))
@@ -362,7 +365,7 @@ def within_tolerance(grid: PatternGrid, data: ObjectiveData, X: np.ndarray, *, m
     """
     X = np.atleast_2d(np.asarray(X, dtype=np.float64))
     ev = evaluate(data, grid.outlines(X))
-    err = np.abs(ev.achieved_cm - data.target_cm)
+    err = np.abs(link_error(data, ev.achieved_cm))
     seams = np.abs(np.concatenate([ev.seam_mismatch_cm, ev.notch_cm], axis=1))
     ok = ((ev.measurement_error <= mean_cm) & (err.max(axis=1, initial=0.0) <= max_cm)
           & (seams.max(axis=1, initial=0.0) <= seam_cm) & (grid.fold_margin(X) > 0))

@@ -163,10 +163,14 @@ def leg(
 
 
 def link(
-    measurement: str, ease_cm: float | None, *legs: Leg, link_id: str = ""
+    measurement: str, ease_cm: float | None, *legs: Leg, link_id: str = "", at_least: bool = False
 ) -> tuple:
-    """A measurement link; ``ease_cm=None`` takes the ease the sample size realises."""
-    return (measurement, ease_cm, tuple(legs), link_id)
+    """A measurement link; ``ease_cm=None`` takes the ease the sample size realises.
+
+    ``at_least``: the graded distance may exceed body + ease (see
+    :class:`~patternbridge.pattern.model.MeasurementLink`).
+    """
+    return (measurement, ease_cm, tuple(legs), link_id, at_least)
 
 
 def _inward_angle(cut: np.ndarray, i: int) -> float:
@@ -325,16 +329,14 @@ def build_pattern(
     body = chart.body(chart.sample_size)
     measurements = []
     provisional = tuple(
-        MeasurementLink(measurement=m, legs=legs_, ease_cm=0.0, id=lid or m)
-        for m, _e, legs_, lid in links
+        MeasurementLink(measurement=m, legs=legs_, ease_cm=0.0, id=lid or m, at_least=least)
+        for m, _e, legs_, lid, least in links
     )
     achieved = link_lengths(replace(pattern, measurements=provisional))
-    for (m, ease, legs_, _lid), ml in zip(links, provisional, strict=True):
+    for (m, ease, *_rest), ml in zip(links, provisional, strict=True):
         if ease is None:
             ease = round(float(achieved[ml.id][k_sample]) - body[m], 1)
-        measurements.append(
-            MeasurementLink(measurement=m, legs=legs_, ease_cm=float(ease), id=ml.id)
-        )
+        measurements.append(replace(ml, ease_cm=float(ease)))
     return replace(pattern, measurements=tuple(measurements))
 
 

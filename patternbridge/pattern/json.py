@@ -228,16 +228,22 @@ def seam_from_dict(d: dict[str, Any]) -> Seam:
 
 
 def measurement_link_to_dict(link: MeasurementLink) -> dict[str, Any]:
-    """JSON form of a measurement link (also used by the bridge-data sidecar)."""
-    return {
+    """JSON form of a measurement link (also used by the bridge-data sidecar).
+
+    ``at_least`` is written only when set, so two-sided links keep their form.
+    """
+    d: dict[str, Any] = {
         "id": link.id,
         "measurement": link.measurement,
         "ease_cm": link.ease_cm,
-        "legs": [
-            {"piece": g.piece, "start": g.start, "end": g.end, "along": g.along, "factor": g.factor}
-            for g in link.legs
-        ],
     }
+    if link.at_least:
+        d["at_least"] = True
+    d["legs"] = [
+        {"piece": g.piece, "start": g.start, "end": g.end, "along": g.along, "factor": g.factor}
+        for g in link.legs
+    ]
+    return d
 
 
 def measurement_link_from_dict(d: dict[str, Any]) -> MeasurementLink:
@@ -246,6 +252,7 @@ def measurement_link_from_dict(d: dict[str, Any]) -> MeasurementLink:
         id=d.get("id", ""),
         measurement=d["measurement"],
         ease_cm=d.get("ease_cm", 0.0),
+        at_least=d.get("at_least", False),
         legs=tuple(Leg(**g) for g in d["legs"]),
     )
 

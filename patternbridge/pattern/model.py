@@ -427,6 +427,18 @@ class Piece:
     def n_vertices(self) -> int:
         return len(self.outline)
 
+    @property
+    def across_grain(self) -> np.ndarray:
+        """Unit vector square to the grain line (the grain turned a quarter clockwise).
+
+        A piece without a grain line takes its drawing's +y as the grain, so
+        ``(1, 0)``. Girths measured ``along="across"`` are taken on it.
+        """
+        if self.grain_line is None:
+            return np.array([1.0, 0.0])
+        gx, gy = self.grain_line.direction
+        return np.array([gy, -gx])
+
     def mark(self, name: str) -> int:
         """Boundary vertex index of mark ``name`` (KeyError names the piece)."""
         try:
@@ -565,7 +577,9 @@ class Leg:
     """One leg of a pattern distance: between two marks of one piece.
 
     along : ``"boundary"`` (along the outline from ``start`` to ``end`` in
-        outline order) or ``"chord"`` (straight line)
+        outline order), ``"chord"`` (straight line) or ``"across"`` (the
+        straight line's span square to the grain: a girth taken straight
+        across the piece, which a mark moved up or down does not lengthen)
     factor : multiplier, e.g. 2 for a half-front that is cut as a pair
     """
 
@@ -576,8 +590,8 @@ class Leg:
     factor: float = 1.0
 
     def __post_init__(self) -> None:
-        if self.along not in ("boundary", "chord"):
-            raise ValueError(f"leg along must be 'boundary' or 'chord', got {self.along!r}")
+        if self.along not in ("boundary", "chord", "across"):
+            raise ValueError(f"leg along must be 'boundary', 'chord' or 'across', got {self.along!r}")
         object.__setattr__(self, "factor", float(self.factor))
 
 
@@ -589,16 +603,20 @@ class MeasurementLink:
     legs : the pattern distance is ``sum(leg.factor * length(leg))``, possibly
         across pieces sewn together
     ease_cm : target = body measurement + ease_cm (negative for stretch fabric)
+    at_least : the distance must reach the target and may exceed it (a shirt's
+        hem must pass over the hips; wider is a style, not an error)
     """
 
     measurement: str
     legs: tuple[Leg, ...]
     ease_cm: float = 0.0
     id: str = ""
+    at_least: bool = False
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "legs", tuple(self.legs))
         object.__setattr__(self, "ease_cm", float(self.ease_cm))
+        object.__setattr__(self, "at_least", bool(self.at_least))
         if not self.id:
             object.__setattr__(self, "id", self.measurement)
 

@@ -10,7 +10,7 @@ from grade_fixtures import BODY, skirt_pattern
 
 from patternbridge.errors import InputError
 from patternbridge.grade.grid import build_grid
-from patternbridge.grade.objectives import evaluate, objective_data, residuals
+from patternbridge.grade.objectives import evaluate, level_slip, link_error, objective_data, residuals
 from patternbridge.pattern.model import EdgeRange, Seam
 
 
@@ -112,3 +112,48 @@ def test_unknown_piece_in_seam():
     grid = build_grid(dataclasses.replace(pattern, seams=(*pattern.seams, bad)))
     with pytest.raises(InputError, match="unknown piece 'sleeve'"):
         objective_data(grid, BODY)
+
+
+def test_an_at_least_link_counts_only_when_it_falls_short():
+    """The skirt's sample hips are 96 cm: a 108 cm target is 12 short, an 80 cm one is met."""
+    hips = dataclasses.replace(skirt_pattern().measurements[1], at_least=True)
+    pattern = dataclasses.replace(skirt_pattern(), measurements=(hips,))
+    grid = build_grid(pattern)
+    points = grid.outlines(grid.x0[None, :])
+    short = objective_data(grid, {"hip_girth": 104.0})
+    met = objective_data(grid, {"hip_girth": 76.0})
+    assert evaluate(short, points).measurement_error[0] == pytest.approx(12.0)
+    assert evaluate(met, points).measurement_error[0] == pytest.approx(0.0, abs=1e-12)
+    np.testing.assert_allclose(link_error(met, np.array([[70.0], [80.0], [96.0]])), [[-10.0], [0.0], [0.0]])
+    assert np.all(residuals(met, points)[:, 0] == 0.0)
+    two_sided = objective_data(build_grid(skirt_pattern()), {**BODY, "hip_girth": 76.0})
+    assert evaluate(two_sided, points).measurement_error[0] > 0.0
+
+
+def test_a_girth_across_the_grain_ignores_a_slid_mark_but_counts_the_slide():
+    """Sliding the front side hip mark 3 cm down: a chord grows, an across leg keeps 96 cm, 3 cm off level."""
+    def with_hips(along):
+        pattern = skirt_pattern()
+        hips = pattern.measurements[1]
+        legs = tuple(dataclasses.replace(g, along=along) for g in hips.legs)
+        links = (pattern.measurements[0], dataclasses.replace(hips, legs=legs), pattern.measurements[2])
+        grid = build_grid(dataclasses.replace(pattern, measurements=links))
+        return grid, objective_data(grid, BODY)
+
+    for along in ("chord", "across"):
+        grid, data = with_hips(along)
+        points = grid.outlines(grid.x0[None, :]).copy()
+        before = evaluate(data, points)
+        front = int(np.flatnonzero(data.piece_of_point[data.chord_b] == 0)[0])
+        points[0, data.chord_b[front], 1] -= 3.0
+        after = evaluate(data, points)
+        slip = level_slip(data, points)[0]
+        if along == "chord":
+            assert after.achieved_cm[0, 1] == pytest.approx(96.0 + np.hypot(48.0, 3.0) - 48.0)
+            np.testing.assert_allclose(slip, 0.0)
+        else:
+            np.testing.assert_allclose(before.achieved_cm, [[72.0, 96.0, before.achieved_cm[0, 2]]])
+            assert after.achieved_cm[0, 1] == pytest.approx(96.0)
+            np.testing.assert_allclose(np.abs(slip), [3.0, 0.0])
+            # the hips were 12 cm short; now also 3 cm off their level, over 3 links
+            assert after.measurement_error[0] == pytest.approx(before.measurement_error[0] + 1.0)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 
 import numpy as np
@@ -86,3 +87,22 @@ def test_fit_with_missing_measurement_lists_it():
     del body["hip_girth"]
     with pytest.raises(InputError, match="hip_girth"):
         fit_pattern(skirt_pattern(), body, **SMALL)
+
+
+def test_an_at_least_hip_link_lets_the_hips_stay_wider_than_the_target():
+    """Waist 84 + 2 grows the skirt 19 %, which takes its 96 cm hips to 114; the body's are 90 + 4.
+
+    Two-sided, the grader narrows the hips to 94 cm and bends the side seams; at least, it keeps the shape.
+    """
+    body = {**BODY, "hip_girth": 90.0}
+    two = fit_pattern(skirt_pattern(), body, seed=3, **SMALL)
+    links = list(skirt_pattern().measurements)
+    links[1] = dataclasses.replace(links[1], at_least=True)
+    least = fit_pattern(dataclasses.replace(skirt_pattern(), measurements=tuple(links)), body, seed=3, **SMALL)
+    s = least.chosen.scores
+    assert two.chosen.scores.achieved_cm[1] == pytest.approx(94.0, abs=1.5)
+    assert s.achieved_cm[1] > 94.0 + 8.0 and s.error_cm[1] == 0.0
+    assert s.shape_error < two.chosen.scores.shape_error
+    row = fit_report(least, character="hero")["measurements"][1]
+    assert row["at_least"] and row["error_cm"] == 0.0 and row["delta_cm"] > 8.0
+    assert "at_least" not in fit_report(two, character="hero")["measurements"][1]

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import copy
+import dataclasses
 import json
 from pathlib import Path
 
@@ -12,7 +13,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from patternbridge.pattern.json import pattern_from_dict, pattern_to_dict
+from patternbridge.pattern.json import measurement_link_to_dict, pattern_from_dict, pattern_to_dict
 from patternbridge.pattern.model import (
     GradeRuleTable,
     Notch,
@@ -43,6 +44,10 @@ def test_example_with_bridge_data_is_valid(validator):
     doc = json.loads(json.dumps(pattern_to_dict(example_pattern())))
     assert doc["seams"] and doc["measurements"] and doc["pieces"][0]["placement"]
     assert _errors(validator, doc) == []
+    doc["measurements"][0]["at_least"] = True
+    assert _errors(validator, doc) == []
+    doc["measurements"][0]["at_least"] = "yes"
+    assert any("is not of type 'boolean'" in e for e in _errors(validator, doc))
 
 
 def test_schema_names_every_field_the_writer_emits(validator):
@@ -57,7 +62,8 @@ def test_schema_names_every_field_the_writer_emits(validator):
         "source_angle_deg"
     }
     assert set(doc["seams"][0]) == set(schema["$defs"]["seam"]["properties"])
-    assert set(doc["measurements"][0]) == set(
+    one_sided = dataclasses.replace(example_pattern().measurements[0], at_least=True)
+    assert set(doc["measurements"][0]) | set(measurement_link_to_dict(one_sided)) == set(
         schema["$defs"]["measurement"]["properties"]
     )
     assert set(doc["provenance"]) == set(

@@ -242,3 +242,26 @@ def test_sew_line_grading_agrees_with_the_pattern_grader(garment):
         sized = grade(garment, size)
         for piece in sized.pieces:
             np.testing.assert_allclose(piece.sew_lines[0].points, lines[piece.name][k], atol=1e-9)
+
+
+def test_a_girth_across_the_grain_is_the_span_square_to_the_grain_line():
+    """The shirt front's hem leg is its x span (grain along y), and stays so with the piece turned 30°."""
+    from patternbridge.library import load_garment
+    from patternbridge.library.seams import leg_lengths
+    from patternbridge.pattern.model import Leg, Line
+
+    shirt = load_garment("shirt")
+    front = shirt.piece("front")
+    leg = Leg(piece="front", start="side_hem", end="cf_hem", along="across")
+    chord = replace(leg, along="chord")
+    k = list(shirt.sizes).index(shirt.sample_size)
+    line = graded_sew_lines(shirt)["front"][k]
+    span = abs(line[front.mark("cf_hem"), 0] - line[front.mark("side_hem"), 0])
+    assert leg_lengths(shirt, (leg,))[k] == pytest.approx(span)
+    assert leg_lengths(shirt, (chord,))[k] > span + 0.5  # the shirt tail: the centre front hem drops 6 cm
+    t = np.radians(30.0)
+    rot = np.array([[np.cos(t), -np.sin(t)], [np.sin(t), np.cos(t)]])
+    turned = replace(front, grain_line=Line(points=front.grain_line.points @ rot.T))
+    assert turned.across_grain == pytest.approx(front.across_grain @ rot.T)
+    lines = {"front": line[None] @ rot.T}
+    assert leg_lengths(replace(shirt, pieces=(turned,)), (leg,), lines)[0] == pytest.approx(span)

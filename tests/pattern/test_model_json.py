@@ -58,6 +58,9 @@ def _pattern(outline, deltas) -> Pattern:
             MeasurementLink(
                 measurement="waist_girth", ease_cm=2, legs=(Leg(piece="front", start="a", end="b", factor=2),)
             ),
+            MeasurementLink(
+                measurement="hip_girth", ease_cm=4, at_least=True, legs=(Leg(piece="front", start="b", end="a"),)
+            ),
         ),
     )
 
