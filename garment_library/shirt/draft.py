@@ -488,14 +488,14 @@ LINKS = [
     link(
         "chest_girth",
         CHEST_EASE,
-        leg("front", "side_underarm", "cf_chest", factor=2),
-        leg("back", "side_underarm_left", "side_underarm_right"),
+        leg("front", "side_underarm", "cf_chest", "across", 2),
+        leg("back", "side_underarm_left", "side_underarm_right", "across"),
     ),
     link(
         "waist_girth",
         None,
-        leg("front", "side_waist", "cf_waist", factor=2),
-        leg("back", "side_waist_left", "side_waist_right"),
+        leg("front", "side_waist", "cf_waist", "across", 2),
+        leg("back", "side_waist_left", "side_waist_right", "across"),
     ),
     link(
         "neck_girth",
@@ -508,6 +508,21 @@ LINKS = [
         None,
         leg("yoke", "shoulder_point_left", "shoulder_point_right"),
     ),
+    # the hem lies below the seat: at least as wide as the hips with the
+    # sample's ease, or the tail grips them and curls under the buttocks; a
+    # wider hem (a V-shaped body's) keeps the side seam straight
+    link(
+        "hip_girth",
+        None,
+        leg("front", "side_hem", "cf_hem", "across", 2),
+        leg("back", "side_hem_left", "side_hem_right", "across"),
+        at_least=True,
+    ),
+    # the side seam's lengths above and below the waist follow the body's,
+    # so a chest much wider than the waist neither lifts the underarm toward
+    # the neck nor stretches the tail to the knees
+    link("side_length", None, leg("front", "side_underarm", "side_waist", "boundary")),
+    link("waist_to_hip", None, leg("front", "side_waist", "side_hem", "boundary")),
     link("back_width", None, leg("back", "ab_notch_left", "ab_notch")),
     link("shoulder_length_right", 1.0, leg("front", "neck_side", "shoulder_point")),
     link("front_length", None, leg("front", "cf_neck", "cf_waist")),

@@ -92,6 +92,8 @@ MEN = SizeChart(
         "back_length": _steps(45.0, 0.4),
         "front_length": _steps(37.5, 0.4),
         "scye_depth": _steps(22.6, 0.4),
+        # the armhole line to the waist down the side: back length − scye depth
+        "side_length": _steps(22.4, 0.0),
         "arm_length_right": _steps(64.0, 0.6),
         "upper_arm_girth_right": _steps(31.8, 1.2),
         "wrist_girth_right": _steps(17.4, 0.4),

@@ -222,6 +222,18 @@ DEFINITIONS: dict[str, Definition] = {
             text="surface path at the side from the waist point to the hip point (mean of both sides)",
         ),
         Definition(
+            id="side_length",
+            kind="length",
+            method="geodesic",
+            landmarks=(
+                "armpit_point_left",
+                "waist_side_left",
+                "armpit_point_right",
+                "waist_side_right",
+            ),
+            text="surface path down the side from the armpit point to the waist point (mean of both sides)",
+        ),
+        Definition(
             id="crotch_length",
             kind="length",
             method="geodesic",

@@ -40,6 +40,10 @@ PATHS: dict[str, tuple[tuple[str, ...], ...]] = {
         ("waist_side_left", "hip_side_left"),
         ("waist_side_right", "hip_side_right"),
     ),
+    "side_length": (
+        ("armpit_point_left", "waist_side_left"),
+        ("armpit_point_right", "waist_side_right"),
+    ),
     "crotch_length": (("waist_front", "crotch_point", "waist_back"),),
     **{
         f"{base}_{s}": (tuple(n.format(s=s) for n in chain),)

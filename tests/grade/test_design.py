@@ -22,6 +22,7 @@ SUPERHERO = {
     "chest_girth": 141.027, "waist_girth": 77.77, "neck_girth": 60.715, "shoulder_width": 66.043,
     "back_width": 56.577, "shoulder_length_right": 21.324, "front_length": 41.401,
     "arm_length_right": 64.651, "upper_arm_girth_right": 46.083, "wrist_girth_right": 18.028,
+    "hip_girth": 96.295, "waist_to_hip": 16.745, "side_length": 28.381,
 }
 
 

@@ -42,6 +42,7 @@ MEASUREMENT_IDS = {
     "outside_leg_right",
     "inside_leg_right",
     "waist_to_hip",
+    "side_length",
     "back_width",
 }
 

@@ -87,6 +87,12 @@ def test_values_follow_the_shapes(results):
         assert r["ankle_girth_left"] < r["calf_girth_left"] < r["thigh_girth_left"]
         assert r["inside_leg_left"] < r["outside_leg_left"] < r["stature"]
         assert r["arm_length_left"] < r["neck_to_wrist_left"]
+    # the side length runs from the armpit down to the waist: never shorter
+    # than the straight line, and the child's is a third shorter than E's
+    assert v["D"]["side_length"] < 0.75 * v["E"]["side_length"] < v["A"]["side_length"]
+    for key, res in results.items():
+        side = res["side_length"]
+        assert side.details["straight_cm"] <= side.value_cm <= 1.1 * side.details["straight_cm"], key
 
 
 def test_neck_girth_is_the_collar_girth(results):
