@@ -105,7 +105,8 @@ def run(args: argparse.Namespace) -> int:
             )
         print("measurements:")
         for m in pattern.measurements:
-            print(f"  {m.id:<22} ease {m.ease_cm:+g} cm  ({len(m.legs)} legs)")
+            least = ", at least" if m.at_least else ""
+            print(f"  {m.id:<22} ease {m.ease_cm:+g} cm{least}  ({len(m.legs)} legs)")
         return 0
     # export: the DXF (+ .RUL) as 'patternbridge export' writes it, and the sidecar
     from pathlib import Path

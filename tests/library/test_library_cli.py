@@ -38,6 +38,8 @@ def test_library_list_and_show_text(capsys):
     assert main(["library", "show", "shirt"]) == 0
     out = capsys.readouterr().out
     assert "armhole_front_right" in out and "chest_girth" in out
+    # the one-sided hem link says so; two-sided links do not
+    assert "hip_girth              ease +6 cm, at least" in out and "chest_girth            ease +12 cm  (" in out
 
 
 def test_library_show_picture(tmp_path):
