@@ -14,7 +14,7 @@ import logging
 import os
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -568,9 +568,26 @@ def assemble(
         A piece has no placement hint, the pattern has no seams, a seam names
         unknown marks, or the body lacks a part a piece goes on.
     """
-    sim = prepare(character, pattern, seed=seed, max_edge_cm=max_edge_cm, progress=progress)
+    posing = character
+    if (character.skeleton is None or character.skin is None) and not _on_legs(pattern):
+        from .landmark_rig import landmark_rig
+
+        posing = landmark_rig(character) or character
+    sim = prepare(posing, pattern, seed=seed, max_edge_cm=max_edge_cm, progress=progress)
+    if posing is not character:
+        sim.findings.add(
+            "landmark-rig",
+            "the character has no rig: posed for dressing by an arm rig built from its shoulder, armpit, "
+            "elbow and wrist landmarks; the garment carries no skin weights",
+            where=character.name,
+        )
+        log.warning("%s", list(sim.findings)[-1])
     simulate(sim, steps=steps, progress=progress)
-    return finish(sim)
+    garment = finish(sim)
+    if posing is not character:  # the rig was for posing only: nothing to bind the garment to
+        n = len(garment.vertices)
+        garment = replace(garment, joints=np.zeros((n, 0), np.int64), weights=np.zeros((n, 0)), skeleton=None)
+    return garment
 
 
 def dress(
