@@ -19,6 +19,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..errors import LandmarkError
 from ..mesh.character import Character, Skeleton, Skin
 
 __all__ = ["ARM_LANDMARKS", "landmark_rig"]
@@ -52,7 +53,7 @@ def landmark_rig(character: Character) -> Character | None:
     v = np.asarray(character.vertices, dtype=np.float64)
     try:
         parts = segment_body(character, vertices=v)
-    except Exception:  # landmarks the cut planes need are missing: no rig
+    except LandmarkError:  # landmarks the cut planes need are missing: no rig
         return None
     p = character.landmark_position
     bone_names = ["root"]
