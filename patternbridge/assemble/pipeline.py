@@ -581,7 +581,7 @@ def assemble(
             "elbow and wrist landmarks; the garment carries no skin weights",
             where=character.name,
         )
-        log.warning("%s", list(sim.findings)[-1])
+        log.warning("%s", sim.findings.findings[-1])
     simulate(sim, steps=steps, progress=progress)
     garment = finish(sim)
     if posing is not character:  # the rig was for posing only: nothing to bind the garment to

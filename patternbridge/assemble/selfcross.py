@@ -203,6 +203,8 @@ def keep_uncrossed(
             break
         back = np.unique(f[new])
         back = back[~sewn[back]]
+        if not back.size:  # only sewn corners: nothing to send back
+            break
         x[back] = x0[back]
         crossed = self_crossing(x, f, group, same)
     return x, crossed

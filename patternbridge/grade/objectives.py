@@ -54,6 +54,7 @@ from .grid import PatternGrid, pattern_darts
 __all__ = [
     "Evaluation",
     "ObjectiveData",
+    "across_legs",
     "angle_change",
     "chord_lengths",
     "curve_kink",
@@ -94,7 +95,6 @@ class ObjectiveData:
     chord_a: np.ndarray  # (C,)
     chord_b: np.ndarray  # (C,)
     chord_across: np.ndarray  # (C, 2) unit vector square to the grain for an "across" leg, else 0
-    chord_grain: np.ndarray  # (C, 2) the grain's unit vector for an "across" leg, else 0
     chord_level0: np.ndarray  # (C,) original rise of each chord along the grain, cm
     link_chords: np.ndarray  # (C, L)
     # seams
@@ -277,8 +277,7 @@ def objective_data(
     chord_a = np.array([c[0] for c in chords], dtype=np.int64)
     chord_b = np.array([c[1] for c in chords], dtype=np.int64)
     chord_across = np.array(chord_dirs, dtype=np.float64).reshape(len(chords), 2)
-    chord_grain = np.stack([-chord_across[:, 1], chord_across[:, 0]], axis=1)
-    chord_level0 = np.einsum("cj,cj->c", points0[chord_b] - points0[chord_a], chord_grain)
+    chord_level0 = _rise(points0[None], chord_a, chord_b, chord_across)[0]
     link_chords = np.zeros((len(chords), L))
     for r, c in enumerate(chords):
         link_chords[r, c[2]] += c[3]
@@ -393,7 +392,7 @@ def objective_data(
         link_measurements=tuple(lk.measurement for lk in pattern.measurements),
         target_cm=target, link_edges=link_edges,
         at_least=np.array([lk.at_least for lk in pattern.measurements], dtype=bool), chord_a=chord_a, chord_b=chord_b,
-        chord_across=chord_across, chord_grain=chord_grain, chord_level0=chord_level0,
+        chord_across=chord_across, chord_level0=chord_level0,
         link_chords=link_chords,
         seam_ids=tuple(s.id for s in pattern.seams), seam_labels=tuple(labels),
         seam_ease_cm=np.array([s.ease_cm for s in pattern.seams], dtype=np.float64),
@@ -457,12 +456,22 @@ def measurement_error(data: ObjectiveData, points: np.ndarray) -> tuple[np.ndarr
     """
     edges = _edge_lengths(data, points)
     achieved = edges @ data.link_edges
-    error = np.abs(link_error(data, achieved))
+    slip = 0.0
     if len(data.chord_a):
-        chord = chord_lengths(data, points)
-        achieved = achieved + chord @ data.link_chords
-        error = np.abs(link_error(data, achieved)) + np.abs(level_slip(data, points)) @ np.abs(data.link_chords)
-    return achieved, np.mean(error, axis=1)
+        achieved = achieved + chord_lengths(data, points) @ data.link_chords
+        slip = np.abs(level_slip(data, points)) @ np.abs(data.link_chords)
+    return achieved, np.mean(np.abs(link_error(data, achieved)) + slip, axis=1)
+
+
+def across_legs(data: ObjectiveData) -> np.ndarray:
+    """(C,) bool: the chord legs taken across the grain."""
+    return np.any(data.chord_across != 0.0, axis=1)
+
+
+def _rise(points: np.ndarray, a: np.ndarray, b: np.ndarray, across: np.ndarray) -> np.ndarray:
+    """(n_pop, C) rise of each chord ``a → b`` along the grain (``across`` turned a quarter back), cm."""
+    grain = np.stack([-across[:, 1], across[:, 0]], axis=1)
+    return np.einsum("pcj,cj->pc", points[:, b, :] - points[:, a, :], grain)
 
 
 def level_slip(data: ObjectiveData, points: np.ndarray) -> np.ndarray:
@@ -470,16 +479,15 @@ def level_slip(data: ObjectiveData, points: np.ndarray) -> np.ndarray:
 
     0 for plain chords: only legs taken across the grain keep their level.
     """
-    v = points[:, data.chord_b, :] - points[:, data.chord_a, :]
-    rise = np.einsum("pcj,cj->pc", v, data.chord_grain)
-    return np.where(np.any(data.chord_grain != 0.0, axis=1), rise - data.chord_level0, 0.0)
+    rise = _rise(points, data.chord_a, data.chord_b, data.chord_across)
+    return np.where(across_legs(data), rise - data.chord_level0, 0.0)
 
 
 def chord_lengths(data: ObjectiveData, points: np.ndarray) -> np.ndarray:
     """Length of every chord leg, ``(n_pop, C)`` cm: straight, or its span across the grain."""
     v = points[:, data.chord_b, :] - points[:, data.chord_a, :]
     across = np.abs(np.einsum("pcj,cj->pc", v, data.chord_across))
-    return np.where(np.any(data.chord_across != 0.0, axis=1), across, np.linalg.norm(v, axis=-1))
+    return np.where(across_legs(data), across, np.linalg.norm(v, axis=-1))
 
 
 def link_error(data: ObjectiveData, achieved: np.ndarray) -> np.ndarray:
@@ -718,7 +726,7 @@ def residuals(
     points = np.asarray(points, dtype=np.float64)
     achieved, _ = measurement_error(data, points)
     parts = [w_measure * _slack(link_error(data, achieved), measure_slack_cm)]
-    level = np.any(data.chord_grain != 0.0, axis=1)
+    level = across_legs(data)
     if level.any():
         parts.append(w_measure * level_slip(data, points)[:, level])
     if data.n_seams and (w_seam or w_interval or w_notch or w_turn):  # all zero: no seam columns

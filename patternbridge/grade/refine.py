@@ -45,6 +45,7 @@ from .objectives import (
     ObjectiveData,
     _edge_lengths,
     _seam_terms,
+    across_legs,
     angle_change,
     dart_lengths,
     level_slip,
@@ -429,7 +430,7 @@ def refine(
     wc0 = w_shape * np.sqrt(1.0 / (n_pieces * np.maximum(per_piece[crit_piece], 1.0)))
     wa0 = w_all * np.sqrt(1.0 / max(len(data.points0), 1))
     wm0 = np.sqrt(w_fit / max(len(data.target_cm), 1))
-    level = np.any(data.chord_grain != 0.0, axis=1)
+    level = across_legs(data)
     ext = float(np.mean(data.extent_cm))
     x_ref = np.asarray(x if x_design is None else x_design, dtype=np.float64)
     dart_ref = dart_lengths(data, grid.outlines(x_ref[None, :]))[0] if keep_darts else None

@@ -80,11 +80,9 @@ def range_indices(piece: Piece, start: str, end: str) -> np.ndarray:
 
 
 def _leg_length(lines: np.ndarray, piece: Piece, g: Leg) -> np.ndarray:
-    if g.along in ("chord", "across"):
+    if g.along != "boundary":
         d = lines[:, piece.mark(g.end)] - lines[:, piece.mark(g.start)]
-        if g.along == "across":
-            return np.abs(d @ piece.across_grain)
-        return np.linalg.norm(d, axis=-1)
+        return np.abs(d @ piece.across_grain) if g.along == "across" else np.linalg.norm(d, axis=-1)
     idx = range_indices(piece, g.start, g.end)
     seg = np.diff(lines[:, idx], axis=1)
     return np.linalg.norm(seg, axis=-1).sum(axis=-1)
