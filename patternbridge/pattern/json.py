@@ -248,11 +248,14 @@ def measurement_link_to_dict(link: MeasurementLink) -> dict[str, Any]:
 
 def measurement_link_from_dict(d: dict[str, Any]) -> MeasurementLink:
     """Inverse of :func:`measurement_link_to_dict`."""
+    at_least = d.get("at_least", False)
+    if not isinstance(at_least, bool):  # "yes" would read as true
+        raise ValueError(f"measurement link at_least must be true or false, got {at_least!r}")
     return MeasurementLink(
         id=d.get("id", ""),
         measurement=d["measurement"],
         ease_cm=d.get("ease_cm", 0.0),
-        at_least=d.get("at_least", False),
+        at_least=at_least,
         legs=tuple(Leg(**g) for g in d["legs"]),
     )
 

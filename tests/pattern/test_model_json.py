@@ -115,3 +115,9 @@ def test_json_file_round_trip_and_bad_files(tmp_path):
     other.write_text('{"format": "something"}')
     with pytest.raises(InputError, match="not a valid PatternBridge pattern"):
         load_pattern_json(other)
+    yes = tmp_path / "yes.json"
+    doc = json.loads(path.read_text())
+    doc["measurements"][1]["at_least"] = "yes"
+    yes.write_text(json.dumps(doc))
+    with pytest.raises(InputError, match="at_least must be true or false, got 'yes'"):
+        load_pattern_json(yes)
