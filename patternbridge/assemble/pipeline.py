@@ -618,7 +618,8 @@ def dress(
     InputError
         See :func:`assemble`.
     """
-    from .export_gltf import write_glb, write_obj
+    from .export_gltf import write_glb
+    from .export_obj import write_obj
     from .pictures import write_pictures
 
     t0 = time.perf_counter()
