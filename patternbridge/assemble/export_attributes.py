@@ -74,19 +74,23 @@ def texcoords_top_left(uv_cm: np.ndarray) -> np.ndarray:
     return np.stack([st[:, 0], 1.0 - st[:, 1]], axis=1)
 
 
-def skin_slots(joints: np.ndarray, weights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Skin weights as ``SKIN_SLOTS`` joint/weight pairs a vertex, unused slots on joint 0.
+def skin_slots(
+    joints: np.ndarray, weights: np.ndarray, *, n_slots: int = SKIN_SLOTS
+) -> tuple[np.ndarray, np.ndarray]:
+    """Skin weights as ``n_slots`` joint/weight pairs a vertex, unused slots on joint 0.
 
     Parameters
     ----------
-    joints : (n, k) int64, -1 for an unused slot (k ≤ ``SKIN_SLOTS``, or more:
-        the heaviest ``SKIN_SLOTS`` are kept)
+    joints : (n, k) int64, -1 for an unused slot (k > ``n_slots``: the heaviest
+        ``n_slots`` are kept)
     weights : (n, k) float64, rows summing to 1
+    n_slots : slots written per vertex
 
     Returns
     -------
-    joints : (n, 4) int64 ≥ 0, 0 wherever the weight is 0
-    weights : (n, 4) float64, rows summing to 1
+    joints : (n, n_slots) int64 ≥ 0, 0 wherever the weight is 0
+    weights : (n, n_slots) float64, rows summing to 1 (a row without weight
+        goes wholly to joint 0)
 
     Examples
     --------
@@ -97,13 +101,13 @@ def skin_slots(joints: np.ndarray, weights: np.ndarray) -> tuple[np.ndarray, np.
     j = np.asarray(joints, dtype=np.int64)
     w = np.where(j >= 0, np.asarray(weights, dtype=np.float64), 0.0)
     j = np.maximum(j, 0)
-    if j.shape[1] > SKIN_SLOTS:
-        top = np.argsort(-w, axis=1, kind="stable")[:, :SKIN_SLOTS]
+    if j.shape[1] > n_slots:
+        top = np.argsort(-w, axis=1, kind="stable")[:, :n_slots]
         j = np.take_along_axis(j, top, axis=1)
         w = np.take_along_axis(w, top, axis=1)
-    pad = SKIN_SLOTS - j.shape[1]
+    pad = n_slots - j.shape[1]
     j = np.pad(j, ((0, 0), (0, pad)), constant_values=0)
     w = np.pad(w, ((0, 0), (0, pad)), constant_values=0.0)
     total = w.sum(axis=1, keepdims=True)
-    w = np.where(total > 0, w / np.where(total > 0, total, 1.0), np.eye(1, SKIN_SLOTS))
+    w = np.where(total > 0, w / np.where(total > 0, total, 1.0), np.eye(1, n_slots))
     return np.where(w > 0, j, 0), w
