@@ -96,6 +96,11 @@ def _glb_texcoords(data: bytes) -> dict[str, tuple[np.ndarray, np.ndarray]]:
     return out
 
 
+def _agrees(near: list[list[int]], here: np.ndarray, there: np.ndarray) -> list[bool]:
+    """Whether some vertex in ``near[i]`` shows (``there``) the colour vertex ``i`` shows ``here``."""
+    return [np.abs(there[k] - c).max(axis=1).min() < 1e-4 for k, c in zip(near, here, strict=True)]
+
+
 @pytest.mark.shared
 def test_obj_and_glb_show_the_texture_the_same_way_up(draped_tshirt, tmp_path):
     write_obj(tmp_path / "garment.obj", draped_tshirt)
@@ -121,12 +126,9 @@ def test_obj_and_glb_show_the_texture_the_same_way_up(draped_tshirt, tmp_path):
         # a vertex of the OBJ and one of the GLB at the same place of the same piece (a piece sewn to
         # itself, as a sleeve, has two at one place): one of them must show the same colour
         near = cKDTree(pos).query_ball_point(mesh.vertices, r=1e-3)
-        def agrees(seen_there: np.ndarray) -> list[bool]:
-            return [np.abs(seen_there[k] - c).max(axis=1).min() < 1e-4 for k, c in zip(near, seen_in_obj, strict=True)]
-
-        same = agrees(seen_in_glb)
+        same = _agrees(near, seen_in_obj, seen_in_glb)
         assert all(same), f"{name}: {len(same) - sum(same)} of {len(same)} vertices show another texel"
-        flipped = agrees(seen_if_unflipped)
+        flipped = _agrees(near, seen_in_obj, seen_if_unflipped)
         assert sum(flipped) < len(flipped) / 2  # the picture tells its way up
         np.testing.assert_allclose(seen_after_import, seen_in_glb, atol=1e-5)
         n_matched += len(mesh.vertices)
