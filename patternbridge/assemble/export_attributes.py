@@ -15,6 +15,11 @@ glTF 2.0      top-left, v down       ``(x / 100, 1 - y / 100)``
 So one texel lands on the same point of the cloth whichever file is opened
 (Blender's glTF importer turns ``t`` back into ``1 - t``).
 
+The coordinates are those of the fabric seen from its face side
+(:func:`fabric_uv`): the mirrored copy of a pair is the outline turned over,
+so its ``x`` is negated and a print reads the right way on both sleeves, not
+backwards on one.
+
 Skin weights are written with four slots a vertex; a slot without weight names
 joint 0, as the glTF specification asks of unused joint indices.
 """
@@ -23,7 +28,14 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["SKIN_SLOTS", "skin_slots", "texcoords_bottom_left", "texcoords_top_left", "vertex_normals"]
+__all__ = [
+    "SKIN_SLOTS",
+    "fabric_uv",
+    "skin_slots",
+    "texcoords_bottom_left",
+    "texcoords_top_left",
+    "vertex_normals",
+]
 
 SKIN_SLOTS = 4
 """Joint influences written per vertex (glTF's ``JOINTS_0``/``WEIGHTS_0``, UsdSkel's element size)."""
@@ -49,6 +61,41 @@ def vertex_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
         np.add.at(vn, f[:, k], fn)
     ln = np.linalg.norm(vn, axis=1, keepdims=True)
     return np.where(ln > 0, vn / np.maximum(ln, 1e-30), np.array([0.0, 1.0, 0.0]))
+
+
+def fabric_uv(uv_cm: np.ndarray, faces: np.ndarray, instance: np.ndarray) -> np.ndarray:
+    """Where each garment vertex lies on the fabric, face side up.
+
+    A cut piece is laid face up, so its triangles (counter-clockwise seen from
+    outside) wind counter-clockwise in fabric coordinates too. A copy whose
+    pattern coordinates wind clockwise is a mirrored copy (the outline turned
+    over); its ``x`` is negated.
+
+    Parameters
+    ----------
+    uv_cm : (N, 2) float64, cm — pattern coordinates of each vertex
+    faces : (F, 3) int64, counter-clockwise seen from outside
+    instance : (N,) int64 — the cut copy each vertex belongs to
+
+    Returns
+    -------
+    (N, 2) float64, cm
+
+    Examples
+    --------
+    >>> uv = np.array([[0.0, 0], [1, 0], [0, 1], [0, 0], [1, 0], [0, 1]])
+    >>> fabric_uv(uv, np.array([[0, 1, 2], [3, 5, 4]]), np.array([0, 0, 0, 1, 1, 1]))[:, 0].tolist()
+    [0.0, 1.0, 0.0, 0.0, -1.0, 0.0]
+    """
+    uv = np.array(uv_cm, dtype=np.float64)
+    f = np.asarray(faces, dtype=np.int64)
+    inst = np.asarray(instance, dtype=np.int64)
+    a, b, c = uv[f[:, 0]], uv[f[:, 1]], uv[f[:, 2]]
+    area = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+    turned = np.bincount(inst[f[:, 0]], weights=area, minlength=inst.max(initial=-1) + 1) < 0
+    flip = turned[inst]
+    uv[flip, 0] = 0.0 - uv[flip, 0]  # 0 - x: no negative zeros in the files
+    return uv
 
 
 def texcoords_bottom_left(uv_cm: np.ndarray) -> np.ndarray:

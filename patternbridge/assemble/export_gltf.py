@@ -8,9 +8,9 @@ The GLB is assembled by hand (numpy + struct + json, no extra dependency):
   the skin;
 - one primitive per cut piece (its own material, named after the piece), with
   ``POSITION``, ``NORMAL`` (of the welded surface, so a seam shades smoothly),
-  ``TEXCOORD_0`` (the pattern coordinates in metres of cloth in glTF's
-  convention, origin top-left: ``s = x / 100``, ``t = 1 - y / 100``, see
-  :mod:`.export_attributes`), ``JOINTS_0``/``WEIGHTS_0`` (four slots a vertex,
+  ``TEXCOORD_0`` (the fabric coordinates in metres of cloth in glTF's
+  convention, origin top-left: ``s = x / 100``, ``t = 1 - y / 100``, mirrored
+  copies turned over, see :mod:`.export_attributes`), ``JOINTS_0``/``WEIGHTS_0`` (four slots a vertex,
   weights summing to 1, slots without weight on joint 0) and ``_PIECE`` (the
   piece index, float);
 - sewn vertices of different pieces sit at exactly the same position.
@@ -29,7 +29,7 @@ import struct
 import numpy as np
 
 from ..atomic import write_bytes
-from .export_attributes import skin_slots, texcoords_top_left, vertex_normals
+from .export_attributes import fabric_uv, skin_slots, texcoords_top_left, vertex_normals
 
 __all__ = ["glb_bytes", "read_glb", "write_glb"]
 
@@ -98,7 +98,7 @@ def _skin(b: _Bin, skel) -> tuple[list[dict], dict]:
     return nodes, skin
 
 
-def _primitive(b: _Bin, garment, i: int, normals: np.ndarray, skinned: bool) -> dict:
+def _primitive(b: _Bin, garment, i: int, normals: np.ndarray, uv: np.ndarray, skinned: bool) -> dict:
     """The attributes and indices of cut piece ``i`` (its vertices only, re-indexed from 0)."""
     vid = np.flatnonzero(garment.instance == i)
     local = np.full(len(garment.vertices), -1, dtype=np.int64)
@@ -111,7 +111,7 @@ def _primitive(b: _Bin, garment, i: int, normals: np.ndarray, skinned: bool) -> 
     attrs = {
         "POSITION": vec(garment.vertices[vid] / 100.0, "VEC3", True),
         "NORMAL": vec(normals[vid], "VEC3"),
-        "TEXCOORD_0": vec(texcoords_top_left(garment.uv[vid]), "VEC2"),
+        "TEXCOORD_0": vec(texcoords_top_left(uv[vid]), "VEC2"),
         "_PIECE": vec(np.full(len(vid), float(i)), "SCALAR"),
     }
     if skinned:
@@ -173,12 +173,13 @@ def glb_bytes(garment, *, colours: np.ndarray | None = None) -> bytes:
         doc["skins"] = [skin]
     wv, wf = garment.welded()
     normals = vertex_normals(wv, wf)[np.unique(garment.weld, return_inverse=True)[1]]
+    uv = fabric_uv(garment.uv, garment.faces, garment.instance)
     primitives, materials = [], []
     for i, name in enumerate(garment.instance_names):
         if not np.any(garment.instance == i):
             continue
         materials.append(_material(name, colours[i % len(colours)] / 255.0))
-        primitives.append({**_primitive(b, garment, i, normals, skinned), "material": len(materials) - 1})
+        primitives.append({**_primitive(b, garment, i, normals, uv, skinned), "material": len(materials) - 1})
     mesh_node = {"name": "garment", "mesh": 0}
     if skinned:
         mesh_node["skin"] = 0

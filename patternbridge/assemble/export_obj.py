@@ -5,9 +5,10 @@
   seams;
 - ``vn``: one unit normal per welded vertex, area-weighted over the welded
   surface (the same normals as the GLB's ``NORMAL``);
-- ``vt``: one per garment vertex, the pattern coordinates in metres of cloth in
+- ``vt``: one per garment vertex, the fabric coordinates in metres of cloth in
   OBJ's convention (origin bottom-left, v up: ``u = x / 100``, ``v = y / 100``,
-  see :mod:`.export_attributes`); a seam is a UV seam;
+  mirrored copies turned over, see :mod:`.export_attributes`); a seam is a UV
+  seam;
 - ``f v/vt/vn`` counter-clockwise seen from outside, a ``g`` + ``usemtl`` per
   cut piece, and the MTL with one diffuse colour per piece.
 """
@@ -19,7 +20,7 @@ import os
 import numpy as np
 
 from ..atomic import write_text
-from .export_attributes import texcoords_bottom_left, vertex_normals
+from .export_attributes import fabric_uv, texcoords_bottom_left, vertex_normals
 
 __all__ = ["obj_text", "write_obj"]
 
@@ -51,7 +52,8 @@ def obj_text(garment, mtl_name: str = "garment.mtl") -> tuple[str, str]:
     ]
     lines += [f"v {x:.5f} {y:.5f} {z:.5f}" for x, y, z in wv]
     lines += [f"vn {x:.6f} {y:.6f} {z:.6f}" for x, y, z in vn]
-    lines += [f"vt {u:.6f} {v:.6f}" for u, v in texcoords_bottom_left(garment.uv)]
+    vt = texcoords_bottom_left(fabric_uv(garment.uv, garment.faces, garment.instance))
+    lines += [f"vt {u:.6f} {v:.6f}" for u, v in vt]
     mtl = ["# patternbridge garment materials"]
     for i, name in enumerate(garment.instance_names):
         pick = garment.instance[garment.faces[:, 0]] == i

@@ -16,7 +16,8 @@ Layout (names made valid USD identifiers, the original kept as ``displayName``):
   centimetres as inside PatternBridge.
 - ``primvars:st`` on the garment: face-varying, indexed (one value per garment
   vertex, so a seam is a UV seam), in USD's convention, origin bottom-left:
-  ``st = uv / 100`` (see :mod:`.export_attributes`), the same as the OBJ.
+  ``st = uv / 100`` of the fabric coordinates (mirrored copies turned over,
+  see :mod:`.export_attributes`), the same as the OBJ.
 - ``normals``: vertex normals of the welded surface; ``subdivisionScheme =
   "none"`` (the meshes are final polygons, not subdivision cages).
 - The same inputs give the same bytes: no time stamps, prims and properties
@@ -31,7 +32,7 @@ import numpy as np
 from pxr import Gf, Sdf, Tf, Usd, UsdGeom, UsdShade, UsdSkel, Vt
 
 from ..atomic import atomic_path
-from .export_attributes import SKIN_SLOTS, skin_slots, texcoords_bottom_left, vertex_normals
+from .export_attributes import SKIN_SLOTS, fabric_uv, skin_slots, texcoords_bottom_left, vertex_normals
 
 __all__ = ["METERS_PER_UNIT", "usd_stage", "write_usd"]
 
@@ -128,7 +129,8 @@ def _garment_mesh(stage: Usd.Stage, root: Sdf.Path, garment, colours) -> UsdGeom
     mesh = _define_mesh(stage, root.AppendChild("Garment"), wv, wf)
     mesh.CreateDoubleSidedAttr(True)
     st = UsdGeom.PrimvarsAPI(mesh).CreatePrimvar("st", Sdf.ValueTypeNames.TexCoord2fArray, UsdGeom.Tokens.faceVarying)
-    st.Set(Vt.Vec2fArray.FromNumpy(texcoords_bottom_left(garment.uv).astype(np.float32)))
+    fabric = fabric_uv(garment.uv, garment.faces, garment.instance)
+    st.Set(Vt.Vec2fArray.FromNumpy(texcoords_bottom_left(fabric).astype(np.float32)))
     st.SetIndices(Vt.IntArray.FromNumpy(np.asarray(garment.faces, dtype=np.int32).ravel()))
     piece_of_face = garment.instance[garment.faces[:, 0]]
     looks = root.AppendChild("Looks")

@@ -135,6 +135,24 @@ def test_obj_and_glb_show_the_texture_the_same_way_up(draped_tshirt, tmp_path):
     assert n_matched == sum(len(p) for p, _ in glb_raw.values()) == len(draped_tshirt.vertices)
 
 
+def _uv_winding(uv: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    a, b, c = uv[faces[:, 0]], uv[faces[:, 1]], uv[faces[:, 2]]
+    return np.sign((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
+
+
+@pytest.mark.shared
+def test_a_print_reads_the_right_way_on_every_piece(draped_tshirt, tmp_path):
+    # faces turn counter-clockwise seen from outside; seen from outside, the picture must too, or it reads
+    # backwards (the mirrored sleeve has the same pattern coordinates as the other one, turned over)
+    assert (_uv_winding(draped_tshirt.uv, draped_tshirt.faces) < 0).any()
+    write_obj(tmp_path / "garment.obj", draped_tshirt)
+    write_glb(tmp_path / "garment.glb", draped_tshirt)
+    for path in ("garment.obj", "garment.glb"):
+        for mesh in trimesh.load(tmp_path / path, process=False).geometry.values():
+            winding = _uv_winding(mesh.visual.uv, mesh.faces)  # trimesh's convention: origin bottom-left
+            assert np.all(winding > 0), f"{path} {mesh.visual.material.name}: {np.sum(winding <= 0)} faces"
+
+
 @pytest.mark.shared
 def test_the_top_of_the_texture_is_up_on_the_body(draped_tshirt):
     # front and back hang from the shoulders: higher on the body is higher in the picture
