@@ -3,9 +3,9 @@
 Layout (names made valid USD identifiers, the original kept as ``displayName``)::
 
     /<character>            SkelRoot (Xform when nothing is skinned), the defaultPrim
-        Skeleton            UsdSkel.Skeleton: joints as paths, jointNames as in the rig,
-                            bind and rest transforms at the bone heads (translation only,
-                            as in the GLB)
+        Skeleton            UsdSkel.Skeleton: joints as paths (parents first), jointNames as
+                            in the rig, bind and rest transforms at the bone heads
+                            (translation only, as in the GLB)
         Body                Mesh of the character, bound to the Skeleton with its own weights
         Garment             Mesh of the garment, welded (sewn vertices share one point),
                             bound to the Skeleton with the garment's four weights a vertex;
@@ -54,15 +54,34 @@ def _identifiers(names) -> list[str]:
     return out
 
 
-def _joint_paths(skel) -> list[str]:
-    """UsdSkel joint paths (``root/pelvis_L/...``), parents before children as in the rig."""
+def _parent_first(parents: np.ndarray) -> np.ndarray:
+    """(B,) int64 order of the bones with every parent before its children (UsdSkel's rule), stable otherwise.
+
+    Raises
+    ------
+    ValueError
+        The parents form a cycle.
+    """
+    parents = np.asarray(parents, dtype=np.int64)
+    placed = np.zeros(len(parents), dtype=bool)
+    order: list[int] = []
+    while len(order) < len(parents):
+        ready = ~placed & ((parents < 0) | placed[np.maximum(parents, 0)])
+        if not ready.any():
+            raise ValueError("skeleton: the bone parents form a cycle; cannot write UsdSkel joints")
+        order += [int(j) for j in np.flatnonzero(ready)]
+        placed |= ready
+    return np.array(order, dtype=np.int64)
+
+
+def _joint_paths(skel, order: np.ndarray) -> list[str]:
+    """UsdSkel joint paths (``root/pelvis_L/...``) of the bones in ``order``."""
     idents = _identifiers(skel.names)
-    paths: list[str] = []
-    for j, p in enumerate(skel.parents):
-        if p >= j:
-            raise ValueError(f"skeleton: joint {skel.names[j]!r} comes before its parent; cannot write UsdSkel joints")
-        paths.append(idents[j] if p < 0 else f"{paths[p]}/{idents[j]}")
-    return paths
+    path_of: dict[int, str] = {}
+    for j in order:
+        p = int(skel.parents[j])
+        path_of[int(j)] = idents[j] if p < 0 else f"{path_of[p]}/{idents[j]}"
+    return [path_of[int(j)] for j in order]
 
 
 def _translations(offsets: np.ndarray) -> Vt.Matrix4dArray:
@@ -71,15 +90,16 @@ def _translations(offsets: np.ndarray) -> Vt.Matrix4dArray:
     return Vt.Matrix4dArray.FromNumpy(mats)
 
 
-def _define_skeleton(stage: Usd.Stage, path: Sdf.Path, skel) -> UsdSkel.Skeleton:
+def _define_skeleton(stage: Usd.Stage, path: Sdf.Path, skel, order: np.ndarray) -> UsdSkel.Skeleton:
+    """The Skeleton prim with the bones in ``order`` (parents first)."""
     usd_skel = UsdSkel.Skeleton.Define(stage, path)
     heads = np.asarray(skel.heads, dtype=np.float64)
     parents = np.asarray(skel.parents)
-    usd_skel.CreateJointsAttr(Vt.TokenArray(_joint_paths(skel)))
-    usd_skel.CreateJointNamesAttr(Vt.TokenArray(list(skel.names)))
-    usd_skel.CreateBindTransformsAttr(_translations(heads))
     local = heads - np.where(parents[:, None] >= 0, heads[np.maximum(parents, 0)], 0.0)
-    usd_skel.CreateRestTransformsAttr(_translations(local))
+    usd_skel.CreateJointsAttr(Vt.TokenArray(_joint_paths(skel, order)))
+    usd_skel.CreateJointNamesAttr(Vt.TokenArray([skel.names[j] for j in order]))
+    usd_skel.CreateBindTransformsAttr(_translations(heads[order]))
+    usd_skel.CreateRestTransformsAttr(_translations(local[order]))
     return usd_skel
 
 
@@ -98,10 +118,10 @@ def _define_mesh(stage: Usd.Stage, path: Sdf.Path, vertices: np.ndarray, faces: 
     return mesh
 
 
-def _bind_skin(mesh: UsdGeom.Mesh, usd_skel: UsdSkel.Skeleton, joints: np.ndarray, weights: np.ndarray) -> None:
-    """Bind ``mesh`` to the skeleton with (n, k) joints/weights (``-1`` slots are written as joint 0, weight 0)."""
+def _bind_skin(mesh: UsdGeom.Mesh, usd_skel: UsdSkel.Skeleton, joints: np.ndarray, weights: np.ndarray, slot) -> None:
+    """Bind ``mesh`` to the skeleton with (n, k) rig joints/weights; ``slot[rig joint]`` is its USD joint index."""
     k = max(joints.shape[1], SKIN_SLOTS)
-    j, w = skin_slots(joints, weights, n_slots=k)
+    j, w = skin_slots(np.where(joints >= 0, slot[np.maximum(joints, 0)], -1), weights, n_slots=k)
     binding = UsdSkel.BindingAPI.Apply(mesh.GetPrim())
     binding.CreateSkeletonRel().SetTargets([usd_skel.GetPath()])
     binding.CreateJointIndicesPrimvar(False, k).Set(Vt.IntArray.FromNumpy(j.astype(np.int32).ravel()))
@@ -180,16 +200,20 @@ def usd_stage(garment, character=None, *, colours: np.ndarray | None = None) -> 
     Usd.ModelAPI(root_prim).SetKind("component")
     stage.SetDefaultPrim(root_prim)
     UsdGeom.Scope.Define(stage, root.AppendChild("Looks"))
-    usd_skel = _define_skeleton(stage, root.AppendChild("Skeleton"), skel) if skel is not None else None
+    usd_skel, slot = None, None
+    if skel is not None:
+        order = _parent_first(skel.parents)
+        slot = np.argsort(order)  # rig joint -> USD joint index
+        usd_skel = _define_skeleton(stage, root.AppendChild("Skeleton"), skel, order)
     if character is not None:
         body = _define_mesh(stage, root.AppendChild("Body"), character.vertices, character.faces)
         _bind_material(body.GetPrim(), _material(stage, root.AppendChild("Looks").AppendChild("Body"), _BODY_RGB))
         if body_skinned:
-            _bind_skin(body, usd_skel, character.skin.bone_indices, character.skin.weights)
+            _bind_skin(body, usd_skel, character.skin.bone_indices, character.skin.weights, slot)
     mesh = _garment_mesh(stage, root, garment, colours)
     if garment_skinned:
         first = np.unique(garment.weld, return_index=True)[1]  # sewn vertices carry the same weights
-        _bind_skin(mesh, usd_skel, garment.joints[first], garment.weights[first])
+        _bind_skin(mesh, usd_skel, garment.joints[first], garment.weights[first], slot)
     return stage
 
 

@@ -204,20 +204,45 @@ def test_same_inputs_same_bytes(draped_tshirt, character_e, tmp_path):
     assert not list(tmp_path.glob(".*"))  # no temporary file left behind
 
 
-def test_skeleton_with_a_child_before_its_parent_is_refused(tmp_path):
+def _rigged_garment(names, parents, heads) -> Garment:
     g = _small_garment()
-    skel = Skeleton(names=("arm", "root"), parents=[1, -1], heads=[[0, 1, 0], [0, 0, 0]], tails=[[0, 2, 0], [0, 1, 0]])
-    g = Garment(
+    skel = Skeleton(names=names, parents=parents, heads=heads, tails=np.asarray(heads) + [0.0, 1, 0])
+    return Garment(
         vertices=g.vertices,
         faces=g.faces,
         uv=g.uv,
         instance=g.instance,
         instance_names=g.instance_names,
         weld=g.weld,
-        joints=np.zeros((8, 1), np.int64),
-        weights=np.ones((8, 1)),
+        joints=np.array([[0, -1]] * 4 + [[1, 2]] * 4),
+        weights=np.array([[1.0, 0]] * 4 + [[0.25, 0.75]] * 4),
         skeleton=skel,
     )
-    with pytest.raises(ValueError, match="before its parent"):
+
+
+def test_a_rig_listing_children_before_parents_is_written_parents_first(tmp_path):
+    # bones: hand (child of arm), arm (child of root), root
+    g = _rigged_garment(("hand", "arm", "root"), [1, 2, -1], [[20.0, 10, 0], [10, 10, 0], [0, 0, 0]])
+    write_usd(tmp_path / "g.usda", g)
+    stage = Usd.Stage.Open(str(tmp_path / "g.usda"))
+    assert _errors(stage) == []
+    skel = UsdSkel.Skeleton(stage.GetDefaultPrim().GetChild("Skeleton"))
+    assert list(skel.GetJointsAttr().Get()) == ["root", "root/arm", "root/arm/hand"]
+    assert UsdSkel.Topology(skel.GetJointsAttr().Get()).Validate()[0]
+    names = np.array(skel.GetJointNamesAttr().Get())
+    bind = np.array(skel.GetBindTransformsAttr().Get())
+    np.testing.assert_allclose(bind[list(names).index("hand"), 3, :3], [20.0, 10, 0])
+    binding = UsdSkel.BindingAPI(stage.GetDefaultPrim().GetChild("Garment"))
+    joints = np.array(binding.GetJointIndicesPrimvar().Get()).reshape(-1, 4)
+    weights = np.array(binding.GetJointWeightsPrimvar().Get()).reshape(-1, 4)
+    # welded points 0..3 are the front's (all on "hand"), 4 and 5 the back's free corners (arm 1/4, root 3/4)
+    assert [names[j[w > 0]].tolist() for j, w in zip(joints, weights, strict=True)] == [["hand"]] * 4 + [
+        ["arm", "root"]
+    ] * 2
+
+
+def test_a_rig_with_a_cycle_is_refused_and_nothing_is_written(tmp_path):
+    g = _rigged_garment(("a", "b"), [1, 0], [[0.0, 0, 0], [0, 1, 0]])
+    with pytest.raises(ValueError, match="cycle"):
         write_usd(tmp_path / "x.usda", g)
     assert not list(tmp_path.iterdir())
