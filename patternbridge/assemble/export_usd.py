@@ -10,7 +10,8 @@ Layout (names made valid USD identifiers, the original kept as ``displayName``):
         Garment             Mesh of the garment, welded (sewn vertices share one point),
                             bound to the Skeleton with the garment's four weights a vertex;
             <piece>         GeomSubset per cut piece, family ``materialBind`` (a partition)
-        Looks/<piece>       UsdPreviewSurface material per piece (the pictures' colours)
+        Looks/Body          UsdPreviewSurface material of the body
+        Looks/Garment/<piece>  one per piece (the pictures' colours)
 
 - Stage metadata: ``upAxis = "Y"``, ``metersPerUnit = 0.01``: points stay in
   centimetres as inside PatternBridge.
@@ -153,7 +154,7 @@ def _garment_mesh(stage: Usd.Stage, root: Sdf.Path, garment, colours) -> UsdGeom
     st.Set(Vt.Vec2fArray.FromNumpy(texcoords_bottom_left(fabric).astype(np.float32)))
     st.SetIndices(Vt.IntArray.FromNumpy(np.asarray(garment.faces, dtype=np.int32).ravel()))
     piece_of_face = garment.instance[garment.faces[:, 0]]
-    looks = root.AppendChild("Looks")
+    looks = UsdGeom.Scope.Define(stage, root.AppendChild("Looks").AppendChild("Garment")).GetPath()
     for i, (name, ident) in enumerate(zip(garment.instance_names, _identifiers(garment.instance_names), strict=True)):
         faces = np.flatnonzero(piece_of_face == i)
         if len(faces) == 0:
