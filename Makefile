@@ -41,13 +41,22 @@ $(VENV)/.installed-bench: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install -q -e ".[test,bench]"
 	@touch $@ $(VENV)/.installed $(VENV)/.installed-test
 
+# The Khronos glTF validator the export tests run (they skip it when node is absent).
+GLTF_VALIDATOR := tests/tools/node_modules/.installed
+$(GLTF_VALIDATOR): tests/tools/package.json tests/tools/package-lock.json
+	@if command -v npm >/dev/null; then \
+	  npm ci --prefix tests/tools --no-audit --no-fund --silent && touch $@; \
+	else \
+	  echo "npm not found: the glTF validator test will be skipped"; \
+	fi
+
 demo: system-deps $(VENV)/.installed
 	$(BIN)/patternbridge fit $(DEMO_CHARACTER) --garment $(DEMO_GARMENT) --seed 1 -o $(DEMO_OUT)
 	@echo
 	@echo "Demo outputs are in $(DEMO_OUT)/:"
 	@ls -1 $(DEMO_OUT) | sed 's/^/  /'
 
-test: system-deps $(VENV)/.installed-test
+test: system-deps $(VENV)/.installed-test $(GLTF_VALIDATOR)
 	$(BIN)/ruff check patternbridge tests benchmarks garment_library
 	$(BIN)/python -m pytest -q -p no:cacheprovider
 

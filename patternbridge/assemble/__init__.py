@@ -7,12 +7,13 @@ placement hints (:mod:`.placement`); a cloth solver sews and drapes them
 against the body (:mod:`.drape`, :mod:`.collision`). A rigged character is
 dressed for tops with its arms raised and straight (:mod:`.pose`) and the cloth is carried back to
 the rest pose by the skin weights of the nearest body points
-(:mod:`.weights`), which it also keeps for rigging (:mod:`.export_gltf`).
+(:mod:`.weights`), which it also keeps for rigging (:mod:`.export_gltf`,
+:mod:`.export_usd`).
 :mod:`.pipeline` chains the stages.
 
 Public entry points: :func:`assemble` returns a :class:`Garment`;
-:func:`dress` also writes ``garment.glb``, ``garment.obj``/``.mtl`` and the
-``fit_*.png`` pictures and returns the ``drape`` report.
+:func:`dress` also writes ``garment.glb``, ``garment.obj``/``.mtl``,
+``garment.usda`` and the ``fit_*.png`` pictures and returns the ``drape`` report.
 """
 
 from __future__ import annotations

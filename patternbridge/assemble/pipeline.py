@@ -602,7 +602,8 @@ def dress(
     """Dress ``character`` in ``pattern`` and write the results to ``out_dir``.
 
     Writes (each atomically) ``garment.glb`` (skinned glTF 2.0, one primitive
-    per cut piece, UVs from the pattern), ``garment.obj`` + ``garment.mtl``
+    per cut piece, UVs from the pattern), ``garment.obj`` + ``garment.mtl``,
+    ``garment.usda`` (the body and the garment, skinned with UsdSkel)
     and ``fit_front.png``, ``fit_back.png``, ``fit_side.png``.
 
     Returns
@@ -618,7 +619,9 @@ def dress(
     InputError
         See :func:`assemble`.
     """
-    from .export_gltf import write_glb, write_obj
+    from .export_gltf import write_glb
+    from .export_obj import write_obj
+    from .export_usd import write_usd
     from .pictures import write_pictures
 
     t0 = time.perf_counter()
@@ -627,8 +630,9 @@ def dress(
     out.mkdir(parents=True, exist_ok=True)
     write_glb(out / "garment.glb", garment, character)
     write_obj(out / "garment.obj", garment)
+    write_usd(out / "garment.usda", garment, character)
     pics = write_pictures(out, garment, character)
     report = dict(garment.report)
     report["seconds"] = round(time.perf_counter() - t0, 2)
-    report["files"] = [str(out / n) for n in ("garment.glb", "garment.obj", "garment.mtl", *pics)]
+    report["files"] = [str(out / n) for n in ("garment.glb", "garment.obj", "garment.mtl", "garment.usda", *pics)]
     return report

@@ -208,3 +208,28 @@ def character_e(characters_dir):
 def tshirt_factory():
     """The T-shirt builder (``placement=False`` drops the placement hints)."""
     return make_tshirt
+
+
+@pytest.fixture(scope="session")
+def draped_tshirt(character_e):
+    """The T-shirt draped on E and skinned to E's rig, read from ``data/tshirt_e_draped.npz``.
+
+    Captured from ``assemble(character_e, make_tshirt(), seed=1, max_edge_cm=5.0, steps=20)``
+    (645 vertices, 4 cut pieces), so the exporters are tested on a real drape without draping.
+    """
+    from pathlib import Path
+
+    from patternbridge.assemble import Garment
+
+    d = np.load(Path(__file__).parent / "data" / "tshirt_e_draped.npz")
+    return Garment(
+        vertices=d["vertices"],
+        faces=d["faces"],
+        uv=d["uv"],
+        instance=d["instance"],
+        instance_names=tuple(str(n) for n in d["instance_names"]),
+        weld=d["weld"],
+        joints=d["joints"],
+        weights=d["weights"],
+        skeleton=character_e.skeleton,
+    )

@@ -42,6 +42,7 @@ def test_dress_writes_every_file_and_a_json_report(dressed):
         "garment.glb",
         "garment.obj",
         "garment.mtl",
+        "garment.usda",
         "fit_front.png",
         "fit_back.png",
         "fit_side.png",

@@ -1,21 +1,21 @@
-"""Skinned GLB and OBJ export, parsed back."""
+"""Skinned GLB export: parsed back by hand, and checked by the Khronos glTF validator."""
 
 from __future__ import annotations
 
+import json
+import shutil
 import struct
+import subprocess
+from pathlib import Path
 
 import numpy as np
 import pytest
 
-from patternbridge.assemble import Garment
-from patternbridge.assemble.export_gltf import (
-    glb_bytes,
-    obj_text,
-    read_glb,
-    write_glb,
-    write_obj,
-)
+from patternbridge.assemble import Garment, export_gltf
+from patternbridge.assemble.export_gltf import glb_bytes, read_glb, write_glb
 from patternbridge.mesh.character import Skeleton
+
+TOOLS = Path(__file__).resolve().parents[1] / "tools"
 
 _SIZES = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT4": 16}
 _DTYPES = {5126: np.float32, 5123: np.uint16, 5125: np.uint32}
@@ -37,7 +37,7 @@ def _garment(skinned: bool = True) -> Garment:
     )
     joints = np.tile([0, 1, -1, -1], (8, 1))
     weights = np.tile([0.25, 0.75, 0.0, 0.0], (8, 1))
-    joints[5:] = [2, -1, -1, -1]
+    joints[5:] = [2, 1, -1, -1]  # bone 1 named with no weight: must not reach the file
     weights[5:] = [1.0, 0, 0, 0]
     return Garment(
         vertices=v,
@@ -52,7 +52,8 @@ def _garment(skinned: bool = True) -> Garment:
     )
 
 
-def _accessor(doc, binary, i):
+def accessor(doc: dict, binary: bytes, i: int) -> np.ndarray:
+    """Accessor ``i`` read from the binary chunk by the glTF rules, (count, components)."""
     acc = doc["accessors"][i]
     view = doc["bufferViews"][acc["bufferView"]]
     n = acc["count"] * _SIZES[acc["type"]]
@@ -62,6 +63,23 @@ def _accessor(doc, binary, i):
     assert view["byteLength"] == n * np.dtype(dt).itemsize
     a = np.frombuffer(binary, dtype=dt, count=n, offset=view["byteOffset"] + acc.get("byteOffset", 0))
     return a.reshape(acc["count"], -1)
+
+
+def khronos_report(path: Path) -> dict:
+    """The Khronos glTF validator's report on ``path`` (skips without node or the npm package)."""
+    node = shutil.which("node")
+    if node is None or not (TOOLS / "node_modules" / "gltf-validator").is_dir():
+        pytest.skip("node or the npm package gltf-validator is missing (make test installs it in tests/tools)")
+    run = subprocess.run(
+        [node, str(TOOLS / "validate_gltf.mjs"), str(path)], capture_output=True, text=True, timeout=120, check=True
+    )
+    return json.loads(run.stdout)
+
+
+def _summary(report: dict) -> str:
+    issues = report["issues"]
+    codes = sorted({m["code"] for m in issues["messages"]})
+    return f"{issues['numErrors']} errors, {issues['numWarnings']} warnings, {issues['numInfos']} infos {codes}"
 
 
 def test_glb_parses_back_with_consistent_buffers():
@@ -78,26 +96,28 @@ def test_glb_parses_back_with_consistent_buffers():
     total = 0
     for k, prim in enumerate(prims):
         attrs = prim["attributes"]
-        pos = _accessor(doc, binary, attrs["POSITION"])
+        pos = accessor(doc, binary, attrs["POSITION"])
         count = len(pos)
         total += count
         for name in ("NORMAL", "TEXCOORD_0", "JOINTS_0", "WEIGHTS_0", "_PIECE"):
             assert doc["accessors"][attrs[name]]["count"] == count
-        idx = _accessor(doc, binary, prim["indices"]).ravel()
+        idx = accessor(doc, binary, prim["indices"]).ravel()
         assert idx.max() < count
-        w = _accessor(doc, binary, attrs["WEIGHTS_0"])
+        w = accessor(doc, binary, attrs["WEIGHTS_0"])
         np.testing.assert_allclose(w.sum(axis=1), 1.0, atol=1e-6)
-        j = _accessor(doc, binary, attrs["JOINTS_0"])
+        j = accessor(doc, binary, attrs["JOINTS_0"])
         assert j.max() < n_joints
-        uv = _accessor(doc, binary, attrs["TEXCOORD_0"])
-        np.testing.assert_allclose(uv * 100.0, g.uv[g.instance == k], atol=1e-4)
+        # glTF's texture origin is the top-left corner: t runs down the image
+        st = accessor(doc, binary, attrs["TEXCOORD_0"])
+        np.testing.assert_allclose(st[:, 0] * 100.0, g.uv[g.instance == k, 0], atol=1e-4)
+        np.testing.assert_allclose((1.0 - st[:, 1]) * 100.0, g.uv[g.instance == k, 1], atol=1e-4)
         np.testing.assert_allclose(pos * 100.0, g.vertices[g.instance == k], atol=1e-4)
-        np.testing.assert_array_equal(_accessor(doc, binary, attrs["_PIECE"]).ravel(), k)
+        np.testing.assert_array_equal(accessor(doc, binary, attrs["_PIECE"]).ravel(), k)
         acc = doc["accessors"][attrs["POSITION"]]
         np.testing.assert_allclose(acc["min"], pos.min(axis=0))
         assert doc["materials"][prim["material"]]["name"] == ("front", "back")[k]
     assert total == len(g.vertices)
-    ibm = _accessor(doc, binary, doc["skins"][0]["inverseBindMatrices"]).reshape(3, 4, 4).transpose(0, 2, 1)
+    ibm = accessor(doc, binary, doc["skins"][0]["inverseBindMatrices"]).reshape(3, 4, 4).transpose(0, 2, 1)
     np.testing.assert_allclose(ibm[:, :3, 3], -g.skeleton.heads / 100.0, atol=1e-6)
     # node translations rebuild the bone heads
     nodes = doc["nodes"]
@@ -106,6 +126,17 @@ def test_glb_parses_back_with_consistent_buffers():
         g.skeleton.heads / 100.0,
     )
     assert nodes[-1]["skin"] == 0 and nodes[-1]["mesh"] == 0
+
+
+def test_joint_slots_without_weight_name_joint_zero():
+    doc, binary = read_glb(glb_bytes(_garment()))
+    for prim in doc["meshes"][0]["primitives"]:
+        j = accessor(doc, binary, prim["attributes"]["JOINTS_0"])
+        w = accessor(doc, binary, prim["attributes"]["WEIGHTS_0"])
+        assert np.all(j[w == 0] == 0)
+        assert np.all(w[j > 0] > 0)
+    back = doc["meshes"][0]["primitives"][1]
+    np.testing.assert_array_equal(accessor(doc, binary, back["attributes"]["JOINTS_0"])[1:], [[2, 0, 0, 0]] * 3)
 
 
 def test_unskinned_glb_has_no_skin():
@@ -119,16 +150,41 @@ def test_read_glb_rejects_other_bytes():
         read_glb(struct.pack("<4sII", b"abcd", 2, 12))
 
 
-def test_obj_welds_sewn_vertices_and_keeps_uvs(tmp_path):
-    g = _garment()
-    obj, mtl = obj_text(g)
-    v = [ln for ln in obj.splitlines() if ln.startswith("v ")]
-    vt = [ln for ln in obj.splitlines() if ln.startswith("vt ")]
-    faces = [ln for ln in obj.splitlines() if ln.startswith("f ")]
-    assert len(v) == 6  # 8 vertices, 2 sewn pairs
-    assert len(vt) == 8 and len(faces) == 4
-    assert "newmtl front" in mtl and "newmtl back" in mtl
-    write_obj(tmp_path / "garment.obj", g)
-    write_glb(tmp_path / "garment.glb", g)
-    assert (tmp_path / "garment.mtl").read_text() == mtl
-    assert (tmp_path / "garment.glb").read_bytes()[:4] == b"glTF"
+def test_same_garment_same_bytes(tmp_path):
+    write_glb(tmp_path / "a.glb", _garment())
+    write_glb(tmp_path / "b.glb", _garment())
+    assert (tmp_path / "a.glb").read_bytes() == (tmp_path / "b.glb").read_bytes()
+    assert not list(tmp_path.glob(".*"))  # no temporary file left behind
+
+
+@pytest.mark.shared
+def test_draped_glb_passes_the_khronos_validator(draped_tshirt, tmp_path):
+    path = tmp_path / "garment.glb"
+    write_glb(path, draped_tshirt)
+    report = khronos_report(path)
+    print("Khronos glTF validator", report["validatorVersion"], "on the draped T-shirt:", _summary(report))
+    assert report["issues"]["numErrors"] == 0, report["issues"]["messages"]
+    assert report["issues"]["numWarnings"] == 0, report["issues"]["messages"]
+    assert report["info"]["hasSkins"] and report["info"]["materialCount"] == 4
+
+
+def test_khronos_validator_unskinned_and_small(tmp_path):
+    for skinned in (True, False):
+        path = tmp_path / f"g{skinned}.glb"
+        write_glb(path, _garment(skinned))
+        issues = khronos_report(path)["issues"]
+        assert (issues["numErrors"], issues["numWarnings"]) == (0, 0), issues["messages"]
+
+
+@pytest.mark.shared
+def test_khronos_validator_sees_joints_named_without_weight(draped_tshirt, tmp_path, monkeypatch):
+    # the draped T-shirt has bones listed with no weight; written as they are, the validator warns
+    def raw(joints, weights):
+        return np.maximum(joints, 0), weights
+
+    monkeypatch.setattr(export_gltf, "skin_slots", raw)
+    path = tmp_path / "raw.glb"
+    write_glb(path, draped_tshirt)
+    report = khronos_report(path)
+    codes = {m["code"] for m in report["issues"]["messages"] if m["severity"] == 1}
+    assert "ACCESSOR_JOINTS_USED_ZERO_WEIGHT" in codes
