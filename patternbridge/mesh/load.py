@@ -35,6 +35,7 @@ from ..errors import InputError, LandmarkError, MeshError, UnitsError
 from ..report import Report
 from ..units import unit_factor
 from .character import Character, Landmark, Skeleton, Skin
+from .frame import STATURE_RANGE_CM, detect_facing, facing_matrix, main_component
 
 __all__ = [
     "MESH_SUFFIXES",
@@ -49,7 +50,6 @@ __all__ = [
 log = logging.getLogger(__name__)
 
 MESH_SUFFIXES = (".obj", ".ply", ".stl", ".glb", ".gltf")
-STATURE_RANGE_CM = (20.0, 300.0)
 _UNIT_ORDER = ("cm", "m", "mm", "in")
 _UP_CHOICES = ("+Y", "-Y", "+Z", "-Z")
 
@@ -247,6 +247,98 @@ def _detect_units(
             where=str(path),
         )
     return fits[0]
+
+
+def _frame_up(
+    up: str | None, sidecar: dict | None, body_v: np.ndarray, skel_raw: dict | None, path: Path
+) -> tuple[str, str]:
+    if up is not None:
+        return _normalise_up(up, path), "given"
+    if sidecar is not None and isinstance(sidecar.get("axes"), dict) and sidecar["axes"].get("up"):
+        return _normalise_up(str(sidecar["axes"]["up"]), path), "sidecar"
+    return _detect_up(body_v, skel_raw)
+
+
+def _frame_units(
+    units: str | None, sidecar: dict | None, height: float, path: Path, report: Report
+) -> tuple[str, str]:
+    """The unit of the file and why; a given or sidecar unit must give a plausible stature."""
+    lo, hi = STATURE_RANGE_CM
+    if units is not None or (sidecar is not None and sidecar.get("units")):
+        unit, why = (units, "given") if units is not None else (str(sidecar["units"]), "sidecar")
+        try:
+            stature = height * unit_factor(unit)
+        except UnitsError as exc:
+            raise UnitsError(f"{path}: {'--units' if why == 'given' else 'sidecar units'}: {exc}") from None
+        if not lo <= stature <= hi:
+            what = f"--units {unit}" if why == "given" else f"the sidecar's units {unit!r}"
+            raise UnitsError(
+                f"{path}: with {what} the stature would be {stature:.4g} cm, outside the plausible "
+                f"{lo:g}..{hi:g} cm (body height {height:.4g} file units); check the units and the up axis"
+            )
+        return unit, why
+    if path.suffix.lower() in (".glb", ".gltf"):
+        stature = height * unit_factor("m")
+        if lo <= stature <= hi:
+            return "m", "glTF"
+        report.add(
+            "units-not-metres",
+            f"a glTF is in metres, but then the body would be {stature:.4g} cm tall; "
+            "detecting the unit from the stature instead",
+            where=str(path),
+        )
+    unit = _detect_units(height, None, path, report)
+    report.add(
+        "units-assumed",
+        f"units assumed {unit} from the stature of the main component "
+        f"({height * unit_factor(unit):.4g} cm)",
+        where=str(path),
+    )
+    return unit, "detected from stature"
+
+
+def _sidecar_facing(sidecar: dict | None, rot: np.ndarray) -> str | None:
+    """The sidecar's forward axis (``axes: {"forward ...": "-Y"}``) in the +Y-up frame."""
+    axes = sidecar.get("axes") if sidecar is not None else None
+    if not isinstance(axes, dict):
+        return None
+    fwd = next((str(v) for k, v in axes.items() if str(k).startswith(("forward", "facing"))), "")
+    key = fwd.strip().upper()
+    key = key if key.startswith(("+", "-")) else "+" + key
+    if len(key) != 2 or key[1] not in "XYZ":
+        return None
+    vec = np.zeros(3)
+    vec["XYZ".index(key[1])] = 1.0 if key[0] == "+" else -1.0
+    turned = rot @ vec
+    axis = int(np.argmax(np.abs(turned)))
+    if axis == 1:
+        return None
+    return f"{'+' if turned[axis] > 0 else '-'}{'XYZ'[axis]}"
+
+
+def _frame_facing(
+    sidecar: dict | None, rot: np.ndarray, body_cm: np.ndarray, path: Path, report: Report
+) -> tuple[str, str]:
+    """Which way the body faces (in the +Y-up frame) and why; the loader turns it to +Z."""
+    given = _sidecar_facing(sidecar, rot)
+    if given is not None:
+        return given, "sidecar"
+    facing = detect_facing(body_cm)
+    if facing.confidence < 0.3:
+        report.add(
+            "facing-uncertain",
+            f"could not tell which way the body faces ({facing.evidence}); assumed +Z",
+            where=str(path),
+        )
+        return "+Z", f"assumed; {facing.evidence}"
+    if facing.direction != "+Z":
+        report.add(
+            "facing-turned",
+            f"the body faces {facing.direction} ({facing.evidence}); turned it to face +Z",
+            where=str(path),
+            fixed=True,
+        )
+    return facing.direction, f"detected: {facing.evidence}"
 
 
 # --------------------------------------------------------------------------- landmarks
@@ -517,50 +609,19 @@ def load_character(
                 "weights": np.asarray(s["weights"], dtype=np.float64),
             }
 
-    # -- frame: up axis, then units
-    if up is not None:
-        up_key = _normalise_up(up, path)
-        up_why = "given"
-    elif (
-        sidecar is not None
-        and isinstance(sidecar.get("axes"), dict)
-        and sidecar["axes"].get("up")
-    ):
-        up_key = _normalise_up(str(sidecar["axes"]["up"]), path)
-        up_why = "sidecar"
-    else:
-        up_key, up_why = _detect_up(vertices, skel_raw)
+    # -- the main component first: the frame and units are read from the body, not strays
+    labels = _components(len(vertices), faces)
+    n_comp = int(labels.max()) + 1
+    body = main_component(labels, faces, _face_areas(vertices, faces)) if n_comp > 1 else 0
+    body_v = vertices[labels == body]
+
+    up_key, up_why = _frame_up(up, sidecar, body_v, skel_raw, path)
     rot = _up_matrix(up_key)
-    height = float(np.ptp(vertices @ rot.T[:, 1]))
-    if units is not None:
-        unit = units
-        try:
-            factor = unit_factor(unit)
-        except UnitsError as exc:
-            raise UnitsError(f"{path}: --units: {exc}") from None
-        units_why = "given"
-        stature = height * factor
-        lo, hi = STATURE_RANGE_CM
-        if not lo <= stature <= hi:
-            raise UnitsError(
-                f"{path}: with --units {unit} the stature would be {stature:.4g} cm, outside "
-                f"{lo:g}..{hi:g} cm; check --units and --up"
-            )
-    elif sidecar is not None and sidecar.get("units"):
-        unit = str(sidecar["units"])
-        factor = unit_factor(unit)
-        units_why = "sidecar"
-    else:
-        nominal = "m" if path.suffix.lower() in (".glb", ".gltf") else None
-        unit = _detect_units(height, nominal, path, report)
-        factor = unit_factor(unit)
-        units_why = "detected from stature"
-    if units_why == "detected from stature":
-        report.add(
-            "units-assumed",
-            f"units assumed {unit} from the stature ({height * factor:.4g} cm)",
-            where=where,
-        )
+    height = float(np.ptp(body_v @ rot.T[:, 1]))
+    unit, units_why = _frame_units(units, sidecar, height, path, report)
+    factor = unit_factor(unit)
+    facing, facing_why = _frame_facing(sidecar, rot, (body_v @ rot.T) * factor, path, report)
+    rot = facing_matrix(facing) @ rot
 
     def transform(p: np.ndarray) -> np.ndarray:
         return (np.asarray(p, dtype=np.float64) @ rot.T) * factor
@@ -568,13 +629,10 @@ def load_character(
     v_all = transform(vertices)
 
     # -- body component
-    labels = _components(len(v_all), faces)
-    n_comp = int(labels.max()) + 1
     if n_comp > 1:
         areas = np.bincount(
             labels[faces[:, 0]], weights=_face_areas(v_all, faces), minlength=n_comp
         )
-        body = int(np.argmax(areas))
         counts = np.bincount(labels[labels >= 0], minlength=n_comp)
         component = f"{body} of {n_comp} (largest by area, {counts[body]} vertices, {areas[body]:.4g} cm²)"
         report.add(
@@ -584,7 +642,6 @@ def load_character(
             where=where,
         )
     else:
-        body = 0
         component = f"0 of 1 ({int(np.count_nonzero(labels == 0))} vertices)"
     keep = labels == body
     old_to_new = np.full(len(v_all), -1, dtype=np.int64)
@@ -712,6 +769,7 @@ def load_character(
         "source": path.name,
         "units": f"{unit} ({units_why})",
         "up": f"{up_key} ({up_why})",
+        "facing": f"{facing} ({facing_why})",
         "component": component,
         "floor": f"y = 0 (moved {-floor:+.4g} cm)" if shift[1] else "y = 0",
         "rig": "sidecar"
