@@ -123,7 +123,7 @@ def main(argv=None) -> int:
             bad = abs(off) > bar
             failures += bad
             cells.append(f"{ours[key]:.1f}/{ref[key]:.1f} {off:+.1f}%{' **X**' if bad else ''}")
-        low = sorted(n for n, lm in result.landmarks.items() if getattr(lm, "confidence", 1.0) < 0.5)
+        low = sorted(n for n, lm in result.landmarks.items() if lm.is_low_confidence)
         assumed = f"{character.assumed.get('units', '')}; {character.assumed.get('up', '')}"
         print(
             f"| {name} | " + " | ".join(cells)

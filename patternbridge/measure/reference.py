@@ -12,15 +12,22 @@ takes the reference's definition, so the two can be compared like with like
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Mapping
 
 import numpy as np
 
-from ..mesh.character import Character
+from ..mesh.character import Character, Landmark
 from .model import Measurement, Measurements
 from .section import SlabIndex, hull_girth, plane_loops
 
-__all__ = ["LEVEL_GIRTHS", "comparable_values", "landmark_level_girths"]
+__all__ = [
+    "LEVEL_GIRTHS",
+    "SKIN_CHAINS",
+    "comparable_values",
+    "landmark_level_girths",
+    "skin_lengths",
+]
 
 #: girth id -> landmarks whose mean height is the level
 LEVEL_GIRTHS: dict[str, tuple[str, ...]] = {
@@ -29,16 +36,43 @@ LEVEL_GIRTHS: dict[str, tuple[str, ...]] = {
     "hip_girth": ("hip_side_left", "hip_side_right"),
 }
 
-#: reference length id -> our measurement id
-SAME_LENGTHS: dict[str, str] = {
-    "stature": "stature",
-    "arm_length_left": "arm_length_left",
-    "arm_length_right": "arm_length_right",
-    "back_length": "back_length",
-    "shoulder_width": "shoulder_width",
-    "inside_leg_left": "inside_leg_left",
-    "outside_leg_left": "outside_leg_left",
+#: reference length id -> the chain of landmarks its on-skin geodesic runs through
+SKIN_CHAINS: dict[str, tuple[str, ...]] = {
+    **{
+        f"arm_length_{s}": (f"shoulder_point_{s}", f"elbow_point_{s}", f"wrist_point_{s}")
+        for s in ("left", "right")
+    },
+    "back_length": ("back_neck_point", "waist_back"),
+    "shoulder_width": ("shoulder_point_left", "back_neck_point", "shoulder_point_right"),
+    "inside_leg_left": ("crotch_point", "ankle_inside_left"),
+    "outside_leg_left": ("waist_side_left", "ankle_outside_left"),
 }
+
+
+def skin_lengths(
+    vertices: np.ndarray, faces: np.ndarray, marks: Mapping[str, Landmark]
+) -> dict[str, float]:
+    """On-skin geodesic lengths (cm, no tape correction) of :data:`SKIN_CHAINS`.
+
+    The path ends are the landmarks' vertices, as in the reference files.
+    """
+    from ..geodesic import SurfaceMesh, geodesic_path
+
+    mesh = SurfaceMesh(vertices, faces)
+    cache: dict[tuple[int, int], float] = {}
+    out: dict[str, float] = {}
+    for mid, chain in SKIN_CHAINS.items():
+        if not all(n in marks and marks[n].vertex is not None for n in chain):
+            continue
+        vids = [int(marks[n].vertex) for n in chain]
+        total = 0.0
+        for a, b in itertools.pairwise(vids):
+            key = (min(a, b), max(a, b))
+            if a != b and key not in cache:
+                cache[key] = float(geodesic_path(mesh, a, b, tape=False).length)
+            total += cache.get(key, 0.0)
+        out[mid] = total
+    return out
 
 
 def landmark_level_girths(
@@ -86,13 +120,14 @@ def landmark_level_girths(
 
 
 def comparable_values(character: Character, result: Measurements) -> dict[str, float]:
-    """Our values under the reference files' ids (cm), each by the reference's definition."""
+    """Our values under the reference files' ids (cm), each by the reference's definition.
+
+    Stature is ours; girths are :func:`landmark_level_girths`; lengths are
+    :func:`skin_lengths` between our landmarks.
+    """
     marks = {k: lm.position for k, lm in result.landmarks.items()}
-    out = {
-        ref: result.measurements[ours].value_cm
-        for ref, ours in SAME_LENGTHS.items()
-        if ours in result.measurements
-    }
+    out = {"stature": result.measurements["stature"].value_cm} if "stature" in result.measurements else {}
+    out.update(skin_lengths(character.vertices, character.faces, result.landmarks))
     girths = landmark_level_girths(character.vertices, character.faces, marks)
     out.update({k: m.value_cm for k, m in girths.items()})
     return out

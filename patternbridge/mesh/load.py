@@ -34,7 +34,7 @@ import numpy as np
 from ..errors import InputError, LandmarkError, MeshError, UnitsError
 from ..report import Report
 from ..units import unit_factor
-from .character import Character, Landmark, Skeleton, Skin
+from .character import Character, Landmark, LandmarkEvidence, Skeleton, Skin
 from .frame import STATURE_RANGE_CM, detect_facing, facing_matrix, main_component
 
 __all__ = [
@@ -422,7 +422,8 @@ def _place_landmarks(
                     "use ids of the body or pass --landmarks with positions"
                 )
             out[name] = Landmark(
-                name=name, position=vertices[new], vertex=new, source=source
+                name=name, position=vertices[new], vertex=new, source=source,
+                evidence=LandmarkEvidence(rule=f"{Path(where).name}: vertex {int(vid)}"),
             )
         else:
             p = np.asarray(entry["position"], dtype=np.float64)
@@ -434,8 +435,14 @@ def _place_landmarks(
             snap_points.append(transform(p[None])[0])
     if snap_names:
         pts, vids = snap_to_surface(vertices, faces, np.array(snap_points))
-        for name, p, v in zip(snap_names, pts, vids, strict=True):
-            out[name] = Landmark(name=name, position=p, vertex=int(v), source=source)
+        moved = np.linalg.norm(pts - np.asarray(snap_points), axis=1)
+        for name, p, v, d in zip(snap_names, pts, vids, moved, strict=True):
+            out[name] = Landmark(
+                name=name, position=p, vertex=int(v), source=source,
+                evidence=LandmarkEvidence(
+                    rule=f"{Path(where).name}: position, snapped {d:.2g} cm to the surface"
+                ),
+            )
     return out
 
 
