@@ -52,11 +52,15 @@ __all__ = [
     "detect_leg",
     "detect_neck",
     "detect_torso_points",
+    "level_arm_shoulder",
 ]
 
 SIDES = {"left": 1.0, "right": -1.0}
 FOUND = 0.7  # confidence of a point its rule found
 FALLBACK = 0.35  # confidence of a point placed by a rule's fallback
+PROVISIONAL = 0.3  # a point a later rule replaces
+NO_CORNER = "no shoulder corner: highest vertex 1.2 % of S outside the armpit (provisional)"
+SHARP = 0.85  # a rule that found a sharp geometric feature (the shoulder corner)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)
@@ -166,8 +170,10 @@ def detect_crotch(sc: Scan) -> None:
         raise LandmarkError(
             "geometry: no crotch found (the legs never separate); give landmarks with --landmarks"
         )
-    mid = np.abs(v[:, 0] - xm) < max(0.004 * S, 0.3)
-    band = mid & (v[:, 1] > y_crotch) & (v[:, 1] < y_crotch + 0.06 * S)
+    above = (v[:, 1] > y_crotch) & (v[:, 1] < y_crotch + 0.06 * S)
+    band = above & (np.abs(v[:, 0] - xm) < 0.001 * S)  # on the midline seam
+    if not band.any():
+        band = above & (np.abs(v[:, 0] - xm) < max(0.004 * S, 0.3))
     rule = f"legs separate below y = {y_crotch:.1f} cm"
     if band.any():
         cands = np.flatnonzero(band)
@@ -227,7 +233,8 @@ def detect_armpits(sc: Scan) -> None:
                 k -= 1
             y0 = ys[k]
             rel = sg * (v[:, 0] - xm)
-            col = ((rel > e[k] - 0.01 * S) & (rel < gap[s][k] + 0.01 * S)
+            hi_x = min(gap[s][k], e[k] + 0.03 * S) + 0.01 * S  # not out to a T-pose hand
+            col = ((rel > e[k] - 0.01 * S) & (rel < hi_x)
                    & (v[:, 1] > y0) & (v[:, 1] < y0 + 0.08 * S))
             if not col.any():
                 continue
@@ -259,15 +266,81 @@ def _axillae(sc: Scan, s: str, arm: np.ndarray, zc: float) -> None:
 
 
 def _shoulder_point(sc: Scan, s: str, arm: np.ndarray, zc: float) -> None:
+    """Acromion: the convex corner of the shoulder/arm top contour in the frontal plane of the shoulder.
+
+    The frontal plane is the mid-depth of the shoulder above the armpit (up to
+    12 % of S above it, below the head). Along
+    it, the highest vertex per x bin from 4 % of S inside the armpit to 6 %
+    outside gives the top contour; the corner is the point farthest above the
+    chord of that contour (the shoulder slope turning down the arm, which
+    falls beyond it by more than 1 in 2), within 2.5 % of S of the column
+    1.2 % of S outside the armpit. Without a corner (a level T-pose arm)
+    the highest vertex 1.2 % of S outside the
+    armpit is taken, with a lower confidence.
+    """
     v, S, sg = sc.v, sc.S, SIDES[s]
     xs = arm[0] + sg * 0.012 * S
-    colm = (np.abs(v[:, 0] - xs) < max(0.004 * S, 0.3)) & (np.abs(v[:, 2] - zc) < 0.06 * S) & (
-        v[:, 1] > arm[1]
+    shoulder_band = (v[:, 1] > arm[1]) & (v[:, 1] < arm[1] + 0.12 * S)  # below the head
+    colm = (np.abs(v[:, 0] - xs) < max(0.004 * S, 0.3)) & shoulder_band & (
+        np.abs(v[:, 2] - zc) < 0.08 * S
     )
-    if colm.any():
-        idx = np.flatnonzero(colm)
-        sc.put(f"shoulder_point_{s}", v[idx[np.argmax(v[idx, 1])]],
-               "highest vertex 1.2 % of S outside the armpit")
+    if not colm.any():
+        return
+    top = v[colm][v[colm][:, 1] > v[colm][:, 1].max() - 0.03 * S]
+    zm = 0.5 * float(top[:, 2].min() + top[:, 2].max())
+    slab = (np.abs(v[:, 2] - zm) < 0.01 * S) & shoulder_band
+    xs_bins = arm[0] + sg * np.linspace(-0.04 * S, 0.06 * S, 26)
+    prof = []
+    for x in xs_bins:
+        sel = slab & (np.abs(v[:, 0] - x) < max(0.002 * S, 0.2))
+        if sel.any():
+            i = np.flatnonzero(sel)
+            prof.append(i[np.argmax(v[i, 1])])
+    if len(prof) > 4:
+        p = v[prof][:, [0, 1]]
+        ab = p[-1] - p[0]
+        n = np.array([-ab[1], ab[0]]) / max(np.linalg.norm(ab), 1e-9)
+        if n[1] < 0:
+            n = -n  # above the chord
+        height = (p - p[0]) @ n
+        k = int(np.argmax(height))
+        drop = (p[k, 1] - p[-1, 1]) / max(abs(p[-1, 0] - p[k, 0]), 1e-9)  # the arm's fall
+        beside = abs(p[k, 0] - xs) < 0.025 * S  # an acromion sits just outside the armpit
+        if height[k] > 0.004 * S and 0 < k < len(p) - 1 and drop > 0.5 and beside:
+            sc.put(f"shoulder_point_{s}", v[prof[k]],
+                   f"convex corner of the shoulder/arm top contour ({height[k]:.1f} cm above its chord)",
+                   SHARP)
+            return
+    sel = np.flatnonzero(colm & (np.abs(v[:, 2] - zm) < 0.01 * S)) if (
+        colm & (np.abs(v[:, 2] - zm) < 0.01 * S)).any() else np.flatnonzero(colm)
+    sc.put(f"shoulder_point_{s}", v[sel[np.argmax(v[sel, 1])]], NO_CORNER, PROVISIONAL)
+
+
+def level_arm_shoulder(sc: Scan, s: str) -> None:
+    """Shoulder point of a level (T-pose) arm, which has no corner to find.
+
+    Once the side neck point is known, the acromion is taken 60 % of the way
+    from it to the armpit (its A-pose share on the test bodies, 52-69 % in
+    their T-poses), at the top of the shoulder in its frontal mid-plane. The
+    rule is coarse: the point keeps a low confidence.
+    """
+    name = f"shoulder_point_{s}"
+    f = sc.found.get(name)
+    if f is None or f.rule != NO_CORNER or not sc.has(f"neck_shoulder_point_{s}"):
+        return
+    v, S = sc.v, sc.S
+    snp, ap = sc.at(f"neck_shoulder_point_{s}"), sc.at(f"armpit_point_{s}")
+    x = snp[0] + 0.6 * (ap[0] - snp[0])
+    col = (np.abs(v[:, 0] - x) < max(0.004 * S, 0.3)) & (v[:, 1] > ap[1]) & (v[:, 1] < ap[1] + 0.12 * S)
+    if not col.any():
+        return
+    top = v[col][v[col][:, 1] > v[col][:, 1].max() - 0.03 * S]
+    zm = 0.5 * float(top[:, 2].min() + top[:, 2].max())
+    near = np.flatnonzero(col & (np.abs(v[:, 2] - zm) < 0.01 * S))
+    if len(near):
+        sc.put(name, v[near[np.argmax(v[near, 1])]],
+               "level arm without a shoulder corner: top of the shoulder 60 % of the way from the side "
+               "neck point to the armpit", 0.45)
 
 
 def _narrowest_neck(sc: Scan, y_sh: float):
@@ -375,15 +448,7 @@ def detect_torso_points(sc: Scan) -> None:
             sc.put("waist_back", midp[np.argmin(midp[:, 2])], f"back midline of the {rule}")
         sc.put("waist_side_left", allp[np.argmax(allp[:, 0])], f"left-most point of the {rule}")
         sc.put("waist_side_right", allp[np.argmin(allp[:, 0])], f"right-most point of the {rule}")
-    y = levels["chest"][0]
-    loops = [p for p in sc.loops(y) if abs(p[:, 0].mean() - xm) < 0.1 * S]
-    if loops:
-        allp = np.concatenate(loops)
-        for s, sg in SIDES.items():
-            side = allp[sg * (allp[:, 0] - xm) > 0.02 * S]
-            if len(side):
-                sc.put(f"bust_point_{s}", side[np.argmax(side[:, 2])],
-                       f"front-most point of the widest chest section (y = {y:.1f} cm)")
+    _bust_points(sc, levels["chest"][0])
     y = levels["hip"][0]
     loops = [p for p in sc.loops(y) if abs(p[:, 0].mean() - xm) < 0.1 * S]
     if loops:
@@ -394,6 +459,39 @@ def detect_torso_points(sc: Scan) -> None:
             if len(side):
                 sc.put(f"buttock_point_{s}", side[np.argmin(side[:, 2])], f"back-most point {rule}")
                 sc.put(f"hip_side_{s}", side[np.argmax(sg * (side[:, 0] - xm))], f"outer-most point {rule}")
+
+
+def _bust_points(sc: Scan, y: float) -> None:
+    """Bust points: the apex of each half of the chest section's front.
+
+    On the torso loop of the widest chest section, the point lying farthest in
+    front of the chord from the front midline point to the side's lateral
+    extreme (the nipple of a breast; the middle of a flat chest's arc), not
+    simply the front-most point, which on a flat chest drifts to the sternum.
+    """
+    t = _torso_loop(sc.loops(y), sc.x_mid)
+    if t is None:
+        return
+    xm, S = sc.x_mid, sc.S
+    zc = float(np.mean(t[:, 2]))
+    front = t[t[:, 2] > zc]
+    near_mid = front[np.abs(front[:, 0] - xm) < max(0.006 * S, 0.5)]
+    if not len(near_mid):
+        return
+    m = near_mid[np.argmax(near_mid[:, 2])]
+    for s, sg in SIDES.items():
+        side = front[sg * (front[:, 0] - xm) > 0.01 * S]
+        if len(side) < 3:
+            continue
+        e = t[np.argmax(sg * (t[:, 0] - xm))]
+        ab = (e - m)[[0, 2]]
+        n = np.array([-ab[1], ab[0]]) / max(np.linalg.norm(ab), 1e-9)
+        if n[1] < 0:
+            n = -n  # pointing forward (+z)
+        depth = (side[:, [0, 2]] - m[[0, 2]]) @ n
+        sc.put(f"bust_point_{s}", side[int(np.argmax(depth))],
+               f"apex of the chest front between the midline and the side (widest chest section, "
+               f"y = {y:.1f} cm)")
 
 
 def _arm_sections(sc: Scan, spt: np.ndarray, tip: np.ndarray, x_arm: float, sg: float):
@@ -424,6 +522,20 @@ def _arm_sections(sc: Scan, spt: np.ndarray, tip: np.ndarray, x_arm: float, sg: 
     return ts, np.asarray(cents), np.asarray(widths), loops
 
 
+def _wrist_index(ts: np.ndarray, widths: np.ndarray) -> int:
+    """The narrowest forearm section before the hand: scanning out from 0.55 of the
+    shoulder-fingertip line, the running minimum until the width grows by 30 %
+    (the palm), so the narrow fingers beyond are never taken."""
+    distal = np.flatnonzero((ts > 0.55) & (ts < 0.9))
+    best = int(distal[0])
+    for k in distal:
+        if widths[k] < widths[best]:
+            best = int(k)
+        elif widths[k] > 1.3 * widths[best]:
+            break
+    return best
+
+
 def detect_arm(sc: Scan, s: str) -> None:
     """Wrist (narrowest section before the hand) and elbow (largest bend of the centre line)."""
     sg = SIDES[s]
@@ -441,8 +553,7 @@ def detect_arm(sc: Scan, s: str) -> None:
     ts, cents, widths, loops = _arm_sections(sc, spt, tip, x_arm, sg)
     on_arm = sg * (cents[:, 0] - x_arm) > 0
     first = int(np.argmax(on_arm & (ts >= 0.15)))
-    distal = np.flatnonzero((ts > 0.55) & (ts < 0.85))
-    k_w = int(distal[np.argmin(widths[distal])])
+    k_w = _wrist_index(ts, widths)
     if not sc.has(f"wrist_point_{s}") and loops[k_w] is not None:
         lp = loops[k_w]
         sc.put(f"wrist_point_{s}", lp[np.argmin(lp[:, 2])],
@@ -542,6 +653,8 @@ def detect_landmarks(
         detect_crotch(sc)
     detect_armpits(sc)
     detect_neck(sc)
+    for s in SIDES:
+        level_arm_shoulder(sc, s)
     detect_torso_points(sc)
     for s in SIDES:
         detect_arm(sc, s)
