@@ -81,11 +81,13 @@ def measure_file(path: Path, *, drop_landmarks: bool = False):
 
     character, report = load_character(path)
     if drop_landmarks:
-        character = replace(character, landmarks={})
+        character = replace(character, landmarks={}, skeleton=None, skin=None)
     t0 = time.perf_counter()
     result = measure(character, partial=True)
     seconds = time.perf_counter() - t0
-    return character, report, result, comparable_values(character, result), seconds
+    values = comparable_values(character, result)
+    girths = {f"ours:{k}": m.value_cm for k, m in result.measurements.items() if m.kind == "girth"}
+    return character, report, result, {**values, **girths}, seconds
 
 
 def main(argv=None) -> int:
@@ -131,7 +133,7 @@ def main(argv=None) -> int:
         )
 
     # -- shared characters: detection alone against the sidecar landmarks
-    print("\n## Shared characters: detected landmarks only / sidecar landmarks (% off)\n")
+    print("\n## Shared characters: detection alone (no landmarks, no rig) / sidecar landmarks (% off)\n")
     print("| character | " + " | ".join(COLUMNS) + " |")
     print("|---|" + "---:|" * len(COLUMNS))
     for name in CHARACTERS:
@@ -161,7 +163,7 @@ def main(argv=None) -> int:
         if a not in values or t not in values:
             continue
         for key in sorted(values[t]):
-            if not key.endswith("girth") and "girth_" not in key:
+            if "girth" not in key:
                 continue
             va, vt = values[a].get(key), values[t][key]
             if va is None:

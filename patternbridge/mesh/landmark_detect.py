@@ -385,17 +385,17 @@ def detect_neck(sc: Scan) -> None:
             sc.put("front_neck_point", p[int(np.argmax(depth))],
                    "front midline point deepest behind the chord of the neck/chest profile")
     if not sc.has("back_neck_point"):
-        y_base = y_sh
+        y_base, conf, rule = y_sh, FALLBACK, "back midline at the shoulder height (no neck base found)"
         for y in np.arange(y_neck, y_sh, -step):
             t = _torso_loop(sc.loops(y), xm)
             if t is not None and np.ptp(t[:, 0]) > 1.3 * w_neck:
-                y_base = float(y)
+                y_base, conf = float(y), SHARP
+                rule = f"back midline at the neck base (section 30 % wider than the neck, y = {y:.1f} cm)"
                 break
         back = midv & (np.abs(v[:, 1] - (y_base + 0.01 * S)) < 2 * step) & (v[:, 2] < zc)
         if back.any():
             i = np.flatnonzero(back)
-            sc.put("back_neck_point", v[i[np.argmin(v[i, 2])]],
-                   f"back midline at the neck base (section 30 % wider than the neck, y = {y_base:.1f} cm)")
+            sc.put("back_neck_point", v[i[np.argmin(v[i, 2])]], rule, conf)
     if sc.has("back_neck_point") and sc.has("front_neck_point"):
         zc = 0.5 * float(sc.at("back_neck_point")[2] + sc.at("front_neck_point")[2])
     for s in SIDES:

@@ -107,11 +107,13 @@ LANDMARK_NAMES: tuple[str, ...] = (
 _SIGN = {"left": 1.0, "right": -1.0}
 
 #: names the geometry places better than a joint projection when its rule finds
-#: its feature: the skin straight above the shoulder joint lies 2-3 cm inside
-#: the acromion corner. Rig and detection both propose these; the more
-#: confident one is taken (a found corner: 0.85, the rig: 0.8, a level T-pose
-#: arm without a corner: 0.5).
-GEOMETRY_FIRST = frozenset({"shoulder_point_left", "shoulder_point_right"})
+#: its feature. The skin straight above the shoulder joint lies 2-3 cm inside
+#: the acromion corner, and the skin behind the neck joint depends on where a
+#: rig puts that joint (1.5 cm below the nape on the T-posed B), while the
+#: nape is where the neck section widens into the shoulders. Rig and detection
+#: both propose these; the more confident one is taken (a found feature: 0.85,
+#: the rig: 0.8, a level T-pose arm without a shoulder corner: 0.45).
+GEOMETRY_FIRST = frozenset({"shoulder_point_left", "shoulder_point_right", "back_neck_point"})
 
 
 # --------------------------------------------------------------------------- skeleton
@@ -199,6 +201,17 @@ def skeleton_landmarks(character: Character) -> dict[str, Landmark]:
                 bend = u / np.linalg.norm(u) - f / np.linalg.norm(f)
                 if np.linalg.norm(bend) > 0.2:
                     d = bend
+            except InputError:
+                pass
+        if name.startswith("wrist_point"):
+            try:  # the ulna runs from the olecranon to the styloid: the elbow's outer side, square to the forearm
+                el = sk.heads[find_bone(sk, "lowerarm", side)]
+                u = el - sk.heads[find_bone(sk, "upperarm", side)]
+                f = joint - el
+                u, f = u / np.linalg.norm(u), f / np.linalg.norm(f)
+                bend = u - f
+                if np.linalg.norm(bend) > 0.2:
+                    d = bend - (bend @ f) * f
             except InputError:
                 pass
         hit = _ray_hit(v, joint, d, radius)
