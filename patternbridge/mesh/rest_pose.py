@@ -7,8 +7,9 @@ T-posed B measures a chest 4 % larger). :func:`arms_down` re-poses a rigged
 character whose upper arms are raised (less than :data:`RAISED_BELOW_DEG`
 below horizontal) so that each upper arm points :data:`REST_BELOW_DEG` below
 horizontal, keeping its direction in the horizontal plane and the elbow's
-bend. The lowering is shared between the shoulder and the upper-arm bones as
-MPFB2 shares a T-pose lift (8 : 30), so the shoulder skin does not fold.
+bend. The lowering is shared between the clavicle, shoulder and upper-arm bones
+(those of them the rig has) as MPFB2 shares a T-pose lift (10 : 8 : 30), so the
+shoulder and trapezius skin come down with the arm instead of folding.
 
 Linear blend skinning is approximate: posing back and forth does not return
 the exact skin, and the skin of the armpit region follows the rig's weights.
@@ -30,7 +31,24 @@ __all__ = ["RAISED_BELOW_DEG", "REST_BELOW_DEG", "RestPose", "arm_elevations_deg
 
 RAISED_BELOW_DEG = 30.0  # upper arms less than this below horizontal count as raised
 REST_BELOW_DEG = 45.0  # the measuring rest pose: upper arms this far below horizontal
-SHOULDER_SHARE = 8.0 / 38.0  # of the lowering turned at the shoulder bone (MPFB2's T-pose split)
+#: shares of the lowering per bone of the shoulder chain (MPFB2's T-pose lift split)
+LIFT_SHARES = {"clavicle": 10.0, "shoulder": 8.0, "upperarm": 30.0}
+
+
+def _shoulder_chain(sk, ua: int) -> list[tuple[str, int]]:
+    """(role, bone) of the upper arm and of its ancestors named clavicle or shoulder."""
+    chain = [("upperarm", ua)]
+    b = int(sk.parents[ua])
+    for _ in range(3):
+        if b < 0:
+            break
+        name = sk.names[b].lower()
+        role = "clavicle" if "clavicle" in name else ("shoulder" if "shoulder" in name else None)
+        if role is None or any(r == role for r, _ in chain):
+            break
+        chain.append((role, b))
+        b = int(sk.parents[b])
+    return chain
 
 
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)
@@ -82,14 +100,10 @@ def arms_down(character: Character) -> RestPose | None:
         horizontal = np.array([d[0], 0.0, d[2]])
         axis = np.cross([0.0, 1.0, 0.0], horizontal)  # turning about it lowers the arm
         angle = np.radians(elevation + REST_BELOW_DEG)
-        try:
-            sh = find_bone(sk, "shoulder", side)
-        except InputError:
-            sh = None
-        share = SHOULDER_SHARE if sh is not None and sh != ua else 0.0
-        rotations[sk.names[ua]] = rotation_about_axis(axis, angle * (1.0 - share))
-        if share:
-            rotations[sk.names[sh]] = rotation_about_axis(axis, angle * share)
+        chain = _shoulder_chain(sk, ua)
+        total = sum(LIFT_SHARES[role] for role, _ in chain)
+        for role, b in chain:
+            rotations[sk.names[b]] = rotation_about_axis(axis, angle * LIFT_SHARES[role] / total)
         lowered[side] = float(np.degrees(angle))
     if not rotations:
         return None
