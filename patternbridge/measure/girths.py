@@ -433,7 +433,10 @@ def _neck_girth(body: BodyFrame) -> Measurement:
         s = float((back - base) @ normal) / float(chord @ normal)
         ref = base + s * chord
         loops = body.part_loops(sec, ref)
-        if loops and all(lp.closed for lp in loops):
+        q = sec.to_uv(ref)
+        # a neck loop goes round the chord: a plane grazing an ear or a raised
+        # shoulder cuts a small loop beside it, which is no neck girth
+        if loops and all(lp.closed for lp in loops) and any(lp.contains_uv(q) for lp in loops):
             cut = _hull_cut(sec, loops)
             tried[k] = (t, cut, ref) if cut.value_cm > 0 else None
         else:  # an open arc (the cut leaves the searched region) is no girth

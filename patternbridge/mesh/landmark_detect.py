@@ -386,7 +386,7 @@ def detect_neck(sc: Scan) -> None:
                    "front midline point deepest behind the chord of the neck/chest profile")
     if not sc.has("back_neck_point"):
         y_base, conf, rule = y_sh, FALLBACK, "back midline at the shoulder height (no neck base found)"
-        for y in np.arange(y_neck, y_sh, -step):
+        for y in np.arange(y_neck, y_sh - 0.05 * S, -step):  # raised shoulders: a little lower
             t = _torso_loop(sc.loops(y), xm)
             if t is not None and np.ptp(t[:, 0]) > 1.3 * w_neck:
                 y_base, conf = float(y), SHARP
