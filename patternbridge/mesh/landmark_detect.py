@@ -576,6 +576,10 @@ def detect_arm(sc: Scan, s: str) -> None:
     bend = (c_e - a) / np.linalg.norm(c_e - a) - (b - c_e) / np.linalg.norm(b - c_e)
     if np.linalg.norm(bend) < 0.2:
         bend = np.array([0.0, 0.0, -1.0])
+    lp = loops[k_e]
+    if lp is not None:  # the olecranon: the section's point furthest out along the bend
+        sc.put(f"elbow_point_{s}", lp[int(np.argmax((lp - c_e) @ bend))], rule, conf)
+        return
     hit = _ray_hit(v, c_e, bend, max(0.006 * S, 0.5))
     if hit is not None:
         sc.put(f"elbow_point_{s}", v[hit], rule, conf)
