@@ -1,45 +1,22 @@
 """Datum points (landmarks): from a file, from the skeleton's joints, or detected from the geometry.
 
-:func:`resolve_landmarks` fills the table of :data:`LANDMARK_NAMES` in three
-passes, each only for names still missing, and records the source of every
-point (``"file"``, ``"skeleton"``, ``"detected"``):
+:func:`resolve_landmarks` fills the table of :data:`LANDMARK_NAMES` and
+records for every point its source (``"file"``, ``"skeleton"``,
+``"detected"``), a confidence and the evidence:
 
-1. the character's own landmarks (sidecar JSON or ``--landmarks FILE``);
+1. the character's own landmarks (sidecar JSON or ``--landmarks FILE``),
+   confidence 1;
 2. the skeleton, when the character is rigged: each joint is projected to the
-   skin along a documented direction (:data:`SKELETON_RULES`);
-3. detection from the geometry alone (:func:`detect_landmarks`), for an upright
-   humanoid in cm, +Y up, facing +Z, left = +X, arms in A- or T-pose.
+   skin along a documented direction (:data:`SKELETON_RULES`), confidence 0.8;
+3. detection from the geometry (:mod:`patternbridge.mesh.landmark_detect`, one
+   function per body region), anchored on the points of 1 and 2; for the names
+   in :data:`GEOMETRY_FIRST` the geometry's point competes with the rig's and
+   the more confident one is kept;
+4. the plausibility checks of :mod:`patternbridge.mesh.landmark_checks`
+   (order along the arm and the torso, the midline, left/right symmetry).
 
-The detection rules (``docs/measurements.md`` gives the errors against the
-reference tables of the six test characters):
-
-* ``top_of_head``: the highest vertex.
-* ``crotch_point``: scanning horizontal sections down from mid-height, the
-  first level where the body splits into two legs; the lowest midline vertex
-  just above it.
-* ``armpit_point_*``: scanning up from the crotch, the level where the torso
-  section merges with the arm (its lateral extent jumps); the lowest vertex
-  above the gap between torso and arm.
-* ``axilla_front_*``/``axilla_back_*``: front-most / back-most point of the
-  section 1.1 % of stature above the armpit, at the armpit's x.
-* ``shoulder_point_*``: the highest vertex 1.2 % of stature outside the armpit.
-* ``front_neck_point``/``back_neck_point``/``neck_shoulder_point_*``: from the
-  narrowest section between the shoulders and the head: the midline front
-  point deepest behind the chord of the front profile, the midline back point
-  at the neck-base level, and the neck/shoulder corner of the frontal contour
-  (in the plane half-way between the back and front neck points).
-* waist, bust and hip points: the narrowest torso section (waist) and the
-  widest above (chest) and below it (hip), with the front / back / lateral
-  extreme points of those sections.
-* ``wrist_point_*``, ``elbow_point_*``: along the line shoulder point to
-  fingertip, the narrowest perpendicular section before the hand (wrist, back
-  side of it), and the section where the arm's centre line bends most (elbow,
-  outer side of the bend).
-* ``knee_point_*``: the front-most leg vertex within 1.1 % of stature of 60 %
-  of the height from ankle to crotch.
-* ``ankle_*``: the lowest level where the leg section is no longer a foot
-  (front-to-back extent below 1.6 times its width), its medial and lateral
-  extreme points; ``heel_point_*``: the back-most vertex below it.
+``docs/measurements.md`` gives the errors against the reference tables of the
+test characters and their variants.
 """
 
 from __future__ import annotations
