@@ -528,6 +528,124 @@ def snap_to_surface(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray)
     return positions, vids
 
 
+def _sidecar_rig(sidecar: dict | None, raw: dict) -> tuple[dict | None, dict | None]:
+    """The skeleton and skin in the file frame: the sidecar's, else the mesh file's (glTF skin)."""
+    skel_raw: dict | None = raw.get("skeleton")
+    skin_raw: dict | None = raw.get("skin")
+    if sidecar is not None and "skeleton" in sidecar:
+        bones = sidecar["skeleton"].get("bones", [])
+        names = [b["name"] for b in bones]
+        index = {n: i for i, n in enumerate(names)}
+        skel_raw = {
+            "names": names,
+            "parents": [
+                index.get(b.get("parent"), -1) if b.get("parent") else -1 for b in bones
+            ],
+            "heads": [b["head"] for b in bones],
+            "tails": [b["tail"] for b in bones],
+        }
+        if "skinning" in sidecar:
+            s = sidecar["skinning"]
+            remap = np.array(
+                [index.get(n, -1) for n in s["bone_names"]] + [-1], dtype=np.int64
+            )
+            idx = np.asarray(s["indices"], dtype=np.int64)
+            skin_raw = {
+                "indices": remap[idx],
+                "weights": np.asarray(s["weights"], dtype=np.float64),
+            }
+    return skel_raw, skin_raw
+
+
+def _mesh_checks(new_faces: np.ndarray, path: Path, report: Report) -> None:
+    """Holes, non-manifold and degenerate faces become findings; too many non-manifold edges an error."""
+    where = str(path)
+    defects = mesh_defects(new_faces)
+    if defects["boundary_edges"]:
+        report.add(
+            "mesh-holes",
+            f"the body has holes ({defects['boundary_edges']} boundary edges); girths are unaffected, "
+            "geodesic lengths may detour around them",
+            where=where,
+        )
+    if defects["nonmanifold_edges"]:
+        n_nm = defects["nonmanifold_edges"]
+        if n_nm > 0.05 * len(new_faces):
+            raise MeshError(
+                f"{path}: {n_nm} non-manifold edges out of {len(new_faces) * 3 // 2} "
+                "(more than 5 %); repair the mesh (merge by distance, remove internal faces)"
+            )
+        report.add(
+            "mesh-nonmanifold",
+            f"{n_nm} non-manifold edges (shared by 3+ faces); geodesic lengths may be less accurate",
+            where=where,
+        )
+    if defects["degenerate_faces"]:
+        report.add(
+            "mesh-degenerate",
+            f"{defects['degenerate_faces']} degenerate triangles",
+            where=where,
+        )
+
+
+def _rig_in_frame(skel_raw, skin_raw, transform, shift, keep: np.ndarray, report: Report, path: Path):
+    """Skeleton and skin in the internal frame, the skin cut to the body component."""
+    where = str(path)
+    skeleton = skin = None
+    if skel_raw is not None and len(skel_raw["names"]):
+        skeleton = Skeleton(
+            names=tuple(skel_raw["names"]),
+            parents=np.asarray(skel_raw["parents"], dtype=np.int64),
+            heads=transform(np.asarray(skel_raw["heads"])) + shift,
+            tails=transform(np.asarray(skel_raw["tails"])) + shift,
+        )
+        if skin_raw is not None:
+            idx = np.asarray(skin_raw["indices"], dtype=np.int64)
+            w = np.asarray(skin_raw["weights"], dtype=np.float64)
+            if idx.shape[0] == len(keep):
+                idx = idx[keep]
+                w = np.where(idx >= 0, w[keep], 0.0)
+                total = w.sum(axis=1, keepdims=True)
+                w = np.divide(w, total, out=np.zeros_like(w), where=total > 0)
+                skin = Skin(bone_indices=idx, weights=w)
+            else:
+                report.add(
+                    "skin-mismatch",
+                    "skin weights do not match the vertex count and were ignored",
+                    where=where,
+                )
+    return skeleton, skin
+
+
+def _landmark_tables(sidecar: dict | None, landmarks, path: Path) -> list[tuple[Mapping[str, Any], str]]:
+    """Checked landmark tables with where they came from: the sidecar's, then the given file's."""
+    tables: list[tuple[Mapping[str, Any], str]] = []
+    if sidecar is not None and isinstance(sidecar.get("landmarks"), dict):
+        path_ = sidecar["_path"]
+        tables.append((_check_landmark_table(sidecar["landmarks"], path_), path_))
+    if landmarks is not None:
+        if isinstance(landmarks, Mapping):
+            lm_where = "landmarks"
+            table = landmarks.get("landmarks", landmarks)
+            if not isinstance(table, Mapping):
+                raise LandmarkError(
+                    "landmarks: no 'landmarks' object; give {name: {'vertex': id}}"
+                )
+            table = _check_landmark_table(table, lm_where)
+        else:
+            lm_where = str(landmarks)
+            table = load_landmark_file(landmarks)
+        by_id = [n for n, e in table.items() if e.get("vertex") is not None]
+        if by_id and path.suffix.lower() == ".stl":
+            raise LandmarkError(
+                f"{lm_where}: landmark {by_id[0]!r} is given by vertex id, but an STL file "
+                f"has no vertex ids (its triangles repeat their corners; {path.name}); "
+                'give {"position": [x, y, z]} for STL meshes'
+            )
+        tables.append((table, lm_where))
+    return tables
+
+
 # --------------------------------------------------------------------------- main
 def load_character(
     path: str | os.PathLike,
@@ -590,31 +708,7 @@ def load_character(
         )
         sidecar = None
 
-    # -- skeleton & skin, in the file frame
-    skel_raw: dict | None = raw.get("skeleton")
-    skin_raw: dict | None = raw.get("skin")
-    if sidecar is not None and "skeleton" in sidecar:
-        bones = sidecar["skeleton"].get("bones", [])
-        names = [b["name"] for b in bones]
-        index = {n: i for i, n in enumerate(names)}
-        skel_raw = {
-            "names": names,
-            "parents": [
-                index.get(b.get("parent"), -1) if b.get("parent") else -1 for b in bones
-            ],
-            "heads": [b["head"] for b in bones],
-            "tails": [b["tail"] for b in bones],
-        }
-        if "skinning" in sidecar:
-            s = sidecar["skinning"]
-            remap = np.array(
-                [index.get(n, -1) for n in s["bone_names"]] + [-1], dtype=np.int64
-            )
-            idx = np.asarray(s["indices"], dtype=np.int64)
-            skin_raw = {
-                "indices": remap[idx],
-                "weights": np.asarray(s["weights"], dtype=np.float64),
-            }
+    skel_raw, skin_raw = _sidecar_rig(sidecar, raw)
 
     # -- the main component first: the frame and units are read from the body, not strays
     labels = _components(len(vertices), faces)
@@ -680,84 +774,11 @@ def load_character(
             fixed=True,
         )
 
-    # -- checks
-    defects = mesh_defects(new_faces)
-    if defects["boundary_edges"]:
-        report.add(
-            "mesh-holes",
-            f"the body has holes ({defects['boundary_edges']} boundary edges); girths are unaffected, "
-            "geodesic lengths may detour around them",
-            where=where,
-        )
-    if defects["nonmanifold_edges"]:
-        n_nm = defects["nonmanifold_edges"]
-        if n_nm > 0.05 * len(new_faces):
-            raise MeshError(
-                f"{path}: {n_nm} non-manifold edges out of {len(new_faces) * 3 // 2} "
-                "(more than 5 %); repair the mesh (merge by distance, remove internal faces)"
-            )
-        report.add(
-            "mesh-nonmanifold",
-            f"{n_nm} non-manifold edges (shared by 3+ faces); geodesic lengths may be less accurate",
-            where=where,
-        )
-    if defects["degenerate_faces"]:
-        report.add(
-            "mesh-degenerate",
-            f"{defects['degenerate_faces']} degenerate triangles",
-            where=where,
-        )
+    _mesh_checks(new_faces, path, report)
 
-    # -- skeleton & skin in the internal frame
-    skeleton = skin = None
-    if skel_raw is not None and len(skel_raw["names"]):
-        skeleton = Skeleton(
-            names=tuple(skel_raw["names"]),
-            parents=np.asarray(skel_raw["parents"], dtype=np.int64),
-            heads=transform(np.asarray(skel_raw["heads"])) + shift,
-            tails=transform(np.asarray(skel_raw["tails"])) + shift,
-        )
-        if skin_raw is not None:
-            idx = np.asarray(skin_raw["indices"], dtype=np.int64)
-            w = np.asarray(skin_raw["weights"], dtype=np.float64)
-            if idx.shape[0] == len(v_all):
-                idx = idx[keep]
-                w = np.where(idx >= 0, w[keep], 0.0)
-                total = w.sum(axis=1, keepdims=True)
-                w = np.divide(w, total, out=np.zeros_like(w), where=total > 0)
-                skin = Skin(bone_indices=idx, weights=w)
-            else:
-                report.add(
-                    "skin-mismatch",
-                    "skin weights do not match the vertex count and were ignored",
-                    where=where,
-                )
+    skeleton, skin = _rig_in_frame(skel_raw, skin_raw, transform, shift, keep, report, path)
 
-    # -- landmarks: sidecar first, then the given file (overrides by name)
-    tables: list[tuple[Mapping[str, Any], str]] = []
-    if sidecar is not None and isinstance(sidecar.get("landmarks"), dict):
-        path_ = sidecar["_path"]
-        tables.append((_check_landmark_table(sidecar["landmarks"], path_), path_))
-    if landmarks is not None:
-        if isinstance(landmarks, Mapping):
-            lm_where = "landmarks"
-            table = landmarks.get("landmarks", landmarks)
-            if not isinstance(table, Mapping):
-                raise LandmarkError(
-                    "landmarks: no 'landmarks' object; give {name: {'vertex': id}}"
-                )
-            table = _check_landmark_table(table, lm_where)
-        else:
-            lm_where = str(landmarks)
-            table = load_landmark_file(landmarks)
-        by_id = [n for n, e in table.items() if e.get("vertex") is not None]
-        if by_id and path.suffix.lower() == ".stl":
-            raise LandmarkError(
-                f"{lm_where}: landmark {by_id[0]!r} is given by vertex id, but an STL file "
-                f"has no vertex ids (its triangles repeat their corners; {path.name}); "
-                'give {"position": [x, y, z]} for STL meshes'
-            )
-        tables.append((table, lm_where))
+    tables = _landmark_tables(sidecar, landmarks, path)
     marks: dict[str, Landmark] = {}
     for table, lm_where in tables:
         marks.update(
