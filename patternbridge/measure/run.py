@@ -13,11 +13,37 @@ from ..mesh.character import Character
 from .definitions import DEFINITIONS, MEASUREMENT_IDS
 from .girths import BodyFrame, measure_girths
 from .lengths import measure_lengths
-from .model import Measurements
+from .model import Measurement, Measurements
 
 __all__ = ["measure"]
 
 log = logging.getLogger(__name__)
+
+
+def _carried_back(
+    girths: dict[str, Measurement],
+    rest_vertices: np.ndarray,
+    vertices: np.ndarray,
+    lowered_deg: dict[str, float],
+) -> dict[str, Measurement]:
+    """Girth polylines taken in the rest pose, moved with their nearest vertex to the given pose.
+
+    The values stay those of the rest pose; the polylines (for pictures) follow
+    the skin the user sees, and ``details["rest_pose_lowered_deg"]`` says so.
+    """
+    from scipy.spatial import cKDTree
+
+    tree = cKDTree(rest_vertices)
+    out = {}
+    for mid, m in girths.items():
+        poly = m.polyline
+        if len(poly):
+            _, near = tree.query(poly)
+            poly = poly + (vertices[near] - rest_vertices[near])
+        out[mid] = replace(
+            m, polyline=poly, details={**m.details, "rest_pose_lowered_deg": dict(lowered_deg)}
+        )
+    return out
 
 
 def measure(
@@ -84,6 +110,8 @@ def measure(
         positions["top_of_head"] = top
     body = BodyFrame(body_c.vertices, body_c.faces, positions)
     girths = measure_girths(body, progress=progress, errors=errors)
+    if rest is not None:
+        girths = _carried_back(girths, body_c.vertices, character.vertices, rest.lowered_deg)
     lengths = measure_lengths(
         character.vertices,
         character.faces,
