@@ -22,9 +22,10 @@ rule that placed it and a confidence:
 * :func:`detect_torso_points` — the waist (narrowest torso section), chest
   (widest above) and hip (widest below) levels of the girth search, and their
   front, back and lateral extreme points.
-* :func:`detect_arm` — along the line shoulder point to fingertip, the
-  narrowest perpendicular section before the hand (wrist, back side) and the
-  section where the arm's centre line bends most (elbow, outer side).
+* :func:`detect_arm` — along the line shoulder point to fingertip, sections
+  1 % of it apart: the wrist at the distal end of the narrow wrist (the last
+  section less than 10 % wider than the narrowest before the palm; back side)
+  and the elbow where the arm's centre line bends most (outer side).
 * :func:`detect_leg` — the ankles where the foot section's depth/width ratio
   has dropped to 75 % of the sole's, the heel behind and below them, the knee
   in front at 60 % of the height from ankle to crotch.
@@ -60,7 +61,8 @@ FOUND = 0.7  # confidence of a point its rule found
 FALLBACK = 0.35  # confidence of a point placed by a rule's fallback
 PROVISIONAL = 0.3  # a point a later rule replaces
 NO_CORNER = "no shoulder corner: highest vertex 1.2 % of S outside the armpit (provisional)"
-SHARP = 0.85  # a rule that found a sharp geometric feature (the shoulder corner)
+SHARP = 0.85  # a rule that found a sharp geometric feature (the shoulder corner, the neck base)
+WRIST_END = 1.1  # the wrist ends where its section is this much wider than the narrowest
 
 
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)
@@ -501,7 +503,7 @@ def _arm_sections(sc: Scan, spt: np.ndarray, tip: np.ndarray, x_arm: float, sg: 
     v, faces = sc.v, sc.f
     d = tip - spt
     u = d / np.linalg.norm(d)
-    ts = np.linspace(0.10, 0.88, 40)
+    ts = np.linspace(0.10, 0.88, 79)  # 1 % of the shoulder-fingertip line apart
     arm_faces = _faces_near(v, faces, spt, tip, 0.12 * sc.S)
     beyond = sg * (v[:, 0] - x_arm) > 0
     arm_faces = arm_faces[beyond[faces[arm_faces]].all(axis=1)]
@@ -533,7 +535,11 @@ def _wrist_index(ts: np.ndarray, widths: np.ndarray) -> int:
             best = int(k)
         elif widths[k] > 1.3 * widths[best]:
             break
-    return best
+    # the styloid sits at the distal end of the narrow wrist, where the palm begins to widen it
+    end = best
+    while end + 1 < len(widths) and widths[end + 1] < WRIST_END * widths[best]:
+        end += 1
+    return end
 
 
 def detect_arm(sc: Scan, s: str) -> None:
