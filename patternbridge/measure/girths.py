@@ -233,6 +233,9 @@ def _scan(lo: float, hi: float, step: float) -> np.ndarray:
 
 #: an upper arm (shoulder point to elbow point) less than this below horizontal is raised
 RAISED_BELOW_DEG = 30.0
+#: how far a raised (T-pose) arm lifts the armpit skin above the chest, fraction of the stature
+#: (armpit to bust point: 0.9-3.7 % of S on the six A-poses, 5.0 and 5.6 % on the T-posed C and B)
+RAISED_LIFT = 0.04
 
 
 def arms_raised(body: BodyFrame) -> bool:
@@ -271,6 +274,8 @@ def torso_levels(body: BodyFrame) -> dict[str, tuple[float, _Cut]]:
         # below them when the arms are still raised (no rig brought them down)
         y_b = 0.5 * (body.mark("bust_point_left")[1] + body.mark("bust_point_right")[1])
         top = min(top, y_b + (0.0 if arms_raised(body) else 0.02 * body.stature))
+    elif arms_raised(body):  # no bust points yet: below the armpit skin a raised arm lifts
+        top = y_arm - RAISED_LIFT * body.stature
     ys = _scan(y_waist + 0.5 * (top - y_waist), top, body.step)
     out["chest"] = _best([(y, body.torso_cut(y)) for y in ys], max)
     ys = _scan(

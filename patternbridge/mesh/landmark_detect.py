@@ -665,9 +665,10 @@ def detect_landmarks(
     detect_neck(sc)
     for s in SIDES:
         level_arm_shoulder(sc, s)
+    for s in SIDES:
+        detect_arm(sc, s)  # before the torso points: the chest level depends on raised arms
     detect_torso_points(sc)
     for s in SIDES:
-        detect_arm(sc, s)
         detect_leg(sc, s)
     out = {}
     for name, f in sc.found.items():

@@ -55,7 +55,7 @@ T_POSE_NO_RIG_CM = {
     **TOLERANCE_CM,
     "front_neck_point": 7.0,
     "shoulder_point": 2.0,
-    "bust_point": 10.0,
+    "bust_point": 7.0,
     "elbow_point": 10.0,
     "waist_front": 4.5,  # C's answer-key waist is a fixed vertex on its belly
     "waist_back": 7.0,
