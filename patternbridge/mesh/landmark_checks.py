@@ -4,7 +4,7 @@ A landmark table from any source goes through :func:`check_landmarks` before
 it is measured. Nothing implausible passes silently:
 
 * **Midline**: where the body is left/right symmetric (the mirror image of the
-  point in the plane x = mean x lies on the surface, within
+  point in the mirror plane (:func:`mirror_plane_x`) lies on the surface, within
   :data:`MIRROR_TOL_CM`) a midline point (front and back neck points, waist front and back, crotch) that is not
   on the mirror plane is moved to the nearest vertex on it.
 * **Pairs**: where the body is symmetric around both points, a left point and the mirror image of its right
@@ -38,8 +38,8 @@ __all__ = [
     "MIDLINE",
     "MIRROR_TOL_CM",
     "PAIR_TOL_CM",
-    "body_symmetry",
     "check_landmarks",
+    "mirror_plane_x",
     "pair_names",
 ]
 
@@ -61,19 +61,15 @@ def pair_names(names) -> list[tuple[str, str]]:
     )
 
 
-def body_symmetry(vertices: np.ndarray) -> tuple[float, float]:
-    """(mirror plane x, median distance from the mirrored vertices to the mesh), cm.
+def mirror_plane_x(vertices: np.ndarray, faces: np.ndarray) -> float:
+    """x of the body's mirror plane, cm: the area-weighted centroid of the surface.
 
-    The plane is x = mean x of the vertices; the distance is to the nearest
-    vertex, so it is independent of the vertex order.
+    Weighted by area, so neither the vertex order nor a denser meshing of one
+    side moves it.
     """
-    from scipy.spatial import cKDTree
-
-    v = np.asarray(vertices, dtype=np.float64)
-    c = float(v[:, 0].mean())
-    mirrored = v * np.array([-1.0, 1.0, 1.0]) + np.array([2.0 * c, 0.0, 0.0])
-    d, _ = cKDTree(v).query(mirrored, k=1)
-    return c, float(np.median(d))
+    tri = np.asarray(vertices, dtype=np.float64)[faces]
+    area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+    return float(np.sum(area * tri[:, :, 0].mean(axis=1)) / max(float(area.sum()), 1e-12))
 
 
 def _mirror(p: np.ndarray, c: float) -> np.ndarray:
@@ -92,7 +88,7 @@ def _moved(lm: Landmark, v: np.ndarray, vid: int, text: str, confidence: float) 
 class _Symmetry:
     """The body's mirror plane and whether the body is symmetric around given points.
 
-    The plane is x = mean x of the vertices. The body is symmetric around a
+    The plane is :func:`mirror_plane_x`. The body is symmetric around a
     point when the point's mirror image lies on the surface (within
     :data:`MIRROR_TOL_CM`): a bent knee on one side fails this at the knee,
     while the rest of the body still passes.
@@ -100,7 +96,7 @@ class _Symmetry:
 
     def __init__(self, vertices: np.ndarray, faces: np.ndarray) -> None:
         self.v, self.f = vertices, faces
-        self.plane = float(vertices[:, 0].mean())
+        self.plane = mirror_plane_x(vertices, faces)
 
     def off_surface(self, points: np.ndarray) -> np.ndarray:
         """(k,) distance from each point's mirror image to the surface, cm."""
@@ -189,9 +185,9 @@ def _order_rules(marks: Mapping[str, Landmark], stature: float, c: float):
     return out
 
 
-def _check_order(marks: dict[str, Landmark], v: np.ndarray, name: str) -> None:
+def _check_order(marks: dict[str, Landmark], v: np.ndarray, faces: np.ndarray, name: str) -> None:
     stature = float(np.ptp(v[:, 1]))
-    c = float(v[:, 0].mean())
+    c = mirror_plane_x(v, faces)
     for _ in range(len(marks)):  # drop one offender at a time, then look again
         broken = _order_rules(marks, stature, c)
         if not broken:
@@ -220,7 +216,7 @@ def check_landmarks(character: Character, marks: Mapping[str, Landmark]) -> dict
     out = dict(marks)
     v = np.asarray(character.vertices, dtype=np.float64)
     sym = _Symmetry(v, np.asarray(character.faces))
-    _check_order(out, v, character.name)
+    _check_order(out, v, np.asarray(character.faces), character.name)
     _check_midline(out, v, sym)
     _check_pairs(out, v, sym, character.name)
     return out
