@@ -94,4 +94,12 @@ def run(args: argparse.Namespace) -> int:
             print(
                 f"patternbridge: warning: {mid} not measured: {reason}", file=sys.stderr
             )
+        for name, lm in sorted(result.landmarks.items()):
+            if lm.is_low_confidence or lm.evidence.checks:
+                why = "; ".join((lm.evidence.rule, *lm.evidence.checks))
+                print(
+                    f"patternbridge: warning: landmark {name} ({lm.source}, confidence "
+                    f"{lm.confidence:.2f}): {why}",
+                    file=sys.stderr,
+                )
     return 0

@@ -231,6 +231,25 @@ def _scan(lo: float, hi: float, step: float) -> np.ndarray:
     return np.linspace(lo, hi, n)
 
 
+#: an upper arm (shoulder point to elbow point) less than this below horizontal is raised
+RAISED_BELOW_DEG = 30.0
+#: how far a raised (T-pose) arm lifts the armpit skin above the chest, fraction of the stature
+#: (armpit to bust point: 0.9-3.7 % of S on the six A-poses, 5.0 and 5.6 % on the T-posed C and B)
+RAISED_LIFT = 0.04
+
+
+def arms_raised(body: BodyFrame) -> bool:
+    """True when both upper arms (shoulder point to elbow point) are raised (a T-pose)."""
+    for s in ("left", "right"):
+        try:
+            d = body.mark(f"elbow_point_{s}") - body.mark(f"shoulder_point_{s}")
+        except LandmarkError:
+            return False
+        if np.degrees(np.arctan2(d[1], np.hypot(d[0], d[2]))) < -RAISED_BELOW_DEG:
+            return False
+    return True
+
+
 def torso_levels(body: BodyFrame) -> dict[str, tuple[float, _Cut]]:
     """Waist (narrowest), chest (widest), hip (widest), high hip and underbust levels.
 
@@ -251,9 +270,12 @@ def torso_levels(body: BodyFrame) -> dict[str, tuple[float, _Cut]]:
     y_waist = out["waist"][0]
     top = y_arm - 0.01 * body.stature
     if "bust_point_left" in body.marks and "bust_point_right" in body.marks:
-        # raised arms lift the armpits: stay within reach of the bust points
+        # raised arms lift the armpits: stay within reach of the bust points, and
+        # below them when the arms are still raised (no rig brought them down)
         y_b = 0.5 * (body.mark("bust_point_left")[1] + body.mark("bust_point_right")[1])
-        top = min(top, y_b + 0.02 * body.stature)
+        top = min(top, y_b + (0.0 if arms_raised(body) else 0.02 * body.stature))
+    elif arms_raised(body):  # no bust points yet: below the armpit skin a raised arm lifts
+        top = y_arm - RAISED_LIFT * body.stature
     ys = _scan(y_waist + 0.5 * (top - y_waist), top, body.step)
     out["chest"] = _best([(y, body.torso_cut(y)) for y in ys], max)
     ys = _scan(
@@ -416,7 +438,10 @@ def _neck_girth(body: BodyFrame) -> Measurement:
         s = float((back - base) @ normal) / float(chord @ normal)
         ref = base + s * chord
         loops = body.part_loops(sec, ref)
-        if loops and all(lp.closed for lp in loops):
+        q = sec.to_uv(ref)
+        # a neck loop goes round the chord: a plane grazing an ear or a raised
+        # shoulder cuts a small loop beside it, which is no neck girth
+        if loops and all(lp.closed for lp in loops) and any(lp.contains_uv(q) for lp in loops):
             cut = _hull_cut(sec, loops)
             tried[k] = (t, cut, ref) if cut.value_cm > 0 else None
         else:  # an open arc (the cut leaves the searched region) is no girth

@@ -15,7 +15,7 @@ import numpy as np
 from .._arrays import as_float_array, frozen
 from ..atomic import write_text
 from ..errors import InputError
-from ..mesh.character import Landmark
+from ..mesh.character import Landmark, LandmarkEvidence
 
 __all__ = [
     "FORMAT_VERSION",
@@ -122,7 +122,9 @@ def measurements_to_dict(result: Measurements) -> dict[str, Any]:
             name: {
                 "position": _round(lm.position),
                 "vertex": lm.vertex,
-                "source": lm.source,
+                "source": str(lm.source),
+                "confidence": round(lm.confidence, 3),
+                "evidence": {"rule": lm.evidence.rule, "checks": list(lm.evidence.checks)},
             }
             for name, lm in sorted(result.landmarks.items())
         },
@@ -181,6 +183,11 @@ def measurements_from_dict(
                 position=lm["position"],
                 vertex=lm.get("vertex"),
                 source=lm.get("source", "file"),
+                confidence=lm.get("confidence"),
+                evidence=LandmarkEvidence(
+                    rule=str(lm.get("evidence", {}).get("rule", "")),
+                    checks=tuple(lm.get("evidence", {}).get("checks", ())),
+                ),
             )
             for name, lm in data.get("landmarks", {}).items()
         }

@@ -12,6 +12,7 @@ __all__ = ["measurement_picture"]
 _GIRTH = (200, 40, 40)
 _LENGTH = (30, 90, 200)
 _HEIGHT = (40, 140, 60)
+_LOW = (235, 130, 0)  # landmarks of low confidence
 
 
 def _short(mid: str) -> str:
@@ -21,6 +22,20 @@ def _short(mid: str) -> str:
         .replace("_right", " R")
         .replace("_", " ")
     )
+
+
+def _landmark_mark(name: str, lm, r: float):
+    """A small black cross; a low-confidence landmark gets a larger orange ring and its name."""
+    p = lm.position
+    lines = [np.array([p - a, p + a]) for a in (np.array([r, 0, 0]), np.array([0, r, 0]))]
+    labels, colors = ["", ""], [(0, 0, 0), (0, 0, 0)]
+    if lm.is_low_confidence:
+        t = np.linspace(0.0, 2.0 * np.pi, 17)
+        ring = p + 2.5 * r * np.column_stack([np.cos(t), np.sin(t), np.zeros_like(t)])
+        lines.append(ring)
+        labels.append(f"? {_short(name)} {lm.confidence:.2f}")
+        colors.append(_LOW)
+    return lines, labels, colors
 
 
 def measurement_picture(
@@ -34,7 +49,9 @@ def measurement_picture(
 
     Girths are red, surface lengths blue, heights green; every curve is
     labelled with its short name and value in cm. Landmarks are drawn as small
-    black crosses when ``show_landmarks``.
+    black crosses when ``show_landmarks``; a landmark of low confidence
+    (:data:`~patternbridge.mesh.character.LOW_CONFIDENCE`) is circled in orange
+    and labelled ``? name confidence``.
     """
     from ..mesh.render import render_views
 
@@ -51,12 +68,11 @@ def measurement_picture(
         )
     if show_landmarks:
         r = 0.004 * character.stature_cm
-        for lm in result.landmarks.values():
-            p = lm.position
-            for axis in (np.array([r, 0, 0]), np.array([0, r, 0])):
-                polylines.append(np.array([p - axis, p + axis]))
-                labels.append("")
-                colors.append((0, 0, 0))
+        for name, lm in result.landmarks.items():
+            polylines_, labels_, colors_ = _landmark_mark(name, lm, r)
+            polylines += polylines_
+            labels += labels_
+            colors += colors_
     return render_views(
         character.vertices,
         character.faces,

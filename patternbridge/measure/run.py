@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable
+from dataclasses import replace
 
 import numpy as np
 
@@ -12,11 +13,37 @@ from ..mesh.character import Character
 from .definitions import DEFINITIONS, MEASUREMENT_IDS
 from .girths import BodyFrame, measure_girths
 from .lengths import measure_lengths
-from .model import Measurements
+from .model import Measurement, Measurements
 
 __all__ = ["measure"]
 
 log = logging.getLogger(__name__)
+
+
+def _carried_back(
+    girths: dict[str, Measurement],
+    rest_vertices: np.ndarray,
+    vertices: np.ndarray,
+    lowered_deg: dict[str, float],
+) -> dict[str, Measurement]:
+    """Girth polylines taken in the rest pose, moved with their nearest vertex to the given pose.
+
+    The values stay those of the rest pose; the polylines (for pictures) follow
+    the skin the user sees, and ``details["rest_pose_lowered_deg"]`` says so.
+    """
+    from scipy.spatial import cKDTree
+
+    tree = cKDTree(rest_vertices)
+    out = {}
+    for mid, m in girths.items():
+        poly = m.polyline
+        if len(poly):
+            _, near = tree.query(poly)
+            poly = poly + (vertices[near] - rest_vertices[near])
+        out[mid] = replace(
+            m, polyline=poly, details={**m.details, "rest_pose_lowered_deg": dict(lowered_deg)}
+        )
+    return out
 
 
 def measure(
@@ -26,6 +53,7 @@ def measure(
     partial: bool = False,
     detect: bool = True,
     tape: bool = True,
+    rest_pose: bool = True,
 ) -> Measurements:
     """Every measurement of ``formats/measurements.md`` on one character.
 
@@ -38,6 +66,11 @@ def measure(
         ``Measurements.missing`` instead of raising
     detect : detect missing landmarks from the geometry
     tape : tape-correct the geodesic lengths
+    rest_pose : a rigged character with raised arms is re-posed with its rig to
+        the measuring rest pose (upper arms 45° below horizontal,
+        :func:`~patternbridge.mesh.rest_pose.arms_down`); landmarks are found and
+        girths taken there, while the surface lengths follow the skin of the
+        given pose (what the skin itself does)
 
     Returns
     -------
@@ -50,8 +83,18 @@ def measure(
         be taken; the message lists them.
     """
     from ..mesh.landmarks import resolve_landmarks
+    from ..mesh.rest_pose import arms_down
 
-    marks = resolve_landmarks(character, detect=detect)
+    rest = arms_down(character) if rest_pose else None
+    body_c = rest.character if rest is not None else character
+    marks = resolve_landmarks(body_c, detect=detect)
+    positions = {k: lm.position for k, lm in marks.items()}  # in the measuring pose
+    if rest is not None:  # back to the given pose by vertex id
+        marks = {
+            k: replace(lm, position=character.vertices[lm.vertex]) if lm.vertex is not None else lm
+            for k, lm in marks.items()
+        }
+        log.info("%s: measured girths with the upper arms lowered by %s", character.name, rest.lowered_deg)
     errors: dict[str, str] = {}
     needed = {n for d in DEFINITIONS.values() for n in d.landmarks} | {"top_of_head"}
     absent = sorted(n for n in needed if n not in marks)
@@ -62,12 +105,13 @@ def measure(
             f"({', '.join(blocked[:6])}{'...' if len(blocked) > 6 else ''}) cannot be taken; "
             "give them with --landmarks FILE or pass --partial"
         )
-    positions = {k: lm.position for k, lm in marks.items()}
     if "top_of_head" not in positions:
-        top = character.vertices[int(np.argmax(character.vertices[:, 1]))]
+        top = body_c.vertices[int(np.argmax(body_c.vertices[:, 1]))]
         positions["top_of_head"] = top
-    body = BodyFrame(character.vertices, character.faces, positions)
+    body = BodyFrame(body_c.vertices, body_c.faces, positions)
     girths = measure_girths(body, progress=progress, errors=errors)
+    if rest is not None:
+        girths = _carried_back(girths, body_c.vertices, character.vertices, rest.lowered_deg)
     lengths = measure_lengths(
         character.vertices,
         character.faces,
@@ -93,6 +137,6 @@ def measure(
         character=character.name,
         measurements=ordered,
         landmarks=marks,
-        assumed=character.assumed,
+        assumed=body_c.assumed,
         missing=missing,
     )

@@ -9,13 +9,25 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from enum import StrEnum
 from types import MappingProxyType
 
 import numpy as np
 
 from .._arrays import as_float_array, as_index_array, frozen
 
-__all__ = ["Character", "Landmark", "Skeleton", "Skin"]
+__all__ = [
+    "LOW_CONFIDENCE",
+    "Character",
+    "Landmark",
+    "LandmarkEvidence",
+    "LandmarkSource",
+    "Skeleton",
+    "Skin",
+]
+
+#: landmarks below this confidence are flagged (``measure --png`` marks them)
+LOW_CONFIDENCE = 0.5
 
 
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)
@@ -61,22 +73,76 @@ class Skin:
         object.__setattr__(self, "weights", frozen(w))
 
 
+class LandmarkSource(StrEnum):
+    """Where a landmark came from (compares equal to its string)."""
+
+    FILE = "file"
+    SKELETON = "skeleton"
+    DETECTED = "detected"
+
+
+#: confidence of a landmark before any check, by source
+BASE_CONFIDENCE = {
+    LandmarkSource.FILE: 1.0,
+    LandmarkSource.SKELETON: 0.8,
+    LandmarkSource.DETECTED: 0.7,
+}
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class LandmarkEvidence:
+    """Why a landmark is where it is.
+
+    rule : how it was placed (the file and vertex, the joint and direction, the
+        detection rule and the level it found)
+    checks : plausibility checks that changed it or its confidence, one line each
+        (``"mirrored from the right side: left/right 4.2 cm apart"``)
+    """
+
+    rule: str = ""
+    checks: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "checks", tuple(self.checks))
+
+    def with_check(self, text: str) -> LandmarkEvidence:
+        return LandmarkEvidence(rule=self.rule, checks=(*self.checks, text))
+
+
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)
 class Landmark:
     """A datum point on the body surface.
 
     position : (3,) float64, cm
     vertex : nearest mesh vertex id, or None when the point lies inside a face
-    source : where it came from: ``"file"``, ``"skeleton"`` or ``"detected"``
+    source : :class:`LandmarkSource` (or its string): ``"file"``, ``"skeleton"``
+        or ``"detected"``
+    confidence : 0..1; 1 for a point given in a file, lower for projected or
+        detected points, lowered further by failed plausibility checks
+        (:data:`LOW_CONFIDENCE` and below is flagged); ``None`` takes the
+        source's base confidence
+    evidence : :class:`LandmarkEvidence`
     """
 
     name: str
     position: np.ndarray
     vertex: int | None = None
-    source: str = "file"
+    source: LandmarkSource = LandmarkSource.FILE
+    confidence: float | None = None
+    evidence: LandmarkEvidence = LandmarkEvidence()
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "position", frozen(as_float_array(self.position, (3,), self.name)))
+        src = LandmarkSource(self.source)
+        object.__setattr__(self, "source", src)
+        conf = BASE_CONFIDENCE[src] if self.confidence is None else float(self.confidence)
+        if not 0.0 <= conf <= 1.0:
+            raise ValueError(f"landmark {self.name}: confidence {conf} outside 0..1")
+        object.__setattr__(self, "confidence", conf)
+
+    @property
+    def is_low_confidence(self) -> bool:
+        return self.confidence < LOW_CONFIDENCE
 
 
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)

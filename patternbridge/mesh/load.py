@@ -34,7 +34,8 @@ import numpy as np
 from ..errors import InputError, LandmarkError, MeshError, UnitsError
 from ..report import Report
 from ..units import unit_factor
-from .character import Character, Landmark, Skeleton, Skin
+from .character import Character, Landmark, LandmarkEvidence, Skeleton, Skin
+from .frame import STATURE_RANGE_CM, detect_facing, facing_matrix, main_component
 
 __all__ = [
     "MESH_SUFFIXES",
@@ -49,7 +50,6 @@ __all__ = [
 log = logging.getLogger(__name__)
 
 MESH_SUFFIXES = (".obj", ".ply", ".stl", ".glb", ".gltf")
-STATURE_RANGE_CM = (20.0, 300.0)
 _UNIT_ORDER = ("cm", "m", "mm", "in")
 _UP_CHOICES = ("+Y", "-Y", "+Z", "-Z")
 
@@ -249,6 +249,98 @@ def _detect_units(
     return fits[0]
 
 
+def _frame_up(
+    up: str | None, sidecar: dict | None, body_v: np.ndarray, skel_raw: dict | None, path: Path
+) -> tuple[str, str]:
+    if up is not None:
+        return _normalise_up(up, path), "given"
+    if sidecar is not None and isinstance(sidecar.get("axes"), dict) and sidecar["axes"].get("up"):
+        return _normalise_up(str(sidecar["axes"]["up"]), path), "sidecar"
+    return _detect_up(body_v, skel_raw)
+
+
+def _frame_units(
+    units: str | None, sidecar: dict | None, height: float, path: Path, report: Report
+) -> tuple[str, str]:
+    """The unit of the file and why; a given or sidecar unit must give a plausible stature."""
+    lo, hi = STATURE_RANGE_CM
+    if units is not None or (sidecar is not None and sidecar.get("units")):
+        unit, why = (units, "given") if units is not None else (str(sidecar["units"]), "sidecar")
+        try:
+            stature = height * unit_factor(unit)
+        except UnitsError as exc:
+            raise UnitsError(f"{path}: {'--units' if why == 'given' else 'sidecar units'}: {exc}") from None
+        if not lo <= stature <= hi:
+            what = f"--units {unit}" if why == "given" else f"the sidecar's units {unit!r}"
+            raise UnitsError(
+                f"{path}: with {what} the stature would be {stature:.4g} cm, outside the plausible "
+                f"{lo:g}..{hi:g} cm (body height {height:.4g} file units); check the units and the up axis"
+            )
+        return unit, why
+    if path.suffix.lower() in (".glb", ".gltf"):
+        stature = height * unit_factor("m")
+        if lo <= stature <= hi:
+            return "m", "glTF"
+        report.add(
+            "units-not-metres",
+            f"a glTF is in metres, but then the body would be {stature:.4g} cm tall; "
+            "detecting the unit from the stature instead",
+            where=str(path),
+        )
+    unit = _detect_units(height, None, path, report)
+    report.add(
+        "units-assumed",
+        f"units assumed {unit} from the stature of the main component "
+        f"({height * unit_factor(unit):.4g} cm)",
+        where=str(path),
+    )
+    return unit, "detected from stature"
+
+
+def _sidecar_facing(sidecar: dict | None, rot: np.ndarray) -> str | None:
+    """The sidecar's forward axis (``axes: {"forward ...": "-Y"}``) in the +Y-up frame."""
+    axes = sidecar.get("axes") if sidecar is not None else None
+    if not isinstance(axes, dict):
+        return None
+    fwd = next((str(v) for k, v in axes.items() if str(k).startswith(("forward", "facing"))), "")
+    key = fwd.strip().upper()
+    key = key if key.startswith(("+", "-")) else "+" + key
+    if len(key) != 2 or key[1] not in "XYZ":
+        return None
+    vec = np.zeros(3)
+    vec["XYZ".index(key[1])] = 1.0 if key[0] == "+" else -1.0
+    turned = rot @ vec
+    axis = int(np.argmax(np.abs(turned)))
+    if axis == 1:
+        return None
+    return f"{'+' if turned[axis] > 0 else '-'}{'XYZ'[axis]}"
+
+
+def _frame_facing(
+    sidecar: dict | None, rot: np.ndarray, body_cm: np.ndarray, path: Path, report: Report
+) -> tuple[str, str]:
+    """Which way the body faces (in the +Y-up frame) and why; the loader turns it to +Z."""
+    given = _sidecar_facing(sidecar, rot)
+    if given is not None:
+        return given, "sidecar"
+    facing = detect_facing(body_cm)
+    if facing.confidence < 0.3:
+        report.add(
+            "facing-uncertain",
+            f"could not tell which way the body faces ({facing.evidence}); assumed +Z",
+            where=str(path),
+        )
+        return "+Z", f"assumed; {facing.evidence}"
+    if facing.direction != "+Z":
+        report.add(
+            "facing-turned",
+            f"the body faces {facing.direction} ({facing.evidence}); turned it to face +Z",
+            where=str(path),
+            fixed=True,
+        )
+    return facing.direction, f"detected: {facing.evidence}"
+
+
 # --------------------------------------------------------------------------- landmarks
 def load_landmark_file(path: str | os.PathLike) -> dict[str, dict[str, Any]]:
     """Read a landmark file: ``{"landmarks": {name: {"vertex": id} | {"position": [x, y, z]}}}``.
@@ -330,7 +422,8 @@ def _place_landmarks(
                     "use ids of the body or pass --landmarks with positions"
                 )
             out[name] = Landmark(
-                name=name, position=vertices[new], vertex=new, source=source
+                name=name, position=vertices[new], vertex=new, source=source,
+                evidence=LandmarkEvidence(rule=f"{Path(where).name}: vertex {int(vid)}"),
             )
         else:
             p = np.asarray(entry["position"], dtype=np.float64)
@@ -342,8 +435,14 @@ def _place_landmarks(
             snap_points.append(transform(p[None])[0])
     if snap_names:
         pts, vids = snap_to_surface(vertices, faces, np.array(snap_points))
-        for name, p, v in zip(snap_names, pts, vids, strict=True):
-            out[name] = Landmark(name=name, position=p, vertex=int(v), source=source)
+        moved = np.linalg.norm(pts - np.asarray(snap_points), axis=1)
+        for name, p, v, d in zip(snap_names, pts, vids, moved, strict=True):
+            out[name] = Landmark(
+                name=name, position=p, vertex=int(v), source=source,
+                evidence=LandmarkEvidence(
+                    rule=f"{Path(where).name}: position, snapped {d:.2g} cm to the surface"
+                ),
+            )
     return out
 
 
@@ -429,6 +528,124 @@ def snap_to_surface(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray)
     return positions, vids
 
 
+def _sidecar_rig(sidecar: dict | None, raw: dict) -> tuple[dict | None, dict | None]:
+    """The skeleton and skin in the file frame: the sidecar's, else the mesh file's (glTF skin)."""
+    skel_raw: dict | None = raw.get("skeleton")
+    skin_raw: dict | None = raw.get("skin")
+    if sidecar is not None and "skeleton" in sidecar:
+        bones = sidecar["skeleton"].get("bones", [])
+        names = [b["name"] for b in bones]
+        index = {n: i for i, n in enumerate(names)}
+        skel_raw = {
+            "names": names,
+            "parents": [
+                index.get(b.get("parent"), -1) if b.get("parent") else -1 for b in bones
+            ],
+            "heads": [b["head"] for b in bones],
+            "tails": [b["tail"] for b in bones],
+        }
+        if "skinning" in sidecar:
+            s = sidecar["skinning"]
+            remap = np.array(
+                [index.get(n, -1) for n in s["bone_names"]] + [-1], dtype=np.int64
+            )
+            idx = np.asarray(s["indices"], dtype=np.int64)
+            skin_raw = {
+                "indices": remap[idx],
+                "weights": np.asarray(s["weights"], dtype=np.float64),
+            }
+    return skel_raw, skin_raw
+
+
+def _mesh_checks(new_faces: np.ndarray, path: Path, report: Report) -> None:
+    """Holes, non-manifold and degenerate faces become findings; too many non-manifold edges an error."""
+    where = str(path)
+    defects = mesh_defects(new_faces)
+    if defects["boundary_edges"]:
+        report.add(
+            "mesh-holes",
+            f"the body has holes ({defects['boundary_edges']} boundary edges); girths are unaffected, "
+            "geodesic lengths may detour around them",
+            where=where,
+        )
+    if defects["nonmanifold_edges"]:
+        n_nm = defects["nonmanifold_edges"]
+        if n_nm > 0.05 * len(new_faces):
+            raise MeshError(
+                f"{path}: {n_nm} non-manifold edges out of {len(new_faces) * 3 // 2} "
+                "(more than 5 %); repair the mesh (merge by distance, remove internal faces)"
+            )
+        report.add(
+            "mesh-nonmanifold",
+            f"{n_nm} non-manifold edges (shared by 3+ faces); geodesic lengths may be less accurate",
+            where=where,
+        )
+    if defects["degenerate_faces"]:
+        report.add(
+            "mesh-degenerate",
+            f"{defects['degenerate_faces']} degenerate triangles",
+            where=where,
+        )
+
+
+def _rig_in_frame(skel_raw, skin_raw, transform, shift, keep: np.ndarray, report: Report, path: Path):
+    """Skeleton and skin in the internal frame, the skin cut to the body component."""
+    where = str(path)
+    skeleton = skin = None
+    if skel_raw is not None and len(skel_raw["names"]):
+        skeleton = Skeleton(
+            names=tuple(skel_raw["names"]),
+            parents=np.asarray(skel_raw["parents"], dtype=np.int64),
+            heads=transform(np.asarray(skel_raw["heads"])) + shift,
+            tails=transform(np.asarray(skel_raw["tails"])) + shift,
+        )
+        if skin_raw is not None:
+            idx = np.asarray(skin_raw["indices"], dtype=np.int64)
+            w = np.asarray(skin_raw["weights"], dtype=np.float64)
+            if idx.shape[0] == len(keep):
+                idx = idx[keep]
+                w = np.where(idx >= 0, w[keep], 0.0)
+                total = w.sum(axis=1, keepdims=True)
+                w = np.divide(w, total, out=np.zeros_like(w), where=total > 0)
+                skin = Skin(bone_indices=idx, weights=w)
+            else:
+                report.add(
+                    "skin-mismatch",
+                    "skin weights do not match the vertex count and were ignored",
+                    where=where,
+                )
+    return skeleton, skin
+
+
+def _landmark_tables(sidecar: dict | None, landmarks, path: Path) -> list[tuple[Mapping[str, Any], str]]:
+    """Checked landmark tables with where they came from: the sidecar's, then the given file's."""
+    tables: list[tuple[Mapping[str, Any], str]] = []
+    if sidecar is not None and isinstance(sidecar.get("landmarks"), dict):
+        path_ = sidecar["_path"]
+        tables.append((_check_landmark_table(sidecar["landmarks"], path_), path_))
+    if landmarks is not None:
+        if isinstance(landmarks, Mapping):
+            lm_where = "landmarks"
+            table = landmarks.get("landmarks", landmarks)
+            if not isinstance(table, Mapping):
+                raise LandmarkError(
+                    "landmarks: no 'landmarks' object; give {name: {'vertex': id}}"
+                )
+            table = _check_landmark_table(table, lm_where)
+        else:
+            lm_where = str(landmarks)
+            table = load_landmark_file(landmarks)
+        by_id = [n for n, e in table.items() if e.get("vertex") is not None]
+        if by_id and path.suffix.lower() == ".stl":
+            raise LandmarkError(
+                f"{lm_where}: landmark {by_id[0]!r} is given by vertex id, but an STL file "
+                f"has no vertex ids (its triangles repeat their corners; {path.name}); "
+                'give {"position": [x, y, z]} for STL meshes'
+            )
+        tables.append((table, lm_where))
+    return tables
+
+
 # --------------------------------------------------------------------------- main
 def load_character(
     path: str | os.PathLike,
@@ -491,76 +708,21 @@ def load_character(
         )
         sidecar = None
 
-    # -- skeleton & skin, in the file frame
-    skel_raw: dict | None = raw.get("skeleton")
-    skin_raw: dict | None = raw.get("skin")
-    if sidecar is not None and "skeleton" in sidecar:
-        bones = sidecar["skeleton"].get("bones", [])
-        names = [b["name"] for b in bones]
-        index = {n: i for i, n in enumerate(names)}
-        skel_raw = {
-            "names": names,
-            "parents": [
-                index.get(b.get("parent"), -1) if b.get("parent") else -1 for b in bones
-            ],
-            "heads": [b["head"] for b in bones],
-            "tails": [b["tail"] for b in bones],
-        }
-        if "skinning" in sidecar:
-            s = sidecar["skinning"]
-            remap = np.array(
-                [index.get(n, -1) for n in s["bone_names"]] + [-1], dtype=np.int64
-            )
-            idx = np.asarray(s["indices"], dtype=np.int64)
-            skin_raw = {
-                "indices": remap[idx],
-                "weights": np.asarray(s["weights"], dtype=np.float64),
-            }
+    skel_raw, skin_raw = _sidecar_rig(sidecar, raw)
 
-    # -- frame: up axis, then units
-    if up is not None:
-        up_key = _normalise_up(up, path)
-        up_why = "given"
-    elif (
-        sidecar is not None
-        and isinstance(sidecar.get("axes"), dict)
-        and sidecar["axes"].get("up")
-    ):
-        up_key = _normalise_up(str(sidecar["axes"]["up"]), path)
-        up_why = "sidecar"
-    else:
-        up_key, up_why = _detect_up(vertices, skel_raw)
+    # -- the main component first: the frame and units are read from the body, not strays
+    labels = _components(len(vertices), faces)
+    n_comp = int(labels.max()) + 1
+    body = main_component(labels, faces, _face_areas(vertices, faces)) if n_comp > 1 else 0
+    body_v = vertices[labels == body]
+
+    up_key, up_why = _frame_up(up, sidecar, body_v, skel_raw, path)
     rot = _up_matrix(up_key)
-    height = float(np.ptp(vertices @ rot.T[:, 1]))
-    if units is not None:
-        unit = units
-        try:
-            factor = unit_factor(unit)
-        except UnitsError as exc:
-            raise UnitsError(f"{path}: --units: {exc}") from None
-        units_why = "given"
-        stature = height * factor
-        lo, hi = STATURE_RANGE_CM
-        if not lo <= stature <= hi:
-            raise UnitsError(
-                f"{path}: with --units {unit} the stature would be {stature:.4g} cm, outside "
-                f"{lo:g}..{hi:g} cm; check --units and --up"
-            )
-    elif sidecar is not None and sidecar.get("units"):
-        unit = str(sidecar["units"])
-        factor = unit_factor(unit)
-        units_why = "sidecar"
-    else:
-        nominal = "m" if path.suffix.lower() in (".glb", ".gltf") else None
-        unit = _detect_units(height, nominal, path, report)
-        factor = unit_factor(unit)
-        units_why = "detected from stature"
-    if units_why == "detected from stature":
-        report.add(
-            "units-assumed",
-            f"units assumed {unit} from the stature ({height * factor:.4g} cm)",
-            where=where,
-        )
+    height = float(np.ptp(body_v @ rot.T[:, 1]))
+    unit, units_why = _frame_units(units, sidecar, height, path, report)
+    factor = unit_factor(unit)
+    facing, facing_why = _frame_facing(sidecar, rot, (body_v @ rot.T) * factor, path, report)
+    rot = facing_matrix(facing) @ rot
 
     def transform(p: np.ndarray) -> np.ndarray:
         return (np.asarray(p, dtype=np.float64) @ rot.T) * factor
@@ -568,13 +730,10 @@ def load_character(
     v_all = transform(vertices)
 
     # -- body component
-    labels = _components(len(v_all), faces)
-    n_comp = int(labels.max()) + 1
     if n_comp > 1:
         areas = np.bincount(
             labels[faces[:, 0]], weights=_face_areas(v_all, faces), minlength=n_comp
         )
-        body = int(np.argmax(areas))
         counts = np.bincount(labels[labels >= 0], minlength=n_comp)
         component = f"{body} of {n_comp} (largest by area, {counts[body]} vertices, {areas[body]:.4g} cm²)"
         report.add(
@@ -584,7 +743,6 @@ def load_character(
             where=where,
         )
     else:
-        body = 0
         component = f"0 of 1 ({int(np.count_nonzero(labels == 0))} vertices)"
     keep = labels == body
     old_to_new = np.full(len(v_all), -1, dtype=np.int64)
@@ -616,84 +774,11 @@ def load_character(
             fixed=True,
         )
 
-    # -- checks
-    defects = mesh_defects(new_faces)
-    if defects["boundary_edges"]:
-        report.add(
-            "mesh-holes",
-            f"the body has holes ({defects['boundary_edges']} boundary edges); girths are unaffected, "
-            "geodesic lengths may detour around them",
-            where=where,
-        )
-    if defects["nonmanifold_edges"]:
-        n_nm = defects["nonmanifold_edges"]
-        if n_nm > 0.05 * len(new_faces):
-            raise MeshError(
-                f"{path}: {n_nm} non-manifold edges out of {len(new_faces) * 3 // 2} "
-                "(more than 5 %); repair the mesh (merge by distance, remove internal faces)"
-            )
-        report.add(
-            "mesh-nonmanifold",
-            f"{n_nm} non-manifold edges (shared by 3+ faces); geodesic lengths may be less accurate",
-            where=where,
-        )
-    if defects["degenerate_faces"]:
-        report.add(
-            "mesh-degenerate",
-            f"{defects['degenerate_faces']} degenerate triangles",
-            where=where,
-        )
+    _mesh_checks(new_faces, path, report)
 
-    # -- skeleton & skin in the internal frame
-    skeleton = skin = None
-    if skel_raw is not None and len(skel_raw["names"]):
-        skeleton = Skeleton(
-            names=tuple(skel_raw["names"]),
-            parents=np.asarray(skel_raw["parents"], dtype=np.int64),
-            heads=transform(np.asarray(skel_raw["heads"])) + shift,
-            tails=transform(np.asarray(skel_raw["tails"])) + shift,
-        )
-        if skin_raw is not None:
-            idx = np.asarray(skin_raw["indices"], dtype=np.int64)
-            w = np.asarray(skin_raw["weights"], dtype=np.float64)
-            if idx.shape[0] == len(v_all):
-                idx = idx[keep]
-                w = np.where(idx >= 0, w[keep], 0.0)
-                total = w.sum(axis=1, keepdims=True)
-                w = np.divide(w, total, out=np.zeros_like(w), where=total > 0)
-                skin = Skin(bone_indices=idx, weights=w)
-            else:
-                report.add(
-                    "skin-mismatch",
-                    "skin weights do not match the vertex count and were ignored",
-                    where=where,
-                )
+    skeleton, skin = _rig_in_frame(skel_raw, skin_raw, transform, shift, keep, report, path)
 
-    # -- landmarks: sidecar first, then the given file (overrides by name)
-    tables: list[tuple[Mapping[str, Any], str]] = []
-    if sidecar is not None and isinstance(sidecar.get("landmarks"), dict):
-        path_ = sidecar["_path"]
-        tables.append((_check_landmark_table(sidecar["landmarks"], path_), path_))
-    if landmarks is not None:
-        if isinstance(landmarks, Mapping):
-            lm_where = "landmarks"
-            table = landmarks.get("landmarks", landmarks)
-            if not isinstance(table, Mapping):
-                raise LandmarkError(
-                    "landmarks: no 'landmarks' object; give {name: {'vertex': id}}"
-                )
-            table = _check_landmark_table(table, lm_where)
-        else:
-            lm_where = str(landmarks)
-            table = load_landmark_file(landmarks)
-        by_id = [n for n, e in table.items() if e.get("vertex") is not None]
-        if by_id and path.suffix.lower() == ".stl":
-            raise LandmarkError(
-                f"{lm_where}: landmark {by_id[0]!r} is given by vertex id, but an STL file "
-                f"has no vertex ids (its triangles repeat their corners; {path.name}); "
-                'give {"position": [x, y, z]} for STL meshes'
-            )
-        tables.append((table, lm_where))
+    tables = _landmark_tables(sidecar, landmarks, path)
     marks: dict[str, Landmark] = {}
     for table, lm_where in tables:
         marks.update(
@@ -712,6 +797,7 @@ def load_character(
         "source": path.name,
         "units": f"{unit} ({units_why})",
         "up": f"{up_key} ({up_why})",
+        "facing": f"{facing} ({facing_why})",
         "component": component,
         "floor": f"y = 0 (moved {-floor:+.4g} cm)" if shift[1] else "y = 0",
         "rig": "sidecar"

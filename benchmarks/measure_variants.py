@@ -1,0 +1,180 @@
+"""Benchmark: measurements of the shared characters and their variants against the reference values.
+
+Run:  .venv/bin/python benchmarks/measure_variants.py [--only NAME ...]
+
+Each variant in ``../shared/characters/variants`` is loaded as a user would load
+it (its sidecar when it has one, nothing else), measured, and compared with its
+``<name>.reference.json`` like with like (``docs/measurements.md``, "Reference
+values"): stature within 1 %, girths and lengths within 3 %. The six shared
+characters are measured twice, from their sidecar landmarks and from detection
+alone (sidecar landmarks dropped), and compared with each other. The last table
+compares the A-pose and T-pose girths of the same bodies (bar 3 %).
+
+The reference files are read here, by the benchmark, to check; the code under
+test never reads them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import platform
+import sys
+import time
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+SHARED = ROOT.parent / "shared" / "characters"
+VARIANTS = SHARED / "variants"
+CHARACTERS = (
+    "A_superhero",
+    "B_slim_female",
+    "C_heavy_male",
+    "D_cartoon_child",
+    "E_average_male",
+    "F_tall_thin_elder",
+)
+#: reference id -> (our comparable value's key, bar in %)
+COLUMNS = {
+    "stature": 1.0,
+    "bust_girth": 3.0,
+    "waist_girth": 3.0,
+    "hip_girth": 3.0,
+    "arm_length_left": 3.0,
+    "arm_length_right": 3.0,
+    "back_length": 3.0,
+    "shoulder_width": 3.0,
+    "inside_leg_left": 3.0,
+    "outside_leg_left": 3.0,
+}
+#: A-pose file, T-pose variant of the same body
+POSE_PAIRS = (
+    ("B_slim_female", "B_slim_female_tpose"),
+    ("C_heavy_male", "C_heavy_male_tpose_remesh"),
+)
+
+
+def variant_files() -> list[Path]:
+    meshes = []
+    for ref in sorted(VARIANTS.glob("*.reference.json")):
+        mesh = json.loads(ref.read_text())["mesh_file"]
+        meshes.append(VARIANTS / mesh)
+    return meshes
+
+
+def reference_values(name: str) -> dict[str, float]:
+    ref = json.loads((VARIANTS / f"{name}.reference.json").read_text())
+    out = {"stature": float(ref["stature"]["value_cm"])}
+    for group in ("girths", "lengths"):
+        for k, v in ref[group].items():
+            out[k] = float(v["value_cm"])
+    return out
+
+
+def measure_file(path: Path, *, drop_landmarks: bool = False):
+    from patternbridge.measure import measure
+    from patternbridge.measure.reference import comparable_values
+    from patternbridge.mesh.load import load_character
+
+    character, report = load_character(path)
+    if drop_landmarks:
+        character = replace(character, landmarks={}, skeleton=None, skin=None)
+    t0 = time.perf_counter()
+    result = measure(character, partial=True)
+    seconds = time.perf_counter() - t0
+    values = comparable_values(character, result)
+    girths = {f"ours:{k}": m.value_cm for k, m in result.measurements.items() if m.kind == "girth"}
+    return character, report, result, {**values, **girths}, seconds
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--only", nargs="*", help="names (stems) to run")
+    args = ap.parse_args(argv)
+    import patternbridge
+
+    print(f"# measure_variants  {time.strftime('%Y-%m-%d %H:%M:%S')}")
+    print(
+        f"# python {platform.python_version()}  numpy {np.__version__}  "
+        f"patternbridge {patternbridge.__version__}"
+    )
+    failures = 0
+    values: dict[str, dict[str, float]] = {}
+
+    # -- variants against their reference files
+    print("\n## Variants against `<name>.reference.json` (ours / reference, % off)\n")
+    print("| variant | " + " | ".join(COLUMNS) + " | low-conf. landmarks | assumed | s |")
+    print("|---|" + "---:|" * len(COLUMNS) + "---|---|---:|")
+    for path in variant_files():
+        name = path.stem
+        if args.only and name not in args.only:
+            continue
+        ref = reference_values(name)
+        character, _, result, ours, seconds = measure_file(path)
+        values[name] = ours
+        cells = []
+        for key, bar in COLUMNS.items():
+            if key not in ours or key not in ref:
+                cells.append("–")
+                failures += 1
+                continue
+            off = 100.0 * (ours[key] - ref[key]) / ref[key]
+            bad = abs(off) > bar
+            failures += bad
+            cells.append(f"{ours[key]:.1f}/{ref[key]:.1f} {off:+.1f}%{' **X**' if bad else ''}")
+        low = sorted(n for n, lm in result.landmarks.items() if lm.is_low_confidence)
+        assumed = f"{character.assumed.get('units', '')}; {character.assumed.get('up', '')}"
+        print(
+            f"| {name} | " + " | ".join(cells)
+            + f" | {', '.join(low) or '–'} | {assumed} | {seconds:.1f} |"
+        )
+
+    # -- shared characters: detection alone against the sidecar landmarks
+    print("\n## Shared characters: detection alone (no landmarks, no rig) / sidecar landmarks (% off)\n")
+    print("| character | " + " | ".join(COLUMNS) + " |")
+    print("|---|" + "---:|" * len(COLUMNS))
+    for name in CHARACTERS:
+        if args.only and name not in args.only:
+            continue
+        path = SHARED / f"{name}.obj"
+        *_, ref, _ = measure_file(path)
+        *_, ours, _ = measure_file(path, drop_landmarks=True)
+        values[name] = ref
+        cells = []
+        for key, bar in COLUMNS.items():
+            if key not in ours or key not in ref:
+                cells.append("–")
+                failures += 1
+                continue
+            off = 100.0 * (ours[key] - ref[key]) / ref[key]
+            bad = abs(off) > bar
+            failures += bad
+            cells.append(f"{ours[key]:.1f}/{ref[key]:.1f} {off:+.1f}%{' **X**' if bad else ''}")
+        print(f"| {name} | " + " | ".join(cells) + " |")
+
+    # -- A-pose against T-pose girths
+    print("\n## A-pose / T-pose girths of one body (bar 3 %)\n")
+    print("| body | girth | A-pose | T-pose | % |")
+    print("|---|---|---:|---:|---:|")
+    for a, t in POSE_PAIRS:
+        if a not in values or t not in values:
+            continue
+        for key in sorted(values[t]):
+            if "girth" not in key:
+                continue
+            va, vt = values[a].get(key), values[t][key]
+            if va is None:
+                continue
+            off = 100.0 * (vt - va) / va
+            bad = abs(off) > 3.0
+            failures += bad
+            print(f"| {a[0]} | {key} | {va:.1f} | {vt:.1f} | {off:+.1f}{' **X**' if bad else ''} |")
+    print(f"\n{failures} value(s) outside their bar")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

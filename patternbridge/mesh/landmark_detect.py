@@ -1,0 +1,682 @@
+"""Detect the datum points of an upright humanoid from its geometry, one body region at a time.
+
+The body is in cm, +Y up, facing +Z, left = +X (the loader turns it so). Each
+region function reads the points found so far (and the ones already known
+from a file or a rig, which serve as anchors) and adds its own, each with the
+rule that placed it and a confidence:
+
+* :func:`detect_crotch` — scanning horizontal sections down from 62 % of the
+  stature, the first level where the body splits into two legs; the lowest
+  midline vertex just above.
+* :func:`detect_armpits` — scanning up from the crotch, the level where the
+  torso section's lateral extent jumps (it meets the arm; a T-pose armpit
+  flares gradually, so the scan steps back while the contour is steeper than
+  about 60°); the lowest vertex above the gap between torso and arm; the
+  axilla folds (front-most / back-most point 1.1 % of S above the armpit) and
+  the shoulder point (highest vertex 1.2 % of S outside the armpit).
+* :func:`detect_neck` — the narrowest section between the shoulders and the
+  head; the front neck point deepest behind the chord of the front midline
+  profile, the back neck point on the back midline where the section has grown
+  by 30 % (the neck base), the side neck points at the neck/shoulder corner of
+  the frontal contour.
+* :func:`detect_torso_points` — the waist (narrowest torso section), chest
+  (widest above) and hip (widest below) levels of the girth search, and their
+  front, back and lateral extreme points.
+* :func:`detect_arm` — along the line shoulder point to fingertip, sections
+  1 % of it apart: the wrist at the distal end of the narrow wrist (the last
+  section less than 10 % wider than the narrowest before the palm; back side)
+  and the elbow where the arm's centre line bends most (outer side).
+* :func:`detect_leg` — the ankles where the foot section's depth/width ratio
+  has dropped to 75 % of the sole's, the heel behind and below them, the knee
+  in front at 60 % of the height from ankle to crotch.
+
+Confidence: 0.7 for a point found by its rule, lower where the rule fell back
+to a default (no bend found at the elbow, no vertex on the crotch midline).
+:mod:`patternbridge.mesh.landmark_checks` then checks the whole set.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import LandmarkError
+from .character import Landmark, LandmarkEvidence, LandmarkSource
+
+__all__ = [
+    "detect_arm",
+    "detect_armpits",
+    "detect_crotch",
+    "detect_landmarks",
+    "detect_leg",
+    "detect_neck",
+    "detect_torso_points",
+    "level_arm_shoulder",
+]
+
+SIDES = {"left": 1.0, "right": -1.0}
+FOUND = 0.7  # confidence of a point its rule found
+FALLBACK = 0.35  # confidence of a point placed by a rule's fallback
+PROVISIONAL = 0.3  # a point a later rule replaces
+NO_CORNER = "no shoulder corner: highest vertex 1.2 % of S outside the armpit (provisional)"
+SHARP = 0.85  # a rule that found a sharp geometric feature (the shoulder corner, the neck base)
+WRIST_END = 1.1  # the wrist ends where its section is this much wider than the narrowest
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class Found:
+    """A detected point before it is snapped to a vertex."""
+
+    position: np.ndarray
+    rule: str
+    confidence: float = FOUND
+
+
+class Scan:
+    """The body with horizontal sections on demand and the points found so far.
+
+    Parameters
+    ----------
+    vertices : (V, 3) float64, cm, +Y up, facing +Z
+    faces : (F, 3) int64
+    known : name -> (3,) position of landmarks already known (anchors)
+    """
+
+    def __init__(
+        self, vertices: np.ndarray, faces: np.ndarray, known: Mapping[str, np.ndarray]
+    ) -> None:
+        from ..measure.section import SlabIndex
+
+        self.v, self.f = vertices, faces
+        self.floor = float(vertices[:, 1].min())
+        self.top = float(vertices[:, 1].max())
+        self.S = self.top - self.floor
+        self.step = self.S / 300.0
+        self.slabs = SlabIndex(vertices, faces, axis=1, slab_cm=max(self.S / 200.0, 0.1))
+        lo, hi = vertices[:, 0].min(), vertices[:, 0].max()
+        self.x_mid = float(0.5 * (lo + hi))
+        self.known = {k: np.asarray(p, dtype=np.float64) for k, p in known.items()}
+        self.found: dict[str, Found] = {}
+
+    def loops(self, y: float) -> list[np.ndarray]:
+        from ..measure.section import plane_loops
+
+        sec = plane_loops(
+            self.v, self.f, np.array([0.0, y, 0.0]), np.array([0.0, 1.0, 0.0]),
+            candidates=self.slabs.faces_at(y),
+        )
+        return [lp.points for lp in sec.loops if len(lp.points) >= 3]
+
+    def put(self, name: str, p: np.ndarray, rule: str, confidence: float = FOUND) -> None:
+        self.found[name] = Found(position=np.asarray(p, dtype=np.float64), rule=rule,
+                                 confidence=confidence)
+
+    def has(self, name: str) -> bool:
+        return name in self.known or name in self.found
+
+    def at(self, name: str) -> np.ndarray:
+        """A point: the known one (file, rig) first, else the detected one."""
+        if name in self.known:
+            return self.known[name]
+        return self.found[name].position
+
+    def points(self) -> dict[str, np.ndarray]:
+        return {**{k: f.position for k, f in self.found.items()}, **self.known}
+
+
+def _torso_loop(loops, x_mid: float):
+    """The loop spanning the midline (or nearest to it)."""
+    if not loops:
+        return None
+    spanning = [p for p in loops if p[:, 0].min() <= x_mid <= p[:, 0].max()]
+    if spanning:
+        return max(spanning, key=len)
+    return min(loops, key=lambda p: abs(p[:, 0].mean() - x_mid))
+
+
+def _ray_hit(vertices: np.ndarray, origin: np.ndarray, direction: np.ndarray, radius: float):
+    """The first vertex met by a thick ray: nearest along it among those within ``radius``."""
+    d = direction / np.linalg.norm(direction)
+    rel = vertices - origin
+    t = rel @ d
+    perp2 = np.sum(rel * rel, axis=1) - t * t
+    ok = (t > 0) & (perp2 <= radius * radius)
+    if not ok.any():
+        return None
+    idx = np.flatnonzero(ok)
+    return int(idx[np.argmin(t[idx])])
+
+
+def _faces_near(vertices, faces, a, b, radius: float) -> np.ndarray:
+    ab = b - a
+    t = np.clip((vertices - a) @ ab / max(float(ab @ ab), 1e-12), 0.0, 1.0)
+    near = np.sum((vertices - (a + t[:, None] * ab)) ** 2, axis=1) <= radius * radius
+    return np.flatnonzero(near[faces].any(axis=1))
+
+
+# --------------------------------------------------------------------------- regions
+def detect_crotch(sc: Scan) -> None:
+    """Crotch: the first level, going down, where the lower body splits into two legs."""
+    v, S, xm = sc.v, sc.S, sc.x_mid
+    y_crotch = None
+    for y in np.arange(sc.floor + 0.62 * S, sc.floor + 0.30 * S, -sc.step):
+        loops = [p for p in sc.loops(y) if abs(p[:, 0].mean() - xm) < 0.12 * S]
+        left = [p for p in loops if p[:, 0].min() > xm]
+        right = [p for p in loops if p[:, 0].max() < xm]
+        if left and right and not any(p[:, 0].min() <= xm <= p[:, 0].max() for p in loops):
+            y_crotch = float(y)
+            break
+    if y_crotch is None:
+        raise LandmarkError(
+            "geometry: no crotch found (the legs never separate); give landmarks with --landmarks"
+        )
+    above = (v[:, 1] > y_crotch) & (v[:, 1] < y_crotch + 0.06 * S)
+    band = above & (np.abs(v[:, 0] - xm) < 0.001 * S)  # on the midline seam
+    if not band.any():
+        band = above & (np.abs(v[:, 0] - xm) < max(0.004 * S, 0.3))
+    rule = f"legs separate below y = {y_crotch:.1f} cm"
+    if band.any():
+        cands = np.flatnonzero(band)
+        sc.put("crotch_point", v[cands[np.argmin(v[cands, 1])]], f"{rule}; lowest midline vertex above")
+    else:
+        sc.put("crotch_point", np.array([xm, y_crotch + sc.step, 0.0]),
+               f"{rule}; no midline vertex there", FALLBACK)
+
+
+def _armpit_profile(sc: Scan, y_crotch: float):
+    """Per level from the crotch up: the torso loop's lateral reach and the gap to the next loop out."""
+    S, xm = sc.S, sc.x_mid
+    ys = np.arange(y_crotch + 0.15 * S, sc.floor + 0.85 * S, sc.step)
+    ext = {s: [] for s in SIDES}
+    gap = {s: [] for s in SIDES}
+    for y in ys:
+        loops = sc.loops(y)
+        t = _torso_loop(loops, xm)
+        for s, sg in SIDES.items():
+            if t is None:
+                ext[s].append(np.nan)
+                gap[s].append(np.nan)
+                continue
+            reach = float(np.max(sg * (t[:, 0] - xm)))
+            ext[s].append(reach)
+            others = [p for p in loops if p is not t and np.mean(sg * (p[:, 0] - xm)) > reach]
+            gap[s].append(min((float(np.min(sg * (p[:, 0] - xm))) for p in others),
+                              default=reach + 0.05 * S))
+    return ys, {s: np.asarray(e) for s, e in ext.items()}, {s: np.asarray(g) for s, g in gap.items()}
+
+
+def _arm_depth(sc: Scan, y0: float, reach: float, sg: float, fallback: np.ndarray) -> float:
+    """Depth (z) of the arm's loop beside the torso at ``y0``, or of the torso for a T-pose."""
+    loops0 = sc.loops(y0)
+    t = _torso_loop(loops0, sc.x_mid)
+    arms0 = [p for p in loops0 if p is not t and np.mean(sg * (p[:, 0] - sc.x_mid)) > reach]
+    if arms0:
+        return float(np.mean(min(arms0, key=lambda p: np.min(sg * (p[:, 0] - sc.x_mid)))[:, 2]))
+    return float(np.mean(t[:, 2])) if t is not None else float(np.median(fallback))
+
+
+def detect_armpits(sc: Scan) -> None:
+    """Armpits where the torso section meets the arm; axilla folds and shoulder points from them."""
+    v, S, xm = sc.v, sc.S, sc.x_mid
+    ys, ext, gap = _armpit_profile(sc, float(sc.at("crotch_point")[1]))
+    for s, sg in SIDES.items():
+        if sc.has(f"armpit_point_{s}"):
+            arm = sc.at(f"armpit_point_{s}")
+            zc = float(arm[2])
+        else:
+            e = ext[s]
+            jump = np.flatnonzero(np.diff(e) > 0.035 * S)
+            if not len(jump):
+                continue
+            k = int(jump[0])
+            while k > 0 and e[k] - e[k - 1] > 0.006 * S:  # a T-pose armpit flares gradually
+                k -= 1
+            y0 = ys[k]
+            rel = sg * (v[:, 0] - xm)
+            hi_x = min(gap[s][k], e[k] + 0.03 * S) + 0.01 * S  # not out to a T-pose hand
+            col = ((rel > e[k] - 0.01 * S) & (rel < hi_x)
+                   & (v[:, 1] > y0) & (v[:, 1] < y0 + 0.08 * S))
+            if not col.any():
+                continue
+            idx = np.flatnonzero(col)
+            zc = _arm_depth(sc, y0, e[k], sg, v[idx, 2])
+            close = np.abs(v[idx, 2] - zc) < 0.015 * S
+            idx = idx[close] if close.any() else idx
+            arm = v[idx[np.argmin(v[idx, 1])]]
+            sc.put(f"armpit_point_{s}", arm,
+                   f"torso section meets the arm at y = {y0:.1f} cm; lowest vertex above the gap")
+        _axillae(sc, s, arm, zc)
+        if not sc.has(f"shoulder_point_{s}"):
+            _shoulder_point(sc, s, arm, zc)
+
+
+def _axillae(sc: Scan, s: str, arm: np.ndarray, zc: float) -> None:
+    S = sc.S
+    ya = arm[1] + 0.011 * S
+    loops = sc.loops(ya)
+    if not loops:
+        return
+    allp = np.concatenate(loops)
+    near = allp[np.abs(allp[:, 0] - arm[0]) < max(0.006 * S, 0.5)]
+    near = near[np.abs(near[:, 2] - zc) < 0.12 * S]
+    if len(near):
+        rule = f"section {ya:.1f} cm high, 1.1 % of S above the armpit, at its x"
+        sc.put(f"axilla_front_{s}", near[np.argmax(near[:, 2])], f"front-most point of the {rule}")
+        sc.put(f"axilla_back_{s}", near[np.argmin(near[:, 2])], f"back-most point of the {rule}")
+
+
+def _shoulder_point(sc: Scan, s: str, arm: np.ndarray, zc: float) -> None:
+    """Acromion: the convex corner of the shoulder/arm top contour in the frontal plane of the shoulder.
+
+    The frontal plane is the mid-depth of the shoulder above the armpit (up to
+    12 % of S above it, below the head). Along
+    it, the highest vertex per x bin from 4 % of S inside the armpit to 6 %
+    outside gives the top contour; the corner is the point farthest above the
+    chord of that contour (the shoulder slope turning down the arm, which
+    falls beyond it by more than 1 in 2), within 2.5 % of S of the column
+    1.2 % of S outside the armpit. Without a corner (a level T-pose arm)
+    the highest vertex 1.2 % of S outside the
+    armpit is taken, with a lower confidence.
+    """
+    v, S, sg = sc.v, sc.S, SIDES[s]
+    xs = arm[0] + sg * 0.012 * S
+    shoulder_band = (v[:, 1] > arm[1]) & (v[:, 1] < arm[1] + 0.12 * S)  # below the head
+    colm = (np.abs(v[:, 0] - xs) < max(0.004 * S, 0.3)) & shoulder_band & (
+        np.abs(v[:, 2] - zc) < 0.08 * S
+    )
+    if not colm.any():
+        return
+    top = v[colm][v[colm][:, 1] > v[colm][:, 1].max() - 0.03 * S]
+    zm = 0.5 * float(top[:, 2].min() + top[:, 2].max())
+    slab = (np.abs(v[:, 2] - zm) < 0.01 * S) & shoulder_band
+    xs_bins = arm[0] + sg * np.linspace(-0.04 * S, 0.06 * S, 26)
+    prof = []
+    for x in xs_bins:
+        sel = slab & (np.abs(v[:, 0] - x) < max(0.002 * S, 0.2))
+        if sel.any():
+            i = np.flatnonzero(sel)
+            prof.append(i[np.argmax(v[i, 1])])
+    if len(prof) > 4:
+        p = v[prof][:, [0, 1]]
+        ab = p[-1] - p[0]
+        n = np.array([-ab[1], ab[0]]) / max(np.linalg.norm(ab), 1e-9)
+        if n[1] < 0:
+            n = -n  # above the chord
+        height = (p - p[0]) @ n
+        k = int(np.argmax(height))
+        drop = (p[k, 1] - p[-1, 1]) / max(abs(p[-1, 0] - p[k, 0]), 1e-9)  # the arm's fall
+        beside = abs(p[k, 0] - xs) < 0.025 * S  # an acromion sits just outside the armpit
+        if height[k] > 0.004 * S and 0 < k < len(p) - 1 and drop > 0.5 and beside:
+            sc.put(f"shoulder_point_{s}", v[prof[k]],
+                   f"convex corner of the shoulder/arm top contour ({height[k]:.1f} cm above its chord)",
+                   SHARP)
+            return
+    sel = np.flatnonzero(colm & (np.abs(v[:, 2] - zm) < 0.01 * S)) if (
+        colm & (np.abs(v[:, 2] - zm) < 0.01 * S)).any() else np.flatnonzero(colm)
+    sc.put(f"shoulder_point_{s}", v[sel[np.argmax(v[sel, 1])]], NO_CORNER, PROVISIONAL)
+
+
+def level_arm_shoulder(sc: Scan, s: str) -> None:
+    """Shoulder point of a level (T-pose) arm, which has no corner to find.
+
+    Once the side neck point is known, the acromion is taken 60 % of the way
+    from it to the armpit (its A-pose share on the test bodies, 52-69 % in
+    their T-poses), at the top of the shoulder in its frontal mid-plane. The
+    rule is coarse: the point keeps a low confidence.
+    """
+    name = f"shoulder_point_{s}"
+    f = sc.found.get(name)
+    if f is None or f.rule != NO_CORNER or not sc.has(f"neck_shoulder_point_{s}"):
+        return
+    v, S = sc.v, sc.S
+    snp, ap = sc.at(f"neck_shoulder_point_{s}"), sc.at(f"armpit_point_{s}")
+    x = snp[0] + 0.6 * (ap[0] - snp[0])
+    col = (np.abs(v[:, 0] - x) < max(0.004 * S, 0.3)) & (v[:, 1] > ap[1]) & (v[:, 1] < ap[1] + 0.12 * S)
+    if not col.any():
+        return
+    top = v[col][v[col][:, 1] > v[col][:, 1].max() - 0.03 * S]
+    zm = 0.5 * float(top[:, 2].min() + top[:, 2].max())
+    near = np.flatnonzero(col & (np.abs(v[:, 2] - zm) < 0.01 * S))
+    if len(near):
+        sc.put(name, v[near[np.argmax(v[near, 1])]],
+               "level arm without a shoulder corner: top of the shoulder 60 % of the way from the side "
+               "neck point to the armpit", 0.45)
+
+
+def _narrowest_neck(sc: Scan, y_sh: float):
+    top = float(sc.at("top_of_head")[1])
+    best = None
+    for y in np.arange(y_sh, top - 0.05 * (top - sc.floor), sc.step):
+        t = _torso_loop(sc.loops(y), sc.x_mid)
+        if t is None:
+            continue
+        width = float(np.ptp(t[:, 0]))
+        if best is None or width < best[1]:
+            best = (float(y), width, t)
+    return best
+
+
+def detect_neck(sc: Scan) -> None:
+    """Front, back and side neck points from the narrowest section between the shoulders and the head."""
+    sh = [sc.at(f"shoulder_point_{s}") for s in SIDES if sc.has(f"shoulder_point_{s}")]
+    if not sh:
+        return
+    y_sh = float(np.mean([p[1] for p in sh]))
+    best = _narrowest_neck(sc, y_sh)
+    if best is None:
+        return
+    y_neck, w_neck, tn = best
+    v, S, xm, step = sc.v, sc.S, sc.x_mid, sc.step
+    zc = float(np.mean(tn[:, 2]))
+    midv = np.abs(v[:, 0] - xm) < max(0.004 * S, 0.3)
+    if not sc.has("front_neck_point"):
+        prof = []
+        for y in np.arange(y_sh - 0.04 * S, y_neck, step):
+            sel = midv & (np.abs(v[:, 1] - y) < step) & (v[:, 2] > zc - 0.02 * S)
+            if sel.any():
+                i = np.flatnonzero(sel)
+                prof.append(i[np.argmax(v[i, 2])])
+        if len(prof) > 2:
+            p = v[prof]
+            a, b = p[0], p[-1]
+            ab = (b - a)[[1, 2]]
+            n2 = np.array([ab[1], -ab[0]]) / np.linalg.norm(ab)
+            depth = (p[:, [1, 2]] - a[[1, 2]]) @ n2
+            sc.put("front_neck_point", p[int(np.argmax(depth))],
+                   "front midline point deepest behind the chord of the neck/chest profile")
+    if not sc.has("back_neck_point"):
+        y_base, conf, rule = y_sh, FALLBACK, "back midline at the shoulder height (no neck base found)"
+        for y in np.arange(y_neck, y_sh - 0.05 * S, -step):  # raised shoulders: a little lower
+            t = _torso_loop(sc.loops(y), xm)
+            if t is not None and np.ptp(t[:, 0]) > 1.3 * w_neck:
+                y_base, conf = float(y), SHARP
+                rule = f"back midline at the neck base (section 30 % wider than the neck, y = {y:.1f} cm)"
+                break
+        back = midv & (np.abs(v[:, 1] - (y_base + 0.01 * S)) < 2 * step) & (v[:, 2] < zc)
+        if back.any():
+            i = np.flatnonzero(back)
+            sc.put("back_neck_point", v[i[np.argmin(v[i, 2])]], rule, conf)
+    if sc.has("back_neck_point") and sc.has("front_neck_point"):
+        zc = 0.5 * float(sc.at("back_neck_point")[2] + sc.at("front_neck_point")[2])
+    for s in SIDES:
+        if sc.has(f"shoulder_point_{s}") and not sc.has(f"neck_shoulder_point_{s}"):
+            _side_neck_point(sc, s, tn, y_neck, zc)
+
+
+def _side_neck_point(sc: Scan, s: str, tn: np.ndarray, y_neck: float, zc: float) -> None:
+    v, S, sg = sc.v, sc.S, SIDES[s]
+    spt = sc.at(f"shoulder_point_{s}")
+    x_n = sc.x_mid + sg * 0.5 * float(np.ptp(tn[:, 0]))
+    prof = []
+    for x in np.linspace(x_n, spt[0], 24):
+        sel = ((np.abs(v[:, 0] - x) < max(0.004 * S, 0.3)) & (np.abs(v[:, 2] - zc) < 0.01 * S)
+               & (v[:, 1] < y_neck + 0.02 * S) & (v[:, 1] > spt[1] - 0.02 * S))
+        if sel.any():
+            i = np.flatnonzero(sel)
+            prof.append(i[np.argmax(v[i, 1])])
+    if len(prof) <= 2:
+        return
+    p = v[prof]
+    a, b = p[0, [0, 1]], p[-1, [0, 1]]
+    ab = b - a
+    n2 = np.array([-ab[1], ab[0]]) / np.linalg.norm(ab)
+    if n2[1] > 0:
+        n2 = -n2  # below the chord
+    depth = (p[:, [0, 1]] - a) @ n2
+    sc.put(f"neck_shoulder_point_{s}", p[int(np.argmax(depth))],
+           "neck/shoulder corner of the frontal contour between the neck and the shoulder point")
+
+
+def detect_torso_points(sc: Scan) -> None:
+    """Waist, bust, buttock and hip points at the levels of the girth search."""
+    from ..measure.girths import BodyFrame, torso_levels
+
+    try:
+        levels = torso_levels(BodyFrame(sc.v, sc.f, sc.points()))
+    except LandmarkError:
+        return
+    S, xm = sc.S, sc.x_mid
+    y, cut = levels["waist"]
+    ring = cut.polyline
+    if len(ring):
+        loops = [p for p in sc.loops(y) if abs(p[:, 0].mean() - xm) < 0.5 * np.ptp(ring[:, 0])]
+        allp = np.concatenate(loops) if loops else ring
+        midp = allp[np.abs(allp[:, 0] - xm) < max(0.006 * S, 0.5)]
+        rule = f"narrowest torso section (waist, y = {y:.1f} cm)"
+        if len(midp):
+            sc.put("waist_front", midp[np.argmax(midp[:, 2])], f"front midline of the {rule}")
+            sc.put("waist_back", midp[np.argmin(midp[:, 2])], f"back midline of the {rule}")
+        sc.put("waist_side_left", allp[np.argmax(allp[:, 0])], f"left-most point of the {rule}")
+        sc.put("waist_side_right", allp[np.argmin(allp[:, 0])], f"right-most point of the {rule}")
+    _bust_points(sc, levels["chest"][0])
+    y = levels["hip"][0]
+    loops = [p for p in sc.loops(y) if abs(p[:, 0].mean() - xm) < 0.1 * S]
+    if loops:
+        allp = np.concatenate(loops)
+        rule = f"of the widest hip section (y = {y:.1f} cm)"
+        for s, sg in SIDES.items():
+            side = allp[sg * (allp[:, 0] - xm) > 0.01 * S]
+            if len(side):
+                sc.put(f"buttock_point_{s}", side[np.argmin(side[:, 2])], f"back-most point {rule}")
+                sc.put(f"hip_side_{s}", side[np.argmax(sg * (side[:, 0] - xm))], f"outer-most point {rule}")
+
+
+def _bust_points(sc: Scan, y: float) -> None:
+    """Bust points: the apex of each half of the chest section's front.
+
+    On the torso loop of the widest chest section, the point lying farthest in
+    front of the chord from the front midline point to the side's lateral
+    extreme (the nipple of a breast; the middle of a flat chest's arc), not
+    simply the front-most point, which on a flat chest drifts to the sternum.
+    """
+    t = _torso_loop(sc.loops(y), sc.x_mid)
+    if t is None:
+        return
+    xm, S = sc.x_mid, sc.S
+    zc = float(np.mean(t[:, 2]))
+    front = t[t[:, 2] > zc]
+    near_mid = front[np.abs(front[:, 0] - xm) < max(0.006 * S, 0.5)]
+    if not len(near_mid):
+        return
+    m = near_mid[np.argmax(near_mid[:, 2])]
+    for s, sg in SIDES.items():
+        side = front[sg * (front[:, 0] - xm) > 0.01 * S]
+        if len(side) < 3:
+            continue
+        e = t[np.argmax(sg * (t[:, 0] - xm))]
+        ab = (e - m)[[0, 2]]
+        n = np.array([-ab[1], ab[0]]) / max(np.linalg.norm(ab), 1e-9)
+        if n[1] < 0:
+            n = -n  # pointing forward (+z)
+        depth = (side[:, [0, 2]] - m[[0, 2]]) @ n
+        sc.put(f"bust_point_{s}", side[int(np.argmax(depth))],
+               f"apex of the chest front between the midline and the side (widest chest section, "
+               f"y = {y:.1f} cm)")
+
+
+def _arm_sections(sc: Scan, spt: np.ndarray, tip: np.ndarray, x_arm: float, sg: float):
+    """Centres and widths of sections square to the shoulder-fingertip line."""
+    from ..measure.section import plane_loops
+
+    v, faces = sc.v, sc.f
+    d = tip - spt
+    u = d / np.linalg.norm(d)
+    ts = np.linspace(0.10, 0.88, 79)  # 1 % of the shoulder-fingertip line apart
+    arm_faces = _faces_near(v, faces, spt, tip, 0.12 * sc.S)
+    beyond = sg * (v[:, 0] - x_arm) > 0
+    arm_faces = arm_faces[beyond[faces[arm_faces]].all(axis=1)]
+    cents, widths, loops = [], [], []
+    for t in ts:
+        q = spt + t * d
+        sec = plane_loops(v, faces, q, u, candidates=arm_faces)
+        if not sec.loops:
+            cents.append(q)
+            widths.append(np.inf)
+            loops.append(None)
+            continue
+        qq = sec.to_uv(q)
+        lp = min(sec.loops, key=lambda lp: lp.distance_uv(qq) if not lp.contains_uv(qq) else -1.0)
+        cents.append(sec.to_xyz(lp.centroid_uv))
+        widths.append(float(np.sum(np.ptp(lp.uv, axis=0))))
+        loops.append(lp.points)
+    return ts, np.asarray(cents), np.asarray(widths), loops
+
+
+def _wrist_index(ts: np.ndarray, widths: np.ndarray) -> int:
+    """The narrowest forearm section before the hand: scanning out from 0.55 of the
+    shoulder-fingertip line, the running minimum until the width grows by 30 %
+    (the palm), so the narrow fingers beyond are never taken."""
+    distal = np.flatnonzero((ts > 0.55) & (ts < 0.9))
+    best = int(distal[0])
+    for k in distal:
+        if widths[k] < widths[best]:
+            best = int(k)
+        elif widths[k] > 1.3 * widths[best]:
+            break
+    # the styloid sits at the distal end of the narrow wrist, where the palm begins to widen it
+    end = best
+    while end + 1 < len(widths) and widths[end + 1] < WRIST_END * widths[best]:
+        end += 1
+    return end
+
+
+def detect_arm(sc: Scan, s: str) -> None:
+    """Wrist (narrowest section before the hand) and elbow (largest bend of the centre line)."""
+    sg = SIDES[s]
+    if not (sc.has(f"shoulder_point_{s}") and sc.has(f"armpit_point_{s}")):
+        return
+    v, S = sc.v, sc.S
+    spt = sc.at(f"shoulder_point_{s}")
+    x_arm = float(sc.at(f"armpit_point_{s}")[0])
+    # the arm leaves the shoulder sideways: within ~63 degrees of horizontal
+    region = (sg * (v[:, 0] - x_arm) > 0) & (sg * (v[:, 0] - spt[0]) > 0.5 * np.abs(v[:, 1] - spt[1]))
+    if not region.any():
+        return
+    idx = np.flatnonzero(region)
+    tip = v[idx[np.argmax(np.sum((v[idx] - spt) ** 2, axis=1))]]
+    ts, cents, widths, loops = _arm_sections(sc, spt, tip, x_arm, sg)
+    on_arm = sg * (cents[:, 0] - x_arm) > 0
+    first = int(np.argmax(on_arm & (ts >= 0.15)))
+    k_w = _wrist_index(ts, widths)
+    if not sc.has(f"wrist_point_{s}") and loops[k_w] is not None:
+        lp = loops[k_w]
+        sc.put(f"wrist_point_{s}", lp[np.argmin(lp[:, 2])],
+               f"back of the narrowest arm section before the hand ({ts[k_w]:.2f} of shoulder-fingertip)")
+    if sc.has(f"elbow_point_{s}"):
+        return
+    a, b = cents[first], cents[k_w]
+    ab = (b - a) / np.linalg.norm(b - a)
+    rel = cents - a
+    dist = np.linalg.norm(rel - np.outer(rel @ ab, ab), axis=1)
+    cand = np.flatnonzero((ts > ts[first] + 0.05) & (ts < ts[k_w] - 0.1))
+    if not len(cand):
+        return
+    k_e = int(cand[np.argmax(dist[cand])])
+    conf, rule = FOUND, f"largest bend of the arm's centre line ({dist[k_e]:.1f} cm off the chord)"
+    if dist[k_e] < 0.01 * S:  # a straight arm: half-way
+        k_e = int(cand[np.argmin(np.abs(ts[cand] - 0.5 * (ts[first] + ts[k_w])))])
+        conf, rule = 0.5, "straight arm: half-way between the shoulder and the wrist, behind"
+    c_e = cents[k_e]
+    bend = (c_e - a) / np.linalg.norm(c_e - a) - (b - c_e) / np.linalg.norm(b - c_e)
+    if np.linalg.norm(bend) < 0.2:
+        bend = np.array([0.0, 0.0, -1.0])
+    lp = loops[k_e]
+    if lp is not None:  # the olecranon: the section's point furthest out along the bend
+        sc.put(f"elbow_point_{s}", lp[int(np.argmax((lp - c_e) @ bend))], rule, conf)
+        return
+    hit = _ray_hit(v, c_e, bend, max(0.006 * S, 0.5))
+    if hit is not None:
+        sc.put(f"elbow_point_{s}", v[hit], rule, conf)
+
+
+def _foot_loop(sc: Scan, y: float, sg: float):
+    loops = [p for p in sc.loops(y)
+             if sg * (p[:, 0].mean() - sc.x_mid) > 0 and abs(p[:, 0].mean() - sc.x_mid) < 0.15 * sc.S]
+    return max(loops, key=len) if loops else None
+
+
+def detect_leg(sc: Scan, s: str) -> None:
+    """Ankles where the foot ends, the heel below and behind, the knee in front."""
+    sg = SIDES[s]
+    v, S, xm = sc.v, sc.S, sc.x_mid
+    y_ank, base = None, None
+    for y in np.arange(sc.floor + 0.012 * S, sc.floor + 0.15 * S, sc.step):
+        p = _foot_loop(sc, y, sg)
+        if p is None:
+            continue
+        ratio = np.ptp(p[:, 2]) / max(np.ptp(p[:, 0]), 1e-9)
+        base = ratio if base is None else base
+        if ratio < 0.75 * base:
+            y_ank = float(y)
+            break
+    if y_ank is None:
+        return
+    p = _foot_loop(sc, y_ank, sg)
+    if p is None:
+        return
+    rule = f"leg section no longer a foot (y = {y_ank:.1f} cm)"
+    sc.put(f"ankle_inside_{s}", p[np.argmin(sg * (p[:, 0] - xm))], f"inner-most point of the {rule}")
+    sc.put(f"ankle_outside_{s}", p[np.argmax(sg * (p[:, 0] - xm))], f"outer-most point of the {rule}")
+    foot = (sg * (v[:, 0] - xm) > 0) & (v[:, 1] < y_ank) & (np.abs(v[:, 0] - p[:, 0].mean()) < 0.05 * S)
+    if foot.any():
+        i = np.flatnonzero(foot)
+        sc.put(f"heel_point_{s}", v[i[np.argmin(v[i, 2])]], "back-most vertex below the ankle")
+    y_knee = y_ank + 0.6 * (float(sc.at("crotch_point")[1]) - y_ank)
+    leg = ((sg * (v[:, 0] - xm) > 0) & (np.abs(v[:, 1] - y_knee) < 0.011 * S)
+           & (np.abs(v[:, 0] - p[:, 0].mean()) < 0.08 * S))
+    if leg.any():
+        i = np.flatnonzero(leg)
+        sc.put(f"knee_point_{s}", v[i[np.argmax(v[i, 2])]],
+               "front-most leg vertex at 60 % of the height from ankle to crotch")
+
+
+def detect_landmarks(
+    vertices: np.ndarray, faces: np.ndarray, *, known: Mapping[str, np.ndarray] | None = None
+) -> dict[str, Landmark]:
+    """Detect the datum points of an upright humanoid from its geometry alone.
+
+    Parameters
+    ----------
+    vertices : (V, 3) float64, cm, +Y up, facing +Z, left = +X
+    faces : (F, 3) int64
+    known : name -> (3,) position, cm, of landmarks already known (from a
+        file or a rig); they anchor the rules that depend on them and are not
+        detected again
+
+    Returns
+    -------
+    name -> Landmark with source ``"detected"``, a confidence and the rule as
+    evidence, for the names found (known names are not returned).
+
+    Raises
+    ------
+    LandmarkError
+        The legs never separate (no crotch), so nothing can be placed.
+    """
+    v = np.asarray(vertices, dtype=np.float64)
+    sc = Scan(v, faces, known or {})
+    if not sc.has("top_of_head"):
+        sc.put("top_of_head", v[int(np.argmax(v[:, 1]))], "highest vertex", 0.9)
+    if not sc.has("crotch_point"):
+        detect_crotch(sc)
+    detect_armpits(sc)
+    detect_neck(sc)
+    for s in SIDES:
+        level_arm_shoulder(sc, s)
+    for s in SIDES:
+        detect_arm(sc, s)  # before the torso points: the chest level depends on raised arms
+    detect_torso_points(sc)
+    for s in SIDES:
+        detect_leg(sc, s)
+    out = {}
+    for name, f in sc.found.items():
+        if name in sc.known:
+            continue
+        vid = int(np.argmin(np.sum((v - f.position) ** 2, axis=1)))
+        out[name] = Landmark(
+            name=name, position=v[vid], vertex=vid, source=LandmarkSource.DETECTED,
+            confidence=f.confidence, evidence=LandmarkEvidence(rule=f.rule),
+        )
+    return out

@@ -1,0 +1,82 @@
+"""The shared variants measured as delivered, against their independent reference values, and pose-free girths."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from patternbridge.measure import measure
+from patternbridge.measure.reference import comparable_values
+from patternbridge.mesh.load import load_character
+
+pytestmark = pytest.mark.shared
+
+ALL = (
+    "stature", "bust_girth", "waist_girth", "hip_girth", "arm_length_left", "arm_length_right",
+    "back_length", "shoulder_width", "inside_leg_left", "outside_leg_left",
+)
+#: variant -> values held to the bar (stature 1 %, the rest 3 %); the others are
+#: known limits of detection alone (docs/measurements.md, "Reference values")
+HELD = {
+    "A_superhero_bent.obj": ALL,
+    "C_heavy_male_tpose_remesh.obj": ALL,
+    "I_tall_apple_woman.obj": ALL,
+    "B_slim_female_tpose.glb": tuple(k for k in ALL if k != "back_length"),
+    "D_cartoon_child_rigged.glb": (
+        "stature", "bust_girth", "waist_girth", "hip_girth", "arm_length_left", "arm_length_right",
+        "shoulder_width",
+    ),
+    "F_tall_thin_elder_mm_back.obj": (
+        "stature", "bust_girth", "waist_girth", "hip_girth", "shoulder_width",
+    ),
+}
+
+
+@pytest.fixture(scope="module")
+def variants(shared_dir):
+    return shared_dir / "characters" / "variants"
+
+
+def _reference(variants, mesh: str) -> dict[str, float]:
+    stem = mesh.rsplit(".", 1)[0]
+    ref = json.loads((variants / f"{stem}.reference.json").read_text())
+    out = {"stature": ref["stature"]["value_cm"]}
+    for group in ("girths", "lengths"):
+        out.update({k: v["value_cm"] for k, v in ref[group].items()})
+    return out
+
+
+@pytest.mark.parametrize("mesh", sorted(HELD))
+def test_variant_against_reference(variants, mesh):
+    character, _ = load_character(variants / mesh)
+    result = measure(character, partial=True)
+    ours = comparable_values(character, result)
+    ref = _reference(variants, mesh)
+    off = {k: 100.0 * (ours[k] - ref[k]) / ref[k] for k in HELD[mesh]}
+    bad = {k: round(v, 1) for k, v in off.items() if abs(v) > (1.0 if k == "stature" else 3.0)}
+    assert not bad, f"{mesh}: % off the reference: {bad}"
+
+
+#: girths that hold across the pose; elbow and wrist follow the skin of the
+#: straightened T-pose elbow and turned forearm, and the neck-base plane rides
+#: on the raised trapezius of a rigless T-pose (docs/measurements.md)
+POSE_FREE = (
+    "chest_girth", "underbust_girth", "waist_girth", "high_hip_girth", "hip_girth", "neck_girth",
+    "head_girth", "upper_arm_girth_left", "upper_arm_girth_right", "thigh_girth_left",
+    "knee_girth_left", "calf_girth_left", "ankle_girth_left",
+)
+
+
+@pytest.mark.parametrize(
+    "a_pose, t_pose",
+    [
+        ("B_slim_female.obj", "variants/B_slim_female_tpose.glb"),  # rigged: re-posed arms down
+        ("C_heavy_male.obj", "variants/C_heavy_male_tpose_remesh.obj"),  # no rig, remeshed
+    ],
+)
+def test_a_pose_and_t_pose_girths_agree(characters_dir, a_pose, t_pose):
+    a = measure(load_character(characters_dir / a_pose)[0]).values_cm()
+    t = measure(load_character(characters_dir / t_pose)[0]).values_cm()
+    off = {k: round(100.0 * (t[k] - a[k]) / a[k], 1) for k in POSE_FREE}
+    assert all(abs(v) <= 3.0 for v in off.values()), off
