@@ -25,11 +25,13 @@ from .layers import NOTCH_LAYERS, Layer
 from .notches import locate_on_boundary, notch_type
 from .text import parse_quantity
 
-__all__ = ["MATCH_TOL", "PIECE_KEYS", "SIZE_KEYS", "BoundaryRecipe", "PieceBuilder", "chain"]
+__all__ = ["MATCH_TOL", "MAX_QUANTITY", "PIECE_KEYS", "SIZE_KEYS", "BoundaryRecipe", "PieceBuilder", "chain"]
 
 MATCH_TOL = 1e-3  # file units: a text or POINT "sits on" a vertex within this
 _NOTCH_SNAP_MM = 0.5  # a notch this close to an edge is on it (no finding)
 SIZE_KEYS = ("SIZE", "SIZE NAME", "SAMPLE SIZE")
+MAX_QUANTITY = 1000
+"""Most copies of one piece a ``Quantity:`` may ask for (right plus left)."""
 PIECE_KEYS = {"PIECE NAME", "QUANTITY", "ANNOTATION", "CATEGORY", "FABRIC", "MATERIAL", *SIZE_KEYS}
 
 
@@ -350,6 +352,9 @@ class PieceBuilder:
                                 self.where(name))
             else:
                 quantity = parsed[0]
+                if quantity.total > MAX_QUANTITY:
+                    raise DXFFormatError(f"{self.path}: piece {name[:60]!r} asks for Quantity: {q[:30]} copies "
+                                         f"(at most {MAX_QUANTITY}); fix the piece text")
         fabric = t.get("FABRIC", t.get("MATERIAL", ""))
         extra = {k: v for k, v in raw.text_order if k not in PIECE_KEYS}
         if "FABRIC" in t and "MATERIAL" in t:

@@ -1,0 +1,79 @@
+"""Malformed DXF input derived from a real AccuMark export: one line naming the file, exit 2, nothing written.
+
+Each case mutates one tag of ``../shared/aama/WM LOOSE SHAPE TANK.DXF`` (the
+first boundary vertex, the first piece name, the sample block's quantity) and
+runs it through every command that reads a DXF.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from patternbridge.cli.main import main
+from patternbridge.errors import DXFFormatError
+from patternbridge.io.dxf_aama import read_dxf
+
+pytestmark = pytest.mark.shared
+
+TANK = "WM LOOSE SHAPE TANK.DXF"
+VERTEX_X = " 10\n0.6047\n"  # first boundary vertex of the first block
+NAME = "Piece Name: RELAXED TANK FR V2\n"
+QUANTITY = "Quantity: 1\n"
+
+MUTANTS = {
+    "nan": (VERTEX_X, " 10\nnan\n", ["line", "not a finite number"]),
+    "inf": (VERTEX_X, " 10\n-inf\n", ["line", "not a finite number"]),
+    "overflow": (VERTEX_X, " 10\n1e400\n", ["line", "not a finite number"]),
+    "absurd": (VERTEX_X, " 10\n6.047e300\n", ["line", "exceeds"]),
+    "name_2mb": (NAME, "Piece Name: " + "X" * 2_000_000 + "\n", ["2,000,012 characters"]),
+    "quantity": (QUANTITY, "Quantity: 999999999\n", ["Quantity: 999999999"]),
+}
+
+
+@pytest.fixture(scope="module")
+def tank_text(aama_dir) -> str:
+    return (aama_dir / TANK).read_bytes().decode("ascii")
+
+
+def _mutant(tank_text: str, case: str, tmp_path: Path) -> Path:
+    old, new, _ = MUTANTS[case]
+    assert old in tank_text  # the mutation must hit the file
+    path = tmp_path / "in" / f"{case}.dxf"
+    path.parent.mkdir(exist_ok=True)
+    path.write_text(tank_text.replace(old, new, 1), encoding="ascii", newline="")
+    return path
+
+
+@pytest.mark.parametrize("case", sorted(MUTANTS))
+def test_reader_refuses_with_one_line(tank_text, tmp_path, case):
+    path = _mutant(tank_text, case, tmp_path)
+    with pytest.raises(DXFFormatError) as info:
+        read_dxf(path)
+    message = str(info.value)
+    assert "\n" not in message and message.startswith(str(path))
+    for needle in MUTANTS[case][2]:
+        assert needle in message
+    assert len(message) < 400
+
+
+@pytest.mark.parametrize("case", sorted(MUTANTS))
+@pytest.mark.parametrize("command", ["import", "info", "export", "plot", "check"])
+def test_every_command_exits_2_without_output(tank_text, tmp_path, capsys, case, command):
+    path = _mutant(tank_text, case, tmp_path)
+    out = tmp_path / "out" / {"import": "p.json", "export": "p.dxf", "plot": "p.png"}.get(command, "x")
+    out.parent.mkdir()
+    argv = [command, str(path)] + (["-o", str(out)] if command in ("import", "export", "plot") else [])
+    code = main(argv)
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert len(err.splitlines()) == 1 and err.startswith("patternbridge: error: ") and path.name in err
+    assert "Traceback" not in err
+    assert not list(out.parent.iterdir()), "output or temporary file left behind"
+
+
+def test_unmutated_tank_still_reads(aama_dir):
+    pattern, _ = read_dxf(aama_dir / TANK)
+    assert [p.name for p in pattern.pieces] == ["RELAXED TANK FR V2", "RELAXED TANK BK V2"]
+    assert len(pattern.sizes) == 14
