@@ -67,9 +67,12 @@ INFO_FINDINGS = frozenset(
         "nest-curve-deviation",
         "notch-vertex-inserted",
         "attdef-ignored",
+        "nest-kept-exact",
     }
 )
 """Finding codes that only inform (what was dropped or repaired as expected); ``strict`` ignores them."""
+NEST_EXACT_MM = 0.5
+"""Rules derived at the file's rule points that miss a nest's curves by more than this keep the nest exact."""
 
 
 def _find_rul(path: Path) -> Path | None:
@@ -365,19 +368,40 @@ def _grade_rules(path: Path, pattern: Pattern, nest: dict[str, dict[str, Piece]]
             report.add("rul-found-beside", f"grade rules read from {rul_path.name}", where)
         return _rules_from_rul(path, rul_path, pattern, nest, report)
     if is_nest:
-        pattern = rules_from_nest(pattern, nest, every_vertex=exact_nest)
-        report.add("rules-derived-from-nest", f"grade rules derived from the graded nest "
-                   f"({len(pattern.rules.deltas)} rules, {len(pattern.sizes)} sizes)", where)
-        dev = _nest_deviation(pattern, nest)
-        if dev > 1e-3:  # cm: report what a pattern maker would notice (over 0.01 mm)
-            report.add("nest-curve-deviation", f"points between rule points follow by arc length: up to "
-                       f"{dev * 10:.3f} mm from the nest's own curves", where)
-        return pattern
+        return _rules_from_nest(path, pattern, nest, report, exact_nest=exact_nest)
     n_rule = sum(r is not None for p in pattern.pieces for r in p.rules)
     if n_rule:
         report.add("rul-missing", f"{n_rule} boundary points carry rule ids but no .RUL was found; only the "
                    f"sample size {pattern.sample_size} is available", where)
     return pattern
+
+
+def _rules_from_nest(path: Path, pattern: Pattern, nest: dict[str, dict[str, Piece]], report: Report, *,
+                     exact_nest: bool) -> Pattern:
+    """Rules derived from the nest: at the file's rule points, or at every vertex when those miss its curves.
+
+    Grading from the file's ``# n`` points alone moves the points between them
+    by arc length, as a CAD system grading from a .RUL would; when that misses
+    the nest's own curves by more than ``NEST_EXACT_MM`` the nest is kept
+    exact (every boundary vertex a rule point), as ``exact_nest`` asks always.
+    """
+    where = path.name
+    derived = rules_from_nest(pattern, nest, every_vertex=exact_nest)
+    dev = _nest_deviation(derived, nest)
+    if not exact_nest and dev > NEST_EXACT_MM / 10.0:
+        exact = rules_from_nest(pattern, nest, every_vertex=True)
+        report.add("rules-derived-from-nest", f"grade rules derived from the graded nest "
+                   f"({len(exact.rules.deltas)} rules, {len(exact.sizes)} sizes)", where)
+        report.add("nest-kept-exact", f"grading from the file's rule points alone misses the nest's own curves "
+                   f"by up to {dev * 10:.3f} mm (over {NEST_EXACT_MM:g} mm); every boundary vertex is a rule point "
+                   f"({len(exact.rules.deltas)} rules, exact to {_nest_deviation(exact, nest) * 10:.4f} mm)", where)
+        return exact
+    report.add("rules-derived-from-nest", f"grade rules derived from the graded nest "
+               f"({len(derived.rules.deltas)} rules, {len(derived.sizes)} sizes)", where)
+    if dev > 1e-3:  # cm: report what a pattern maker would notice (over 0.01 mm)
+        report.add("nest-curve-deviation", f"points between rule points follow by arc length: up to "
+                   f"{dev * 10:.3f} mm from the nest's own curves", where)
+    return derived
 
 
 def _rules_from_rul(path: Path, rul_path: Path, pattern: Pattern, nest: dict[str, dict[str, Piece]],
