@@ -42,6 +42,7 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import DXFFormatError, RULFormatError, UnitsError
+from ...pattern.geometry import area
 from ...pattern.grading import graded_outlines, rules_from_nest
 from ...pattern.model import Flavor, GradeRuleTable, Pattern, Piece, Provenance, Units
 from ...report import Report
@@ -71,6 +72,10 @@ INFO_FINDINGS = frozenset(
     }
 )
 """Finding codes that only inform (what was dropped or repaired as expected); ``strict`` ignores them."""
+GARMENT_SIDE_CM = (10.0, 300.0)
+"""Longest side of the largest piece of a plausible garment (a baby's bib to a floor-length cape)."""
+GARMENT_AREA_M2 = 4.0
+"""Largest plausible area of one garment piece."""
 NEST_EXACT_MM = 0.5
 """Rules derived at the file's rule points that miss a nest's curves by more than this keep the nest exact."""
 
@@ -339,6 +344,7 @@ def _build(path, blocks, entities, report, *, rul, units, unfold, strict, exact_
                              else (), sample_size=sample_size, deltas={}),
         provenance=_provenance(path, style, raws, validation),
     )
+    _check_scale(path, pattern, report)
     pattern = _grade_rules(path, pattern, nest, report, rul=rul, exact_nest=exact_nest)
     if unfold:
         pattern = unfold_pattern(pattern, report)
@@ -353,6 +359,30 @@ def _build(path, blocks, entities, report, *, rul, units, unfold, strict, exact_
     log.debug("read %s: %d pieces, %d sizes, %d findings", path, len(pattern.pieces), len(pattern.sizes),
               len(report))
     return pattern, report
+
+
+def _check_scale(path: Path, pattern: Pattern, report: Report) -> None:
+    """Warn when the pieces are too small or too large for a garment in the units read.
+
+    The evidence is the largest piece (longest side of its bounding box and
+    its area); the other ``Units:`` is suggested when it gives a garment size.
+    """
+    sides = [float(np.ptp(p.outline, axis=0).max()) for p in pattern.pieces]
+    k = int(np.argmax(sides))
+    side, big = sides[k], pattern.pieces[k]
+    area_m2 = float(area(big.outline)) / 1e4
+    small = side < GARMENT_SIDE_CM[0]
+    if not (small or side > GARMENT_SIDE_CM[1] or area_m2 > GARMENT_AREA_M2):
+        return
+    other = Units.ENGLISH if pattern.units is Units.METRIC else Units.METRIC
+    ratio = unit_factor(other.value) / unit_factor(pattern.units.value)
+    fits = GARMENT_SIDE_CM[0] <= side * ratio <= GARMENT_SIDE_CM[1]
+    advice = (f"if the file is in {other.value} units, read it with --units {other.value} "
+              f"(largest piece {side * ratio:.1f} cm)" if fits else
+              f"--units {other.value} would give {side * ratio:.1f} cm, no better; the file may be drawn to scale")
+    report.add("units-implausible", f"read as {pattern.units.value}, the largest piece {big.name!r} is "
+               f"{side:.1f} cm long with {area_m2:.3g} m^2 ({'too small' if small else 'too large'} for a "
+               f"garment piece, expected {GARMENT_SIDE_CM[0]:g}-{GARMENT_SIDE_CM[1]:g} cm); {advice}", path.name)
 
 
 def _grade_rules(path: Path, pattern: Pattern, nest: dict[str, dict[str, Piece]], report: Report, *,
