@@ -357,6 +357,8 @@ class PieceBuilder:
                                          f"(at most {MAX_QUANTITY}); fix the piece text")
         fabric = t.get("FABRIC", t.get("MATERIAL", ""))
         extra = {k: v for k, v in raw.text_order if k not in PIECE_KEYS}
+        if q is not None and "," in q:
+            extra["QUANTITY"] = q  # written as a right,left pair: kept so by an AAMA export too
         if "FABRIC" in t and "MATERIAL" in t:
             extra["MATERIAL"] = t["MATERIAL"]
         return {

@@ -47,7 +47,7 @@ from ...pattern.grading import graded_outlines, rules_from_nest
 from ...pattern.model import Flavor, GradeRuleTable, Pattern, Piece, Provenance, Units
 from ...report import Report
 from ...units import unit_factor
-from ..rul import read_rul
+from ..rul import declared_units, read_rul
 from .build import SIZE_KEYS, PieceBuilder
 from .entities import RawBlock, raw_block
 from .layers import Layer
@@ -434,10 +434,24 @@ def _rules_from_nest(path: Path, pattern: Pattern, nest: dict[str, dict[str, Pie
     return derived
 
 
+def _check_rul_units(rul_path: Path, table: GradeRuleTable, dxf_units: Units, report: Report) -> None:
+    """Warn when the .RUL and its DXF declare different units (each is read in its own)."""
+    declared = declared_units(rul_path)
+    if declared is None or declared is dxf_units:
+        return
+    largest = max((float(np.abs(d).max()) for d in table.deltas.values()), default=0.0)
+    other = largest * unit_factor(dxf_units.value) / unit_factor(declared.value)
+    report.add("rul-units-differ", f"{rul_path.name} says UNITS: {declared.value} but the DXF is "
+               f"{dxf_units.value}; its deltas are read as {declared.value} (largest {largest:.3g} cm; "
+               f"{other:.3g} cm if they were {dxf_units.value}); pass the .RUL exported with this DXF",
+               rul_path.name)
+
+
 def _rules_from_rul(path: Path, rul_path: Path, pattern: Pattern, nest: dict[str, dict[str, Piece]],
                     report: Report) -> Pattern:
     table, rul_report = read_rul(rul_path)
     report.extend(rul_report)
+    _check_rul_units(rul_path, table, pattern.units, report)
     sizes = pattern.sizes
     if table.sample_size != pattern.sample_size:
         raise RULFormatError(f"{rul_path}: sample size {table.sample_size} differs from the DXF's "
