@@ -173,6 +173,7 @@ class PieceBuilder:
         self.f = factor
         self.tol = MATCH_TOL
         self.missing_depth = 0
+        self._claims: dict[tuple[int, int], dict[tuple[int, int], int]] = {}  # (block, layer) -> point -> taken
 
     def where(self, name: str) -> str:
         return f"{self.path.name}: piece {name}"
@@ -277,7 +278,32 @@ class PieceBuilder:
         rule_pts, rule_ids = self._rule_arrays(raw, prefer=layer)
         m = _match(pts, rule_pts, self.tol)
         rules = [None if j < 0 else rule_ids[j] for j in m]
-        return kinds, rules
+        return kinds, self._claim(pts, raw, layer, rules)
+
+    def _claim(self, pts: np.ndarray, raw: RawBlock, layer: int, rules: list) -> list:
+        """Rules where several texts on ``layer`` share one point: the elements take them in file order.
+
+        Two elements of one layer that meet at a point but grade apart (an
+        internal line ending where another starts) each need their own rule
+        there; the writer puts one text per element on the element's layer, in
+        element order, and the k-th element of that layer at the point takes
+        the k-th text. A point with a single text on the layer keeps it for all.
+        """
+        own = [(x, y, r) for x, y, r, lay in raw.rule_texts if lay == layer]
+        if len(own) < 2:
+            return rules
+        xy = np.array([(x, y) for x, y, _ in own])
+        claims = self._claims.setdefault((id(raw), layer), {})
+        out = list(rules)
+        for i, p in enumerate(pts):
+            near = np.flatnonzero(np.hypot(*(xy - p).T) <= self.tol)
+            if len(near) < 2:
+                continue
+            key = (round(float(p[0]) / self.tol), round(float(p[1]) / self.tol))
+            k = claims.get(key, 0)
+            out[i] = own[near[min(k, len(near) - 1)]][2]
+            claims[key] = k + 1
+        return out
 
     def _elements(self, raw: RawBlock, name: str, full: bool) -> dict:
         f = self.f
@@ -357,8 +383,6 @@ class PieceBuilder:
                                          f"(at most {MAX_QUANTITY}); fix the piece text")
         fabric = t.get("FABRIC", t.get("MATERIAL", ""))
         extra = {k: v for k, v in raw.text_order if k not in PIECE_KEYS}
-        if q is not None and "," in q:
-            extra["QUANTITY"] = q  # written as a right,left pair: kept so by an AAMA export too
         if "FABRIC" in t and "MATERIAL" in t:
             extra["MATERIAL"] = t["MATERIAL"]
         return {

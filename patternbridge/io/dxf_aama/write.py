@@ -50,7 +50,6 @@ from ...units import from_cm, to_cm
 from ..rul import creation_time
 from .layers import NOTCH_LAYER_BY_TYPE
 from .tags import MAX_ABS_VALUE
-from .text import parse_quantity
 
 __all__ = [
     "format_dxf",
@@ -127,11 +126,12 @@ def sanitize_block_name(name: str) -> str:
 class _Tags:
     """Collects DXF group-code/value pairs and renders them as R12 text."""
 
-    __slots__ = ("decimals", "lines", "rules_seen")
+    __slots__ = ("claims", "decimals", "lines", "rules_seen")
 
     def __init__(self, decimals: int = 4) -> None:
         self.lines: list[str] = []
         self.decimals = decimals
+        self.claims: dict[tuple[int, tuple[str, str]], list[list]] = {}  # (layer, position) -> [[text, on layer]]
         self.rules_seen: dict[tuple[str, str], dict[int, str]] = {}  # position -> layer -> rule text
 
     def rule(self, layer: int, at, value: str, height: float) -> str | None:
@@ -141,8 +141,7 @@ class _Tags:
         this layer (a reader attaches rule texts by position, preferring the
         element's own layer, so only one can be there per layer).
         """
-        key = (f"{float(at[0]):.{self.decimals}f}", f"{float(at[1]):.{self.decimals}f}")
-        seen = self.rules_seen.setdefault(key, {})
+        seen = self.rules_seen.setdefault(self.key(at), {})
         if value in seen.values():
             return None
         if layer in seen:
@@ -150,6 +149,32 @@ class _Tags:
         seen[layer] = value
         self.text(layer, at, value, height)
         return None
+
+    def key(self, at) -> tuple[str, str]:
+        """A position as written (rule texts match by it)."""
+        return (f"{float(at[0]):.{self.decimals}f}", f"{float(at[1]):.{self.decimals}f}")
+
+    def claim(self, owner: int, at, value: str, height: float) -> bool:
+        """Record that an element of layer ``owner`` has rule ``value`` at ``at``.
+
+        The first element of a layer at a point returns False (write the text
+        the usual way). A later one returns True after writing, on ``owner``
+        and in element order, every claim of the point not yet written there
+        and its own, unless all claims so far agree (the reader hands the k-th
+        text of a layer at a point to the k-th element of that layer there).
+        """
+        claims = self.claims.setdefault((owner, self.key(at)), [])
+        if not claims:
+            claims.append([value, self.rules_seen.get(self.key(at), {}).get(owner) == value])
+            return False
+        claims.append([value, False])
+        if all(c[0] == value for c in claims):
+            return True
+        for c in claims:
+            if not c[1]:
+                self.text(owner, at, c[0], height)
+                c[1] = True
+        return True
 
     def tag(self, code: int, value) -> None:
         self.lines.append(f"{code:>3}")
@@ -247,6 +272,7 @@ class _Context:
     table: Mapping[str, np.ndarray]  # rule id -> deltas (cm), for conflict checks
     nest: bool = False  # a graded nest carries every size: rule texts only label points
     graded: bool = False  # the file grades (rules or a nest): every block gets a grade reference line
+    pairs: bool = False  # the source wrote quantities as right,left pairs (ASTM): an AAMA export keeps them so
 
 
 def _ascii(ctx: _Context, value: str, where: str) -> str:
@@ -286,10 +312,15 @@ def _put_rule(
     reported.
     """
     text = _ascii(ctx, _rule_text(rule), where)
+    owner = owner_layer if owner_layer is not None else layer
+    if check and tags.claim(owner, at, text, ctx.height):
+        return  # a later element of this layer at this point: written in element order
     other = tags.rule(layer, at, text, ctx.height)
-    if other is not None and owner_layer is not None and owner_layer != layer:
+    if other is not None and owner != layer:
         # the point layer holds another element's rule: this one goes on its own layer
-        other = tags.rule(owner_layer, at, text, ctx.height)
+        other = tags.rule(owner, at, text, ctx.height)
+    if check:
+        tags.claims[(owner, tags.key(at))][0][1] = tags.rules_seen[tags.key(at)].get(owner) == text
     if other is None or not check or ctx.nest:
         return
     first = other[2:]
@@ -365,7 +396,7 @@ def _piece_text_lines(
     if not full:
         return lines
     q = piece.quantity
-    if ctx.flavor is Flavor.ASTM or _written_as_pair(piece):
+    if ctx.flavor is Flavor.ASTM or ctx.pairs:
         lines.append(f"Quantity: {q.right},{q.left}")
     else:
         lines.append(f"Quantity: {q.total}")
@@ -389,13 +420,6 @@ def _piece_text_lines(
             continue
         lines.append(_ascii(ctx, f"{key}: {value}" if value else f"{key}:", where))
     return lines
-
-
-def _written_as_pair(piece: Piece) -> bool:
-    """The source wrote this piece's quantity as a right,left pair (kept so by either flavour)."""
-    written = piece.extra_text.get("QUANTITY", "")
-    parsed = parse_quantity(written) if written else None
-    return parsed is not None and parsed[1] and parsed[0] == piece.quantity
 
 
 def _write_polyline(
@@ -455,6 +479,7 @@ def _block(
     where = f"{piece.name} ({size})"
     outline = np.asarray(piece.outline) * s
     tags.rules_seen.clear()
+    tags.claims.clear()
     tags.tag(0, "BLOCK")
     tags.tag(8, 0)
     tags.tag(2, block_name)
@@ -781,6 +806,7 @@ def format_dxf(
         table=pattern.rules.deltas,
         nest=nest_sizes is not None,
         graded=len(pattern.rules.sizes) > 1,
+        pairs=pattern.provenance.flavor is Flavor.ASTM,
     )
     validation = flavor is Flavor.ASTM
     _report_long_names(pattern, report)
