@@ -5,11 +5,10 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from patternbridge.io.dxf_aama import read_dxf
-
-pytestmark = pytest.mark.shared
 
 _COORD = re.compile(r"^( *(?:10|20|11|21)\r?\n)(-?[0-9.]+)(\r?)$", re.MULTILINE)
 
@@ -22,12 +21,14 @@ def _scaled(src: Path, dst: Path, factor: float) -> Path:
     return dst
 
 
+@pytest.mark.shared
 def test_real_files_read_at_garment_scale(aama_dir):
     for path in sorted(aama_dir.glob("*.[dD][xX][fF]")):
         _, report = read_dxf(path)
         assert "units-implausible" not in report.codes(), path.name
 
 
+@pytest.mark.shared
 def test_clo_shirt_at_a_tenth_is_too_small(aama_dir, tmp_path):
     path = _scaled(aama_dir / "clo-pattern.dxf", tmp_path / "shirt-tenth.dxf", 0.1)
     pattern, report = read_dxf(path)
@@ -37,6 +38,7 @@ def test_clo_shirt_at_a_tenth_is_too_small(aama_dir, tmp_path):
     assert len(pattern.pieces) == 9
 
 
+@pytest.mark.shared
 def test_mm_file_read_as_inches_is_too_large_and_metric_is_suggested(aama_dir):
     _, report = read_dxf(aama_dir / "clo-pattern.dxf", units="ENGLISH")
     finding = next(f for f in report if f.code == "units-implausible")
@@ -60,3 +62,21 @@ def test_a_box_of_6_square_metres_is_too_large(tmp_path):
     _, report = read_dxf(path)
     finding = next(f for f in report if f.code == "units-implausible")
     assert "6.01 m^2" in finding.message and "--units METRIC" in finding.message
+
+
+def test_english_rul_beside_metric_dxf_warns_with_evidence(tmp_path):
+    from patternbridge.io.dxf_aama import write_dxf
+    from patternbridge.io.rul import write_rul
+    from patternbridge.testing import example_pattern
+
+    pattern = example_pattern()  # METRIC
+    dxf = write_dxf(pattern, tmp_path / "tee.dxf", rul_path=tmp_path / "tee.rul")
+    _, report = read_dxf(dxf)
+    assert "rul-units-differ" not in report.codes()
+    write_rul(pattern.rules, tmp_path / "tee.rul", units="ENGLISH")
+    back, report = read_dxf(dxf)
+    finding = next(f for f in report if f.code == "rul-units-differ")
+    assert "UNITS: ENGLISH" in finding.message and "METRIC" in finding.message and "largest" in finding.message
+    # each file is still read in its own units: the grading is unchanged
+    for rule, deltas in pattern.rules.deltas.items():
+        np.testing.assert_allclose(back.rules.deltas[rule], deltas, atol=3e-4)
