@@ -301,7 +301,8 @@ def format_rul(
     for rid in sorted(table.deltas, key=rule_sort_key):
         if not rid or any(c.isspace() for c in rid) or "," in rid:
             raise ValueError(f"format_rul: rule id {rid!r} cannot be written (spaces or commas)")
-        vals = from_cm(np.asarray(table.deltas[rid], dtype=np.float64), unit.value)
+        with np.errstate(over="ignore"):
+            vals = from_cm(np.asarray(table.deltas[rid], dtype=np.float64), unit.value)
         if not np.all(np.isfinite(vals)):
             raise ValueError(f"format_rul: rule {rid} has a delta that is not a finite number")
         vals = np.where(np.abs(vals) < 0.5 * 10.0 ** -decimals, 0.0, vals)  # no "-0.0000"

@@ -51,6 +51,7 @@ from ..rul import declared_units, read_rul
 from .build import SIZE_KEYS, PieceBuilder
 from .entities import RawBlock, raw_block
 from .layers import Layer
+from .links import link_rules
 from .tags import Block, Entity, parse_tags
 from .text import ASTM_MARKER, parse_author, parse_quantity, parse_units, split_key
 from .unfold import unfold_pattern
@@ -67,7 +68,8 @@ INFO_FINDINGS = frozenset(
         "rul-found-beside",
         "nest-curve-deviation",
         "notch-vertex-inserted",
-        "attdef-ignored",
+        "attdef-read",
+        "notch-links-kept",
         "nest-kept-exact",
     }
 )
@@ -219,7 +221,8 @@ def _report_dropped(raws: list[RawBlock], report: Report, where: str) -> int:
         report.add("layers-ignored", f"content on layers we do not model ignored: {', '.join(other[:10])}", where)
     attdefs = sum(r.attdefs for r in raws)
     if attdefs:
-        report.add("attdef-ignored", f"{attdefs} ATTDEF notch links ignored (notches follow their vertex)", where)
+        report.add("attdef-read", f"{attdefs} ATTDEF notch links read (notches follow their vertex unless a "
+                   "link places them elsewhere in another size)", where)
     return validation
 
 
@@ -268,10 +271,11 @@ def _sample_size(path: Path, groups: dict, raws: list[RawBlock], style: _Style,
 
 
 def _pieces(path: Path, builder: PieceBuilder, groups: dict, sizes: list[str], sample_size: str,
-            report: Report) -> tuple[list[Piece], dict[str, dict[str, Piece]]]:
-    """The sample-size pieces and the other sizes of the nest (by size, then piece name)."""
+            report: Report) -> tuple[list[Piece], dict[str, dict[str, Piece]], dict]:
+    """The sample-size pieces, the other sizes of the nest (by size, then piece name) and the notch links."""
     where = path.name
     pieces: list[Piece] = []
+    links: dict[str, dict[str, np.ndarray]] = {}
     nest: dict[str, dict[str, Piece]] = {s: {} for s in sizes if s != sample_size}
     for name, items in groups.items():
         by_size: dict[str, RawBlock] = {}
@@ -286,6 +290,8 @@ def _pieces(path: Path, builder: PieceBuilder, groups: dict, sizes: list[str], s
             continue
         piece, recipe = builder.sample(name, sample_size, by_size[sample_size])
         pieces.append(piece)
+        links[name] = {size: np.array([a[1] for a in raw.attdef_texts if a[2].upper().startswith("LINK:")],
+                                      dtype=np.float64).reshape(-1, 2) * builder.f for size, raw in by_size.items()}
         for size in nest:
             raw = by_size.get(size)
             graded = None if raw is None else builder.graded(name, size, raw, recipe)
@@ -297,7 +303,7 @@ def _pieces(path: Path, builder: PieceBuilder, groups: dict, sizes: list[str], s
     if builder.missing_depth:
         report.add("notch-depth-missing", f"{builder.missing_depth} notches without a depth (group 30); "
                    "depth 0 kept", where)
-    return pieces, nest
+    return pieces, nest, links
 
 
 def _provenance(path: Path, style: _Style, raws: list[RawBlock], validation: int) -> Provenance:
@@ -332,7 +338,7 @@ def _build(path, blocks, entities, report, *, rul, units, unfold, strict, exact_
     groups = _group(path, raws, report)
     sizes, sample_size = _sample_size(path, groups, raws, style, report)
     builder = PieceBuilder(path, report, unit_factor(unit.value))
-    pieces, nest = _pieces(path, builder, groups, sizes, sample_size, report)
+    pieces, nest, links = _pieces(path, builder, groups, sizes, sample_size, report)
     is_nest = len(sizes) > 1
     pattern = Pattern(
         style=style.values.get("STYLE NAME", path.stem),
@@ -346,6 +352,8 @@ def _build(path, blocks, entities, report, *, rul, units, unfold, strict, exact_
     )
     _check_scale(path, pattern, report)
     pattern = _grade_rules(path, pattern, nest, report, rul=rul, exact_nest=exact_nest)
+    if nest:
+        pattern = link_rules(pattern, links, report)
     if unfold:
         pattern = unfold_pattern(pattern, report)
     report.findings[:] = [

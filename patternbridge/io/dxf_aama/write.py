@@ -49,6 +49,7 @@ from ...report import Report
 from ...units import from_cm, to_cm
 from ..rul import creation_time
 from .layers import NOTCH_LAYER_BY_TYPE
+from .links import notch_positions
 from .tags import MAX_ABS_VALUE
 
 __all__ = [
@@ -473,8 +474,13 @@ def _block(
     *,
     full: bool,
     validation: bool,
+    notch_at: np.ndarray | None = None,
 ) -> None:
-    """Write one BLOCK ... ENDBLK; ``full``: the sample-size block (points, rules)."""
+    """Write one BLOCK ... ENDBLK; ``full``: the sample-size block (points, rules).
+
+    ``notch_at`` : (n_notches, 2) cm, where the ATTDEF links put the notches
+    in this size (default: on their vertex).
+    """
     s = ctx.scale
     where = f"{piece.name} ({size})"
     outline = np.asarray(piece.outline) * s
@@ -521,11 +527,10 @@ def _block(
     if ctx.flavor is Flavor.ASTM:
         # AccuMark's notch dependency: where each notch sits in every size,
         # anchored on the boundary vertex before it
-        for notch in piece.notches:
+        at = np.asarray(notch_at) * s if notch_at is not None else outline[[n.vertex for n in piece.notches]]
+        for notch, point in zip(piece.notches, at.reshape(-1, 2), strict=True):
             layer = NOTCH_LAYER_BY_TYPE[NotchType(notch.type)]
-            tags.attdef_link(
-                1, outline[notch.vertex - 1], outline[notch.vertex], layer, ctx.height
-            )
+            tags.attdef_link(1, outline[notch.vertex - 1], point, layer, ctx.height)
     if validation:
         tags.polyline(_VALIDATION_LAYER[1], outline, closed=True)
 
@@ -824,8 +829,10 @@ def format_dxf(
     for code, value in ((0, "SECTION"), (2, "HEADER"), (9, "$ACADVER"), (1, "AC1009"), (0, "ENDSEC"),
                         (0, "SECTION"), (2, "BLOCKS")):
         tags.tag(code, value)
+    samples = {p.name: p for p in pattern.pieces}
     for (piece, size, full), block_name in zip(entries, block_names, strict=True):
-        _block(tags, ctx, piece, size, block_name, full=full, validation=validation)
+        at = notch_positions(samples[piece.name], piece, pattern.rules, size) if piece.notches else None
+        _block(tags, ctx, piece, size, block_name, full=full, validation=validation, notch_at=at)
     tags.tag(0, "ENDSEC")
     tags.tag(0, "SECTION")
     tags.tag(2, "ENTITIES")
