@@ -75,3 +75,31 @@ def test_same_inputs_give_the_same_bytes(aama_dir, tmp_path, monkeypatch, flavor
     write_dxf(pattern, a, flavor=flavor, rul_path=tmp_path / "a.rul")
     assert "Creation Date: 14-11-2023" in a.read_text(encoding="ascii")
     assert "CREATION DATE: 14-11-2023" in (tmp_path / "a.rul").read_text(encoding="ascii")
+
+
+@pytest.mark.shared
+@pytest.mark.parametrize("form", ["sample", "all"])
+def test_a_character_size_gets_a_cad_code_and_comes_back_by_name(aama_dir, tmp_path, form):
+    from patternbridge.io.dxf_aama.sizes import rename_sizes
+    from patternbridge.io.rul import read_rul
+    from patternbridge.pattern.grading import graded_outlines
+
+    source, _ = read_dxf(aama_dir / "GLX4802S19_AAMA.DXF")
+    pattern = rename_sizes(source, {"52": "E_average_male"})  # a character graded in as one more size
+    report = __import__("patternbridge.report", fromlist=["Report"]).Report()
+    out = tmp_path / "fit.dxf"
+    write_dxf(pattern, out, sizes=form, rul_path=out.with_suffix(".rul") if form == "sample" else None,
+              report=report)
+    assert "size-coded" in report.codes()
+    text = out.read_text(encoding="ascii")
+    assert "Size 901: E_average_male" in text and "E_average_male_" not in text  # no block named after it
+    written = {line.split(":", 1)[1].strip() for line in text.split("\r\n") if line.startswith("Size:")}
+    assert all(s.isdigit() for s in written)  # no name among numeric sizes
+    if form == "sample":
+        table, _ = read_rul(out.with_suffix(".rul"))
+        assert table.sizes[-1] == "901" and all(s.isdigit() for s in table.sizes)
+    back, _ = read_dxf(out)
+    assert back.sizes == pattern.sizes and back.sizes[-1] == "E_average_male"
+    a, b = graded_outlines(pattern)["E_average_male"], graded_outlines(back)["E_average_male"]
+    for name, outline in a.items():
+        np.testing.assert_allclose(b[name], outline, atol=1e-3)

@@ -52,6 +52,7 @@ from .build import SIZE_KEYS, PieceBuilder
 from .entities import RawBlock, raw_block
 from .layers import Layer
 from .links import link_rules
+from .sizes import SIZE_NOTE, rename_sizes
 from .tags import Block, Entity, parse_tags
 from .text import ASTM_MARKER, parse_author, parse_quantity, parse_units, split_key
 from .unfold import unfold_pattern
@@ -162,12 +163,16 @@ class _Style:
     values: dict[str, str]
     order: list[tuple[str, str]]
     inserts: list[str]
+    size_names: dict[str, str]  # size code -> full name (layer-15 "Size <code>: <name>" notes)
 
 
 def _style(entities: list[Entity]) -> _Style:
-    style = _Style(values={}, order=[], inserts=[])
+    style = _Style(values={}, order=[], inserts=[], size_names={})
     for ent in entities:
-        if ent.type == "TEXT" and ent.layer == Layer.BOUNDARY:
+        note = SIZE_NOTE.match(ent.tags.get(1, "")) if ent.type == "TEXT" and ent.layer == Layer.ANNOTATION else None
+        if note is not None:
+            style.size_names[note.group(1)] = note.group(2)
+        elif ent.type == "TEXT" and ent.layer == Layer.BOUNDARY:
             kv = split_key(ent.tags.get(1, ""))
             if kv is not None:
                 style.values.setdefault(kv[0], kv[1])
@@ -354,6 +359,7 @@ def _build(path, blocks, entities, report, *, rul, units, unfold, strict, exact_
     pattern = _grade_rules(path, pattern, nest, report, rul=rul, exact_nest=exact_nest)
     if nest:
         pattern = link_rules(pattern, links, report)
+    pattern = rename_sizes(pattern, {c: n for c, n in style.size_names.items() if c in pattern.sizes})
     if unfold:
         pattern = unfold_pattern(pattern, report)
     report.findings[:] = [

@@ -50,6 +50,7 @@ from ...units import from_cm, to_cm
 from ..rul import creation_time
 from .layers import NOTCH_LAYER_BY_TYPE
 from .links import notch_positions
+from .sizes import rename_sizes, size_codes
 from .tags import MAX_ABS_VALUE
 
 __all__ = [
@@ -799,6 +800,8 @@ def format_dxf(
     units = Units(str(units).upper()) if units is not None else pattern.units
     report = report if report is not None else Report()
     now = now or creation_time(pattern.provenance.created)
+    codes = _coded_sizes(pattern, report)
+    pattern = rename_sizes(pattern, codes)
     scale = float(from_cm(1.0, str(units)))
     _check_writable(pattern, scale)
     nest_sizes = _resolve_sizes(pattern, sizes, report)
@@ -838,6 +841,9 @@ def format_dxf(
     tags.tag(2, "ENTITIES")
     for i, text in enumerate(_style_text_lines(pattern, ctx, validation, now)):
         tags.text(1, (0.0, -(i + 2) * 1.6 * ctx.height), text, ctx.height)
+    for i, (name, code) in enumerate(codes.items()):  # the full names of coded sizes
+        text = _ascii(ctx, f"Size {code}: {name}", f"size {name}")
+        tags.text(15, (40.0 * ctx.height, -(i + 2) * 1.6 * ctx.height), text, ctx.height)
     for (piece, _, _), block_name in zip(entries, block_names, strict=True):
         tags.tag(0, "INSERT")
         tags.tag(8, 1)
@@ -849,6 +855,14 @@ def format_dxf(
     if not text.isascii():  # pragma: no cover - every value went through to_ascii
         raise AssertionError("DXF text is not ASCII")
     return text
+
+
+def _coded_sizes(pattern: Pattern, report: Report) -> dict[str, str]:
+    codes = size_codes(tuple(pattern.sizes) or (pattern.sample_size,))
+    for name, code in codes.items():
+        report.add("size-coded", f"size {name!r} written as {code} (CAD takes short size codes of one kind); "
+                   f"its name is kept in the note 'Size {code}: {name}' on layer 15", where=pattern.style)
+    return codes
 
 
 def _report_long_names(pattern: Pattern, report: Report) -> None:
@@ -921,7 +935,8 @@ def write_dxf(
         from ..rul import format_rul
 
         try:
-            rul_text = format_rul(pattern.rules, units=units_, flavor=flavor,
+            coded = rename_sizes(pattern, size_codes(tuple(pattern.sizes) or (pattern.sample_size,)))
+            rul_text = format_rul(coded.rules, units=units_, flavor=flavor,
                                   created=creation_time(pattern.provenance.created))
         except ValueError as exc:
             raise InputError(
