@@ -80,3 +80,63 @@ def test_english_rul_beside_metric_dxf_warns_with_evidence(tmp_path):
     # each file is still read in its own units: the grading is unchanged
     for rule, deltas in pattern.rules.deltas.items():
         np.testing.assert_allclose(back.rules.deltas[rule], deltas, atol=3e-4)
+
+
+def _outward_offset(outline: np.ndarray, distance: float) -> np.ndarray:
+    """Each vertex of a CCW outline moved ``distance`` out along its mitre (a cut line around a sew line)."""
+    prev_edge = outline - np.roll(outline, 1, axis=0)
+    next_edge = np.roll(outline, -1, axis=0) - outline
+    normals = []
+    for e in (prev_edge, next_edge):
+        n = np.stack([e[:, 1], -e[:, 0]], axis=1)  # right of a CCW edge = outside
+        normals.append(n / np.linalg.norm(n, axis=1, keepdims=True))
+    m = normals[0] + normals[1]
+    m /= np.linalg.norm(m, axis=1, keepdims=True)
+    cos = np.clip(np.sum(m * normals[0], axis=1), 0.5, 1.0)
+    return outline + distance * m / cos[:, None]
+
+
+def _dxf(blocks: list[list[str]], style: list[str]) -> str:
+    tags = ["0", "SECTION", "2", "BLOCKS"]
+    for body in blocks:
+        tags += body
+    tags += ["0", "ENDSEC", "0", "SECTION", "2", "ENTITIES"]
+    for text in style:
+        tags += ["0", "TEXT", "8", "1", "10", "0", "20", "0", "1", text]
+    tags += ["0", "ENDSEC", "0", "EOF"]
+    return "\n".join(tags) + "\n"
+
+
+def _polyline(layer: str, pts: np.ndarray) -> list[str]:
+    tags = ["0", "POLYLINE", "8", layer, "66", "1", "70", "1"]
+    for x, y in pts:
+        tags += ["0", "VERTEX", "8", layer, "10", f"{x:.4f}", "20", f"{y:.4f}"]
+    return [*tags, "0", "SEQEND"]
+
+
+@pytest.mark.shared
+def test_notches_on_the_sew_line_keep_the_cut_sew_vertex_match(aama_dir, tmp_path):
+    """GMX1016S18's front exported with 10 mm allowance included, its notches on the sew line."""
+    source, _ = read_dxf(aama_dir / "GMX1016S18_AAMA.DXF")
+    front = source.piece("GMX1016S18FR")
+    sew = front.outline * 10.0  # mm
+    cut = _outward_offset(sew, 10.0)
+    body = ["0", "BLOCK", "8", "0", "2", "FR_50", "70", "64", "10", "0", "20", "0",
+            "0", "TEXT", "8", "1", "10", "0", "20", "0", "1", "Piece Name: FR",
+            "0", "TEXT", "8", "1", "10", "0", "20", "0", "1", "Size: 50",
+            *_polyline("1", cut), *_polyline("14", sew)]
+    for notch in front.notches:
+        x, y = sew[notch.vertex]
+        body += ["0", "POINT", "8", "4", "10", f"{x:.4f}", "20", f"{y:.4f}", "30", "4.0"]
+    body += ["0", "ENDBLK"]
+    path = tmp_path / "allowance.dxf"
+    path.write_text(_dxf([body], ["Units: METRIC", "Sample Size: 50"]), encoding="ascii")
+    pattern, report = read_dxf(path)
+    piece = pattern.piece("FR")
+    assert "notch-vertex-inserted" not in report.codes() and "notch-on-sew-line" in report.codes()
+    assert len(piece.outline) == len(cut) == len(piece.sew_lines[0].points)  # still one cut vertex per sew vertex
+    # each notch on the cut-line vertex whose sew-line twin it marks
+    sew_back = piece.sew_lines[0].points
+    for notch, original in zip(piece.notches, front.notches, strict=True):
+        twin = int(np.argmin(np.linalg.norm(sew_back - front.outline[original.vertex], axis=1)))
+        np.testing.assert_allclose(piece.outline[notch.vertex], cut[twin] / 10.0, atol=1e-4)

@@ -132,6 +132,21 @@ def _insert_points(pts: np.ndarray, inserts: list[tuple[int, float]]) -> tuple[n
     return np.array(out, dtype=np.float64).reshape(-1, 2), old_to_new, new_index
 
 
+def _sew_line_match(outline: np.ndarray, sew: np.ndarray, pos: np.ndarray, dist: float, tol: float) -> int | None:
+    """The cut-line vertex matching the sew-line vertex a notch sits on, or ``None``.
+
+    A notch ``dist`` inside the cut line that sits on a sew-line vertex belongs
+    to the cut-line vertex nearest that sew vertex, when it is no farther than
+    1.5 ``dist`` (the allowance, mitred at corners): no vertex is inserted, so
+    cut-line and sew-line vertices keep matching.
+    """
+    if not len(sew) or np.min(np.hypot(*(sew - pos).T)) > tol:
+        return None
+    d = np.hypot(*(outline - pos).T)
+    v = int(np.argmin(d))
+    return v if d[v] <= 1.5 * dist + tol else None
+
+
 def _polylines(items) -> list[tuple[np.ndarray, bool]]:
     return [(np.asarray(p, dtype=np.float64), c) for p, c in items if len(p) >= 2]
 
@@ -239,6 +254,8 @@ class PieceBuilder:
         notch_locs = []
         inserts: list[tuple[int, float]] = []
         snap = _NOTCH_SNAP_MM / (10.0 * self.f)  # file units
+        sew = np.vstack([p for p, _ in _sew_lines(raw, self.tol)] or [np.zeros((0, 2))])
+        on_sew = 0
         for layer, pos, depth, width, ang, end in raw.notches:
             e, t, dist = locate_on_boundary(pts, pos, self.tol)
             if end is not None:  # a LINE notch: the end on the boundary is the position
@@ -247,6 +264,11 @@ class PieceBuilder:
                     pos, end = end, pos
                     e, t, dist = e2, t2, dist2
                 depth = float(np.hypot(*(end - pos)))
+            v = _sew_line_match(pts, sew, pos, dist, self.tol) if dist > snap else None
+            if v is not None:  # allowance included: the notch marks the sew line; its cut-line twin carries it
+                notch_locs.append(("vertex", v, layer, depth, width, ang, pts[v]))
+                on_sew += 1
+                continue
             if dist > snap:
                 self.report.add("notch-off-boundary",
                                 f"notch at ({pos[0]:.4f}, {pos[1]:.4f}) is {dist:.4g} file units off the "
@@ -258,6 +280,10 @@ class PieceBuilder:
             else:
                 notch_locs.append(("insert", len(inserts), layer, depth, width, ang, pos))
                 inserts.append((e, t))
+        if on_sew:
+            self.report.add("notch-on-sew-line", f"{on_sew} notches lie on a sew-line vertex inside the cut line "
+                            "(allowance included); each is placed on the matching cut-line vertex", where,
+                            fixed=True)
         return notch_locs, inserts
 
     def _rule_arrays(self, raw: RawBlock, layers=None, prefer: int | None = None) -> tuple[np.ndarray, list[str]]:

@@ -69,6 +69,7 @@ INFO_FINDINGS = frozenset(
         "rul-found-beside",
         "nest-curve-deviation",
         "notch-vertex-inserted",
+        "notch-on-sew-line",
         "attdef-read",
         "notch-links-kept",
         "nest-kept-exact",
