@@ -38,6 +38,7 @@ _VERSION_LINE = {
     Flavor.ASTM: "ASTM/D13Proposal 1 Version: D 6673-04",  # AccuMark 17.1, Richpeace, Boke
     Flavor.AAMA: "ANSI/AAMA VERSION: 1.0.0",  # AccuMark AAMA and Optitex
 }
+_MAX_DELTA = 1.0e7  # file units, as for DXF coordinates
 _SAMPLE_ZERO_TOL = 1e-6  # file units; the sample column is written as 0.0000
 
 
@@ -147,9 +148,37 @@ def parse_rul(
                                  "give the .RUL exported with the DXF")
         first = end  # a header and END: a table without rules (a pattern that does not grade)
         report.add("rul-no-rules", "the table holds no rules; every point keeps its sample position", source)
+    header, sizes, sample = _header(text[: first.start()], source, report)
+    unit = _units(units)
+    if unit is None:
+        if units is not None:
+            raise UnitsError(f"{source}: unknown units override {units!r}; use METRIC or ENGLISH")
+        declared = header.get("UNITS")
+        unit = _units(declared) if declared is not None else None
+        if unit is None:
+            if declared is None:
+                raise UnitsError(f"{source}: no 'UNITS:' line; give the units (METRIC or ENGLISH)")
+            raise UnitsError(f"{source}: unknown units {declared!r}; expected METRIC or ENGLISH")
+    body = text[first.start():]
+    end = _END.search(body)
+    if end is None:
+        report.add("rul-no-end", "no END line (file may be truncated); read up to the end of the file", source)
+    else:
+        tail = body[end.end():].strip()
+        body = body[: end.start()]
+        if tail:
+            report.add("rul-after-end", "text after END ignored", source)
+    deltas = _deltas(body, sizes, sample, unit, source)
+    table = GradeRuleTable(name=header.get("GRADE RULE TABLE", ""), sizes=sizes, sample_size=sample,
+                           deltas=deltas)
+    return table, report
+
+
+def _header(text: str, source: str, report: Report) -> tuple[dict[str, str], tuple[str, ...], str]:
+    """Header keys, size list and sample size of the text before the first rule (checked)."""
     header: dict[str, str] = {}
     version = ""
-    for line in text[: first.start()].split("\n"):
+    for line in text.split("\n"):
         if not line.strip():
             continue
         m = _HEADER.match(line)
@@ -184,25 +213,11 @@ def parse_rul(
         raise RULFormatError(f"{source}: no 'SAMPLE SIZE:' line; cannot tell which column is the sample")
     if sample not in sizes:
         raise RULFormatError(f"{source}: sample size {sample!r} is not in the size list ({' '.join(sizes)})")
-    unit = _units(units)
-    if unit is None:
-        if units is not None:
-            raise UnitsError(f"{source}: unknown units override {units!r}; use METRIC or ENGLISH")
-        declared = header.get("UNITS")
-        unit = _units(declared) if declared is not None else None
-        if unit is None:
-            if declared is None:
-                raise UnitsError(f"{source}: no 'UNITS:' line; give the units (METRIC or ENGLISH)")
-            raise UnitsError(f"{source}: unknown units {declared!r}; expected METRIC or ENGLISH")
-    body = text[first.start():]
-    end = _END.search(body)
-    if end is None:
-        report.add("rul-no-end", "no END line (file may be truncated); read up to the end of the file", source)
-    else:
-        tail = body[end.end():].strip()
-        body = body[: end.start()]
-        if tail:
-            report.add("rul-after-end", "text after END ignored", source)
+    return header, sizes, sample
+
+
+def _deltas(body: str, sizes: tuple[str, ...], sample: str, unit: Units, source: str) -> dict[str, np.ndarray]:
+    """Each rule's (n_sizes, 2) cumulative deltas in cm, checked against the size list and the sample column."""
     matches = list(_RULE.finditer(body))
     n = len(sizes)
     k_sample = sizes.index(sample)
@@ -219,6 +234,9 @@ def parse_rul(
         if rid in deltas:
             raise RULFormatError(f"{source}: rule {rid} is defined twice; remove the duplicate")
         arr = np.array(values, dtype=np.float64).reshape(n, 2)
+        if not np.all(np.isfinite(arr)) or np.max(np.abs(arr)) > _MAX_DELTA:
+            raise RULFormatError(f"{source}: rule {rid} holds a value that is not a finite number of sane size "
+                                 f"(at most {_MAX_DELTA:g} file units); the file is damaged")
         if np.max(np.abs(arr[k_sample])) > _SAMPLE_ZERO_TOL:
             raise RULFormatError(
                 f"{source}: rule {rid} moves the sample size {sample} by "
@@ -226,9 +244,7 @@ def parse_rul(
             )
         arr[k_sample] = 0.0
         deltas[rid] = to_cm(arr, unit.value)
-    table = GradeRuleTable(name=header.get("GRADE RULE TABLE", ""), sizes=sizes, sample_size=sample,
-                           deltas=deltas)
-    return table, report
+    return deltas
 
 
 def read_rul(path: str | os.PathLike, *, units: str | Units | None = None) -> tuple[GradeRuleTable, Report]:

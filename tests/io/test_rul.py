@@ -101,6 +101,8 @@ def test_units_override_and_file(tmp_path):
     ("text", "fragment"),
     [
         ("UNITS: METRIC\nSIZE LIST: S M\nSAMPLE SIZE: S\n", "no 'RULE: DELTA'"),
+        ("UNITS: METRIC\nSIZE LIST: S M\nSAMPLE SIZE: S\nRULE: DELTA 1\n0,0 1e400,1\nEND\n", "not a finite"),
+        ("UNITS: METRIC\nSIZE LIST: S M\nSAMPLE SIZE: S\nRULE: DELTA 1\n0,0 3e300,1\nEND\n", "sane size"),
         ("UNITS: METRIC\nSIZE LIST: S M L M\nSAMPLE SIZE: S\nRULE: DELTA 1\n0,0 1,1 2,2 3,3\nEND\n",
          "size M more than once"),
         ("UNITS: METRIC\nSAMPLE SIZE: S\nRULE: DELTA 1\n0,0 1,1\nEND\n", "no 'SIZE LIST:'"),

@@ -500,7 +500,16 @@ def _block(
     for i, text in enumerate(_piece_text_lines(piece, size, ctx, full, where)):
         tags.text(1, anchor - np.array([0.0, i * step]), text, ctx.height)
 
-    # boundary: one closed polyline, turn/curve points, rule texts
+    _boundary(tags, ctx, piece, outline, full=full, validation=validation, notch_at=notch_at, where=where)
+    _inside(tags, ctx, piece, full=full, validation=validation, where=where)
+    tags.tag(0, "ENDBLK")
+    tags.tag(8, 0)
+
+
+def _boundary(tags: _Tags, ctx: _Context, piece: Piece, outline: np.ndarray, *, full: bool, validation: bool,
+              notch_at: np.ndarray | None, where: str) -> None:
+    """The cut line with its points, rule texts, notches, notch links and validation copy."""
+    s = ctx.scale
     tags.polyline(1, outline, closed=True)
     if full:
         _vertex_points(tags, ctx, 1, outline, piece.kinds, piece.rules, where)
@@ -535,6 +544,10 @@ def _block(
     if validation:
         tags.polyline(_VALIDATION_LAYER[1], outline, closed=True)
 
+
+def _inside(tags: _Tags, ctx: _Context, piece: Piece, *, full: bool, validation: bool, where: str) -> None:
+    """Lines, internal lines, cutouts, sew lines, drill holes and annotations of one block."""
+    s = ctx.scale
     # grain (7), grade reference (5), mirror (6); AccuMark marks grain-line ends as turn points
     for layer, line in (
         (7, piece.grain_line),
@@ -585,9 +598,6 @@ def _block(
                 note.height_cm * s,
                 math.degrees(note.angle) % 360.0,
             )
-
-    tags.tag(0, "ENDBLK")
-    tags.tag(8, 0)
 
 
 # ---------------------------------------------------------------------------
