@@ -95,7 +95,9 @@ def main(argv: list[str] | None = None) -> int:
             before = _points(pattern)
             for flavor in ("aama", "astm"):
                 for sizes in ("sample", "all"):
-                    dxf = Path(tmp) / f"out_{flavor}_{sizes}.dxf"
+                    folder = Path(tmp) / name.replace(":", "_") / f"{flavor}_{sizes}"
+                    folder.mkdir(parents=True, exist_ok=True)
+                    dxf = folder / "out.dxf"
                     rul = (
                         dxf.with_suffix(".rul")
                         if sizes == "sample" and graded

@@ -52,6 +52,7 @@ from .build import SIZE_KEYS, PieceBuilder
 from .entities import RawBlock, raw_block
 from .layers import Layer
 from .links import link_rules
+from .reference import drop_implied_references
 from .sizes import SIZE_NOTE, rename_sizes
 from .tags import Block, Entity, parse_tags
 from .text import ASTM_MARKER, parse_author, parse_quantity, parse_units, split_key
@@ -361,6 +362,7 @@ def _build(path, blocks, entities, report, *, rul, units, unfold, strict, exact_
     if nest:
         pattern = link_rules(pattern, links, report)
     pattern = rename_sizes(pattern, {c: n for c, n in style.size_names.items() if c in pattern.sizes})
+    pattern = drop_implied_references(pattern)
     if unfold:
         pattern = unfold_pattern(pattern, report)
     report.findings[:] = [

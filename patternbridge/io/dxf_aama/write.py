@@ -50,6 +50,7 @@ from ...units import from_cm, to_cm
 from ..rul import creation_time
 from .layers import NOTCH_LAYER_BY_TYPE
 from .links import notch_positions
+from .reference import reference_line
 from .sizes import rename_sizes, size_codes
 from .tags import MAX_ABS_VALUE
 
@@ -442,30 +443,6 @@ def _write_polyline(
     return pts
 
 
-def _grade_reference(piece: Piece, graded: bool) -> Line | None:
-    """The piece's grade reference line, or one along +x where rules are written without one.
-
-    Rules without a reference line are in the drawing axes, so the line we add
-    points along +x: the grain line itself when it does (as AccuMark writes
-    it), otherwise a line of the grain line's length from its tail, or across
-    the middle of the piece.
-    """
-    if piece.grade_reference is not None or not graded:
-        return piece.grade_reference
-    grain = piece.grain_line
-    if grain is not None:
-        d = grain.points[1] - grain.points[0]
-        length = float(np.hypot(*d))
-        if length > 0 and abs(d[1]) <= 1e-9 * length and d[0] > 0:
-            return Line(points=grain.points)
-        if length > 0:
-            return Line(points=[grain.points[0], grain.points[0] + [length, 0.0]])
-    lo, hi = piece.outline.min(axis=0), piece.outline.max(axis=0)
-    mid = 0.5 * (lo + hi)
-    half = 0.25 * (hi[0] - lo[0])
-    return Line(points=[mid - [half, 0.0], mid + [half, 0.0]])
-
-
 def _block(
     tags: _Tags,
     ctx: _Context,
@@ -551,7 +528,7 @@ def _inside(tags: _Tags, ctx: _Context, piece: Piece, *, full: bool, validation:
     # grain (7), grade reference (5), mirror (6); AccuMark marks grain-line ends as turn points
     for layer, line in (
         (7, piece.grain_line),
-        (5, _grade_reference(piece, ctx.graded)),
+        (5, reference_line(piece, ctx.graded)),
         (6, piece.mirror_line),
     ):
         if line is None:
