@@ -77,3 +77,14 @@ def test_unmutated_tank_still_reads(aama_dir):
     pattern, _ = read_dxf(aama_dir / TANK)
     assert [p.name for p in pattern.pieces] == ["RELAXED TANK FR V2", "RELAXED TANK BK V2"]
     assert len(pattern.sizes) == 14
+
+
+def test_autocad_no_extents_marker_in_header_is_fine(tank_text, tmp_path):
+    """AutoCAD writes $EXTMIN 1e+20 for an empty drawing: only geometry is held to garment size."""
+    header = "  0\nSECTION\n  2\nHEADER\n  0\nENDSEC\n"
+    assert tank_text.startswith(header)
+    extents = "  0\nSECTION\n  2\nHEADER\n  9\n$EXTMIN\n 10\n1.0E+20\n 20\n1.0E+20\n  0\nENDSEC\n"
+    path = tmp_path / "extents.dxf"
+    path.write_text(extents + tank_text[len(header):], encoding="ascii", newline="")
+    pattern, _ = read_dxf(path)
+    assert len(pattern.pieces) == 2

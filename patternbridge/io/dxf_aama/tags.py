@@ -6,9 +6,10 @@ every tag once, so the layers above only meet well-formed numbers:
 
 - a group code is an integer and every code has its value (no truncation);
 - every value of a floating-point group (10-59, 110-149, 210-239, 1010-1059)
-  is a finite number of sane magnitude (at most ``MAX_ABS_VALUE`` file units,
-  10 km in millimetres): ``nan``, ``inf`` and numbers that overflow a double are
-  refused with the line they are on;
+  is a finite number, and in BLOCKS and ENTITIES of sane magnitude (at most
+  ``MAX_ABS_VALUE`` file units, 10 km in millimetres; HEADER may hold
+  AutoCAD's 1e20 "no extents" markers): ``nan``, ``inf`` and numbers that
+  overflow a double are refused with the line they are on;
 - no value is longer than ``MAX_VALUE_CHARS`` characters (DXF R12 limits
   strings to 255; a longer one is a damaged or hostile file);
 - sections and blocks are closed.
@@ -112,7 +113,10 @@ def _check_values(path: Path, codes: list[int], values: list[str]) -> None:
             f"{path}: line {2 * longest + 2}: group {codes[longest]} value is {len(values[longest]):,} "
             f"characters long (at most {MAX_VALUE_CHARS}); the file is damaged, export it again"
         )
+    section = ""
     for k, code in enumerate(codes):
+        if code == 2 and k and codes[k - 1] == 0 and values[k - 1].upper() == "SECTION":
+            section = values[k].upper()
         if not _is_float_code(code):
             continue
         try:
@@ -122,7 +126,8 @@ def _check_values(path: Path, codes: list[int], values: list[str]) -> None:
                 f"{path}: corrupted DXF (line {2 * k + 2}: group {code} value {values[k][:30]!r} is not a "
                 "number); export the file again"
             ) from None
-        if not math.isfinite(x) or abs(x) > MAX_ABS_VALUE:
+        # HEADER and TABLES may hold AutoCAD's 1e20 "no extents" markers; only geometry must be of garment size
+        if not math.isfinite(x) or (abs(x) > MAX_ABS_VALUE and section in ("BLOCKS", "ENTITIES")):
             what = "is not a finite number" if not math.isfinite(x) else f"exceeds {MAX_ABS_VALUE:g} file units"
             raise DXFFormatError(
                 f"{path}: line {2 * k + 2}: group {code} value {values[k][:30]!r} {what}; the file is damaged, "
