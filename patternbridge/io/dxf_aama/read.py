@@ -129,7 +129,9 @@ def read_dxf(
     exact_nest : for a graded nest, make every boundary vertex a rule point so
         grading reproduces each size's own curves exactly (by default only the
         file's ``# n`` points are rule points and the others follow by arc
-        length, as a CAD system grading from the .RUL would)
+        length, as a CAD system grading from the .RUL would, unless that misses
+        the nest's curves by more than ``NEST_EXACT_MM``: then the nest is kept
+        exact and a ``nest-kept-exact`` note says so)
 
     Returns
     -------
