@@ -7,6 +7,7 @@ runs it through every command that reads a DXF.
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import pytest
@@ -88,3 +89,29 @@ def test_autocad_no_extents_marker_in_header_is_fine(tank_text, tmp_path):
     path.write_text(extents + tank_text[len(header):], encoding="ascii", newline="")
     pattern, _ = read_dxf(path)
     assert len(pattern.pieces) == 2
+
+
+def _every_real_file():
+    from pathlib import Path as _P
+
+    folder = _P(__file__).resolve().parents[2].parent / "shared" / "aama"
+    return sorted(p.name for p in folder.glob("*") if p.suffix.lower() == ".dxf") if folder.is_dir() else []
+
+
+@pytest.mark.parametrize("value, needle", [("nan", "not a finite number"), ("inf", "not a finite number"),
+                                           ("-1e999", "not a finite number"), ("3e300", "exceeds")])
+@pytest.mark.parametrize("name", _every_real_file())
+def test_one_bad_coordinate_in_any_real_file_is_refused_with_its_line(aama_dir, tmp_path, name, value, needle):
+    """The first boundary vertex of the first block: one line naming the file and the line, whatever the producer."""
+    text = (aama_dir / name).read_bytes().decode("latin-1")
+    blocks = text.index("BLOCKS")
+    vertex = text.index("VERTEX", blocks)
+    m = re.compile(r"(\r?\n *10\r?\n)([^\r\n]+)").search(text, vertex)
+    line = text[: m.start(2)].count("\n") + 1
+    path = tmp_path / name
+    path.write_bytes((text[: m.start(2)] + value + text[m.end(2):]).encode("latin-1"))
+    with pytest.raises(DXFFormatError) as info:
+        read_dxf(path)
+    message = str(info.value)
+    assert "\n" not in message and message.startswith(str(path)) and needle in message
+    assert f"line {line}:" in message
