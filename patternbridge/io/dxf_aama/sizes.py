@@ -41,11 +41,13 @@ def size_codes(sizes: tuple[str, ...]) -> dict[str, str]:
     --------
     >>> size_codes(("42", "44", "E_average_male"))
     {'E_average_male': '901'}
+    >>> size_codes(("62", "66", "70", "hero"))
+    {'hero': '901'}
     >>> size_codes(("S", "M", "B slim female"))
     {'B slim female': 'C1'}
     """
     plain = [s for s in sizes if is_cad_size(s)]
-    numeric = bool(plain) and all(_NUMERIC.match(s) for s in plain)
+    numeric = 2 * sum(bool(_NUMERIC.match(s)) for s in plain) > len(plain)  # a list of mostly numbers
     odd = [s for s in sizes if not is_cad_size(s) or (numeric and not _NUMERIC.match(s))]
     taken = set(sizes)
     codes: dict[str, str] = {}
