@@ -54,7 +54,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--exact-nest",
         action="store_true",
         help="graded nest: make every boundary vertex a rule point so each size's own "
-        "curves are reproduced exactly (default: only the file's '# n' points)",
+        "curves are reproduced exactly (default: only when the file's '# n' points alone "
+        "would miss them by more than 0.5 mm)",
     )
     parser.add_argument(
         "--strict", action="store_true", help="treat every warning as an error"

@@ -10,6 +10,8 @@ import pytest
 from grade_fixtures import BODY, skirt_pattern
 
 from patternbridge.cli.main import main
+from patternbridge.io.dxf_aama import read_dxf
+from patternbridge.io.dxf_aama.sizes import is_cad_size
 from patternbridge.io.pattern_json import load_pattern_json, save_pattern_json
 
 
@@ -37,9 +39,12 @@ def test_fit_writes_every_output(inputs, tmp_path, capsys):
     assert "baseline" in rep and "seconds" in rep and "shape_error" in rep
     graded = load_pattern_json(out / "skirt_hero.json")
     assert graded.sample_size == "hero" and [p.name for p in graded.pieces] == ["front", "back"]
-    # the RUL carries the original size plus the character
+    # the RUL carries the original size plus the character, in size names CAD takes (a character among
+    # numeric sizes gets a numeric code, named by a layer-15 note in the DXF); the import gives it back
     rul = (out / "skirt_aama.rul").read_text(errors="replace")
-    assert "hero" in rul
+    size_list = next(line for line in rul.splitlines() if line.startswith("SIZE LIST:")).split(":")[1].split()
+    assert len(size_list) == 2 and all(is_cad_size(s) for s in size_list)
+    assert read_dxf(out / "skirt_aama.dxf")[0].sizes[-1] == "hero"
     err = capsys.readouterr()
     assert "[grade]" in err.err and "wrote" in err.out
     # files get the mode a plain open() gives under the umask (not mkstemp's 0600)

@@ -126,7 +126,10 @@ def test_real_file_contents(name):
         texts = rule_positions(ents) * f
         has_text = np.array([np.min(np.linalg.norm(texts - v, axis=1), initial=9) < 1e-4 for v in piece.outline])
         has_rule = np.array([r is not None for r in piece.rules])
-        np.testing.assert_array_equal(has_rule, has_text)
+        if "nest-kept-exact" in report.codes():  # every vertex is a rule point, the texts' among them
+            assert has_rule.all() and has_text.any()
+        else:
+            np.testing.assert_array_equal(has_rule, has_text)
 
 
 @pytest.mark.shared
@@ -492,10 +495,11 @@ def test_unfold_mirrors_the_half_piece_and_its_rules(tmp_path):
             poly(1, [(0, 0), (50, 0), (50, 40), (0, 40)], closed=True),
             line(6, (50, 0), (50, 40)),
             pt(2, 0, 40), txt(2, 0, 40, "# 5"),
+            pt(2, 50, 0), txt(2, 50, 0, "# 6"), pt(2, 50, 40), txt(2, 50, 40, "# 6"),
             pt(4, 20, 0, z=5))
     path = d.write(tmp_path / "half.dxf")
     (tmp_path / "half.rul").write_text("UNITS: METRIC\nSIZE LIST: M L\nSAMPLE SIZE: M\n"
-                                       "RULE: DELTA 5\n0,0 -10,10\nEND\n")
+                                       "RULE: DELTA 5\n0,0 -10,10\nRULE: DELTA 6\n0,0 0,0\nEND\n")
     half, _ = read_dxf(path)
     whole, report = read_dxf(path, unfold=True)
     assert half.pieces[0].mirror_line is not None and whole.pieces[0].mirror_line is None
@@ -587,7 +591,8 @@ def test_exact_nest_reproduces_every_vertex_of_every_size():
     path = real("GLX4802S19_AAMA.DXF")
     _, report = read_dxf(path)
     exact, exact_report = read_dxf(path, exact_nest=True)
-    assert "nest-curve-deviation" in report.codes() and "nest-curve-deviation" not in exact_report.codes()
+    # rule points alone miss the nest's curves by 1.9 mm, so the nest is kept exact by default too
+    assert "nest-kept-exact" in report.codes() and "nest-curve-deviation" not in exact_report.codes()
     assert all(r is not None for p in exact.pieces for r in p.rules)
     blocks = raw_blocks(path)
     for size in ("26", "52"):

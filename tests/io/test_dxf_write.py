@@ -185,9 +185,8 @@ def test_blocks_are_pieces_only_with_r12_names(pattern):
         assert re.fullmatch(r"[A-Za-z0-9_\-$]+", name)
     inserts = [g for k, g in section(text, "ENTITIES") if k == "INSERT"]
     assert [g[2][0] for g in inserts] == list(bl)
-    assert all(
-        g[8] == ["1"] and g[10] == ["0.0000"] and g[20] == ["0.0000"] for g in inserts
-    )
+    # pieces are laid out side by side by their INSERT position (test_dxf_layout)
+    assert all(g[8] == ["1"] and len(g[10]) == len(g[20]) == 1 for g in inserts)
 
 
 def test_block_names_stay_unique():
@@ -309,7 +308,8 @@ def test_lines_drills_and_annotations(pattern):
     np.testing.assert_allclose(
         [xy(grain[0]), xy(grain[0], 11)], pattern.piece("FRONT").grain_line.points * 10
     )
-    assert [g[8][0] for k, g in back if k == "LINE"] == ["7", "6"]
+    # grain, the +x grade reference line added because the pattern grades, mirror
+    assert [g[8][0] for k, g in back if k == "LINE"] == ["7", "5", "6"]
     drills = [g for k, g in front if k == "POINT" and g[8] == ["13"]]
     assert len(drills) == 1 and float(drills[0][30][0]) == pytest.approx(3.0)
     assert texts(front, 13) == ["D"]
@@ -321,6 +321,17 @@ def test_lines_drills_and_annotations(pattern):
     sleeve = blocks(text)["SLEEVE_M"]
     ((cut, flag),) = polyline_vertices(sleeve, 11)
     assert flag == "1" and len(cut) == 4
+
+
+def test_implied_grade_reference_is_written_and_not_read_back(pattern, tmp_path):
+    """A graded piece without a reference line gets one along +x; reading it back gives no new field."""
+    text = format_dxf(pattern, now=FIXED)
+    for piece in pattern.pieces:
+        (line5,) = [g for k, g in blocks(text)[f"{piece.name}_M"] if k == "LINE" and g[8] == ["5"]]
+        start, end = xy(line5), xy(line5, 11)
+        assert end[0] > start[0] and end[1] == start[1]  # +x: the rules' frame stays the drawing axes
+    dxf = write_dxf(pattern, tmp_path / "r.dxf", rul_path=tmp_path / "r.rul")
+    assert all(p.grade_reference is None for p in _reader()(dxf)[0].pieces)
 
 
 def test_grade_reference_written_when_present(pattern):
@@ -610,37 +621,28 @@ def test_hypothesis_dxf_round_trip(pattern, flavor, tmp_path):
     assert_patterns_equal(pattern, back, atol_cm=atol, atol_rad=1e-3, ignore=NOT_IN_DXF)
 
 
-def test_rule_conflicts_reported_for_sample_exports_only(pattern):
-    """Two rules that grade differently on one point: the first stays, a finding says so."""
+@pytest.mark.parametrize("flavor", ["aama", "astm"])
+def test_two_rules_on_one_point_each_reach_their_element(pattern, flavor, tmp_path):
+    """A line end on a boundary vertex that grades differently keeps its own rule in a sample + RUL file."""
     back = pattern.piece("BACK")
     clash = Line(points=[back.outline[1], back.outline[2]], rules=("99", "22"))
     deltas = dict(pattern.rules.deltas)
-    deltas["99"] = (
-        deltas["21"] + 1.0
-    )  # moves differently from rule 21 at the same point
+    deltas["99"] = deltas["21"] * 2.0  # moves differently from rule 21 at the same point
+    assert np.abs(deltas["21"]).max() > 0.1
     p = dataclasses.replace(
         pattern,
         pieces=(dataclasses.replace(back, grade_reference=clash),),
         rules=dataclasses.replace(pattern.rules, deltas=deltas),
     )
     report = Report()
-    ents = blocks(format_dxf(p, report=report, now=FIXED))["BACK_M"]
-    assert report.codes() == ["rule-position-conflict"]
-    assert "rule 99" in report.findings[0].message
-    at = [xy(g) for k, g in ents if k == "TEXT" and g[1] == ["# 21"]]
-    assert len(at) == 1 and not any(g[1] == ["# 99"] for k, g in ents if k == "TEXT")
-    # the same rule twice on a point is written once, silently
-    same = dataclasses.replace(clash, rules=("21", "22"))
-    q = dataclasses.replace(
-        p, pieces=(dataclasses.replace(back, grade_reference=same),)
-    )
-    report = Report()
-    format_dxf(q, report=report)
-    assert not report
-    # a nest carries every size itself: no finding
-    report = Report()
-    format_dxf(p, sizes="all", report=report)
+    dxf, rul = tmp_path / "c.dxf", tmp_path / "c.rul"
+    write_dxf(p, dxf, flavor=flavor, rul_path=rul, report=report)
     assert "rule-position-conflict" not in report.codes()
+    ents = blocks(dxf.read_bytes().decode("ascii"))["BACK_M"]
+    assert [g[8] for k, g in ents if k == "TEXT" and g[1] == ["# 99"]] == [["5"]]
+    read_dxf = _reader()
+    piece = read_dxf(dxf)[0].piece("BACK")
+    assert piece.rules[1] == "21" and piece.grade_reference.rules == ("99", "22")
 
 
 def test_astm_nest_links_notches_in_every_size(pattern):
@@ -659,4 +661,8 @@ def test_astm_nest_links_notches_in_every_size(pattern):
                 xy(g), graded.outline[notch.vertex - 1] * 10, atol=5e-5
             )
     assert "ATTDEF" not in format_dxf(pattern, flavor="aama", sizes="all")
-    assert "ATTDEF" not in format_dxf(pattern, flavor="astm")
+    # a sample-size ASTM file links its notches too, as AccuMark's ASTM blocks do
+    sample = [g for k, g in blocks(format_dxf(pattern, flavor="astm"))["FRONT_M"] if k == "ATTDEF"]
+    np.testing.assert_allclose([xy(g, 11) for g in sample],
+                               [pattern.piece("FRONT").outline[n.vertex] * 10 for n in pattern.piece("FRONT").notches],
+                               atol=5e-5)

@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from patternbridge.errors import RULFormatError, UnitsError
+from patternbridge.errors import InputError, RULFormatError, UnitsError
 from patternbridge.io.rul import format_rul, parse_rul, read_rul, write_rul
 from patternbridge.pattern.model import GradeRuleTable, Units
 
@@ -100,7 +100,11 @@ def test_units_override_and_file(tmp_path):
 @pytest.mark.parametrize(
     ("text", "fragment"),
     [
-        ("UNITS: METRIC\nSIZE LIST: S M\nSAMPLE SIZE: S\nEND\n", "no 'RULE: DELTA'"),
+        ("UNITS: METRIC\nSIZE LIST: S M\nSAMPLE SIZE: S\n", "no 'RULE: DELTA'"),
+        ("UNITS: METRIC\nSIZE LIST: S M\nSAMPLE SIZE: S\nRULE: DELTA 1\n0,0 1e400,1\nEND\n", "not a finite"),
+        ("UNITS: METRIC\nSIZE LIST: S M\nSAMPLE SIZE: S\nRULE: DELTA 1\n0,0 3e300,1\nEND\n", "sane size"),
+        ("UNITS: METRIC\nSIZE LIST: S M L M\nSAMPLE SIZE: S\nRULE: DELTA 1\n0,0 1,1 2,2 3,3\nEND\n",
+         "size M more than once"),
         ("UNITS: METRIC\nSAMPLE SIZE: S\nRULE: DELTA 1\n0,0 1,1\nEND\n", "no 'SIZE LIST:'"),
         ("UNITS: METRIC\nNUMBER OF SIZES: 3\nSIZE LIST: S M\nSAMPLE SIZE: S\nRULE: DELTA 1\n0,0 1,1\nEND\n",
          "NUMBER OF SIZES says 3"),
@@ -213,3 +217,39 @@ def test_hypothesis_format_parse_round_trip(case, units, per_line):
     step = 0.5e-4 * (0.1 if units is Units.METRIC else 2.54)
     for rid, d in table.deltas.items():
         np.testing.assert_allclose(back.deltas[rid], d, atol=step * 1.01)
+
+
+def test_header_only_table_has_no_rules():
+    """What we write for a pattern that does not grade (one size) reads back as an empty table."""
+    table, report = parse_rul("UNITS: METRIC\nSIZE LIST: M\nSAMPLE SIZE: M\nEND\n", source="one.rul")
+    assert table.sizes == ("M",) and not table.deltas and "rul-no-rules" in report.codes()
+
+
+@pytest.mark.parametrize("flavor, first", [("aama", "ANSI/AAMA VERSION: 1.0.0"),
+                                           ("astm", "ASTM/D13Proposal 1 Version: D 6673-04")])
+def test_each_flavour_has_its_own_version_line(flavor, first):
+    table = GradeRuleTable(sizes=("S", "M"), sample_size="M", deltas={"1": [[1.0, 0.0], [0.0, 0.0]]})
+    text = format_rul(table, flavor=flavor)
+    assert text.split("\r\n")[0] == first
+    back, _ = parse_rul(text)
+    assert back == table
+
+
+def test_dates_from_source_date_epoch_never_the_clock(monkeypatch):
+    table = GradeRuleTable(sizes=("S", "M"), sample_size="M", deltas={"1": [[1.0, 0.0], [0.0, 0.0]]})
+    monkeypatch.delenv("SOURCE_DATE_EPOCH", raising=False)
+    fixed = format_rul(table)
+    assert "CREATION DATE: 01-01-1980" in fixed and format_rul(table) == fixed
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", "1700000000")  # 2023-11-14 22:13:20 UTC
+    text = format_rul(table)
+    assert "CREATION DATE: 14-11-2023" in text and "CREATION TIME: 22:13" in text
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", "soon")
+    with pytest.raises(InputError, match="SOURCE_DATE_EPOCH"):
+        format_rul(table)
+
+
+def test_delta_overflowing_in_file_units_refused():
+    # 1e308 cm is a finite model value but infinite in millimetres
+    table = GradeRuleTable(sizes=("S", "M"), sample_size="M", deltas={"1": [[1e308, 0.0], [0.0, 0.0]]})
+    with pytest.raises(ValueError, match="not a finite number"):
+        format_rul(table)

@@ -46,8 +46,13 @@ from ...pattern.model import (
     VertexKind,
 )
 from ...report import Report
-from ...units import from_cm
+from ...units import from_cm, to_cm
+from ..rul import creation_time
 from .layers import NOTCH_LAYER_BY_TYPE
+from .links import notch_positions
+from .reference import reference_line
+from .sizes import rename_sizes, size_codes
+from .tags import MAX_ABS_VALUE
 
 __all__ = [
     "format_dxf",
@@ -124,28 +129,55 @@ def sanitize_block_name(name: str) -> str:
 class _Tags:
     """Collects DXF group-code/value pairs and renders them as R12 text."""
 
-    __slots__ = ("decimals", "lines", "rules_seen")
+    __slots__ = ("claims", "decimals", "lines", "rules_seen")
 
     def __init__(self, decimals: int = 4) -> None:
         self.lines: list[str] = []
         self.decimals = decimals
-        self.rules_seen: dict[
-            tuple[str, str], str
-        ] = {}  # position -> rule text, per block
+        self.claims: dict[tuple[int, tuple[str, str]], list[list]] = {}  # (layer, position) -> [[text, on layer]]
+        self.rules_seen: dict[tuple[str, str], dict[int, str]] = {}  # position -> layer -> rule text
 
     def rule(self, layer: int, at, value: str, height: float) -> str | None:
-        """A ``# n`` rule text, once per position within a block.
+        """A ``# n`` rule text at ``at`` on ``layer``, once per position and layer within a block.
 
-        Returns the rule text already written at this position when it differs
-        (a reader attaches rule texts by position, so only one can be there).
+        Returns the different rule text already written at this position on
+        this layer (a reader attaches rule texts by position, preferring the
+        element's own layer, so only one can be there per layer).
         """
-        key = (f"{float(at[0]):.{self.decimals}f}", f"{float(at[1]):.{self.decimals}f}")
-        seen = self.rules_seen.get(key)
-        if seen is not None:
-            return None if seen == value else seen
-        self.rules_seen[key] = value
+        seen = self.rules_seen.setdefault(self.key(at), {})
+        if value in seen.values():
+            return None
+        if layer in seen:
+            return seen[layer]
+        seen[layer] = value
         self.text(layer, at, value, height)
         return None
+
+    def key(self, at) -> tuple[str, str]:
+        """A position as written (rule texts match by it)."""
+        return (f"{float(at[0]):.{self.decimals}f}", f"{float(at[1]):.{self.decimals}f}")
+
+    def claim(self, owner: int, at, value: str, height: float) -> bool:
+        """Record that an element of layer ``owner`` has rule ``value`` at ``at``.
+
+        The first element of a layer at a point returns False (write the text
+        the usual way). A later one returns True after writing, on ``owner``
+        and in element order, every claim of the point not yet written there
+        and its own, unless all claims so far agree (the reader hands the k-th
+        text of a layer at a point to the k-th element of that layer there).
+        """
+        claims = self.claims.setdefault((owner, self.key(at)), [])
+        if not claims:
+            claims.append([value, self.rules_seen.get(self.key(at), {}).get(owner) == value])
+            return False
+        claims.append([value, False])
+        if all(c[0] == value for c in claims):
+            return True
+        for c in claims:
+            if not c[1]:
+                self.text(owner, at, c[0], height)
+                c[1] = True
+        return True
 
     def tag(self, code: int, value) -> None:
         self.lines.append(f"{code:>3}")
@@ -242,6 +274,8 @@ class _Context:
     report: Report
     table: Mapping[str, np.ndarray]  # rule id -> deltas (cm), for conflict checks
     nest: bool = False  # a graded nest carries every size: rule texts only label points
+    graded: bool = False  # the file grades (rules or a nest): every block gets a grade reference line
+    pairs: bool = False  # the source wrote quantities as right,left pairs (ASTM): an AAMA export keeps them so
 
 
 def _ascii(ctx: _Context, value: str, where: str) -> str:
@@ -269,15 +303,27 @@ def _put_rule(
     where: str,
     *,
     check: bool = True,
+    owner_layer: int | None = None,
 ) -> None:
-    """Write ``# rule`` at ``at`` unless another rule already sits there.
+    """Write ``# rule`` at ``at`` unless the same rule already sits there.
 
     Coincident points (a notch on a graded vertex, a grade reference line on
-    the grain line) normally share their motion; when their rules differ in
-    value the first one wins and the conflict is reported.
+    the grain line) normally share their motion. When another element's
+    different rule already sits there, this one is written on the element's
+    own layer (``owner_layer``), which the reader prefers for that element;
+    when even that layer is taken the first rule wins and the conflict is
+    reported.
     """
     text = _ascii(ctx, _rule_text(rule), where)
+    owner = owner_layer if owner_layer is not None else layer
+    if check and tags.claim(owner, at, text, ctx.height):
+        return  # a later element of this layer at this point: written in element order
     other = tags.rule(layer, at, text, ctx.height)
+    if other is not None and owner != layer:
+        # the point layer holds another element's rule: this one goes on its own layer
+        other = tags.rule(owner, at, text, ctx.height)
+    if check:
+        tags.claims[(owner, tags.key(at))][0][1] = tags.rules_seen[tags.key(at)].get(owner) == text
     if other is None or not check or ctx.nest:
         return
     first = other[2:]
@@ -327,6 +373,7 @@ def _vertex_points(
                     p,
                     rule,
                     where,
+                    owner_layer=owner_layer,
                 )
 
 
@@ -352,7 +399,7 @@ def _piece_text_lines(
     if not full:
         return lines
     q = piece.quantity
-    if ctx.flavor is Flavor.ASTM:
+    if ctx.flavor is Flavor.ASTM or ctx.pairs:
         lines.append(f"Quantity: {q.right},{q.left}")
     else:
         lines.append(f"Quantity: {q.total}")
@@ -370,7 +417,7 @@ def _piece_text_lines(
     ):
         if value:
             lines.append(f"{key}: {_ascii(ctx, value, where)}")
-    known = {"piece name", "size", "quantity", "category", "annotation", "fabric"}
+    known = {"piece name", "size", "quantity", "category", "annotation", "fabric"}  # written above
     for key, value in piece.extra_text.items():
         if key.strip().lower() in known:
             continue
@@ -405,12 +452,18 @@ def _block(
     *,
     full: bool,
     validation: bool,
+    notch_at: np.ndarray | None = None,
 ) -> None:
-    """Write one BLOCK ... ENDBLK; ``full``: the sample-size block (points, rules)."""
+    """Write one BLOCK ... ENDBLK; ``full``: the sample-size block (points, rules).
+
+    ``notch_at`` : (n_notches, 2) cm, where the ATTDEF links put the notches
+    in this size (default: on their vertex).
+    """
     s = ctx.scale
     where = f"{piece.name} ({size})"
     outline = np.asarray(piece.outline) * s
     tags.rules_seen.clear()
+    tags.claims.clear()
     tags.tag(0, "BLOCK")
     tags.tag(8, 0)
     tags.tag(2, block_name)
@@ -424,7 +477,16 @@ def _block(
     for i, text in enumerate(_piece_text_lines(piece, size, ctx, full, where)):
         tags.text(1, anchor - np.array([0.0, i * step]), text, ctx.height)
 
-    # boundary: one closed polyline, turn/curve points, rule texts
+    _boundary(tags, ctx, piece, outline, full=full, validation=validation, notch_at=notch_at, where=where)
+    _inside(tags, ctx, piece, full=full, validation=validation, where=where)
+    tags.tag(0, "ENDBLK")
+    tags.tag(8, 0)
+
+
+def _boundary(tags: _Tags, ctx: _Context, piece: Piece, outline: np.ndarray, *, full: bool, validation: bool,
+              notch_at: np.ndarray | None, where: str) -> None:
+    """The cut line with its points, rule texts, notches, notch links and validation copy."""
+    s = ctx.scale
     tags.polyline(1, outline, closed=True)
     if full:
         _vertex_points(tags, ctx, 1, outline, piece.kinds, piece.rules, where)
@@ -449,27 +511,33 @@ def _block(
                     where,
                     check=False,
                 )
-    if ctx.nest and ctx.flavor is Flavor.ASTM:
+    if ctx.flavor is Flavor.ASTM:
         # AccuMark's notch dependency: where each notch sits in every size,
         # anchored on the boundary vertex before it
-        for notch in piece.notches:
+        at = np.asarray(notch_at) * s if notch_at is not None else outline[[n.vertex for n in piece.notches]]
+        for notch, point in zip(piece.notches, at.reshape(-1, 2), strict=True):
             layer = NOTCH_LAYER_BY_TYPE[NotchType(notch.type)]
-            tags.attdef_link(
-                1, outline[notch.vertex - 1], outline[notch.vertex], layer, ctx.height
-            )
+            tags.attdef_link(1, outline[notch.vertex - 1], point, layer, ctx.height)
     if validation:
         tags.polyline(_VALIDATION_LAYER[1], outline, closed=True)
 
-    # grain (7), grade reference (5), mirror (6)
+
+def _inside(tags: _Tags, ctx: _Context, piece: Piece, *, full: bool, validation: bool, where: str) -> None:
+    """Lines, internal lines, cutouts, sew lines, drill holes and annotations of one block."""
+    s = ctx.scale
+    # grain (7), grade reference (5), mirror (6); AccuMark marks grain-line ends as turn points
     for layer, line in (
         (7, piece.grain_line),
-        (5, piece.grade_reference),
+        (5, reference_line(piece, ctx.graded)),
         (6, piece.mirror_line),
     ):
         if line is None:
             continue
         pts = np.asarray(line.points) * s
         tags.line(layer, pts[0], pts[1])
+        if full and layer == 7:
+            for end in pts:
+                tags.point(2, end)
         if full:
             _line_rules(tags, ctx, layer, line, pts, where)
 
@@ -508,9 +576,6 @@ def _block(
                 math.degrees(note.angle) % 360.0,
             )
 
-    tags.tag(0, "ENDBLK")
-    tags.tag(8, 0)
-
 
 # ---------------------------------------------------------------------------
 # whole file
@@ -547,11 +612,30 @@ def _style_text_lines(
         f"Grade Rule Table: {_ascii(ctx, pattern.rules.name, where)}".rstrip(),
         f"Units: {ctx.units}",
     ]
-    if validation:
-        lines.append(f"Curve Tolerance: {_CURVE_TOLERANCE[ctx.units]}")
+    tolerance = _tolerance(pattern, ctx.units)
+    if ctx.flavor is Flavor.AAMA:
+        lines.append(f"TOLERANCE: {tolerance}")
+    elif validation:
+        lines.append(f"Curve Tolerance: {tolerance}")
     if ctx.flavor is Flavor.ASTM:
         lines.append(_ASTM_VERSION)
     return lines
+
+
+def _tolerance(pattern: Pattern, units: Units) -> str:
+    """The source's ``TOLERANCE``/``Curve Tolerance`` (converted when the units change), else ours."""
+    extra = pattern.provenance.extra_text
+    value = extra.get("CURVE TOLERANCE") or extra.get("TOLERANCE") or ""
+    try:
+        number = float(value)
+    except ValueError:
+        return _CURVE_TOLERANCE[units]
+    if not math.isfinite(number) or number < 0:
+        return _CURVE_TOLERANCE[units]
+    if units is pattern.units:
+        return value.strip()
+    converted = float(from_cm(to_cm(number, pattern.units.value), units.value))
+    return f"{converted:.4f}".rstrip("0").rstrip(".").removeprefix("0") or "0"
 
 
 def _unique_names(names: Iterable[str]) -> list[str]:
@@ -605,6 +689,80 @@ def _graded_pieces(pattern: Pattern, size: str) -> tuple[Piece, ...]:
     return grade(pattern, size).pieces
 
 
+def _check_writable(pattern: Pattern, scale: float) -> None:
+    """Refuse a pattern a CAD system could not read back: no pieces, or numbers that are not finite.
+
+    Raises
+    ------
+    InputError
+        No pieces; a coordinate, size or rule delta that is NaN, infinite or
+        beyond ``MAX_ABS_VALUE`` file units.
+    """
+    if not pattern.pieces:
+        raise InputError(f"pattern {pattern.style!r} has no pieces; a DXF-AAMA/ASTM file needs at least one "
+                         "piece, nothing written")
+    limit = MAX_ABS_VALUE / scale
+    for piece in pattern.pieces:
+        for what, values in _numbers(piece):
+            bad = ~np.isfinite(values) | (np.abs(np.where(np.isfinite(values), values, 0.0)) > limit)
+            if np.any(bad):
+                value = float(np.asarray(values, dtype=np.float64).ravel()[np.flatnonzero(bad.ravel())[0]])
+                raise InputError(f"pattern {pattern.style!r}: piece {piece.name[:60]!r} {what} holds {value!r} "
+                                 f"(a DXF needs finite numbers within {MAX_ABS_VALUE:g} file units); "
+                                 "fix the pattern, nothing written")
+    for rule, deltas in pattern.rules.deltas.items():
+        d = np.asarray(deltas, dtype=np.float64)
+        if not np.all(np.isfinite(d)) or np.any(np.abs(d) > limit):
+            raise InputError(f"pattern {pattern.style!r}: grade rule {rule} holds a delta that is not a finite "
+                             "number of sane size; fix the rules, nothing written")
+
+
+def _numbers(piece: Piece) -> Iterable[tuple[str, np.ndarray]]:
+    yield "outline", np.asarray(piece.outline, dtype=np.float64)
+    for name in ("grain_line", "grade_reference", "mirror_line"):
+        line = getattr(piece, name)
+        if line is not None:
+            yield name.replace("_", " "), np.asarray(line.points, dtype=np.float64)
+    for name in ("internal_lines", "cutouts", "sew_lines"):
+        for poly in getattr(piece, name):
+            yield name.replace("_", " "), np.asarray(poly.points, dtype=np.float64)
+    for hole in piece.drill_holes:
+        yield "drill hole", np.array([*hole.position, hole.diameter_cm], dtype=np.float64)
+    for note in piece.annotations:
+        yield "annotation", np.array([*note.position, note.height_cm, note.angle], dtype=np.float64)
+    for notch in piece.notches:
+        yield "notch", np.array([notch.depth_cm, notch.width_cm, notch.angle], dtype=np.float64)
+
+
+def _layout(entries: Sequence[tuple[Piece, str, bool]], scale: float) -> dict[str, np.ndarray]:
+    """INSERT position of each piece (file units): pieces side by side, the sizes of one piece stacked.
+
+    Rows of pieces in file order, left to right with a 5 cm gap, a new row
+    when the row would pass about twice the square root of the pieces' total
+    box area; each piece's box covers all its sizes, so no two pieces overlap.
+    """
+    boxes: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+    for piece, _, _ in entries:
+        pts = np.asarray(piece.outline) * scale
+        lo, hi = pts.min(axis=0), pts.max(axis=0)
+        if piece.name in boxes:
+            lo, hi = np.minimum(lo, boxes[piece.name][0]), np.maximum(hi, boxes[piece.name][1])
+        boxes[piece.name] = (lo, hi)
+    gap = 5.0 * scale
+    sizes = {name: hi - lo for name, (lo, hi) in boxes.items()}
+    row_width = max(max(w for w, _ in sizes.values()), 2.0 * math.sqrt(sum(w * h for w, h in sizes.values())))
+    offsets: dict[str, np.ndarray] = {}
+    x = y = row_height = 0.0
+    for name, (lo, _) in boxes.items():
+        w, h = sizes[name]
+        if x > 0 and x + w > row_width:
+            x, y, row_height = 0.0, y + row_height + gap, 0.0
+        offsets[name] = np.array([x, y]) - lo
+        x += w + gap
+        row_height = max(row_height, h)
+    return offsets
+
+
 def format_dxf(
     pattern: Pattern,
     *,
@@ -617,24 +775,84 @@ def format_dxf(
     """Return the DXF text of ``pattern`` (CRLF line ends, ASCII only).
 
     Parameters are those of :func:`write_dxf`; ``now`` fixes the creation
-    date/time written in the style text (tests).
+    date/time written in the style text (default :func:`~patternbridge.io.rul.creation_time`:
+    ``SOURCE_DATE_EPOCH``, else the source's own date, else a fixed date).
+
+    Raises
+    ------
+    InputError
+        No pieces, numbers that are not finite, sizes outside the size list.
     """
     flavor = Flavor(str(flavor).lower())
     units = Units(str(units).upper()) if units is not None else pattern.units
     report = report if report is not None else Report()
-    now = now or _dt.datetime.now()
+    now = now or creation_time(pattern.provenance.created)
+    codes = _coded_sizes(pattern, report)
+    pattern = rename_sizes(pattern, codes)
+    scale = float(from_cm(1.0, str(units)))
+    _check_writable(pattern, scale)
     nest_sizes = _resolve_sizes(pattern, sizes, report)
     ctx = _Context(
         flavor=flavor,
         units=units,
-        scale=float(from_cm(1.0, str(units))),
+        scale=scale,
         height=_TEXT_HEIGHT[units],
         report=report,
         table=pattern.rules.deltas,
         nest=nest_sizes is not None,
+        graded=len(pattern.rules.sizes) > 1,
+        pairs=pattern.provenance.flavor is Flavor.ASTM,
     )
     validation = flavor is Flavor.ASTM
+    _report_long_names(pattern, report)
+    # (piece, size, full) in file order: per size, every piece
+    entries: list[tuple[Piece, str, bool]] = []
+    if nest_sizes is None:
+        entries = [(p, p.size or pattern.sample_size, True) for p in pattern.pieces]
+    else:
+        for size in nest_sizes:
+            entries += [(p, size, size == pattern.sample_size) for p in _graded_pieces(pattern, size)]
+    block_names = _unique_names(f"{p.name}_{size}" for p, size, _ in entries)
+    offsets = _layout(entries, scale)
 
+    tags = _Tags()
+    for code, value in ((0, "SECTION"), (2, "HEADER"), (9, "$ACADVER"), (1, "AC1009"), (0, "ENDSEC"),
+                        (0, "SECTION"), (2, "BLOCKS")):
+        tags.tag(code, value)
+    samples = {p.name: p for p in pattern.pieces}
+    for (piece, size, full), block_name in zip(entries, block_names, strict=True):
+        at = notch_positions(samples[piece.name], piece, pattern.rules, size) if piece.notches else None
+        _block(tags, ctx, piece, size, block_name, full=full, validation=validation, notch_at=at)
+    tags.tag(0, "ENDSEC")
+    tags.tag(0, "SECTION")
+    tags.tag(2, "ENTITIES")
+    for i, text in enumerate(_style_text_lines(pattern, ctx, validation, now)):
+        tags.text(1, (0.0, -(i + 2) * 1.6 * ctx.height), text, ctx.height)
+    for i, (name, code) in enumerate(codes.items()):  # the full names of coded sizes
+        text = _ascii(ctx, f"Size {code}: {name}", f"size {name}")
+        tags.text(15, (40.0 * ctx.height, -(i + 2) * 1.6 * ctx.height), text, ctx.height)
+    for (piece, _, _), block_name in zip(entries, block_names, strict=True):
+        tags.tag(0, "INSERT")
+        tags.tag(8, 1)
+        tags.tag(2, block_name)
+        tags.xy(offsets[piece.name])
+    tags.tag(0, "ENDSEC")
+    tags.tag(0, "EOF")
+    text = tags.render()
+    if not text.isascii():  # pragma: no cover - every value went through to_ascii
+        raise AssertionError("DXF text is not ASCII")
+    return text
+
+
+def _coded_sizes(pattern: Pattern, report: Report) -> dict[str, str]:
+    codes = size_codes(tuple(pattern.sizes) or (pattern.sample_size,))
+    for name, code in codes.items():
+        report.add("size-coded", f"size {name!r} written as {code} (CAD takes short size codes of one kind); "
+                   f"its name is kept in the note 'Size {code}: {name}' on layer 15", where=pattern.style)
+    return codes
+
+
+def _report_long_names(pattern: Pattern, report: Report) -> None:
     for piece in pattern.pieces:
         name, _ = to_ascii(piece.name)
         if len(name) > _MAX_NAME:
@@ -644,44 +862,6 @@ def format_dxf(
                 "Gerber AccuMark truncates it",
                 where=piece.name,
             )
-
-    # (piece, size, full) in file order: per size, every piece
-    entries: list[tuple[Piece, str, bool]] = []
-    if nest_sizes is None:
-        entries = [(p, p.size or pattern.sample_size, True) for p in pattern.pieces]
-    else:
-        for size in nest_sizes:
-            pieces = _graded_pieces(pattern, size)
-            entries += [(p, size, size == pattern.sample_size) for p in pieces]
-    block_names = _unique_names(f"{p.name}_{size}" for p, size, _ in entries)
-
-    tags = _Tags()
-    tags.tag(0, "SECTION")
-    tags.tag(2, "HEADER")
-    tags.tag(9, "$ACADVER")
-    tags.tag(1, "AC1009")
-    tags.tag(0, "ENDSEC")
-    tags.tag(0, "SECTION")
-    tags.tag(2, "BLOCKS")
-    for (piece, size, full), block_name in zip(entries, block_names, strict=True):
-        _block(tags, ctx, piece, size, block_name, full=full, validation=validation)
-    tags.tag(0, "ENDSEC")
-    tags.tag(0, "SECTION")
-    tags.tag(2, "ENTITIES")
-    for i, text in enumerate(_style_text_lines(pattern, ctx, validation, now)):
-        tags.text(1, (0.0, -i * 1.6 * ctx.height), text, ctx.height)
-    for block_name in block_names:
-        tags.tag(0, "INSERT")
-        tags.tag(8, 1)
-        tags.tag(2, block_name)
-        tags.num(10, 0.0)
-        tags.num(20, 0.0)
-    tags.tag(0, "ENDSEC")
-    tags.tag(0, "EOF")
-    text = tags.render()
-    if not text.isascii():  # pragma: no cover - every value went through to_ascii
-        raise AssertionError("DXF text is not ASCII")
-    return text
 
 
 def write_dxf(
@@ -742,7 +922,9 @@ def write_dxf(
         from ..rul import format_rul
 
         try:
-            rul_text = format_rul(pattern.rules, units=units_)
+            coded = rename_sizes(pattern, size_codes(tuple(pattern.sizes) or (pattern.sample_size,)))
+            rul_text = format_rul(coded.rules, units=units_, flavor=flavor,
+                                  created=creation_time(pattern.provenance.created))
         except ValueError as exc:
             raise InputError(
                 f"{rul_path}: cannot write the grade-rule table ({exc}); "
