@@ -1,0 +1,203 @@
+"""Seams at the edge level: a one-to-one assignment of boundary runs.
+
+Two runs are a candidate seam when their sew-line lengths agree in **every
+graded size** (their difference stays constant over the sizes and within a
+tolerance of zero, or of the ease the roles allow: a sleeve cap may be longer
+than its armhole), their notches match, and their pieces' roles may meet
+(front and back, sleeve and bodice, a leg with itself …). A run may also be
+sewn to itself on the piece's mirror copy (a crotch curve, a centre-back seam)
+or to the same edge of a separately drawn mirror twin (a centre front closure)
+when it lies on the piece's centre line. Candidates are taken greedily, surest
+and longest first, each elementary stretch at most once; fold edges are folds.
+Bands (bindings, neckbands, cuffs, waistbands, collars) are matched afterwards
+to the openings left free (:mod:`.bands`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..library.seams import sew_line
+from ..pattern.model import Pattern
+from .edges import Run
+from .model import Join, Orientation, Role, RoleGuess, Side
+
+__all__ = ["Candidate", "assign", "candidates", "pieces_meet"]
+
+#: seams agree within this (cm) plus ``LENGTH_TOL_SHARE`` of their length
+LENGTH_TOL_CM = 0.3
+LENGTH_TOL_SHARE = 0.012
+#: a sleeve cap may exceed its armhole by up to this share (crown ease)
+CAP_EASE_SHARE = 0.09
+MIN_RUN_CM = 2.5
+
+_TORSO = {Role.FRONT, Role.BACK, Role.YOKE}
+_LEGS = {Role.LEG, Role.LEG_FRONT, Role.LEG_BACK}
+
+
+def pieces_meet(ra: Role, rb: Role, same_piece: bool) -> bool:
+    """Whether pieces of roles ``ra`` and ``rb`` may share a seam (``same_piece``: a self seam)."""
+    if same_piece:
+        return ra in (Role.SLEEVE, *_LEGS) or ra.is_band
+    pair = {ra, rb}
+    if pair <= _TORSO:
+        return ra is not rb or ra is Role.FRONT or ra is Role.BACK
+    if Role.SLEEVE in pair:
+        return pair - {Role.SLEEVE} <= _TORSO or pair == {Role.SLEEVE}
+    if pair <= _LEGS:
+        return True
+    if pair & _LEGS and pair & {Role.FRONT, Role.BACK}:
+        return True  # a dress or a jumpsuit: bodice to leg at the waist
+    return False
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Candidate:
+    """A scored pair of runs (``a`` and ``b`` may be the same run: a centre seam)."""
+
+    a: Run
+    b: Run
+    score: float
+    kind: str
+    ease_cm: float
+    why: str
+
+
+def _upright(pattern: Pattern, orientations: dict[str, Orientation]) -> dict[str, np.ndarray]:
+    return {p.name: orientations[p.name].apply(sew_line(p)[0]) for p in pattern.pieces}
+
+
+def _run_points(points: np.ndarray, r: Run) -> np.ndarray:
+    n = len(points)
+    idx = np.arange(r.start, r.end + 1) if r.end > r.start else np.r_[r.start:n, 0 : r.end + 1]
+    return points[idx]
+
+
+def _is_centre(points: np.ndarray, r: Run) -> bool:
+    """A straight run along the piece's centre line (x = 0 upright), a fifth of its height or more."""
+    seg = _run_points(points, r)
+    return bool(
+        np.all(np.abs(seg[:, 0]) < 0.3) and np.ptp(seg[:, 1]) > 0.2 * np.ptp(points[:, 1]) and r.straightness > 0.98
+    )
+
+
+def _is_rise(points: np.ndarray, r: Run) -> bool:
+    """A scooped run that reaches the top of a leg piece: its crotch curve."""
+    seg = _run_points(points, r)
+    top = points[:, 1].max() - 0.12 * np.ptp(points[:, 1])
+    return bool(r.bend_rad < -0.25 and seg[:, 1].max() >= top and r.straightness < 0.995)
+
+
+def _length_fit(a: Run, b: Run, ease_lo: float, ease_hi: float) -> tuple[float, float]:
+    """(score 0..1, ease_cm) of ``b`` against ``a`` over every graded size."""
+    d = np.asarray(b.graded_cm) - np.asarray(a.graded_cm)
+    longer = max(a.length_cm, b.length_cm)
+    tol = LENGTH_TOL_CM + LENGTH_TOL_SHARE * longer
+    # graded evidence: the difference must stay put over the sizes (robust to a few bad sizes)
+    if len(d) > 1:
+        drift = float(np.percentile(np.abs(d - d[np.argmin(np.abs(d))]), 75))
+        if drift > tol:
+            return 0.0, 0.0
+    ease = float(np.median(d))
+    lo, hi = ease_lo * longer - tol, ease_hi * longer + tol
+    if not lo <= ease <= hi:
+        return 0.0, 0.0
+    off = 0.0 if ease_lo * longer <= ease <= ease_hi * longer else min(abs(ease - ease_lo * longer), abs(ease - ease_hi * longer))
+    return float(np.exp(-((off / (0.5 * tol)) ** 2))) * (1.0 if ease_hi == 0 else 0.9), ease
+
+
+def _notch_fit(a: Run, b: Run) -> float:
+    if len(a.notch_fracs) != len(b.notch_fracs):
+        return 0.4
+    if not a.notch_fracs:
+        return 0.9
+    err = np.max(np.abs(np.asarray(a.notch_fracs) - (1.0 - np.asarray(b.notch_fracs[::-1]))))
+    return 1.0 if err < 0.04 else 0.5
+
+
+def _twins(pattern: Pattern) -> set[frozenset[str]]:
+    from ..pattern.geometry import area, perimeter
+
+    stats = [(p.name, float(area(sew_line(p)[0])), float(perimeter(sew_line(p)[0]))) for p in pattern.pieces]
+    return {
+        frozenset((na, nb))
+        for i, (na, aa, pa) in enumerate(stats)
+        for nb, ab, pb in stats[i + 1 :]
+        if abs(aa - ab) <= 0.003 * max(aa, ab) and abs(pa - pb) <= 0.003 * max(pa, pb)
+    }
+
+
+def candidates(
+    pattern: Pattern,
+    runs: dict[str, list[Run]],
+    roles: dict[str, RoleGuess],
+    orientations: dict[str, Orientation],
+    skip: set[str],
+) -> list[Candidate]:
+    """Scored candidate seams between the runs of the pieces not in ``skip``."""
+    up = _upright(pattern, orientations)
+    twins = _twins(pattern)
+    items = [r for name, rs in runs.items() if name not in skip for r in rs if r.length_cm >= MIN_RUN_CM]
+    out = []
+    for r in items:
+        role = roles[r.piece].role
+        piece = pattern.piece(r.piece)
+        paired = piece.quantity.left > 0 or piece.quantity.right > 1 or piece.quantity.right == 0
+        if orientations[r.piece].fold is None and paired and (
+            (role in _LEGS and _is_rise(up[r.piece], r)) or (role in _TORSO and _is_centre(up[r.piece], r))
+        ):
+            out.append(Candidate(a=r, b=r, score=0.8, kind="centre", ease_cm=0.0, why="centre edge sewn to its mirror copy"))
+    for i, a in enumerate(items):
+        ra = roles[a.piece].role
+        for b in items[i + 1 :]:
+            rb = roles[b.piece].role
+            same = a.piece == b.piece
+            if same and (set(a.parts) & set(b.parts) or _adjacent(a, b, len(up[a.piece]))):
+                continue
+            if not pieces_meet(ra, rb, same):
+                continue
+            twin = frozenset((a.piece, b.piece)) in twins
+            if twin and not (_is_centre(up[a.piece], a) and _is_centre(up[b.piece], b)):
+                if abs(a.length_cm - b.length_cm) < 0.05 * a.length_cm and abs(a.bend_rad - b.bend_rad) < 0.1:
+                    continue  # the same edge on a left and a right twin
+            x, y = (a, b) if ra is not Role.SLEEVE or rb is Role.SLEEVE else (b, a)
+            capped = roles[y.piece].role is Role.SLEEVE and roles[x.piece].role is not Role.SLEEVE
+            fit, ease = _length_fit(x, y, 0.0, CAP_EASE_SHARE if capped else 0.0)
+            if fit <= 0.0:
+                continue
+            straight = np.exp(-abs(a.straightness - b.straightness) / 0.06)
+            size = 1.0 - np.exp(-min(a.length_cm, b.length_cm) / 6.0)
+            score = float(fit * straight * size * _notch_fit(a, b))
+            if score > 0.05:
+                kind = "centre" if twin else "seam"
+                out.append(Candidate(a=x, b=y, score=score, kind=kind, ease_cm=ease, why=f"lengths agree in every size (ease {ease:+.2f} cm)"))
+    return out
+
+
+def _adjacent(a: Run, b: Run, n: int) -> bool:
+    return a.end == b.start or b.end == a.start
+
+
+def assign(cands: list[Candidate], used: set[tuple[str, int]], parts_of) -> list[Join]:
+    """Greedy one-to-one choice of candidates, best first (longer seams first among equals)."""
+    order = sorted(cands, key=lambda c: -(c.score * (1.0 + 0.05 * min(c.a.length_cm, 40.0) / 10.0)))
+    joins = []
+    for c in order:
+        pa, pb = parts_of(c.a), parts_of(c.b)
+        if (pa | pb) & used:
+            continue
+        used |= pa | pb
+        joins.append(
+            Join(
+                id=f"{c.a.piece}_{c.a.start}_{c.b.piece}_{c.b.start}",
+                a=Side(piece=c.a.piece, start=c.a.start, end=c.a.end, length_cm=round(c.a.length_cm, 3)),
+                b=Side(piece=c.b.piece, start=c.b.start, end=c.b.end, length_cm=round(c.b.length_cm, 3)),
+                kind=c.kind,
+                confidence=round(min(1.0, c.score), 3),
+                ease_cm=round(c.ease_cm, 3),
+                why=c.why,
+            )
+        )
+    return joins
