@@ -19,7 +19,8 @@ import numpy as np
 
 from ..library.seams import sew_line
 from ..pattern.model import Pattern
-from .edges import Run
+from .alternatives import copies_cut
+from .edges import Run, breaks, turning
 from .model import Join, Orientation, Role, RoleGuess, Side
 
 __all__ = ["Opening", "band_joins", "openings"]
@@ -37,10 +38,10 @@ _OPENING_ROLES = {
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Opening:
-    """A finished edge of the garment: its runs and total length (every copy counted)."""
+    """A finished edge of the garment: its free boundary groups and total length (every copy counted)."""
 
     kind: str
-    runs: tuple[Run, ...]
+    sides: tuple[Side, ...]
     length_cm: float
 
 
@@ -48,47 +49,84 @@ def _side(r: Run) -> Side:
     return Side(piece=r.piece, start=r.start, end=r.end, length_cm=round(r.length_cm, 3))
 
 
-def _pts(pattern: Pattern, o: Orientation, r: Run) -> tuple[np.ndarray, np.ndarray]:
-    pts = o.apply(sew_line(pattern.piece(r.piece))[0])
+#: a free group of stretches ends at a corner sharper than this
+GROUP_CORNER_DEG = 60.0
+
+
+def free_groups(pattern: Pattern, name: str, used: set[tuple[str, int]]) -> list[tuple[Side, float]]:
+    """Maximal runs of free stretches of one piece, split at sharp corners: (side, total bend rad)."""
+    piece = pattern.piece(name)
+    pts = sew_line(piece)[0]
     n = len(pts)
-    idx = np.arange(r.start, r.end + 1) if r.end > r.start else np.r_[r.start:n, 0 : r.end + 1]
+    brk = breaks(piece)
+    m = len(brk)
+    if m < 2:
+        return []
+    turn = turning(pts)
+    seg = np.linalg.norm(np.roll(pts, -1, axis=0) - pts, axis=1)
+    free = [(name, k) not in used for k in range(m)]
+    cut = [abs(turn[brk[k]]) > np.radians(GROUP_CORNER_DEG) or not free[k - 1] for k in range(m)]
+    if all(free) and not any(cut):
+        cut[0] = True
+    groups = []
+    for k in range(m):
+        if not free[k] or not cut[k]:
+            continue
+        j = k
+        while free[(j + 1) % m] and not cut[(j + 1) % m] and (j + 1) % m != k:
+            j = (j + 1) % m
+        s, e = int(brk[k]), int(brk[(j + 1) % m])
+        idx = np.arange(s, e) if e > s else np.r_[s:n, 0:e]
+        inner = idx[1:]
+        groups.append((Side(piece=name, start=s, end=e, length_cm=round(float(seg[idx].sum()), 3)), float(turn[inner].sum())))
+    return groups
+
+
+def _side_points(pattern: Pattern, o: Orientation, side: Side) -> tuple[np.ndarray, np.ndarray]:
+    pts = o.apply(sew_line(pattern.piece(side.piece))[0])
+    n = len(pts)
+    idx = np.arange(side.start, side.end + 1) if side.end > side.start else np.r_[side.start:n, 0 : side.end + 1]
     return pts, pts[idx]
 
 
 def openings(
     pattern: Pattern,
-    free: dict[str, list[Run]],
+    used: set[tuple[str, int]],
     roles: dict[str, RoleGuess],
     orientations: dict[str, Orientation],
     chosen: set[str],
 ) -> list[Opening]:
-    """The garment's openings among the free runs of its chosen pieces."""
-    found: dict[str, list[tuple[Run, float]]] = {"neck": [], "armhole": [], "waist": []}
+    """The garment's openings among the free boundary of its chosen pieces."""
+    neck: list[tuple[Side, float]] = []
+    arm: dict[Role, list[tuple[float, Side]]] = {Role.FRONT: [], Role.BACK: []}
+    waist: list[tuple[Side, float]] = []
     hems = []
-    for name, rs in free.items():
+    for name in pattern.piece_names:
         if name not in chosen:
             continue
         role, o, piece = roles[name].role, orientations[name], pattern.piece(name)
         copies = 2.0 if o.fold is not None or piece.quantity.left > 0 or piece.quantity.right > 1 else 1.0
-        armhole_taken = False
-        for r in sorted(rs, key=lambda r: -r.length_cm):
-            pts, seg = _pts(pattern, o, r)
+        for side, bend in free_groups(pattern, name, used):
+            pts, seg = _side_points(pattern, o, side)
             h, y0 = np.ptp(pts[:, 1]), pts[:, 1].min()
-            top = seg[:, 1].max() >= y0 + 0.75 * h
-            if role in (Role.FRONT, Role.BACK) and top and np.abs(seg[:, 0]).min() < 0.5 and r.bend_rad < 0.2:
-                found["neck"].append((r, copies))
-            elif role in (Role.FRONT, Role.BACK) and top and r.bend_rad < -0.3 and not armhole_taken:
-                found["armhole"].append((r, 1.0))
-                armhole_taken = True
-            elif role is Role.SLEEVE and seg[:, 1].max() <= y0 + 0.1 * h:
-                hems.append(Opening(kind="sleeve_hem", runs=(r,), length_cm=r.length_cm))
-            elif role in (Role.LEG, Role.LEG_FRONT, Role.LEG_BACK) and seg[:, 1].min() >= y0 + 0.85 * h:
-                found["waist"].append((r, copies))
-    out = [
-        Opening(kind=k, runs=tuple(r for r, _ in v), length_cm=float(sum(r.length_cm * c for r, c in v)))
-        for k, v in found.items()
-        if v
-    ]
+            if role in (Role.FRONT, Role.BACK) and seg[:, 1].max() >= y0 + 0.7 * h:
+                if np.abs(seg[:, 0]).min() < 0.5 and seg[:, 1].min() >= y0 + 0.6 * h:
+                    neck.append((side, copies))
+                elif bend < -0.3:
+                    arm[role].append((float(seg[:, 0].mean()), side))
+            elif role is Role.SLEEVE and seg[:, 1].max() <= y0 + 0.15 * h:
+                hems.append(Opening(kind="sleeve_hem", sides=(side,), length_cm=side.length_cm))
+            elif role in (Role.LEG, Role.LEG_FRONT, Role.LEG_BACK) and seg[:, 1].min() >= y0 + 0.8 * h:
+                waist.append((side, copies))
+    out = []
+    if neck:
+        out.append(Opening(kind="neck", sides=tuple(s for s, _ in neck), length_cm=sum(s.length_cm * c for s, c in neck)))
+    fronts = [s for _, s in sorted(arm[Role.FRONT], key=lambda t: t[0])]
+    backs = [s for _, s in sorted(arm[Role.BACK], key=lambda t: -t[0])]
+    for f, b in zip(fronts, backs, strict=False):
+        out.append(Opening(kind="armhole", sides=(f, b), length_cm=f.length_cm + b.length_cm))
+    if waist:
+        out.append(Opening(kind="waist", sides=tuple(s for s, _ in waist), length_cm=sum(s.length_cm * c for s, c in waist)))
     return out + hems
 
 
@@ -109,51 +147,77 @@ def band_joins(
     roles: dict[str, RoleGuess],
     opened: list[Opening],
 ) -> tuple[list[Join], dict[str, RoleGuess]]:
-    """Joins of every band piece to the opening it fits, its closure, and refined band roles."""
-    joins, new_roles = [], {}
+    """Joins of every band piece to the opening(s) it fits, its closure, and refined band roles.
+
+    A band cut twice (two armhole bindings, two cuffs) takes two openings.
+    """
+    joins: list[Join] = []
+    new_roles: dict[str, RoleGuess] = {}
     taken: set[int] = set()
     for name, guess in roles.items():
         if not guess.role.is_band or not runs.get(name):
             continue
         edge, _, ends = _band_edges(runs[name])
-        best = None
-        for k, op in enumerate(opened):
-            if k in taken and op.kind != "sleeve_hem":
-                continue
-            ratio = op.length_cm / edge.length_cm
-            if not MAX_EASE <= ratio <= MAX_STRETCH:
-                continue
-            fits_role = guess.role in _OPENING_ROLES[op.kind] or guess.confidence < 0.7
-            cost = abs(np.log(ratio / 1.05)) + (0.0 if fits_role else 1.0)
-            if best is None or cost < best[0]:
-                best = (cost, k, op, ratio)
-        if best is None:
-            continue
-        cost, k, op, ratio = best
-        taken.add(k)
-        conf = round(float(np.clip(1.0 - cost, 0.3, 0.95)), 2)
-        if guess.role not in _OPENING_ROLES[op.kind]:
-            new_roles[name] = RoleGuess(
-                role=_OPENING_ROLES[op.kind][0], confidence=conf, why=f"strip {edge.length_cm:.1f} cm along the {op.kind}"
-            )
-        for r in op.runs:
-            joins.append(
-                Join(
-                    id=f"{name}_{op.kind}_{r.piece}_{r.start}",
-                    a=_side(r),
-                    b=_side(edge),
-                    kind="band",
-                    confidence=conf,
-                    ease_cm=round(edge.length_cm - op.length_cm, 2),
-                    why=f"band along the {op.kind}: {op.length_cm:.1f} cm of opening, band {edge.length_cm:.1f} cm",
-                )
-            )
+        for _ in range(min(max(copies_cut(pattern.piece(name)), 1), 2)):
+            if not _attach(name, guess, edge, opened, taken, joins, new_roles):
+                break
         loop = guess.role not in (Role.COLLAR, Role.COLLAR_STAND)
         if loop and len(ends) >= 2:
             e1, e2 = sorted(ends, key=lambda r: -r.length_cm)[:2]
             if abs(e1.length_cm - e2.length_cm) <= 0.3 + 0.05 * e1.length_cm:
                 joins.append(
-                    Join(id=f"{name}_closure", a=_side(e1), b=_side(e2), kind="seam", confidence=0.8,
-                         why="the band's two ends close the loop")
+                    Join(
+                        id=f"{name}_closure",
+                        a=_side(e1),
+                        b=_side(e2),
+                        kind="seam",
+                        confidence=0.8,
+                        why="the band's two ends close the loop",
+                    )
                 )
     return joins, new_roles
+
+
+def _attach(
+    name: str,
+    guess: RoleGuess,
+    edge: Run,
+    opened: list[Opening],
+    taken: set[int],
+    joins: list[Join],
+    new_roles: dict[str, RoleGuess],
+) -> bool:
+    """Sew band ``name``'s long ``edge`` along the free opening it fits best; False when none fits."""
+    best = None
+    for k, op in enumerate(opened):
+        if k in taken:
+            continue
+        ratio = op.length_cm / edge.length_cm
+        if not MAX_EASE <= ratio <= MAX_STRETCH:
+            continue
+        fits_role = guess.role in _OPENING_ROLES[op.kind] or guess.confidence < 0.7
+        cost = abs(np.log(ratio / 1.05)) + (0.0 if fits_role else 1.0)
+        if best is None or cost < best[0]:
+            best = (cost, k, op)
+    if best is None:
+        return False
+    cost, k, op = best
+    taken.add(k)
+    conf = round(float(np.clip(1.0 - cost, 0.3, 0.95)), 2)
+    if guess.role not in _OPENING_ROLES[op.kind] and name not in new_roles:
+        new_roles[name] = RoleGuess(
+            role=_OPENING_ROLES[op.kind][0], confidence=conf, why=f"strip {edge.length_cm:.1f} cm along the {op.kind}"
+        )
+    for side in op.sides:
+        joins.append(
+            Join(
+                id=f"{name}_{op.kind}_{side.piece}_{side.start}",
+                a=side,
+                b=_side(edge),
+                kind="band",
+                confidence=conf,
+                ease_cm=round(edge.length_cm - op.length_cm, 2),
+                why=f"band along the {op.kind}: {op.length_cm:.1f} cm of opening, band {edge.length_cm:.1f} cm",
+            )
+        )
+    return True

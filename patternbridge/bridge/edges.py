@@ -29,6 +29,7 @@ class Run:
 
     graded_cm : (n_sizes,) sew-line length in every graded size
     notch_fracs : arc-length fractions of the notches strictly inside
+    break_fracs : the same for every break inside (notches and turn points)
     bend_rad : total signed turning along the run (positive: convex, CCW outline)
     chord_cm : straight distance between the two ends (sample size)
     parts : indices of the elementary stretches it covers (piece-local)
@@ -43,6 +44,7 @@ class Run:
     bend_rad: float
     chord_cm: float
     parts: tuple[int, ...]
+    break_fracs: tuple[float, ...] = ()
 
     @property
     def straightness(self) -> float:
@@ -89,6 +91,7 @@ def piece_runs(piece: Piece, graded: np.ndarray, *, max_run: int = MAX_RUN) -> l
     turn = turning(pts)
     sharp = np.abs(turn) > np.radians(RUN_CORNER_DEG)
     notch_vertices = {nt.vertex for nt in piece.notches}
+    brk_set = {int(b) for b in brk}
     seg_len = np.linalg.norm(np.roll(graded, -1, axis=1) - graded, axis=-1)  # (S, n)
     out = []
     for i in range(m):
@@ -117,6 +120,7 @@ def piece_runs(piece: Piece, graded: np.ndarray, *, max_run: int = MAX_RUN) -> l
                     bend_rad=float(turn[idx[1:-1]].sum()),
                     chord_cm=float(np.hypot(*(pts[e] - pts[s]))),
                     parts=tuple((i + k) % m for k in range(run)),
+                    break_fracs=tuple(float(cum[k] / length) for k in range(1, len(idx) - 1) if int(idx[k]) in brk_set),
                 )
             )
     return out

@@ -20,7 +20,7 @@ from .edges import Run, breaks, runs as all_runs
 from .model import BridgeInference, Join, Side
 from .orient import orient_piece
 from .roles import infer_roles
-from .seams import assign, candidates
+from .seams import assign, candidates, merge_continuing
 
 __all__ = ["infer_bridge"]
 
@@ -78,13 +78,14 @@ def infer_bridge(
     variants = [set(chosen)] + [set(chosen) - set(old) | set(new) for g in groups for old in g[:1] for new in g[1:]]
     base_used = set(used)
     seen: set[tuple] = set()
+    skip = {n for n in pattern.piece_names if roles[n].role.is_band or not _sewn(roles[n].role)}
+    every = candidates(pattern, rs, roles, orientations, skip)
     for k, variant in enumerate(variants):
-        skip = {n for n in pattern.piece_names if n not in variant or roles[n].role.is_band or not _sewn(roles[n].role)}
-        cands = candidates(pattern, rs, roles, orientations, skip)
+        cands = [c for c in every if c.a.piece in variant and c.b.piece in variant]
         local = set(base_used)
         found = assign(cands, local, parts_of)
-        free = _free_runs({n: v for n, v in rs.items() if n in variant}, local)
-        opened = openings(pattern, free, roles, orientations, variant)
+        found = merge_continuing(found)
+        opened = openings(pattern, local, roles, orientations, variant)
         banded, new_roles = band_joins(pattern, {n: rs[n] for n in variant}, roles, opened)
         if k == 0:
             roles.update(new_roles)

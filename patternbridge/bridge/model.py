@@ -79,6 +79,7 @@ class Orientation:
     offset : (2,) float64 cm, translation after the turn (centre line at x = 0)
     fold : (start, end) outline vertices of a straight fold edge (a half piece
         cut on the fold), or None
+    whole : drawn whole (no fold, no straight centre edge), centred on its box
     centre_on_right : after the turn, the centre line (fold or centre seam) lies
         on the piece's +x side, as the library draws a right-side front
     confidence : 0..1, how clear the evidence for "up" was
@@ -88,6 +89,7 @@ class Orientation:
     offset: np.ndarray
     fold: tuple[int, int] | None = None
     centre_on_right: bool = True
+    whole: bool = False
     confidence: float = 1.0
     why: str = ""
 

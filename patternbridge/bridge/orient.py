@@ -89,8 +89,8 @@ def _end_bend(points: np.ndarray, axis: np.ndarray, top: bool) -> float:
     return float(turn[inside & smooth].sum())
 
 
-def _centre_edge_x(turned: np.ndarray) -> tuple[float, bool]:
-    """x of the centre line of an upright piece without a fold, and whether it is on the right.
+def _centre_edge_x(turned: np.ndarray) -> tuple[float, bool, bool]:
+    """x of the centre line of an upright piece without a fold, whether it is on the right, whether whole.
 
     A half piece drawn without a fold (a CLO front or back half) has a long
     straight vertical edge at one side: its centre front or back. Otherwise
@@ -103,8 +103,8 @@ def _centre_edge_x(turned: np.ndarray) -> tuple[float, bool]:
     for side, edge_x in ((True, hi), (False, lo)):
         at = vertical & (np.abs(x - edge_x) < 0.01 * np.ptp(x) + 0.05)
         if np.abs(d[at, 1]).sum() > 0.4 * height:
-            return float(edge_x), side
-    return float(lo + hi) / 2, True
+            return float(edge_x), side, False
+    return float(lo + hi) / 2, True, True
 
 
 def orient_piece(piece: Piece) -> Orientation:
@@ -123,17 +123,21 @@ def orient_piece(piece: Piece) -> Orientation:
     turn = float(np.arctan2(up[0], up[1]))  # rotate ``up`` onto +y
     c, s = np.cos(turn), np.sin(turn)
     turned = piece.outline @ np.array([[c, -s], [s, c]]).T
+    whole = False
     if fold is not None:
         cx = float(turned[[fold[0], fold[1]], 0].mean())
         centre_on_right = cx >= float(turned[:, 0].mean())
+    elif is_band(piece):
+        cx, centre_on_right, whole = float(turned[:, 0].min() + turned[:, 0].max()) / 2, True, True
     else:
-        cx, centre_on_right = _centre_edge_x(turned)
+        cx, centre_on_right, whole = _centre_edge_x(turned)
     offset = np.array([-cx, -float(turned[:, 1].min())])
     return Orientation(
         turn_rad=turn,
         offset=offset,
         fold=fold,
         centre_on_right=centre_on_right,
+        whole=whole,
         confidence=conf,
         why=why,
     )

@@ -90,6 +90,20 @@ def _is_rise(points: np.ndarray, r: Run) -> bool:
     return bool(r.bend_rad < -0.25 and seg[:, 1].max() >= top and r.straightness < 0.995)
 
 
+def _is_hem(points: np.ndarray, r: Run) -> bool:
+    """A straight-ish run across the bottom of an upright piece."""
+    seg = _run_points(points, r)
+    h = np.ptp(points[:, 1])
+    return bool(seg[:, 1].max() <= points[:, 1].min() + 0.12 * h and np.ptp(seg[:, 0]) > np.ptp(seg[:, 1]))
+
+
+def _wrong_sides(points_a: np.ndarray, a: Run, points_b: np.ndarray, b: Run) -> bool:
+    """Two whole pieces seen from outside meet side to opposite side (front's -x to back's +x)."""
+    xa, xb = _run_points(points_a, a)[:, 0].mean(), _run_points(points_b, b)[:, 0].mean()
+    wa, wb = np.ptp(points_a[:, 0]), np.ptp(points_b[:, 0])
+    return bool(abs(xa) > 0.15 * wa and abs(xb) > 0.15 * wb and np.sign(xa) == np.sign(xb))
+
+
 def _length_fit(a: Run, b: Run, ease_lo: float, ease_hi: float) -> tuple[float, float]:
     """(score 0..1, ease_cm) of ``b`` against ``a`` over every graded size."""
     d = np.asarray(b.graded_cm) - np.asarray(a.graded_cm)
@@ -109,12 +123,15 @@ def _length_fit(a: Run, b: Run, ease_lo: float, ease_hi: float) -> tuple[float, 
 
 
 def _notch_fit(a: Run, b: Run) -> float:
-    if len(a.notch_fracs) != len(b.notch_fracs):
-        return 0.4
-    if not a.notch_fracs:
+    """1 when every notch of each side meets a notch or a turn point of the other (b runs backwards)."""
+    if not a.notch_fracs and not b.notch_fracs:
         return 0.9
-    err = np.max(np.abs(np.asarray(a.notch_fracs) - (1.0 - np.asarray(b.notch_fracs[::-1]))))
-    return 1.0 if err < 0.04 else 0.5
+    def met(notches, marks):
+        marks = np.asarray(marks)
+        return all(len(marks) and np.min(np.abs(marks - f)) < 0.04 for f in notches)
+    back = [1.0 - f for f in b.break_fracs]
+    ok = met(a.notch_fracs, back) and met([1.0 - f for f in b.notch_fracs], a.break_fracs)
+    return 1.0 if ok else 0.4
 
 
 def _twins(pattern: Pattern) -> set[frozenset[str]]:
@@ -158,6 +175,11 @@ def candidates(
                 continue
             if not pieces_meet(ra, rb, same):
                 continue
+            if _is_hem(up[a.piece], a) and _is_hem(up[b.piece], b):
+                continue
+            whole = orientations[a.piece].whole and orientations[b.piece].whole and not same
+            if whole and {ra, rb} == {Role.FRONT, Role.BACK} and _wrong_sides(up[a.piece], a, up[b.piece], b):
+                continue
             twin = frozenset((a.piece, b.piece)) in twins
             if twin and not (_is_centre(up[a.piece], a) and _is_centre(up[b.piece], b)):
                 if abs(a.length_cm - b.length_cm) < 0.05 * a.length_cm and abs(a.bend_rad - b.bend_rad) < 0.1:
@@ -178,6 +200,36 @@ def candidates(
 
 def _adjacent(a: Run, b: Run, n: int) -> bool:
     return a.end == b.start or b.end == a.start
+
+
+def merge_continuing(joins: list[Join]) -> list[Join]:
+    """Join seams that continue each other on the same two pieces (a seam split at a notch)."""
+    out = list(joins)
+    changed = True
+    while changed:
+        changed = False
+        for i, j1 in enumerate(out):
+            for k, j2 in enumerate(out):
+                if i == k or j1.kind != "seam" or j2.kind != "seam":
+                    continue
+                if (j1.a.piece, j1.b.piece) != (j2.a.piece, j2.b.piece):
+                    continue
+                if j1.a.end == j2.a.start and j2.b.end == j1.b.start and j1.a.start != j2.a.end:
+                    merged = Join(
+                        id=j1.id,
+                        a=Side(piece=j1.a.piece, start=j1.a.start, end=j2.a.end, length_cm=j1.a.length_cm + j2.a.length_cm),
+                        b=Side(piece=j1.b.piece, start=j2.b.start, end=j1.b.end, length_cm=j1.b.length_cm + j2.b.length_cm),
+                        kind="seam",
+                        confidence=min(j1.confidence, j2.confidence),
+                        ease_cm=round(j1.ease_cm + j2.ease_cm, 3),
+                        why=j1.why + "; continued past a notch",
+                    )
+                    out = [j for m, j in enumerate(out) if m not in (i, k)] + [merged]
+                    changed = True
+                    break
+            if changed:
+                break
+    return out
 
 
 def assign(cands: list[Candidate], used: set[tuple[str, int]], parts_of) -> list[Join]:
