@@ -120,7 +120,12 @@ def openings(
                 waist.append((side, copies))
     out = []
     if neck:
-        out.append(Opening(kind="neck", sides=tuple(s for s, _ in neck), length_cm=sum(s.length_cm * c for s, c in neck)))
+        # the whole neckline, and its parts for a neckline bound by several strips
+        parts = [[t] for t in neck] + [[a, b] for i, a in enumerate(neck) for b in neck[i + 1 :]]
+        for group in [neck] + (parts if len(neck) > 1 else []):
+            out.append(
+                Opening(kind="neck", sides=tuple(s for s, _ in group), length_cm=sum(s.length_cm * c for s, c in group))
+            )
     fronts = [s for _, s in sorted(arm[Role.FRONT], key=lambda t: t[0])]
     backs = [s for _, s in sorted(arm[Role.BACK], key=lambda t: -t[0])]
     for f, b in zip(fronts, backs, strict=False):
@@ -153,10 +158,10 @@ def band_joins(
     """
     joins: list[Join] = []
     new_roles: dict[str, RoleGuess] = {}
-    taken: set[int] = set()
-    for name, guess in roles.items():
-        if not guess.role.is_band or not runs.get(name):
-            continue
+    taken: set[tuple[str, int, int]] = set()
+    bands = [n for n, g in roles.items() if g.role.is_band and runs.get(n)]
+    for name in sorted(bands, key=lambda n: -_band_edges(runs[n])[0].length_cm):
+        guess = roles[name]
         edge, _, ends = _band_edges(runs[name])
         for _ in range(min(max(copies_cut(pattern.piece(name)), 1), 2)):
             if not _attach(name, guess, edge, opened, taken, joins, new_roles):
@@ -183,14 +188,14 @@ def _attach(
     guess: RoleGuess,
     edge: Run,
     opened: list[Opening],
-    taken: set[int],
+    taken: set[tuple[str, int, int]],
     joins: list[Join],
     new_roles: dict[str, RoleGuess],
 ) -> bool:
     """Sew band ``name``'s long ``edge`` along the free opening it fits best; False when none fits."""
     best = None
     for k, op in enumerate(opened):
-        if k in taken:
+        if any(side.key in taken for side in op.sides):
             continue
         ratio = op.length_cm / edge.length_cm
         if not MAX_EASE <= ratio <= MAX_STRETCH:
@@ -202,7 +207,7 @@ def _attach(
     if best is None:
         return False
     cost, k, op = best
-    taken.add(k)
+    taken.update(side.key for side in op.sides)
     conf = round(float(np.clip(1.0 - cost, 0.3, 0.95)), 2)
     if guess.role not in _OPENING_ROLES[op.kind] and name not in new_roles:
         new_roles[name] = RoleGuess(

@@ -20,7 +20,7 @@ from .edges import Run, breaks, runs as all_runs
 from .model import BridgeInference, Join, Side
 from .orient import orient_piece
 from .roles import infer_roles
-from .seams import assign, candidates, merge_continuing
+from .seams import assign, body_side, candidates, merge_continuing
 
 __all__ = ["infer_bridge"]
 
@@ -80,10 +80,11 @@ def infer_bridge(
     seen: set[tuple] = set()
     skip = {n for n in pattern.piece_names if roles[n].role.is_band or not _sewn(roles[n].role)}
     every = candidates(pattern, rs, roles, orientations, skip)
+    sides = {n: body_side(roles[n].role, orientations[n]) for n in pattern.piece_names}
     for k, variant in enumerate(variants):
         cands = [c for c in every if c.a.piece in variant and c.b.piece in variant]
         local = set(base_used)
-        found = assign(cands, local, parts_of)
+        found = assign(cands, local, parts_of, sides)
         found = merge_continuing(found)
         opened = openings(pattern, local, roles, orientations, variant)
         banded, new_roles = band_joins(pattern, {n: rs[n] for n in variant}, roles, opened)

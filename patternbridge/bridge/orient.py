@@ -89,6 +89,21 @@ def _end_bend(points: np.ndarray, axis: np.ndarray, top: bool) -> float:
     return float(turn[inside & smooth].sum())
 
 
+def is_symmetric(points: np.ndarray, x_mid: float, tol_cm: float = 0.5) -> bool:
+    """Whether the closed outline is its own mirror image across the vertical line ``x = x_mid``."""
+    mirrored = points * np.array([-1.0, 1.0]) + np.array([2 * x_mid, 0.0])
+    a, b = points, np.roll(points, -1, axis=0)
+    ab = b - a
+    t = np.clip(
+        np.einsum("mkj,kj->mk", mirrored[:, None, :] - a[None], ab) / np.maximum(np.einsum("kj,kj->k", ab, ab), 1e-12),
+        0.0,
+        1.0,
+    )
+    near = a[None] + t[..., None] * ab[None]
+    dist = np.linalg.norm(mirrored[:, None, :] - near, axis=-1).min(axis=1)
+    return bool(np.percentile(dist, 90) < tol_cm)
+
+
 def _centre_edge_x(turned: np.ndarray) -> tuple[float, bool, bool]:
     """x of the centre line of an upright piece without a fold, whether it is on the right, whether whole.
 
@@ -97,6 +112,9 @@ def _centre_edge_x(turned: np.ndarray) -> tuple[float, bool, bool]:
     the piece is taken as whole and centred on its bounding box.
     """
     x, y = turned[:, 0], turned[:, 1]
+    mid = float(x.min() + x.max()) / 2
+    if is_symmetric(turned, mid):
+        return mid, True, True
     d = np.roll(turned, -1, axis=0) - turned
     vertical = np.abs(d[:, 0]) < 0.02 * np.maximum(np.abs(d[:, 1]), 1e-9)
     lo, hi, height = x.min(), x.max(), np.ptp(y)
@@ -122,7 +140,7 @@ def orient_piece(piece: Piece) -> Orientation:
         why = f"curves at the top {max(top, bottom):.2f} rad vs {min(top, bottom):.2f} at the hem"
     turn = float(np.arctan2(up[0], up[1]))  # rotate ``up`` onto +y
     c, s = np.cos(turn), np.sin(turn)
-    turned = piece.outline @ np.array([[c, -s], [s, c]]).T
+    turned = pts @ np.array([[c, -s], [s, c]]).T
     whole = False
     if fold is not None:
         cx = float(turned[[fold[0], fold[1]], 0].mean())

@@ -180,6 +180,8 @@ def candidates(
             whole = orientations[a.piece].whole and orientations[b.piece].whole and not same
             if whole and {ra, rb} == {Role.FRONT, Role.BACK} and _wrong_sides(up[a.piece], a, up[b.piece], b):
                 continue
+            if {ra, rb} == {Role.FRONT, Role.BACK} and _other_body_side(orientations[a.piece], orientations[b.piece]):
+                continue
             twin = frozenset((a.piece, b.piece)) in twins
             if twin and not (_is_centre(up[a.piece], a) and _is_centre(up[b.piece], b)):
                 if abs(a.length_cm - b.length_cm) < 0.05 * a.length_cm and abs(a.bend_rad - b.bend_rad) < 0.1:
@@ -196,6 +198,25 @@ def candidates(
                 kind = "centre" if twin else "seam"
                 out.append(Candidate(a=x, b=y, score=score, kind=kind, ease_cm=ease, why=f"lengths agree in every size (ease {ease:+.2f} cm)"))
     return out
+
+
+def body_side(role: Role, o: Orientation) -> str | None:
+    """``right`` or ``left``: the body side a half piece drawn without a fold is worn on (None: both).
+
+    Seen from outside, a right front has its centre front on its right (+x) and
+    a right back its centre back on its left.
+    """
+    if o.fold is not None or o.whole or role not in (Role.FRONT, Role.BACK):
+        return None
+    right = o.centre_on_right if role is Role.FRONT else not o.centre_on_right
+    return "right" if right else "left"
+
+
+def _other_body_side(oa: Orientation, ob: Orientation) -> bool:
+    """A front half and a back half drawn for opposite sides of the body."""
+    if oa.fold is not None or ob.fold is not None or oa.whole or ob.whole:
+        return False
+    return oa.centre_on_right == ob.centre_on_right
 
 
 def _adjacent(a: Run, b: Run, n: int) -> bool:
@@ -232,14 +253,33 @@ def merge_continuing(joins: list[Join]) -> list[Join]:
     return out
 
 
-def assign(cands: list[Candidate], used: set[tuple[str, int]], parts_of) -> list[Join]:
-    """Greedy one-to-one choice of candidates, best first (longer seams first among equals)."""
+def assign(
+    cands: list[Candidate],
+    used: set[tuple[str, int]],
+    parts_of,
+    sides: dict[str, str | None] | None = None,
+) -> list[Join]:
+    """Greedy one-to-one choice of candidates, best first (longer seams first among equals).
+
+    sides : piece -> body side of half pieces (:func:`body_side`); a piece sewn
+        to a half piece of one side is not sewn to a half piece of the other.
+    """
+    sides = sides or {}
     order = sorted(cands, key=lambda c: -(c.score * (1.0 + 0.05 * min(c.a.length_cm, 40.0) / 10.0)))
     joins = []
+    worn: dict[str, str] = {}
     for c in order:
         pa, pb = parts_of(c.a), parts_of(c.b)
         if (pa | pb) & used:
             continue
+        sa, sb = sides.get(c.a.piece), sides.get(c.b.piece)
+        if c.a.piece != c.b.piece and c.kind != "centre":
+            if (sb and worn.get(c.a.piece, sb) != sb) or (sa and worn.get(c.b.piece, sa) != sa):
+                continue
+            if sb and not sa:
+                worn[c.a.piece] = sb
+            if sa and not sb:
+                worn[c.b.piece] = sa
         used |= pa | pb
         joins.append(
             Join(
