@@ -21,7 +21,7 @@ from ..library.seams import sew_line
 from ..pattern.model import Pattern
 from .alternatives import copies_cut
 from .edges import Run, breaks, turning
-from .model import Join, Orientation, Role, RoleGuess, Side
+from .model import Join, Orientation, Role, RoleGuess, Side, is_band
 
 __all__ = ["Opening", "band_joins", "openings"]
 
@@ -159,7 +159,7 @@ def band_joins(
     joins: list[Join] = []
     new_roles: dict[str, RoleGuess] = {}
     taken: set[tuple[str, int, int]] = set()
-    bands = [n for n, g in roles.items() if g.role.is_band and runs.get(n)]
+    bands = [n for n, g in roles.items() if is_band(g.role) and runs.get(n)]
     for name in sorted(bands, key=lambda n: -_band_edges(runs[n])[0].length_cm):
         guess = roles[name]
         edge, _, ends = _band_edges(runs[name])

@@ -17,7 +17,7 @@ from ..pattern.model import Pattern
 from .alternatives import choose_garment
 from .bands import band_joins, openings
 from .edges import Run, breaks, runs as all_runs
-from .model import BridgeInference, Join, Side
+from .model import BridgeInference, Join, Side, is_band
 from .orient import orient_piece
 from .roles import infer_roles
 from .seams import assign, body_side, candidates, merge_continuing
@@ -78,7 +78,7 @@ def infer_bridge(
     variants = [set(chosen)] + [set(chosen) - set(old) | set(new) for g in groups for old in g[:1] for new in g[1:]]
     base_used = set(used)
     seen: set[tuple] = set()
-    skip = {n for n in pattern.piece_names if roles[n].role.is_band or not _sewn(roles[n].role)}
+    skip = {n for n in pattern.piece_names if is_band(roles[n].role) or not _sewn(roles[n].role)}
     every = candidates(pattern, rs, roles, orientations, skip)
     sides = {n: body_side(roles[n].role, orientations[n]) for n in pattern.piece_names}
     for k, variant in enumerate(variants):

@@ -3,50 +3,12 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from enum import Enum
 
 import numpy as np
 
-__all__ = ["BridgeInference", "Join", "Orientation", "Role", "RoleGuess", "Side"]
+from ..pattern.model import Role
 
-
-class Role(str, Enum):
-    """What a piece is in the garment (``formats/bridge.md``)."""
-
-    FRONT = "front"
-    BACK = "back"
-    SLEEVE = "sleeve"
-    COLLAR = "collar"
-    COLLAR_STAND = "collar_stand"
-    CUFF = "cuff"
-    NECKBAND = "neckband"
-    NECK_BINDING = "neck_binding"
-    ARMHOLE_BINDING = "armhole_binding"
-    WAISTBAND = "waistband"
-    YOKE = "yoke"
-    PLACKET = "placket"
-    POCKET = "pocket"
-    HOOD = "hood"
-    FACING = "facing"
-    LEG_FRONT = "leg_front"
-    LEG_BACK = "leg_back"
-    LEG = "leg"
-    GUSSET = "gusset"
-    INTERLINING = "interlining"
-    OTHER = "other"
-
-    def __str__(self) -> str:
-        return self.value
-
-    @property
-    def is_body(self) -> bool:
-        """Front, back or a leg: a piece that carries the garment's girths."""
-        return self in _BODY
-
-    @property
-    def is_band(self) -> bool:
-        """A strip sewn along an opening (binding, band, cuff, collar)."""
-        return self in _BAND
+__all__ = ["BridgeInference", "Join", "Orientation", "Role", "RoleGuess", "Side", "is_band", "is_body"]
 
 
 _BODY = {Role.FRONT, Role.BACK, Role.LEG, Role.LEG_FRONT, Role.LEG_BACK}
@@ -59,6 +21,16 @@ _BAND = {
     Role.COLLAR,
     Role.COLLAR_STAND,
 }
+
+
+def is_body(role: Role | None) -> bool:
+    """Front, back or a leg: a piece that carries the garment's girths."""
+    return role in _BODY
+
+
+def is_band(role: Role | None) -> bool:
+    """A strip sewn along an opening (binding, band, cuff, collar)."""
+    return role in _BAND
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

@@ -17,7 +17,7 @@ from ..pattern.model import Piece
 from .edges import turning
 from .model import Orientation
 
-__all__ = ["fold_edge", "orient_piece", "vertical_axis"]
+__all__ = ["fold_edge", "is_strip", "is_symmetric", "orient_piece", "vertical_axis"]
 
 #: curvature ratio below which "up" counts as uncertain
 CLEAR_RATIO = 1.5
@@ -31,7 +31,7 @@ def _principal(points: np.ndarray) -> np.ndarray:
     return vt[0]
 
 
-def is_band(piece: Piece) -> bool:
+def is_strip(piece: Piece) -> bool:
     """A long thin strip (binding, rib, band): extent ratio above ``BAND_ASPECT``."""
     pts = piece.outline
     axis = _principal(pts)
@@ -43,7 +43,7 @@ def is_band(piece: Piece) -> bool:
 def vertical_axis(piece: Piece) -> np.ndarray:
     """Unit (2,) vector along the body's vertical for the piece, sign not yet decided."""
     pts = piece.outline
-    if is_band(piece):
+    if is_strip(piece):
         axis = _principal(pts)
         return np.array([-axis[1], axis[0]])
     if piece.grain_line is not None:
@@ -130,7 +130,7 @@ def orient_piece(piece: Piece) -> Orientation:
     pts = sew_line(piece)[0]
     axis = vertical_axis(piece)
     fold = fold_edge(piece)
-    if is_band(piece):
+    if is_strip(piece):
         up, conf, why = axis, 0.9, "band: long axis horizontal"
     else:
         top, bottom = _end_bend(pts, axis, True), _end_bend(pts, axis, False)
@@ -145,7 +145,7 @@ def orient_piece(piece: Piece) -> Orientation:
     if fold is not None:
         cx = float(turned[[fold[0], fold[1]], 0].mean())
         centre_on_right = cx >= float(turned[:, 0].mean())
-    elif is_band(piece):
+    elif is_strip(piece):
         cx, centre_on_right, whole = float(turned[:, 0].min() + turned[:, 0].max()) / 2, True, True
     else:
         cx, centre_on_right, whole = _centre_edge_x(turned)

@@ -21,8 +21,8 @@ from ..pattern.geometry import area
 from ..pattern.model import Pattern, Piece
 from .edges import turning
 from .hints import name_hint
-from .model import Orientation, Role, RoleGuess
-from .orient import SMOOTH_DEG, is_band
+from .model import Orientation, Role, RoleGuess, is_band, is_body
+from .orient import SMOOTH_DEG, is_strip
 
 __all__ = ["Shape", "infer_roles", "shape_of"]
 
@@ -92,7 +92,7 @@ def shape_of(piece: Piece, o: Orientation, largest_cm2: float) -> Shape:
         height_cm=float(np.ptp(y)),
         width_cm=float(np.ptp(pts[:, 0])),
         area_share=float(area(pts)) / max(largest_cm2, 1e-9),
-        band=is_band(piece),
+        band=is_strip(piece),
         fold=o.fold is not None,
         n_corners=int(np.sum(np.abs(turn) > np.radians(20))),
         top_bend_rad=top_bend,
@@ -110,7 +110,7 @@ def _band_role(s: Shape, hint: Role | None) -> tuple[Role, float, str]:
     shaped = s.curved_rad > 0.8 or s.n_corners > 8
     if hint is Role.COLLAR and not shaped and min(s.width_cm, s.height_cm) < COLLAR_WIDTH_CM:
         return Role.NECKBAND, 0.7, "straight strip named collar: a neckband"
-    if hint is not None and (hint.is_band or hint in (Role.PLACKET, Role.INTERLINING)):
+    if hint is not None and (is_band(hint) or hint in (Role.PLACKET, Role.INTERLINING)):
         return hint, 0.9, f"strip; named {hint.value}"
     if shaped:
         return Role.COLLAR, 0.6, "strip with a shaped edge"
@@ -120,7 +120,7 @@ def _band_role(s: Shape, hint: Role | None) -> tuple[Role, float, str]:
 
 
 def _small_role(s: Shape, hint: Role | None) -> tuple[Role, float, str]:
-    if hint is not None and not hint.is_body and hint is not Role.SLEEVE:
+    if hint is not None and not is_body(hint) and hint is not Role.SLEEVE:
         return hint, 0.8, f"small piece; named {hint.value}"
     if s.curved_rad > 0.8:
         return Role.COLLAR, 0.5, "small shaped piece"
@@ -187,7 +187,7 @@ def infer_roles(pattern: Pattern, orientations: dict[str, Orientation]) -> tuple
             role, conf, why = _band_role(s, hint)
         elif s.area_share < SMALL_AREA:
             role, conf, why = _small_role(s, hint)
-        elif s.area_share < BODY_AREA and s.top_bend_rad <= 0.3 and hint is not None and not hint.is_body:
+        elif s.area_share < BODY_AREA and s.top_bend_rad <= 0.3 and hint is not None and not is_body(hint):
             role, conf, why = hint, 0.7, f"mid-sized piece; named {hint.value}"
         else:
             role, conf, why = _body_role(s, hint)

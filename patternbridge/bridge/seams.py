@@ -22,7 +22,7 @@ import numpy as np
 from ..library.seams import sew_line
 from ..pattern.model import Pattern
 from .edges import Run
-from .model import Join, Orientation, Role, RoleGuess, Side
+from .model import Join, Orientation, Role, RoleGuess, Side, is_band
 
 __all__ = ["Candidate", "assign", "candidates", "pieces_meet"]
 
@@ -40,7 +40,7 @@ _LEGS = {Role.LEG, Role.LEG_FRONT, Role.LEG_BACK}
 def pieces_meet(ra: Role, rb: Role, same_piece: bool) -> bool:
     """Whether pieces of roles ``ra`` and ``rb`` may share a seam (``same_piece``: a self seam)."""
     if same_piece:
-        return ra in (Role.SLEEVE, *_LEGS) or ra.is_band
+        return ra in (Role.SLEEVE, *_LEGS) or is_band(ra)
     pair = {ra, rb}
     if pair <= _TORSO:
         return ra is not rb or ra is Role.FRONT or ra is Role.BACK
