@@ -32,9 +32,10 @@ def copies_cut(piece) -> int:
 
 
 def _twin(a: Shape, b: Shape) -> bool:
-    return abs(a.area_share - b.area_share) <= 0.01 * max(a.area_share, b.area_share) and abs(
-        a.height_cm - b.height_cm
-    ) < 0.5
+    return (
+        abs(a.area_share - b.area_share) <= 0.01 * max(a.area_share, b.area_share)
+        and abs(a.height_cm - b.height_cm) < 0.5
+    )
 
 
 def choose_garment(
@@ -52,7 +53,11 @@ def choose_garment(
         options: list[list[str]] = []
         for n in sorted(names, key=lambda n: -shapes[n].area_share):
             twin = next(
-                (o for o in options if any(_twin(shapes[n], shapes[m]) for m in o) and copies_cut(pattern.piece(n)) < 2),
+                (
+                    o
+                    for o in options
+                    if any(_twin(shapes[n], shapes[m]) for m in o) and copies_cut(pattern.piece(n)) < 2
+                ),
                 None,
             )
             if twin is not None:

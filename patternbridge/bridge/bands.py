@@ -78,14 +78,16 @@ def free_groups(pattern: Pattern, name: str, used: set[tuple[str, int]]) -> list
         s, e = int(brk[k]), int(brk[(j + 1) % m])
         idx = np.arange(s, e) if e > s else np.r_[s:n, 0:e]
         inner = idx[1:]
-        groups.append((Side(piece=name, start=s, end=e, length_cm=round(float(seg[idx].sum()), 3)), float(turn[inner].sum())))
+        groups.append(
+            (Side(piece=name, start=s, end=e, length_cm=round(float(seg[idx].sum()), 3)), float(turn[inner].sum()))
+        )
     return groups
 
 
 def _side_points(pattern: Pattern, o: Orientation, side: Side) -> tuple[np.ndarray, np.ndarray]:
     pts = o.apply(sew_line(pattern.piece(side.piece))[0])
     n = len(pts)
-    idx = np.arange(side.start, side.end + 1) if side.end > side.start else np.r_[side.start:n, 0 : side.end + 1]
+    idx = np.arange(side.start, side.end + 1) if side.end > side.start else np.r_[side.start : n, 0 : side.end + 1]
     return pts, pts[idx]
 
 
@@ -131,7 +133,9 @@ def openings(
     for f, b in zip(fronts, backs, strict=False):
         out.append(Opening(kind="armhole", sides=(f, b), length_cm=f.length_cm + b.length_cm))
     if waist:
-        out.append(Opening(kind="waist", sides=tuple(s for s, _ in waist), length_cm=sum(s.length_cm * c for s, c in waist)))
+        out.append(
+            Opening(kind="waist", sides=tuple(s for s, _ in waist), length_cm=sum(s.length_cm * c for s, c in waist))
+        )
     return out + hems
 
 

@@ -106,9 +106,7 @@ def piece_runs(piece: Piece, graded: np.ndarray, *, max_run: int = MAX_RUN) -> l
             length = float(cum[-1])
             if length < 1e-6:
                 continue
-            fracs = tuple(
-                float(cum[k] / length) for k in range(1, len(idx) - 1) if int(idx[k]) in notch_vertices
-            )
+            fracs = tuple(float(cum[k] / length) for k in range(1, len(idx) - 1) if int(idx[k]) in notch_vertices)
             out.append(
                 Run(
                     piece=piece.name,

@@ -12,7 +12,9 @@ it). Folds count as seams of an edge with itself.
 
 from __future__ import annotations
 
+import json
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -20,9 +22,11 @@ from ..library.seams import sew_line
 from ..pattern.model import Pattern
 from .model import BridgeInference
 
-__all__ = ["Score", "label_pairs", "score"]
+__all__ = ["LABELS_DIR", "Score", "label_pairs", "load_labelled", "score", "sidecar_pairs"]
 
 MIN_OVERLAP = 0.7
+#: the hand labels, relative to the repository
+LABELS_DIR = Path(__file__).resolve().parents[2] / "tests" / "bridge" / "labels"
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -65,6 +69,7 @@ def _overlap(seg: np.ndarray, a: tuple, b: tuple) -> float:
 
 def label_pairs(label: dict) -> list[tuple[list, list]]:
     """The labelled seams and folds as (side options, side options) pairs."""
+
     def opts(side):
         return [tuple(x) for x in side] if isinstance(side[0], list) else [tuple(side)]
 
@@ -113,4 +118,54 @@ def score(pattern: Pattern, inference: BridgeInference, label: dict, pairs=None)
         wrong_roles=wrong,
         missed=tuple(missed),
         extra=extra,
+    )
+
+
+def sidecar_pairs(path: str | Path) -> list[tuple[list, list]]:
+    """The seams of a library sidecar projected onto the drawn pieces (copies merged)."""
+    data = json.loads(Path(path).read_text(encoding="utf-8"))
+    marks = {e["name"]: {m: v["vertex"] for m, v in e["marks"].items()} for e in data["pieces"]}
+    pairs = set()
+    for s in data["seams"]:
+        ka, kb = ((e["piece"], marks[e["piece"]][e["start"]], marks[e["piece"]][e["end"]]) for e in (s["a"], s["b"]))
+        pairs.add(tuple(sorted([ka, kb])))
+    return [([a], [b]) for a, b in sorted(pairs)]
+
+
+def load_labelled(label_path: str | Path, shared_dir: str | Path) -> tuple[Pattern, dict, list]:
+    """``(pattern, label, pairs)`` of one label file; the pattern is read without any sidecar."""
+    from ..io.dxf_aama import read_dxf
+
+    label_path = Path(label_path)
+    label = json.loads(label_path.read_text(encoding="utf-8"))
+    repo = LABELS_DIR.parents[2]
+    name = label["file"]
+    path = repo / name if "/" in name else Path(shared_dir) / "aama" / name
+    pattern, _ = read_dxf(path)
+    if label.get("seams_from_sidecar"):
+        pairs = sidecar_pairs(repo / label["seams_from_sidecar"])
+    else:
+        pairs = label_pairs(label)
+    return pattern, label, pairs
+
+
+def label_inference(pattern: Pattern, label: dict, pairs: list) -> BridgeInference:
+    """The label as an inference (certain roles, the labelled seams), to draw it for review."""
+    from ..pattern.model import Role
+    from .model import Join, RoleGuess, Side
+    from .orient import orient_piece
+
+    joins = []
+    for k, (oa, ob) in enumerate(pairs, start=1):
+        (pa, sa, ea), (pb, sb, eb) = oa[0], ob[0]
+        kind = "fold" if (pa, sa, ea) == (pb, sb, eb) and [pa, sa, ea] in label.get("folds", []) else "seam"
+        joins.append(
+            Join(id=f"label_{k}", a=Side(piece=pa, start=sa, end=ea), b=Side(piece=pb, start=sb, end=eb), kind=kind)
+        )
+    roles = {n: RoleGuess(role=Role(v["role"]), confidence=1.0) for n, v in label["pieces"].items()}
+    return BridgeInference(
+        roles=roles,
+        orientations={p.name: orient_piece(p) for p in pattern.pieces},
+        joins=tuple(joins),
+        chosen=tuple(pattern.piece_names),
     )

@@ -38,12 +38,31 @@ _WORDS: tuple[tuple[Role, tuple[str, ...]], ...] = (
 
 #: trailing AccuMark piece codes (after the style number)
 _CODES: dict[str, Role] = {
-    "FR": Role.FRONT, "FA": Role.FRONT, "F": Role.FRONT,
-    "BK": Role.BACK, "BA": Role.BACK, "B": Role.BACK,
-    "SL": Role.SLEEVE, "SS": Role.SLEEVE, "ST": Role.SLEEVE, "SLS": Role.LEG, "SLL": Role.LEG, "SLO": Role.LEG,
-    "CU": Role.CUFF, "CO": Role.COLLAR, "NR": Role.NECKBAND, "RN": Role.NECKBAND, "NB": Role.NECK_BINDING,
-    "AB": Role.ARMHOLE_BINDING, "BIN": Role.NECK_BINDING, "BIA": Role.ARMHOLE_BINDING,
-    "WB": Role.WAISTBAND, "YP": Role.PLACKET, "YL": Role.PLACKET, "IX": Role.INTERLINING, "IY": Role.INTERLINING,
+    "FR": Role.FRONT,
+    "FA": Role.FRONT,
+    "F": Role.FRONT,
+    "BK": Role.BACK,
+    "BA": Role.BACK,
+    "B": Role.BACK,
+    "SL": Role.SLEEVE,
+    "SS": Role.SLEEVE,
+    "ST": Role.SLEEVE,
+    "SLS": Role.LEG,
+    "SLL": Role.LEG,
+    "SLO": Role.LEG,
+    "CU": Role.CUFF,
+    "CO": Role.COLLAR,
+    "NR": Role.NECKBAND,
+    "RN": Role.NECKBAND,
+    "NB": Role.NECK_BINDING,
+    "AB": Role.ARMHOLE_BINDING,
+    "BIN": Role.NECK_BINDING,
+    "BIA": Role.ARMHOLE_BINDING,
+    "WB": Role.WAISTBAND,
+    "YP": Role.PLACKET,
+    "YL": Role.PLACKET,
+    "IX": Role.INTERLINING,
+    "IY": Role.INTERLINING,
 }
 
 
@@ -66,7 +85,7 @@ def name_hint(piece: Piece) -> Role | None:
             return role
     name = piece.name.upper()
     digits = re.search(r"\d", name)
-    tokens = re.findall(r"[A-Z]+", name[digits.start():] if digits else name)
+    tokens = re.findall(r"[A-Z]+", name[digits.start() :] if digits else name)
     for token in tokens:
         for cand in (token, token[-3:], token[-2:], token[-1:]):
             if cand in _CODES:

@@ -16,7 +16,8 @@ from ..library.seams import graded_sew_lines
 from ..pattern.model import Pattern
 from .alternatives import choose_garment
 from .bands import band_joins, openings
-from .edges import Run, breaks, runs as all_runs
+from .edges import Run, breaks
+from .edges import runs as all_runs
 from .model import BridgeInference, Join, Side, is_band
 from .orient import orient_piece
 from .roles import infer_roles
@@ -71,7 +72,9 @@ def infer_bridge(
             continue
         fold_runs = [r for r in rs[name] if (r.start, r.end) == o.fold]
         side = Side(piece=name, start=o.fold[0], end=o.fold[1])
-        joins.append(Join(id=f"{name}_fold", a=side, b=side, kind="fold", confidence=0.95, why="edge on the mirror line"))
+        joins.append(
+            Join(id=f"{name}_fold", a=side, b=side, kind="fold", confidence=0.95, why="edge on the mirror line")
+        )
         for r in fold_runs:
             used |= parts_of(r)
     # every alternative is sewn like the default: seams are searched per garment variant

@@ -22,14 +22,32 @@ __all__ = ["LOW_CONFIDENCE", "review_png"]
 
 LOW_CONFIDENCE = 0.6
 _ROLE_FILL = {
-    Role.FRONT: (214, 234, 248), Role.BACK: (213, 245, 227), Role.SLEEVE: (252, 243, 207),
-    Role.LEG: (232, 218, 239), Role.LEG_FRONT: (232, 218, 239), Role.LEG_BACK: (215, 219, 239),
-    Role.COLLAR: (250, 219, 216), Role.NECKBAND: (250, 229, 211), Role.NECK_BINDING: (250, 229, 211),
-    Role.ARMHOLE_BINDING: (246, 221, 204), Role.CUFF: (237, 187, 153), Role.WAISTBAND: (237, 187, 153),
+    Role.FRONT: (214, 234, 248),
+    Role.BACK: (213, 245, 227),
+    Role.SLEEVE: (252, 243, 207),
+    Role.LEG: (232, 218, 239),
+    Role.LEG_FRONT: (232, 218, 239),
+    Role.LEG_BACK: (215, 219, 239),
+    Role.COLLAR: (250, 219, 216),
+    Role.NECKBAND: (250, 229, 211),
+    Role.NECK_BINDING: (250, 229, 211),
+    Role.ARMHOLE_BINDING: (246, 221, 204),
+    Role.CUFF: (237, 187, 153),
+    Role.WAISTBAND: (237, 187, 153),
 }
 _PALETTE = [
-    (31, 119, 180), (255, 127, 14), (44, 160, 44), (148, 103, 189), (140, 86, 75), (227, 119, 194),
-    (127, 127, 127), (188, 189, 34), (23, 190, 207), (57, 59, 121), (99, 121, 57), (140, 109, 49),
+    (31, 119, 180),
+    (255, 127, 14),
+    (44, 160, 44),
+    (148, 103, 189),
+    (140, 86, 75),
+    (227, 119, 194),
+    (127, 127, 127),
+    (188, 189, 34),
+    (23, 190, 207),
+    (57, 59, 121),
+    (99, 121, 57),
+    (140, 109, 49),
 ]
 RED = (214, 39, 40)
 
@@ -53,7 +71,7 @@ def review_png(pattern: Pattern, inference: BridgeInference, *, px_per_cm: float
         w, h = np.ptp(pts[:, 0]), np.ptp(pts[:, 1])
         if x > 0 and x + w > row_w:
             x, y, row_h = 0.0, y + row_h + gap + 6.0, 0.0
-        origin[p.name] = np.array([x, y]) - np.array([pts[:, 0].min(), pts[:, 1].max()])
+        origin[p.name] = np.array([x, -y]) - np.array([pts[:, 0].min(), pts[:, 1].max()])
         x, row_h = x + w + gap, max(row_h, h)
     width_cm, height_cm = row_w + 2 * gap, y + row_h + 2 * gap + 10.0
     k = px_per_cm
@@ -92,7 +110,9 @@ def review_png(pattern: Pattern, inference: BridgeInference, *, px_per_cm: float
             mid = seg[len(seg) // 2]
             text = f"{number}" + ("" if j.confidence >= LOW_CONFIDENCE else f" ({j.confidence:.2f})")
             draw.text((mid[0] + 4, mid[1] - 6), text, fill=label_colour)
-    heading = title or f"{pattern.style}: {len(inference.joins)} seams, lowest confidence {inference.lowest_confidence:.2f}"
+    heading = (
+        title or f"{pattern.style}: {len(inference.joins)} seams, lowest confidence {inference.lowest_confidence:.2f}"
+    )
     draw.text((gap * k, 2 * k), heading, fill=(0, 0, 0))
     buf = io.BytesIO()
     img.save(buf, format="PNG", optimize=True)

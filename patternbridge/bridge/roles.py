@@ -76,7 +76,6 @@ def shape_of(piece: Piece, o: Orientation, largest_cm2: float) -> Shape:
     pts = o.apply(sew_line(piece)[0])
     turn = turning(pts)
     smooth = np.abs(turn) < np.radians(SMOOTH_DEG)
-    top = _top(pts, 1 / 3)
     cap = pts[:, 1] >= pts[:, 1].max() - 0.25 * np.ptp(pts[:, 0])
     top_bend = float(turn[cap & smooth].sum())
     xmid = 0.5 * (pts[:, 0].min() + pts[:, 0].max())
@@ -149,7 +148,9 @@ def _split_front_back(pattern: Pattern, roles: dict[str, RoleGuess], shapes: dic
             roles[n] = RoleGuess(role=hint, confidence=0.7, why=f"waist-high piece named {hint.value}")
         else:
             role = Role.BACK if shapes[n].paired else Role.FRONT
-            roles[n] = RoleGuess(role=role, confidence=0.5, why="waist-high piece: the pair is the back (centre-back seam)")
+            roles[n] = RoleGuess(
+                role=role, confidence=0.5, why="waist-high piece: the pair is the back (centre-back seam)"
+            )
     if tops:
         depths = {n: shapes[n].neck_depth_cm for n in tops}
         lo, hi = min(depths.values()), max(depths.values())
@@ -176,7 +177,9 @@ def _split_front_back(pattern: Pattern, roles: dict[str, RoleGuess], shapes: dic
             roles[n] = RoleGuess(role=role, confidence=0.8, why="the larger leg piece is the back")
 
 
-def infer_roles(pattern: Pattern, orientations: dict[str, Orientation]) -> tuple[dict[str, RoleGuess], dict[str, Shape]]:
+def infer_roles(
+    pattern: Pattern, orientations: dict[str, Orientation]
+) -> tuple[dict[str, RoleGuess], dict[str, Shape]]:
     """Role of every piece, and the shape numbers it was read from."""
     largest = max(float(area(sew_line(p)[0])) for p in pattern.pieces)
     shapes = {p.name: shape_of(p, orientations[p.name], largest) for p in pattern.pieces}

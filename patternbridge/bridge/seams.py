@@ -71,7 +71,7 @@ def _upright(pattern: Pattern, orientations: dict[str, Orientation]) -> dict[str
 
 def _run_points(points: np.ndarray, r: Run) -> np.ndarray:
     n = len(points)
-    idx = np.arange(r.start, r.end + 1) if r.end > r.start else np.r_[r.start:n, 0 : r.end + 1]
+    idx = np.arange(r.start, r.end + 1) if r.end > r.start else np.r_[r.start : n, 0 : r.end + 1]
     return points[idx]
 
 
@@ -118,7 +118,11 @@ def _length_fit(a: Run, b: Run, ease_lo: float, ease_hi: float) -> tuple[float, 
     lo, hi = ease_lo * longer - tol, ease_hi * longer + tol
     if not lo <= ease <= hi:
         return 0.0, 0.0
-    off = 0.0 if ease_lo * longer <= ease <= ease_hi * longer else min(abs(ease - ease_lo * longer), abs(ease - ease_hi * longer))
+    off = (
+        0.0
+        if ease_lo * longer <= ease <= ease_hi * longer
+        else min(abs(ease - ease_lo * longer), abs(ease - ease_hi * longer))
+    )
     return float(np.exp(-((off / (0.5 * tol)) ** 2))) * (1.0 if ease_hi == 0 else 0.9), ease
 
 
@@ -126,9 +130,11 @@ def _notch_fit(a: Run, b: Run) -> float:
     """1 when every notch of each side meets a notch or a turn point of the other (b runs backwards)."""
     if not a.notch_fracs and not b.notch_fracs:
         return 0.9
+
     def met(notches, marks):
         marks = np.asarray(marks)
         return all(len(marks) and np.min(np.abs(marks - f)) < 0.04 for f in notches)
+
     back = [1.0 - f for f in b.break_fracs]
     ok = met(a.notch_fracs, back) and met([1.0 - f for f in b.notch_fracs], a.break_fracs)
     return 1.0 if ok else 0.4
@@ -162,10 +168,14 @@ def candidates(
         role = roles[r.piece].role
         piece = pattern.piece(r.piece)
         paired = piece.quantity.left > 0 or piece.quantity.right > 1 or piece.quantity.right == 0
-        if orientations[r.piece].fold is None and paired and (
-            (role in _LEGS and _is_rise(up[r.piece], r)) or (role in _TORSO and _is_centre(up[r.piece], r))
+        if (
+            orientations[r.piece].fold is None
+            and paired
+            and ((role in _LEGS and _is_rise(up[r.piece], r)) or (role in _TORSO and _is_centre(up[r.piece], r)))
         ):
-            out.append(Candidate(a=r, b=r, score=0.8, kind="centre", ease_cm=0.0, why="centre edge sewn to its mirror copy"))
+            out.append(
+                Candidate(a=r, b=r, score=0.8, kind="centre", ease_cm=0.0, why="centre edge sewn to its mirror copy")
+            )
     for i, a in enumerate(items):
         ra = roles[a.piece].role
         for b in items[i + 1 :]:
@@ -196,7 +206,16 @@ def candidates(
             score = float(fit * straight * size * _notch_fit(a, b))
             if score > 0.05:
                 kind = "centre" if twin else "seam"
-                out.append(Candidate(a=x, b=y, score=score, kind=kind, ease_cm=ease, why=f"lengths agree in every size (ease {ease:+.2f} cm)"))
+                out.append(
+                    Candidate(
+                        a=x,
+                        b=y,
+                        score=score,
+                        kind=kind,
+                        ease_cm=ease,
+                        why=f"lengths agree in every size (ease {ease:+.2f} cm)",
+                    )
+                )
     return out
 
 
@@ -238,8 +257,12 @@ def merge_continuing(joins: list[Join]) -> list[Join]:
                 if j1.a.end == j2.a.start and j2.b.end == j1.b.start and j1.a.start != j2.a.end:
                     merged = Join(
                         id=j1.id,
-                        a=Side(piece=j1.a.piece, start=j1.a.start, end=j2.a.end, length_cm=j1.a.length_cm + j2.a.length_cm),
-                        b=Side(piece=j1.b.piece, start=j2.b.start, end=j1.b.end, length_cm=j1.b.length_cm + j2.b.length_cm),
+                        a=Side(
+                            piece=j1.a.piece, start=j1.a.start, end=j2.a.end, length_cm=j1.a.length_cm + j2.a.length_cm
+                        ),
+                        b=Side(
+                            piece=j1.b.piece, start=j2.b.start, end=j1.b.end, length_cm=j1.b.length_cm + j2.b.length_cm
+                        ),
                         kind="seam",
                         confidence=min(j1.confidence, j2.confidence),
                         ease_cm=round(j1.ease_cm + j2.ease_cm, 3),

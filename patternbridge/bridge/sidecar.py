@@ -71,7 +71,8 @@ def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str,
                     "confidence": round(o.confidence, 2),
                 },
                 "marks": {
-                    f"v{i}": {"vertex": i, "xy": [round(float(v), 4) for v in p.outline[i]]} for i in sorted(marks[p.name])
+                    f"v{i}": {"vertex": i, "xy": [round(float(v), 4) for v in p.outline[i]]}
+                    for i in sorted(marks[p.name])
                 },
                 "landmarks": {},
                 "placement": None,

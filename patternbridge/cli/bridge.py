@@ -41,7 +41,9 @@ def run(args: argparse.Namespace) -> int:
     names = set(pattern.piece_names)
     for n in (_names(args.pieces) or []) + (_names(args.exclude) or []):
         if n not in names:
-            raise InputError(f"{args.pattern}: no piece {n!r} (pieces: {', '.join(pattern.piece_names)}); fix --pieces/--exclude")
+            raise InputError(
+                f"{args.pattern}: no piece {n!r} (pieces: {', '.join(pattern.piece_names)}); fix --pieces/--exclude"
+            )
     inference = infer_bridge(pattern, pieces=_names(args.pieces), exclude=_names(args.exclude) or ())
     data = inference_sidecar(pattern, inference)
     if args.output:
