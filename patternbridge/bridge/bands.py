@@ -150,6 +150,70 @@ def _band_edges(rs: list[Run]) -> tuple[Run, Run | None, list[Run]]:
     return longest, other, ends
 
 
+def _within(r: Run, side_parts: set[int]) -> bool:
+    return set(r.parts) <= side_parts
+
+
+def _side_parts(pattern: Pattern, side: Side) -> set[int]:
+    brk = [int(b) for b in breaks(pattern.piece(side.piece))]
+    m = len(brk)
+    k = brk.index(side.start) if side.start in brk else None
+    out: set[int] = set()
+    while k is not None and brk[k] != side.end and len(out) < m:
+        out.add(k)
+        k = (k + 1) % m
+    return out
+
+
+#: a band's stretches sewn one to one must agree within this (cm) plus 2 %
+SPLIT_TOL_CM = 0.3
+
+
+def _split_band(
+    pattern: Pattern, runs: dict[str, list[Run]], edge: Run, op: Opening
+) -> list[Join] | None:
+    """The band edge sewn stretch by stretch to the opening (a band with marks at the opening's joints).
+
+    Band runs and opening runs of equal length in every size are paired one to
+    one, longest first; None unless they cover 80 % of the band edge.
+    """
+    band_runs = [r for r in runs[edge.piece] if set(r.parts) <= set(edge.parts)]
+    targets = []
+    for side in op.sides:
+        parts = _side_parts(pattern, side)
+        targets += [r for r in runs.get(side.piece, []) if _within(r, parts)]
+    pairs = []
+    for b in band_runs:
+        for t in targets:
+            d = np.asarray(b.graded_cm) - np.asarray(t.graded_cm)
+            tol = SPLIT_TOL_CM + 0.02 * max(b.length_cm, t.length_cm)
+            if np.all(np.abs(d) <= tol):
+                pairs.append((min(b.length_cm, t.length_cm), float(np.abs(d).max()), b, t))
+    pairs.sort(key=lambda p: (-p[0], p[1]))
+    used_band: set[int] = set()
+    used_target: set[tuple[str, int]] = set()
+    joins, covered = [], 0.0
+    for length, _, b, t in pairs:
+        tparts = {(t.piece, k) for k in t.parts}
+        if set(b.parts) & used_band or tparts & used_target:
+            continue
+        used_band |= set(b.parts)
+        used_target |= tparts
+        covered += length
+        joins.append(
+            Join(
+                id=f"{b.piece}_{b.start}_{t.piece}_{t.start}",
+                a=_side(t),
+                b=_side(b),
+                kind="seam",
+                confidence=0.8,
+                ease_cm=round(b.length_cm - t.length_cm, 3),
+                why=f"band stretch along the {op.kind}, equal in every size",
+            )
+        )
+    return joins if covered >= 0.8 * edge.length_cm else None
+
+
 def band_joins(
     pattern: Pattern,
     runs: dict[str, list[Run]],
@@ -168,7 +232,7 @@ def band_joins(
         guess = roles[name]
         edge, _, ends = _band_edges(runs[name])
         for _ in range(min(max(copies_cut(pattern.piece(name)), 1), 2)):
-            if not _attach(name, guess, edge, opened, taken, joins, new_roles):
+            if not _attach(pattern, runs, name, guess, edge, opened, taken, joins, new_roles):
                 break
         loop = guess.role not in (Role.COLLAR, Role.COLLAR_STAND)
         if loop and len(ends) >= 2:
@@ -188,6 +252,8 @@ def band_joins(
 
 
 def _attach(
+    pattern: Pattern,
+    runs: dict[str, list[Run]],
     name: str,
     guess: RoleGuess,
     edge: Run,
@@ -217,6 +283,10 @@ def _attach(
         new_roles[name] = RoleGuess(
             role=_OPENING_ROLES[op.kind][0], confidence=conf, why=f"strip {edge.length_cm:.1f} cm along the {op.kind}"
         )
+    split = _split_band(pattern, runs, edge, op)
+    if split:
+        joins.extend(split)
+        return True
     for side in op.sides:
         joins.append(
             Join(

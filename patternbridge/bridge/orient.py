@@ -118,10 +118,14 @@ def _centre_edge_x(turned: np.ndarray) -> tuple[float, bool, bool]:
     d = np.roll(turned, -1, axis=0) - turned
     vertical = np.abs(d[:, 0]) < 0.02 * np.maximum(np.abs(d[:, 1]), 1e-9)
     lo, hi, height = x.min(), x.max(), np.ptp(y)
+    # the longer straight vertical edge at either side is the centre (a side seam curves over the hip)
+    spans = {}
     for side, edge_x in ((True, hi), (False, lo)):
         at = vertical & (np.abs(x - edge_x) < 0.01 * np.ptp(x) + 0.05)
-        if np.abs(d[at, 1]).sum() > 0.4 * height:
-            return float(edge_x), side, False
+        spans[side] = (float(np.abs(d[at, 1]).sum()), float(edge_x))
+    side = max(spans, key=lambda k: spans[k][0])
+    if spans[side][0] > 0.4 * height:
+        return spans[side][1], side, False
     return float(lo + hi) / 2, True, True
 
 

@@ -21,7 +21,7 @@ import numpy as np
 
 from ..library.seams import sew_line
 from ..pattern.model import Pattern
-from .edges import Run
+from .edges import Run, turning
 from .model import Join, Orientation, Role, RoleGuess, Side, is_band
 
 __all__ = ["Candidate", "assign", "candidates", "pieces_meet"]
@@ -161,6 +161,7 @@ def candidates(
 ) -> list[Candidate]:
     """Scored candidate seams between the runs of the pieces not in ``skip``."""
     up = _upright(pattern, orientations)
+    turns = {name: turning(points) for name, points in up.items()}
     twins = _twins(pattern)
     items = [r for name, rs in runs.items() if name not in skip for r in rs if r.length_cm >= MIN_RUN_CM]
     out = []
@@ -181,9 +182,10 @@ def candidates(
         for b in items[i + 1 :]:
             rb = roles[b.piece].role
             same = a.piece == b.piece
-            if same and (set(a.parts) & set(b.parts) or _adjacent(a, b, len(up[a.piece]))):
+            dart = same and _dart(a, b, turns[a.piece])
+            if same and (set(a.parts) & set(b.parts) or (_adjacent(a, b) and not dart)):
                 continue
-            if not pieces_meet(ra, rb, same):
+            if not dart and not pieces_meet(ra, rb, same):
                 continue
             if _is_hem(up[a.piece], a) and _is_hem(up[b.piece], b):
                 continue
@@ -238,8 +240,20 @@ def _other_body_side(oa: Orientation, ob: Orientation) -> bool:
     return oa.centre_on_right == ob.centre_on_right
 
 
-def _adjacent(a: Run, b: Run, n: int) -> bool:
+def _adjacent(a: Run, b: Run) -> bool:
     return a.end == b.start or b.end == a.start
+
+
+#: a dart's point turns the outline back on itself (CCW: a right turn sharper than this)
+DART_TURN_DEG = 110.0
+
+
+def _dart(a: Run, b: Run, turn: np.ndarray) -> bool:
+    """Two neighbouring runs of one piece meeting at a dart's point (the two legs of a V dart)."""
+    for first, second in ((a, b), (b, a)):
+        if first.end == second.start and turn[first.end] < -np.radians(DART_TURN_DEG):
+            return True
+    return False
 
 
 def merge_continuing(joins: list[Join]) -> list[Join]:
