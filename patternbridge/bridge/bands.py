@@ -84,6 +84,14 @@ def free_groups(pattern: Pattern, name: str, used: set[tuple[str, int]]) -> list
     return groups
 
 
+def shapes_scooped(points: np.ndarray) -> bool:
+    """Whether an upright piece's top is scooped (neckline, armholes) rather than a level waist."""
+    turn = turning(points)
+    top = points[:, 1] >= points[:, 1].max() - 0.4 * np.ptp(points[:, 1])
+    smooth = np.abs(turn) < np.radians(30)
+    return bool(-turn[top & smooth & (turn < 0)].sum() > 0.6)
+
+
 def _side_points(pattern: Pattern, o: Orientation, side: Side) -> tuple[np.ndarray, np.ndarray]:
     pts = o.apply(sew_line(pattern.piece(side.piece))[0])
     n = len(pts)
@@ -111,7 +119,10 @@ def openings(
         for side, bend in free_groups(pattern, name, used):
             pts, seg = _side_points(pattern, o, side)
             h, y0 = np.ptp(pts[:, 1]), pts[:, 1].min()
-            if role in (Role.FRONT, Role.BACK) and seg[:, 1].max() >= y0 + 0.7 * h:
+            skirt = role in (Role.FRONT, Role.BACK) and not shapes_scooped(pts)
+            if skirt and seg[:, 1].min() >= y0 + 0.85 * h:
+                waist.append((side, copies))
+            elif role in (Role.FRONT, Role.BACK) and seg[:, 1].max() >= y0 + 0.7 * h:
                 if np.abs(seg[:, 0]).min() < 0.5 and seg[:, 1].min() >= y0 + 0.6 * h:
                     neck.append((side, copies))
                 elif bend < -0.3:

@@ -32,6 +32,8 @@ LENGTH_TOL_SHARE = 0.012
 #: a sleeve cap may exceed its armhole by up to this share (crown ease)
 CAP_EASE_SHARE = 0.09
 MIN_RUN_CM = 2.5
+#: a paired piece's straight centre edge (or a leg's crotch curve) sewn to its mirror copy
+CENTRE_SCORE = 0.95
 
 _TORSO = {Role.FRONT, Role.BACK, Role.YOKE}
 _LEGS = {Role.LEG, Role.LEG_FRONT, Role.LEG_BACK}
@@ -95,6 +97,13 @@ def _is_hem(points: np.ndarray, r: Run) -> bool:
     seg = _run_points(points, r)
     h = np.ptp(points[:, 1])
     return bool(seg[:, 1].max() <= points[:, 1].min() + 0.12 * h and np.ptp(seg[:, 0]) > np.ptp(seg[:, 1]))
+
+
+def _is_waist(points: np.ndarray, r: Run) -> bool:
+    """A nearly level run across the top of an upright piece (a waist; shoulders slope)."""
+    seg = _run_points(points, r)
+    h = np.ptp(points[:, 1])
+    return bool(seg[:, 1].min() >= points[:, 1].max() - 0.1 * h and np.ptp(seg[:, 1]) < 0.15 * np.ptp(seg[:, 0]))
 
 
 def _wrong_sides(points_a: np.ndarray, a: Run, points_b: np.ndarray, b: Run) -> bool:
@@ -175,7 +184,7 @@ def candidates(
             and ((role in _LEGS and _is_rise(up[r.piece], r)) or (role in _TORSO and _is_centre(up[r.piece], r)))
         ):
             out.append(
-                Candidate(a=r, b=r, score=0.8, kind="centre", ease_cm=0.0, why="centre edge sewn to its mirror copy")
+                Candidate(a=r, b=r, score=CENTRE_SCORE, kind="centre", ease_cm=0.0, why="centre edge sewn to its mirror copy")
             )
     for i, a in enumerate(items):
         ra = roles[a.piece].role
@@ -187,7 +196,9 @@ def candidates(
                 continue
             if not dart and not pieces_meet(ra, rb, same):
                 continue
-            if _is_hem(up[a.piece], a) and _is_hem(up[b.piece], b):
+            if (_is_hem(up[a.piece], a) and _is_hem(up[b.piece], b)) or (
+                _is_waist(up[a.piece], a) and _is_waist(up[b.piece], b)
+            ):
                 continue
             whole = orientations[a.piece].whole and orientations[b.piece].whole and not same
             if whole and {ra, rb} == {Role.FRONT, Role.BACK} and _wrong_sides(up[a.piece], a, up[b.piece], b):
