@@ -84,10 +84,12 @@ def infer_bridge(
     skip = {n for n in pattern.piece_names if is_band(roles[n].role) or not _sewn(roles[n].role)}
     every = candidates(pattern, rs, roles, orientations, skip)
     sides = {n: body_side(roles[n].role, orientations[n]) for n in pattern.piece_names}
+    paired = {p.name for p in pattern.pieces if p.quantity.left > 0 or p.quantity.right > 1}
+    whole = {n for n, o in orientations.items() if o.whole}
     for k, variant in enumerate(variants):
         cands = [c for c in every if c.a.piece in variant and c.b.piece in variant]
         local = set(base_used)
-        found = assign(cands, local, parts_of, sides)
+        found = assign(cands, local, parts_of, sides, twice=paired, whole=whole)
         found = merge_continuing(found)
         opened = openings(pattern, local, roles, orientations, variant)
         banded, new_roles = band_joins(pattern, {n: rs[n] for n in variant}, roles, opened)

@@ -15,7 +15,7 @@ to the openings left free (:mod:`.bands`).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -135,6 +135,19 @@ def _length_fit(a: Run, b: Run, ease_lo: float, ease_hi: float) -> tuple[float, 
     return float(np.exp(-((off / (0.5 * tol)) ** 2))) * (1.0 if ease_hi == 0 else 0.9), ease
 
 
+def _is_pair(piece) -> bool:
+    return piece.quantity.left > 0 or piece.quantity.right > 1
+
+
+def _forwards(r: Run) -> Run:
+    """``r`` with its notch and break fractions measured from the other end."""
+    return replace(
+        r,
+        notch_fracs=tuple(1.0 - f for f in reversed(r.notch_fracs)),
+        break_fracs=tuple(1.0 - f for f in reversed(r.break_fracs)),
+    )
+
+
 def _notch_fit(a: Run, b: Run) -> float:
     """1 when every notch of each side meets a notch or a turn point of the other (b runs backwards)."""
     if not a.notch_fracs and not b.notch_fracs:
@@ -214,9 +227,13 @@ def candidates(
             fit, ease = _length_fit(x, y, 0.0, CAP_EASE_SHARE if capped else 0.0)
             if fit <= 0.0:
                 continue
-            straight = np.exp(-abs(a.straightness - b.straightness) / 0.06)
+            # a cap bulges where its armhole is scooped: their shapes differ by design
+            straight = np.exp(-abs(a.straightness - b.straightness) / (0.3 if capped else 0.06))
             size = 1.0 - np.exp(-min(a.length_cm, b.length_cm) / 6.0)
-            score = float(fit * straight * size * _notch_fit(a, b))
+            notch = _notch_fit(a, b)
+            if _is_pair(pattern.piece(a.piece)) != _is_pair(pattern.piece(b.piece)):
+                notch = max(notch, _notch_fit(a, _forwards(b)))  # the mirror copy runs the other way
+            score = float(fit * straight * size * notch)
             if score > 0.05:
                 kind = "centre" if twin else "seam"
                 out.append(
@@ -306,20 +323,34 @@ def assign(
     used: set[tuple[str, int]],
     parts_of,
     sides: dict[str, str | None] | None = None,
+    twice: set[str] | None = None,
+    whole: set[str] = frozenset(),
 ) -> list[Join]:
     """Greedy one-to-one choice of candidates, best first (longer seams first among equals).
 
     sides : piece -> body side of half pieces (:func:`body_side`); a piece sewn
         to a half piece of one side is not sewn to a half piece of the other.
+    twice, whole : pieces cut as a pair, and pieces drawn whole; an edge of the
+        first may be sewn twice to edges of the second (once per copy).
     """
     sides = sides or {}
+    twice = twice or set()
     order = sorted(cands, key=lambda c: -(c.score * (1.0 + 0.05 * min(c.a.length_cm, 40.0) / 10.0)))
     joins = []
     worn: dict[str, str] = {}
+    second: set[tuple[str, int]] = set()
     for c in order:
         pa, pb = parts_of(c.a), parts_of(c.b)
-        if (pa | pb) & used:
+        # a paired piece sewn to a piece drawn whole meets it once per copy (both sleeves, both armholes)
+        again = set()
+        if c.a.piece != c.b.piece:
+            if c.a.piece in twice and c.b.piece in whole:
+                again = pa & used - second
+            elif c.b.piece in twice and c.a.piece in whole:
+                again = pb & used - second
+        if ((pa | pb) & used) - again:
             continue
+        second |= again
         sa, sb = sides.get(c.a.piece), sides.get(c.b.piece)
         if c.a.piece != c.b.piece and c.kind != "centre":
             if (sb and worn.get(c.a.piece, sb) != sb) or (sa and worn.get(c.b.piece, sa) != sa):
