@@ -89,7 +89,8 @@ def _is_rise(points: np.ndarray, r: Run) -> bool:
     """A scooped run that reaches the top of a leg piece: its crotch curve."""
     seg = _run_points(points, r)
     top = points[:, 1].max() - 0.12 * np.ptp(points[:, 1])
-    return bool(r.bend_rad < -0.25 and seg[:, 1].max() >= top and r.straightness < 0.995)
+    falls = np.ptp(seg[:, 1]) >= 0.4 * r.length_cm  # a rise drops to the fork; a waist runs across
+    return bool(r.bend_rad < -0.25 and seg[:, 1].max() >= top and r.straightness < 0.995 and falls)
 
 
 def _is_hem(points: np.ndarray, r: Run) -> bool:
@@ -111,6 +112,14 @@ def _wrong_sides(points_a: np.ndarray, a: Run, points_b: np.ndarray, b: Run) -> 
     xa, xb = _run_points(points_a, a)[:, 0].mean(), _run_points(points_b, b)[:, 0].mean()
     wa, wb = np.ptp(points_a[:, 0]), np.ptp(points_b[:, 0])
     return bool(abs(xa) > 0.15 * wa and abs(xb) > 0.15 * wb and np.sign(xa) == np.sign(xb))
+
+
+def _neckline(points: np.ndarray, r: Run) -> bool:
+    """A run of a bodice that reaches the centre line high up: a neckline, sewn only to a band or collar."""
+    seg = _run_points(points, r)
+    top = points[:, 1].max() - 0.3 * np.ptp(points[:, 1])
+    ends = seg[[0, -1]]
+    return bool(np.any((np.abs(ends[:, 0]) < 0.5) & (ends[:, 1] >= top)) and r.straightness < 0.995)
 
 
 def _length_fit(a: Run, b: Run, ease_lo: float, ease_hi: float) -> tuple[float, float]:
@@ -199,9 +208,13 @@ def candidates(
             out.append(
                 Candidate(a=r, b=r, score=CENTRE_SCORE, kind="centre", ease_cm=0.0, why="centre edge sewn to its mirror copy")
             )
+    items.sort(key=lambda r: r.length_cm)
+    lengths = np.array([r.length_cm for r in items])
     for i, a in enumerate(items):
         ra = roles[a.piece].role
-        for b in items[i + 1 :]:
+        # only runs within the widest window a seam allows (crown ease and tolerance) can pair
+        stop = int(np.searchsorted(lengths, a.length_cm * (1 + CAP_EASE_SHARE + LENGTH_TOL_SHARE) + LENGTH_TOL_CM, "right"))
+        for b in items[i + 1 : stop]:
             rb = roles[b.piece].role
             same = a.piece == b.piece
             dart = same and _dart(a, b, turns[a.piece])
@@ -215,6 +228,8 @@ def candidates(
                 continue
             whole = orientations[a.piece].whole and orientations[b.piece].whole and not same
             if whole and {ra, rb} == {Role.FRONT, Role.BACK} and _wrong_sides(up[a.piece], a, up[b.piece], b):
+                continue
+            if (ra in _TORSO and _neckline(up[a.piece], a)) or (rb in _TORSO and _neckline(up[b.piece], b)):
                 continue
             if {ra, rb} == {Role.FRONT, Role.BACK} and _other_body_side(orientations[a.piece], orientations[b.piece]):
                 continue
@@ -294,6 +309,8 @@ def merge_continuing(joins: list[Join]) -> list[Join]:
             for k, j2 in enumerate(out):
                 if i == k or j1.kind != "seam" or j2.kind != "seam":
                     continue
+                if j1.a.piece == j2.b.piece and j1.b.piece == j2.a.piece and j1.a.end != j2.a.start:
+                    j2 = replace(j2, a=j2.b, b=j2.a)
                 if (j1.a.piece, j1.b.piece) != (j2.a.piece, j2.b.piece):
                     continue
                 if j1.a.end == j2.a.start and j2.b.end == j1.b.start and j1.a.start != j2.a.end:
