@@ -222,7 +222,51 @@ def _split_band(
                 why=f"band stretch along the {op.kind}, equal in every size",
             )
         )
-    return joins if covered >= 0.8 * edge.length_cm else None
+    if covered >= 0.8 * edge.length_cm:
+        return joins
+    return _split_in_proportion(band_runs, edge, op)
+
+
+def _split_in_proportion(band_runs: list[Run], edge: Run, op: Opening) -> list[Join] | None:
+    """The band edge cut at its own marks where they divide it as the opening's sides divide the opening.
+
+    A back-neck binding with a mark at its middle sews one half to each back
+    half; None unless every joint between the opening's sides has a band mark
+    within 5 % of the band.
+    """
+    if len(op.sides) < 2:
+        return None
+    total = sum(s.length_cm for s in op.sides)
+    cuts = np.cumsum([s.length_cm for s in op.sides])[:-1] / total
+    marks = np.array(edge.break_fracs)
+    if not len(marks) or np.max(np.min(np.abs(marks[None, :] - cuts[:, None]), axis=1)) > 0.05:
+        return None
+    # walk the band edge from its start: a side's run is the band run ending at the next cut
+    joins, start_frac = [], 0.0
+    pos = edge.start
+    fracs = [*cuts, 1.0]
+    for side, frac in zip(op.sides, fracs, strict=True):
+        run = None
+        starting = sorted((r for r in band_runs if r.start == pos), key=lambda r: r.length_cm)
+        for r in starting:
+            if abs((start_frac * edge.length_cm + r.length_cm) / edge.length_cm - frac) < 0.05:
+                run = r
+                break
+        if run is None:
+            return None
+        joins.append(
+            Join(
+                id=f"{run.piece}_{run.start}_{side.piece}_{side.start}",
+                a=side,
+                b=_side(run),
+                kind="band",
+                confidence=0.7,
+                ease_cm=round(run.length_cm - side.length_cm, 2),
+                why=f"band cut at its own mark in proportion to the {op.kind}",
+            )
+        )
+        start_frac, pos = frac, run.end
+    return joins
 
 
 def band_joins(
@@ -283,6 +327,9 @@ def _attach(
             continue
         fits_role = guess.role in _OPENING_ROLES[op.kind] or guess.confidence < 0.7
         cost = abs(np.log(ratio / 1.05)) + (0.0 if fits_role else 1.0)
+        centred = any(abs(f - 0.5) < 0.03 for f in edge.break_fracs)
+        if centred and len(op.sides) == 1:
+            cost += 0.5  # a band marked at its middle crosses a centre line: it spans two halves
         if best is None or cost < best[0]:
             best = (cost, k, op)
     if best is None:

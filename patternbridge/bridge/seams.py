@@ -31,6 +31,8 @@ LENGTH_TOL_CM = 0.3
 LENGTH_TOL_SHARE = 0.012
 #: a sleeve cap may exceed its armhole by up to this share (crown ease)
 CAP_EASE_SHARE = 0.09
+#: … or fall short of it by this share (a knit sleeve stretched into its armhole)
+CAP_TIGHT_SHARE = 0.02
 MIN_RUN_CM = 2.5
 #: a paired piece's straight centre edge (or a leg's crotch curve) sewn to its mirror copy
 CENTRE_SCORE = 0.95
@@ -239,7 +241,7 @@ def candidates(
                     continue  # the same edge on a left and a right twin
             x, y = (a, b) if ra is not Role.SLEEVE or rb is Role.SLEEVE else (b, a)
             capped = roles[y.piece].role is Role.SLEEVE and roles[x.piece].role is not Role.SLEEVE
-            fit, ease = _length_fit(x, y, 0.0, CAP_EASE_SHARE if capped else 0.0)
+            fit, ease = _length_fit(x, y, -CAP_TIGHT_SHARE if capped else 0.0, CAP_EASE_SHARE if capped else 0.0)
             if fit <= 0.0:
                 continue
             # a cap bulges where its armhole is scooped: their shapes differ by design
