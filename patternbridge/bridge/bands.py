@@ -202,14 +202,17 @@ def _split_band(
                 pairs.append((min(b.length_cm, t.length_cm), float(np.abs(d).max()), b, t))
     pairs.sort(key=lambda p: (-p[0], p[1]))
     used_band: set[int] = set()
-    used_target: set[tuple[str, int]] = set()
+    used_target: dict[tuple[str, int], int] = {}
     joins, covered = [], 0.0
     for length, _, b, t in pairs:
         tparts = {(t.piece, k) for k in t.parts}
-        if set(b.parts) & used_band or tparts & used_target:
+        piece = pattern.piece(t.piece)
+        copies = 2 if piece.quantity.left > 0 or piece.quantity.right > 1 or piece.mirror_line is not None else 1
+        if set(b.parts) & used_band or any(used_target.get(k, 0) >= copies for k in tparts):
             continue
         used_band |= set(b.parts)
-        used_target |= tparts
+        for k in tparts:
+            used_target[k] = used_target.get(k, 0) + 1
         covered += length
         joins.append(
             Join(

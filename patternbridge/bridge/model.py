@@ -51,7 +51,7 @@ class Orientation:
     offset : (2,) float64 cm, translation after the turn (centre line at x = 0)
     fold : (start, end) outline vertices of a straight fold edge (a half piece
         cut on the fold), or None
-    whole : drawn whole (no fold, no straight centre edge), centred on its box
+    whole : drawn whole: mirror-symmetric about its vertical mid-line (x = 0 after the turn)
     centre_on_right : after the turn, the centre line (fold or centre seam) lies
         on the piece's +x side, as the library draws a right-side front
     confidence : 0..1, how clear the evidence for "up" was

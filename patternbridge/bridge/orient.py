@@ -126,7 +126,7 @@ def _centre_edge_x(turned: np.ndarray) -> tuple[float, bool, bool]:
     side = max(spans, key=lambda k: spans[k][0])
     if spans[side][0] > 0.4 * height:
         return spans[side][1], side, False
-    return float(lo + hi) / 2, True, True
+    return float(lo + hi) / 2, True, False
 
 
 def orient_piece(piece: Piece) -> Orientation:

@@ -224,6 +224,8 @@ def candidates(
                 continue
             if not dart and not pieces_meet(ra, rb, same):
                 continue
+            if (ra in _LEGS and _is_hem(up[a.piece], a)) or (rb in _LEGS and _is_hem(up[b.piece], b)):
+                continue  # a leg's hem is finished, not sewn
             if (_is_hem(up[a.piece], a) and _is_hem(up[b.piece], b)) or (
                 _is_waist(up[a.piece], a) and _is_waist(up[b.piece], b)
             ):
