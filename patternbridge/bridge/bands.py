@@ -157,6 +157,8 @@ def _band_edges(rs: list[Run]) -> tuple[Run, Run | None, list[Run]]:
     other = max(rest, key=lambda r: r.length_cm) if rest else None
     if other is None:
         return longest, None, []
+    if other.length_cm >= 0.95 * longest.length_cm and len(other.break_fracs) > len(longest.break_fracs):
+        longest, other = other, longest  # of two long edges, the one marked for its seams is sewn
     ends = [r for r in rs if (r.start, r.end) in ((longest.end, other.start), (other.end, longest.start))]
     return longest, other, ends
 

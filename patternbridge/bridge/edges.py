@@ -125,6 +125,11 @@ def piece_runs(piece: Piece, graded: np.ndarray, *, max_run: int = MAX_RUN) -> l
 
 
 def runs(pattern: Pattern, lines: dict[str, np.ndarray] | None = None) -> dict[str, list[Run]]:
-    """Runs of every piece: name -> list of :class:`Run`."""
+    """Runs of every piece: name -> list of :class:`Run` (a strip's long edges whole, however many marks)."""
+    from .orient import is_strip
+
     lines = graded_sew_lines(pattern) if lines is None else lines
-    return {p.name: piece_runs(p, lines[p.name]) for p in pattern.pieces}
+    return {
+        p.name: piece_runs(p, lines[p.name], max_run=len(breaks(p)) if is_strip(p) else MAX_RUN)
+        for p in pattern.pieces
+    }

@@ -220,6 +220,8 @@ def candidates(
             rb = roles[b.piece].role
             same = a.piece == b.piece
             dart = same and _dart(a, b, turns[a.piece])
+            if not dart and (_at_dart(a, turns[a.piece]) or _at_dart(b, turns[b.piece])):
+                continue  # a dart's leg sews only to its other leg
             if same and (set(a.parts) & set(b.parts) or (_adjacent(a, b) and not dart)):
                 continue
             if not dart and not pieces_meet(ra, rb, same):
@@ -293,6 +295,11 @@ def _adjacent(a: Run, b: Run) -> bool:
 
 #: a dart's point turns the outline back on itself (CCW: a right turn sharper than this)
 DART_TURN_DEG = 110.0
+
+
+def _at_dart(r: Run, turn: np.ndarray) -> bool:
+    """Whether the run ends at a dart's point (it is a dart leg)."""
+    return bool(turn[r.start] < -np.radians(DART_TURN_DEG) or turn[r.end] < -np.radians(DART_TURN_DEG))
 
 
 def _dart(a: Run, b: Run, turn: np.ndarray) -> bool:
