@@ -143,7 +143,9 @@ def _length_fit(a: Run, b: Run, ease_lo: float, ease_hi: float) -> tuple[float, 
         if ease_lo * longer <= ease <= ease_hi * longer
         else min(abs(ease - ease_lo * longer), abs(ease - ease_hi * longer))
     )
-    return float(np.exp(-((off / (0.5 * tol)) ** 2))) * (1.0 if ease_hi == 0 else 0.9), ease
+    # crown ease is allowed, not wanted: the less a cap needs, the likelier the match
+    eased = 1.0 if ease_hi == 0 else 0.9 * float(np.exp(-abs(ease) / (0.15 * longer)))
+    return float(np.exp(-((off / (0.5 * tol)) ** 2))) * eased, ease
 
 
 def _is_pair(piece) -> bool:
