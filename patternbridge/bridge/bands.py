@@ -297,7 +297,8 @@ def band_joins(
         loop = guess.role not in (Role.COLLAR, Role.COLLAR_STAND)
         if loop and len(ends) >= 2:
             e1, e2 = sorted(ends, key=lambda r: -r.length_cm)[:2]
-            if abs(e1.length_cm - e2.length_cm) <= 0.3 + 0.05 * e1.length_cm:
+            # a loop's two short ends meet whatever their slant (a bias binding's ends differ)
+            if max(e1.length_cm, e2.length_cm) <= 0.15 * edge.length_cm:
                 joins.append(
                     Join(
                         id=f"{name}_closure",

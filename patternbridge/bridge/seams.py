@@ -33,7 +33,7 @@ LENGTH_TOL_SHARE = 0.012
 CAP_EASE_SHARE = 0.09
 #: … or fall short of it by this share (a knit sleeve stretched into its armhole)
 CAP_TIGHT_SHARE = 0.02
-MIN_RUN_CM = 2.5
+MIN_RUN_CM = 2.0
 #: a paired piece's straight centre edge (or a leg's crotch curve) sewn to its mirror copy
 CENTRE_SCORE = 0.95
 
