@@ -291,8 +291,12 @@ def band_joins(
     for name in sorted(bands, key=lambda n: -_band_edges(runs[n])[0].length_cm):
         guess = roles[name]
         edge, _, ends = _band_edges(runs[name])
+        kind = None
         for _ in range(min(max(copies_cut(pattern.piece(name)), 1), 2)):
-            if not _attach(pattern, runs, name, guess, edge, opened, taken, joins, new_roles):
+            # a second copy binds the twin opening (the other armhole, the other sleeve), never another kind
+            kind = _attach(pattern, runs, name, guess, edge, [o if kind in (None, o.kind) else None for o in opened],
+                           taken, joins, new_roles)
+            if kind is None or kind == "neck":
                 break
         loop = guess.role not in (Role.COLLAR, Role.COLLAR_STAND)
         if loop and len(ends) >= 2:
@@ -318,15 +322,15 @@ def _attach(
     name: str,
     guess: RoleGuess,
     edge: Run,
-    opened: list[Opening],
+    opened: list[Opening | None],
     taken: set[tuple[str, int, int]],
     joins: list[Join],
     new_roles: dict[str, RoleGuess],
-) -> bool:
-    """Sew band ``name``'s long ``edge`` along the free opening it fits best; False when none fits."""
+) -> str | None:
+    """Sew band ``name``'s long ``edge`` along the free opening it fits best; its kind, None when none fits."""
     best = None
     for k, op in enumerate(opened):
-        if any(side.key in taken for side in op.sides):
+        if op is None or any(side.key in taken for side in op.sides):
             continue
         ratio = op.length_cm / edge.length_cm
         if not MAX_EASE <= ratio <= MAX_STRETCH:
@@ -339,7 +343,7 @@ def _attach(
         if best is None or cost < best[0]:
             best = (cost, k, op)
     if best is None:
-        return False
+        return None
     cost, k, op = best
     taken.update(side.key for side in op.sides)
     conf = round(float(np.clip(1.0 - cost, 0.3, 0.95)), 2)
@@ -350,7 +354,7 @@ def _attach(
     split = _split_band(pattern, runs, edge, op)
     if split:
         joins.extend(split)
-        return True
+        return op.kind
     for side in op.sides:
         joins.append(
             Join(
@@ -363,4 +367,4 @@ def _attach(
                 why=f"band along the {op.kind}: {op.length_cm:.1f} cm of opening, band {edge.length_cm:.1f} cm",
             )
         )
-    return True
+    return op.kind

@@ -312,6 +312,27 @@ def _dart(a: Run, b: Run, turn: np.ndarray) -> bool:
     return False
 
 
+def _continue(j1: Join, j2: Join) -> Join | None:
+    """``j1`` followed by ``j2`` as one seam, when ``j2`` continues both of ``j1``'s sides."""
+    if j1.a.end != j2.a.start or j1.a.start == j2.a.end:
+        return None
+    if j2.b.end == j1.b.start:  # b runs against a (both pieces seen from one side)
+        b = Side(piece=j1.b.piece, start=j2.b.start, end=j1.b.end, length_cm=j1.b.length_cm + j2.b.length_cm)
+    elif j1.b.end == j2.b.start:  # b runs along a (one piece drawn mirrored)
+        b = Side(piece=j1.b.piece, start=j1.b.start, end=j2.b.end, length_cm=j1.b.length_cm + j2.b.length_cm)
+    else:
+        return None
+    return Join(
+        id=j1.id,
+        a=Side(piece=j1.a.piece, start=j1.a.start, end=j2.a.end, length_cm=j1.a.length_cm + j2.a.length_cm),
+        b=b,
+        kind="seam",
+        confidence=min(j1.confidence, j2.confidence),
+        ease_cm=round(j1.ease_cm + j2.ease_cm, 3),
+        why=j1.why + "; continued past a notch",
+    )
+
+
 def merge_continuing(joins: list[Join]) -> list[Join]:
     """Join seams that continue each other on the same two pieces (a seam split at a notch)."""
     out = list(joins)
@@ -322,24 +343,12 @@ def merge_continuing(joins: list[Join]) -> list[Join]:
             for k, j2 in enumerate(out):
                 if i == k or j1.kind != "seam" or j2.kind != "seam":
                     continue
-                if j1.a.piece == j2.b.piece and j1.b.piece == j2.a.piece and j1.a.end != j2.a.start:
+                if (j1.a.piece, j1.b.piece) == (j2.b.piece, j2.a.piece) and j1.a.piece != j1.b.piece:
                     j2 = replace(j2, a=j2.b, b=j2.a)
                 if (j1.a.piece, j1.b.piece) != (j2.a.piece, j2.b.piece):
                     continue
-                if j1.a.end == j2.a.start and j2.b.end == j1.b.start and j1.a.start != j2.a.end:
-                    merged = Join(
-                        id=j1.id,
-                        a=Side(
-                            piece=j1.a.piece, start=j1.a.start, end=j2.a.end, length_cm=j1.a.length_cm + j2.a.length_cm
-                        ),
-                        b=Side(
-                            piece=j1.b.piece, start=j2.b.start, end=j1.b.end, length_cm=j1.b.length_cm + j2.b.length_cm
-                        ),
-                        kind="seam",
-                        confidence=min(j1.confidence, j2.confidence),
-                        ease_cm=round(j1.ease_cm + j2.ease_cm, 3),
-                        why=j1.why + "; continued past a notch",
-                    )
+                merged = _continue(j1, j2)
+                if merged is not None:
                     out = [j for m, j in enumerate(out) if m not in (i, k)] + [merged]
                     changed = True
                     break
