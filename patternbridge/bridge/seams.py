@@ -343,11 +343,10 @@ def merge_continuing(joins: list[Join]) -> list[Join]:
             for k, j2 in enumerate(out):
                 if i == k or j1.kind != "seam" or j2.kind != "seam":
                     continue
-                if (j1.a.piece, j1.b.piece) == (j2.b.piece, j2.a.piece) and j1.a.piece != j1.b.piece:
-                    j2 = replace(j2, a=j2.b, b=j2.a)
-                if (j1.a.piece, j1.b.piece) != (j2.a.piece, j2.b.piece):
-                    continue
-                merged = _continue(j1, j2)
+                merged = None
+                for second in (j2, replace(j2, a=j2.b, b=j2.a)):
+                    if merged is None and (j1.a.piece, j1.b.piece) == (second.a.piece, second.b.piece):
+                        merged = _continue(j1, second)
                 if merged is not None:
                     out = [j for m, j in enumerate(out) if m not in (i, k)] + [merged]
                     changed = True
