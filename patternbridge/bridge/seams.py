@@ -247,6 +247,11 @@ def candidates(
                     continue  # the same edge on a left and a right twin
             x, y = (a, b) if ra is not Role.SLEEVE or rb is Role.SLEEVE else (b, a)
             capped = roles[y.piece].role is Role.SLEEVE and roles[x.piece].role is not Role.SLEEVE
+            if capped and _over_cap_top(up[y.piece], y):
+                continue  # the cap top meets the shoulder seam: front and back armholes join there
+            worn = body_side(roles[x.piece].role, orientations[x.piece]) if capped else None
+            if worn and sleeve_side(up[y.piece], y, roles[x.piece].role) != worn:
+                continue  # a left sleeve goes into a left armhole
             fit, ease = _length_fit(x, y, -CAP_TIGHT_SHARE if capped else 0.0, CAP_EASE_SHARE if capped else 0.0)
             if fit <= 0.0:
                 continue
@@ -297,6 +302,22 @@ def _adjacent(a: Run, b: Run) -> bool:
 
 #: a dart's point turns the outline back on itself (CCW: a right turn sharper than this)
 DART_TURN_DEG = 110.0
+
+
+def _over_cap_top(points: np.ndarray, r: Run) -> bool:
+    """Whether a sleeve run passes over the top of its cap (its highest point in the middle 60 % of the run)."""
+    seg = _run_points(points, r)
+    if seg[:, 1].max() < points[:, 1].max() - 0.05:
+        return False
+    cum = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(seg, axis=0), axis=1))])
+    at = cum[int(np.argmax(seg[:, 1]))] / max(cum[-1], 1e-9)
+    return bool(0.2 < at < 0.8)
+
+
+def sleeve_side(points: np.ndarray, r: Run, partner: Role) -> str:
+    """The arm a sleeve is worn on, read from where its cap run lies (a right sleeve has its front on +x)."""
+    front_on_right = (_run_points(points, r)[:, 0].mean() > 0) == (partner is Role.FRONT)
+    return "right" if front_on_right else "left"
 
 
 def _at_dart(r: Run, turn: np.ndarray) -> bool:
