@@ -124,6 +124,18 @@ def _neckline(points: np.ndarray, r: Run) -> bool:
     return bool(np.any((np.abs(ends[:, 0]) < 0.5) & (ends[:, 1] >= top)) and r.straightness < 0.995)
 
 
+def _across(points_a: np.ndarray, a: Run, points_b: np.ndarray, b: Run, whole: bool) -> bool:
+    """Two level runs of pieces of one role (bodice to skirt) at different places across the body."""
+    sa, sb = _run_points(points_a, a), _run_points(points_b, b)
+    if np.ptp(sa[:, 1]) > 0.3 * np.ptp(sa[:, 0]) or np.ptp(sb[:, 1]) > 0.3 * np.ptp(sb[:, 0]):
+        return False
+    xa, xb = sa[:, 0].mean(), sb[:, 0].mean()
+    wa, wb = np.ptp(points_a[:, 0]), np.ptp(points_b[:, 0])
+    if whole:
+        return bool(abs(xa / wa - xb / wb) > 0.15)
+    return bool(abs(abs(xa) / wa - abs(xb) / wb) > 0.15)
+
+
 def _length_fit(a: Run, b: Run, ease_lo: float, ease_hi: float) -> tuple[float, float]:
     """(score 0..1, ease_cm) of ``b`` against ``a`` over every graded size."""
     d = np.asarray(b.graded_cm) - np.asarray(a.graded_cm)
@@ -237,6 +249,8 @@ def candidates(
             whole = orientations[a.piece].whole and orientations[b.piece].whole and not same
             if whole and {ra, rb} == {Role.FRONT, Role.BACK} and _wrong_sides(up[a.piece], a, up[b.piece], b):
                 continue
+            if ra is rb and not same and _across(up[a.piece], a, up[b.piece], b, whole):
+                continue  # a waist seam joins the stretch at the same place across the body
             if (ra in _TORSO and _neckline(up[a.piece], a)) or (rb in _TORSO and _neckline(up[b.piece], b)):
                 continue
             if {ra, rb} == {Role.FRONT, Role.BACK} and _other_body_side(orientations[a.piece], orientations[b.piece]):
