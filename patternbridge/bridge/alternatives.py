@@ -20,8 +20,9 @@ from .roles import Shape
 
 __all__ = ["choose_garment", "copies_cut"]
 
-#: roles a garment has one kind of (its copies aside)
-_SINGLE = (Role.SLEEVE, Role.NECKBAND, Role.COLLAR, Role.LEG, Role.CUFF, Role.NECK_BINDING, Role.COLLAR_STAND)
+#: roles a garment has one kind of (its copies aside); bindings are left out, a neckline is often bound
+#: by several strips (the CLO shirt's two front and one back binding)
+_SINGLE = (Role.SLEEVE, Role.NECKBAND, Role.COLLAR, Role.LEG, Role.CUFF, Role.COLLAR_STAND)
 
 
 def copies_cut(piece) -> int:

@@ -182,9 +182,7 @@ def _side_parts(pattern: Pattern, side: Side) -> set[int]:
 SPLIT_TOL_CM = 0.3
 
 
-def _split_band(
-    pattern: Pattern, runs: dict[str, list[Run]], edge: Run, op: Opening
-) -> list[Join] | None:
+def _split_band(pattern: Pattern, runs: dict[str, list[Run]], edge: Run, op: Opening) -> list[Join] | None:
     """The band edge sewn stretch by stretch to the opening (a band with marks at the opening's joints).
 
     Band runs and opening runs of equal length in every size are paired one to
@@ -279,8 +277,11 @@ def band_joins(
     runs: dict[str, list[Run]],
     roles: dict[str, RoleGuess],
     opened: list[Opening],
+    folds: dict[str, tuple[int, int]] | None = None,
 ) -> tuple[list[Join], dict[str, RoleGuess]]:
     """Joins of every band piece to the opening(s) it fits, its closure, and refined band roles.
+
+    folds : piece -> its fold edge; a band folded along it (a rib cuff) is sewn by its other long edge.
 
     A band cut twice (two armhole bindings, two cuffs) takes two openings.
     """
@@ -288,14 +289,25 @@ def band_joins(
     new_roles: dict[str, RoleGuess] = {}
     taken: set[tuple[str, int, int]] = set()
     bands = [n for n, g in roles.items() if is_band(g.role) and runs.get(n)]
+    folds = folds or {}
     for name in sorted(bands, key=lambda n: -_band_edges(runs[n])[0].length_cm):
         guess = roles[name]
-        edge, _, ends = _band_edges(runs[name])
+        fold = folds.get(name)
+        edge, _, ends = _band_edges([r for r in runs[name] if fold is None or (r.start, r.end) != fold])
         kind = None
         for _ in range(min(max(copies_cut(pattern.piece(name)), 1), 2)):
             # a second copy binds the twin opening (the other armhole, the other sleeve), never another kind
-            kind = _attach(pattern, runs, name, guess, edge, [o if kind in (None, o.kind) else None for o in opened],
-                           taken, joins, new_roles)
+            kind = _attach(
+                pattern,
+                runs,
+                name,
+                guess,
+                edge,
+                [o if kind in (None, o.kind) else None for o in opened],
+                taken,
+                joins,
+                new_roles,
+            )
             if kind is None or kind == "neck":
                 break
         loop = guess.role not in (Role.COLLAR, Role.COLLAR_STAND)

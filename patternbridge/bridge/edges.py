@@ -130,6 +130,5 @@ def runs(pattern: Pattern, lines: dict[str, np.ndarray] | None = None) -> dict[s
 
     lines = graded_sew_lines(pattern) if lines is None else lines
     return {
-        p.name: piece_runs(p, lines[p.name], max_run=len(breaks(p)) if is_strip(p) else MAX_RUN)
-        for p in pattern.pieces
+        p.name: piece_runs(p, lines[p.name], max_run=len(breaks(p)) if is_strip(p) else MAX_RUN) for p in pattern.pieces
     }

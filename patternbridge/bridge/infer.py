@@ -84,6 +84,7 @@ def infer_bridge(
     skip = {n for n in pattern.piece_names if is_band(roles[n].role) or not _sewn(roles[n].role)}
     every = candidates(pattern, rs, roles, orientations, skip)
     sides = {n: body_side(roles[n].role, orientations[n]) for n in pattern.piece_names}
+    folds = {n: o.fold for n, o in orientations.items() if o.fold is not None}
     paired = {p.name for p in pattern.pieces if p.quantity.left > 0 or p.quantity.right > 1}
     whole = {n for n, o in orientations.items() if o.whole}
     for k, variant in enumerate(variants):
@@ -92,7 +93,7 @@ def infer_bridge(
         found = assign(cands, local, parts_of, sides, twice=paired, whole=whole)
         found = merge_continuing(found)
         opened = openings(pattern, local, roles, orientations, variant)
-        banded, new_roles = band_joins(pattern, {n: rs[n] for n in variant}, roles, opened)
+        banded, new_roles = band_joins(pattern, {n: rs[n] for n in variant}, roles, opened, folds)
         if k == 0:
             roles.update(new_roles)
         for j in found + banded:

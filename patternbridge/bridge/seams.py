@@ -117,11 +117,11 @@ def _wrong_sides(points_a: np.ndarray, a: Run, points_b: np.ndarray, b: Run) -> 
 
 
 def _neckline(points: np.ndarray, r: Run) -> bool:
-    """A run of a bodice that reaches the centre line high up: a neckline, sewn only to a band or collar."""
+    """A run of a bodice that reaches or crosses the centre line high up: a neckline, sewn only to a band."""
     seg = _run_points(points, r)
     top = points[:, 1].max() - 0.3 * np.ptp(points[:, 1])
-    ends = seg[[0, -1]]
-    return bool(np.any((np.abs(ends[:, 0]) < 0.5) & (ends[:, 1] >= top)) and r.straightness < 0.995)
+    at_centre = (np.abs(seg[:, 0]) < 0.5) | (np.sign(seg[:, 0]) != np.sign(seg[0, 0]))
+    return bool(np.any(at_centre & (seg[:, 1] >= top)) and r.straightness < 0.995)
 
 
 def _across(points_a: np.ndarray, a: Run, points_b: np.ndarray, b: Run, whole: bool) -> bool:
@@ -222,14 +222,18 @@ def candidates(
             and ((role in _LEGS and _is_rise(up[r.piece], r)) or (role in _TORSO and _is_centre(up[r.piece], r)))
         ):
             out.append(
-                Candidate(a=r, b=r, score=CENTRE_SCORE, kind="centre", ease_cm=0.0, why="centre edge sewn to its mirror copy")
+                Candidate(
+                    a=r, b=r, score=CENTRE_SCORE, kind="centre", ease_cm=0.0, why="centre edge sewn to its mirror copy"
+                )
             )
     items.sort(key=lambda r: r.length_cm)
     lengths = np.array([r.length_cm for r in items])
     for i, a in enumerate(items):
         ra = roles[a.piece].role
         # only runs within the widest window a seam allows (crown ease and tolerance) can pair
-        stop = int(np.searchsorted(lengths, a.length_cm * (1 + CAP_EASE_SHARE + LENGTH_TOL_SHARE) + LENGTH_TOL_CM, "right"))
+        stop = int(
+            np.searchsorted(lengths, a.length_cm * (1 + CAP_EASE_SHARE + LENGTH_TOL_SHARE) + LENGTH_TOL_CM, "right")
+        )
         for b in items[i + 1 : stop]:
             rb = roles[b.piece].role
             same = a.piece == b.piece
@@ -261,6 +265,10 @@ def candidates(
                     continue  # the same edge on a left and a right twin
             x, y = (a, b) if ra is not Role.SLEEVE or rb is Role.SLEEVE else (b, a)
             capped = roles[y.piece].role is Role.SLEEVE and roles[x.piece].role is not Role.SLEEVE
+            if capped and _run_points(up[y.piece], y)[:, 1].max() < up[y.piece][:, 1].min() + 0.5 * np.ptp(
+                up[y.piece][:, 1]
+            ):
+                continue  # a sleeve meets a bodice with its cap, not its hem
             if capped and _over_cap_top(up[y.piece], y):
                 continue  # the cap top meets the shoulder seam: front and back armholes join there
             worn = body_side(roles[x.piece].role, orientations[x.piece]) if capped else None
