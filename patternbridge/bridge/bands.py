@@ -227,31 +227,79 @@ def _split_band(pattern: Pattern, runs: dict[str, list[Run]], edge: Run, op: Ope
         )
     if covered >= 0.8 * edge.length_cm:
         return joins
-    return _split_in_proportion(band_runs, edge, op)
+    return _split_in_proportion(pattern, band_runs, edge, op)
 
 
-def _split_in_proportion(band_runs: list[Run], edge: Run, op: Opening) -> list[Join] | None:
-    """The band edge cut at its own marks where they divide it as the opening's sides divide the opening.
+def _stretch_sides(pattern: Pattern, side: Side) -> list[Side]:
+    """``side`` cut at its piece's breaks, in order."""
+    piece = pattern.piece(side.piece)
+    pts = sew_line(piece)[0]
+    n = len(pts)
+    seg = np.linalg.norm(np.roll(pts, -1, axis=0) - pts, axis=1)
+    brk = set(int(b) for b in breaks(piece))
+    out, start, k = [], side.start, side.start
+    while k != side.end:
+        k = (k + 1) % n
+        if k in brk or k == side.end:
+            idx = np.arange(start, k) if k > start else np.r_[start:n, 0:k]
+            out.append(Side(piece=side.piece, start=start, end=k, length_cm=round(float(seg[idx].sum()), 3)))
+            start = k
+    return out
+
+
+def _split_in_proportion(pattern: Pattern, band_runs: list[Run], edge: Run, op: Opening) -> list[Join] | None:
+    """The band edge cut at its own marks where they divide it as the opening's stretches divide the opening.
 
     A back-neck binding with a mark at its middle sews one half to each back
-    half; None unless every joint between the opening's sides has a band mark
-    within 5 % of the band.
+    half; a neckband marked at its quarters sews a quarter to each half of the
+    front and back necklines. Every joint between the opening's sides needs a
+    band mark within 5 % of the band; joints inside a side are used where the
+    band has a mark. None otherwise.
     """
-    if len(op.sides) < 2:
+    units = [(k, u) for k, side in enumerate(op.sides) for u in _stretch_sides(pattern, side)]
+    if len(units) < 2:
         return None
-    total = sum(s.length_cm for s in op.sides)
-    cuts = np.cumsum([s.length_cm for s in op.sides])[:-1] / total
+    # a band closed into a loop may start anywhere around the opening, in either direction
+    for order in (units[::-1], units):  # sewn face to face, a band runs against its opening first
+        for shift in range(len(order)):
+            joins = _split_units(band_runs, edge, op, order[shift:] + order[:shift])
+            if joins:
+                return joins
+    return None
+
+
+def _split_units(band_runs: list[Run], edge: Run, op: Opening, units: list[tuple[int, Side]]) -> list[Join] | None:
+    """The proportional split of ``edge`` along ``units`` taken in this order, or None."""
+    total = sum(u.length_cm for _, u in units)
+    cum = np.cumsum([u.length_cm for _, u in units])[:-1] / total
     marks = np.array(edge.break_fracs)
-    if not len(marks) or np.max(np.min(np.abs(marks[None, :] - cuts[:, None]), axis=1)) > 0.05:
+    if not len(marks):
         return None
-    # walk the band edge from its start: a side's run is the band run ending at the next cut
-    joins, start_frac = [], 0.0
-    pos = edge.start
-    fracs = [*cuts, 1.0]
-    for side, frac in zip(op.sides, fracs, strict=True):
+    near = np.min(np.abs(marks[None, :] - cum[:, None]), axis=1) < 0.05
+    side_joint = np.array([units[m][0] != units[m + 1][0] for m in range(len(units) - 1)])
+    if np.any(side_joint & ~near):
+        return None
+    if sum(near) != len(marks) and len(units) > len(op.sides):
+        return None  # every band mark meets a joint of the opening
+    # group the stretches between kept joints; each group lies within one side
+    groups, current = [], [units[0][1]]
+    for m in range(len(units) - 1):
+        if near[m]:
+            groups.append(current)
+            current = []
+        current.append(units[m + 1][1])
+    groups.append(current)
+    fracs = [*cum[near], 1.0]
+    joins, start_frac, pos = [], 0.0, edge.start
+    for group, frac in zip(groups, fracs, strict=True):
+        side = Side(
+            piece=group[0].piece,
+            start=group[0].start,
+            end=group[-1].end,
+            length_cm=round(sum(g.length_cm for g in group), 3),
+        )
         run = None
-        starting = sorted((r for r in band_runs if r.start == pos), key=lambda r: r.length_cm)
-        for r in starting:
+        for r in sorted((r for r in band_runs if r.start == pos), key=lambda r: r.length_cm):
             if abs((start_frac * edge.length_cm + r.length_cm) / edge.length_cm - frac) < 0.05:
                 run = r
                 break
