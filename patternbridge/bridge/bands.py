@@ -395,8 +395,9 @@ def _attach(
         ratio = op.length_cm / edge.length_cm
         if not MAX_EASE <= ratio <= MAX_STRETCH:
             continue
-        fits_role = guess.role in _OPENING_ROLES[op.kind] or guess.confidence < 0.7
-        cost = abs(np.log(ratio / 1.05)) + (0.0 if fits_role else 1.0)
+        if guess.role not in _OPENING_ROLES[op.kind] and guess.confidence >= 0.7:
+            continue  # a band sure of its role binds only its own kind of opening
+        cost = abs(np.log(ratio / 1.05))
         centred = any(abs(f - 0.5) < 0.03 for f in edge.break_fracs)
         if centred and len(op.sides) == 1:
             cost += 0.5  # a band marked at its middle crosses a centre line: it spans two halves
