@@ -13,11 +13,14 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
+
+from ..library.seams import sew_line
 from ..library.sidecar import SIDECAR_FORMAT
 from ..pattern.model import Pattern
 from .model import BridgeInference, Join
 
-__all__ = ["SIDECAR_VERSION", "inference_sidecar"]
+__all__ = ["SIDECAR_VERSION", "inference_sidecar", "runs_against"]
 
 SIDECAR_VERSION = "1.1"
 
@@ -26,12 +29,30 @@ def _edge(side, copy: str) -> dict[str, Any]:
     return {"piece": side.piece, "start": f"v{side.start}", "end": f"v{side.end}", "copy": copy}
 
 
-def _seam(pattern: Pattern, j: Join) -> dict[str, Any]:
+def runs_against(pattern: Pattern, inference: BridgeInference, j: Join) -> bool:
+    """Whether ``b`` runs against ``a`` when sewn (``a.start`` meets ``b.end``), from the upright pieces.
+
+    Along a seam that runs up the body the two sides meet where their ends
+    are level; across the body (a shoulder, a waist) where they are the same
+    distance from the centre line.
+    """
+    ends = []
+    for side in (j.a, j.b):
+        pts = inference.orientations[side.piece].apply(sew_line(pattern.piece(side.piece))[0])
+        ends.append((pts[side.start], pts[side.end]))
+    (a0, a1), (b0, b1) = ends
+    da, db = a1 - a0, b1 - b0
+    if abs(da[1]) > 0.5 * abs(da[0]) and abs(db[1]) > 0.5 * abs(db[0]):
+        return bool(np.sign(da[1]) != np.sign(db[1]))
+    return bool((abs(a1[0]) > abs(a0[0])) != (abs(b1[0]) > abs(b0[0])))
+
+
+def _seam(pattern: Pattern, inference: BridgeInference, j: Join) -> dict[str, Any]:
     mirror = j.kind == "fold" or (j.kind == "centre" and j.a.piece == j.b.piece)
     return {
         "id": j.id,
         "kind": "fold" if j.kind == "fold" else "seam",
-        "reverse": not mirror,
+        "reverse": False if mirror else runs_against(pattern, inference, j),
         "ease_cm": 0.0 if j.kind == "band" else j.ease_cm,
         "status": "band" if j.kind == "band" else "proposed",
         "confidence": j.confidence,
@@ -88,6 +109,6 @@ def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str,
         "garment_pieces": list(inference.chosen),
         "alternatives": [[list(option) for option in group] for group in inference.alternatives],
         "pieces": pieces,
-        "seams": [_seam(pattern, j) for j in inference.joins],
+        "seams": [_seam(pattern, inference, j) for j in inference.joins],
         "measurements": [],
     }
