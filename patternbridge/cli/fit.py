@@ -121,8 +121,7 @@ def run(args: argparse.Namespace) -> int:
     if not pattern.measurements:
         raise InputError(
             f"{args.garment}: the pattern has no landmark-to-measurement mapping (no measurement links); "
-            "add them in the pattern's bridge-data sidecar (`patternbridge bridge infer` writes one to edit), "
-            "then run fit again"
+            "add them with `patternbridge seams infer` or in the pattern's bridge-data sidecar, then run fit again"
         )
 
     # --- measurements
