@@ -10,7 +10,8 @@ or to the same edge of a separately drawn mirror twin (a centre front closure)
 when it lies on the piece's centre line. Candidates are taken greedily, surest
 and longest first, each elementary stretch at most once; fold edges are folds.
 Bands (bindings, neckbands, cuffs, waistbands, collars) are matched afterwards
-to the openings left free (:mod:`.bands`).
+to the openings left free (:mod:`.bands`). Which pairs may meet at all is
+decided by the structural rules of :mod:`.rules`.
 """
 
 from __future__ import annotations
@@ -21,10 +22,11 @@ import numpy as np
 
 from ..library.seams import sew_line
 from ..pattern.model import Pattern
-from .edges import Run, turning
-from .model import Join, Orientation, Role, RoleGuess, Side, is_band
+from .edges import Run
+from .model import Join, Orientation, Role, RoleGuess, Side
+from .rules import LEGS, TORSO, PairContext, body_side, is_centre, is_rise, pair_rule
 
-__all__ = ["Candidate", "assign", "candidates", "pieces_meet"]
+__all__ = ["Candidate", "assign", "body_side", "candidates", "merge_continuing"]
 
 #: seams agree within this (cm) plus ``LENGTH_TOL_SHARE`` of their length
 LENGTH_TOL_CM = 0.3
@@ -37,25 +39,6 @@ MIN_RUN_CM = 2.0
 #: a paired piece's straight centre edge (or a leg's crotch curve) sewn to its mirror copy
 CENTRE_SCORE = 0.95
 
-_TORSO = {Role.FRONT, Role.BACK, Role.YOKE}
-_LEGS = {Role.LEG, Role.LEG_FRONT, Role.LEG_BACK}
-
-
-def pieces_meet(ra: Role, rb: Role, same_piece: bool) -> bool:
-    """Whether pieces of roles ``ra`` and ``rb`` may share a seam (``same_piece``: a self seam)."""
-    if same_piece:
-        return ra in (Role.SLEEVE, *_LEGS) or is_band(ra)
-    pair = {ra, rb}
-    if pair <= _TORSO:
-        return ra is not rb or ra is Role.FRONT or ra is Role.BACK
-    if Role.SLEEVE in pair:
-        return pair - {Role.SLEEVE} <= _TORSO or pair == {Role.SLEEVE}
-    if pair <= _LEGS:
-        return True
-    if pair & _LEGS and pair & {Role.FRONT, Role.BACK}:
-        return True  # a dress or a jumpsuit: bodice to leg at the waist
-    return False
-
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Candidate:
@@ -67,73 +50,6 @@ class Candidate:
     kind: str
     ease_cm: float
     why: str
-
-
-def _upright(pattern: Pattern, orientations: dict[str, Orientation]) -> dict[str, np.ndarray]:
-    return {p.name: orientations[p.name].apply(sew_line(p)[0]) for p in pattern.pieces}
-
-
-def _run_points(points: np.ndarray, r: Run) -> np.ndarray:
-    n = len(points)
-    idx = np.arange(r.start, r.end + 1) if r.end > r.start else np.r_[r.start : n, 0 : r.end + 1]
-    return points[idx]
-
-
-def _is_centre(points: np.ndarray, r: Run) -> bool:
-    """A straight run along the piece's centre line (x = 0 upright), a fifth of its height or more."""
-    seg = _run_points(points, r)
-    return bool(
-        np.all(np.abs(seg[:, 0]) < 0.3) and np.ptp(seg[:, 1]) > 0.2 * np.ptp(points[:, 1]) and r.straightness > 0.98
-    )
-
-
-def _is_rise(points: np.ndarray, r: Run) -> bool:
-    """A scooped run that reaches the top of a leg piece: its crotch curve."""
-    seg = _run_points(points, r)
-    top = points[:, 1].max() - 0.12 * np.ptp(points[:, 1])
-    falls = np.ptp(seg[:, 1]) >= 0.4 * r.length_cm  # a rise drops to the fork; a waist runs across
-    return bool(r.bend_rad < -0.25 and seg[:, 1].max() >= top and r.straightness < 0.995 and falls)
-
-
-def _is_hem(points: np.ndarray, r: Run) -> bool:
-    """A straight-ish run across the bottom of an upright piece."""
-    seg = _run_points(points, r)
-    h = np.ptp(points[:, 1])
-    return bool(seg[:, 1].max() <= points[:, 1].min() + 0.12 * h and np.ptp(seg[:, 0]) > np.ptp(seg[:, 1]))
-
-
-def _is_waist(points: np.ndarray, r: Run) -> bool:
-    """A nearly level run across the top of an upright piece (a waist; shoulders slope)."""
-    seg = _run_points(points, r)
-    h = np.ptp(points[:, 1])
-    return bool(seg[:, 1].min() >= points[:, 1].max() - 0.1 * h and np.ptp(seg[:, 1]) < 0.15 * np.ptp(seg[:, 0]))
-
-
-def _wrong_sides(points_a: np.ndarray, a: Run, points_b: np.ndarray, b: Run) -> bool:
-    """Two whole pieces seen from outside meet side to opposite side (front's -x to back's +x)."""
-    xa, xb = _run_points(points_a, a)[:, 0].mean(), _run_points(points_b, b)[:, 0].mean()
-    wa, wb = np.ptp(points_a[:, 0]), np.ptp(points_b[:, 0])
-    return bool(abs(xa) > 0.15 * wa and abs(xb) > 0.15 * wb and np.sign(xa) == np.sign(xb))
-
-
-def _neckline(points: np.ndarray, r: Run) -> bool:
-    """A run of a bodice that reaches or crosses the centre line high up: a neckline, sewn only to a band."""
-    seg = _run_points(points, r)
-    top = points[:, 1].max() - 0.3 * np.ptp(points[:, 1])
-    at_centre = (np.abs(seg[:, 0]) < 0.5) | (np.sign(seg[:, 0]) != np.sign(seg[0, 0]))
-    return bool(np.any(at_centre & (seg[:, 1] >= top)) and r.straightness < 0.995)
-
-
-def _across(points_a: np.ndarray, a: Run, points_b: np.ndarray, b: Run, whole: bool) -> bool:
-    """Two level runs of pieces of one role (bodice to skirt) at different places across the body."""
-    sa, sb = _run_points(points_a, a), _run_points(points_b, b)
-    if np.ptp(sa[:, 1]) > 0.3 * np.ptp(sa[:, 0]) or np.ptp(sb[:, 1]) > 0.3 * np.ptp(sb[:, 0]):
-        return False
-    xa, xb = sa[:, 0].mean(), sb[:, 0].mean()
-    wa, wb = np.ptp(points_a[:, 0]), np.ptp(points_b[:, 0])
-    if whole:
-        return bool(abs(xa / wa - xb / wb) > 0.15)
-    return bool(abs(abs(xa) / wa - abs(xb) / wb) > 0.15)
 
 
 def _length_fit(a: Run, b: Run, ease_lo: float, ease_hi: float) -> tuple[float, float]:
@@ -199,6 +115,42 @@ def _twins(pattern: Pattern) -> set[frozenset[str]]:
     }
 
 
+def _centre_candidates(ctx: PairContext, items: list[Run]) -> list[Candidate]:
+    """A paired piece's straight centre edge, or a leg's crotch curve, sewn to its mirror copy."""
+    out = []
+    for r in items:
+        role, piece = ctx.roles[r.piece].role, ctx.pattern.piece(r.piece)
+        paired = piece.quantity.left > 0 or piece.quantity.right > 1 or piece.quantity.right == 0
+        up = ctx.up[r.piece]
+        centre = (role in LEGS and is_rise(up, r)) or (role in TORSO and is_centre(up, r))
+        if ctx.orientations[r.piece].fold is None and paired and centre:
+            why = "centre edge sewn to its mirror copy"
+            out.append(Candidate(a=r, b=r, score=CENTRE_SCORE, kind="centre", ease_cm=0.0, why=why))
+    return out
+
+
+def _score_pair(ctx: PairContext, a: Run, b: Run) -> Candidate | None:
+    """The candidate seam of two runs the rules allow, or None when their lengths or notches disagree."""
+    ra, rb = ctx.roles[a.piece].role, ctx.roles[b.piece].role
+    x, y = (a, b) if ra is not Role.SLEEVE or rb is Role.SLEEVE else (b, a)
+    capped = ctx.roles[y.piece].role is Role.SLEEVE and ctx.roles[x.piece].role is not Role.SLEEVE
+    fit, ease = _length_fit(x, y, -CAP_TIGHT_SHARE if capped else 0.0, CAP_EASE_SHARE if capped else 0.0)
+    if fit <= 0.0:
+        return None
+    # a cap bulges where its armhole is scooped: their shapes differ by design
+    straight = np.exp(-abs(a.straightness - b.straightness) / (0.3 if capped else 0.06))
+    size = 1.0 - np.exp(-min(a.length_cm, b.length_cm) / 6.0)
+    notch = _notch_fit(a, b)
+    if _is_pair(ctx.pattern.piece(a.piece)) != _is_pair(ctx.pattern.piece(b.piece)):
+        notch = max(notch, _notch_fit(a, _forwards(b)))  # the mirror copy runs the other way
+    score = float(fit * straight * size * notch)
+    if score <= 0.05:
+        return None
+    kind = "centre" if frozenset((a.piece, b.piece)) in ctx.twins else "seam"
+    why = f"lengths agree in every size (ease {ease:+.2f} cm)"
+    return Candidate(a=x, b=y, score=score, kind=kind, ease_cm=ease, why=why)
+
+
 def candidates(
     pattern: Pattern,
     runs: dict[str, list[Run]],
@@ -206,153 +158,22 @@ def candidates(
     orientations: dict[str, Orientation],
     skip: set[str],
 ) -> list[Candidate]:
-    """Scored candidate seams between the runs of the pieces not in ``skip``."""
-    up = _upright(pattern, orientations)
-    turns = {name: turning(points) for name, points in up.items()}
-    twins = _twins(pattern)
+    """Scored candidate seams between the runs of the pieces not in ``skip`` (:func:`.rules.pair_rule` first)."""
+    ctx = PairContext.of(pattern, roles, orientations, _twins(pattern))
     items = [r for name, rs in runs.items() if name not in skip for r in rs if r.length_cm >= MIN_RUN_CM]
-    out = []
-    for r in items:
-        role = roles[r.piece].role
-        piece = pattern.piece(r.piece)
-        paired = piece.quantity.left > 0 or piece.quantity.right > 1 or piece.quantity.right == 0
-        if (
-            orientations[r.piece].fold is None
-            and paired
-            and ((role in _LEGS and _is_rise(up[r.piece], r)) or (role in _TORSO and _is_centre(up[r.piece], r)))
-        ):
-            out.append(
-                Candidate(
-                    a=r, b=r, score=CENTRE_SCORE, kind="centre", ease_cm=0.0, why="centre edge sewn to its mirror copy"
-                )
-            )
+    out = _centre_candidates(ctx, items)
     items.sort(key=lambda r: r.length_cm)
     lengths = np.array([r.length_cm for r in items])
+    widest = 1 + CAP_EASE_SHARE + LENGTH_TOL_SHARE
     for i, a in enumerate(items):
-        ra = roles[a.piece].role
         # only runs within the widest window a seam allows (crown ease and tolerance) can pair
-        stop = int(
-            np.searchsorted(lengths, a.length_cm * (1 + CAP_EASE_SHARE + LENGTH_TOL_SHARE) + LENGTH_TOL_CM, "right")
-        )
+        stop = int(np.searchsorted(lengths, a.length_cm * widest + LENGTH_TOL_CM, "right"))
         for b in items[i + 1 : stop]:
-            rb = roles[b.piece].role
-            same = a.piece == b.piece
-            dart = same and _dart(a, b, turns[a.piece])
-            if not dart and (_at_dart(a, turns[a.piece]) or _at_dart(b, turns[b.piece])):
-                continue  # a dart's leg sews only to its other leg
-            if same and (set(a.parts) & set(b.parts) or (_adjacent(a, b) and not dart)):
-                continue
-            if not dart and not pieces_meet(ra, rb, same):
-                continue
-            if (ra in _LEGS and _is_hem(up[a.piece], a)) or (rb in _LEGS and _is_hem(up[b.piece], b)):
-                continue  # a leg's hem is finished, not sewn
-            if (_is_hem(up[a.piece], a) and _is_hem(up[b.piece], b)) or (
-                _is_waist(up[a.piece], a) and _is_waist(up[b.piece], b)
-            ):
-                continue
-            whole = orientations[a.piece].whole and orientations[b.piece].whole and not same
-            if whole and {ra, rb} == {Role.FRONT, Role.BACK} and _wrong_sides(up[a.piece], a, up[b.piece], b):
-                continue
-            if ra is rb and not same and _across(up[a.piece], a, up[b.piece], b, whole):
-                continue  # a waist seam joins the stretch at the same place across the body
-            if (ra in _TORSO and _neckline(up[a.piece], a)) or (rb in _TORSO and _neckline(up[b.piece], b)):
-                continue
-            if {ra, rb} == {Role.FRONT, Role.BACK} and _other_body_side(orientations[a.piece], orientations[b.piece]):
-                continue
-            twin = frozenset((a.piece, b.piece)) in twins
-            if twin and not (_is_centre(up[a.piece], a) and _is_centre(up[b.piece], b)):
-                if abs(a.length_cm - b.length_cm) < 0.05 * a.length_cm and abs(a.bend_rad - b.bend_rad) < 0.1:
-                    continue  # the same edge on a left and a right twin
-            x, y = (a, b) if ra is not Role.SLEEVE or rb is Role.SLEEVE else (b, a)
-            capped = roles[y.piece].role is Role.SLEEVE and roles[x.piece].role is not Role.SLEEVE
-            if capped and _run_points(up[y.piece], y)[:, 1].max() < up[y.piece][:, 1].min() + 0.5 * np.ptp(
-                up[y.piece][:, 1]
-            ):
-                continue  # a sleeve meets a bodice with its cap, not its hem
-            if capped and _over_cap_top(up[y.piece], y):
-                continue  # the cap top meets the shoulder seam: front and back armholes join there
-            worn = body_side(roles[x.piece].role, orientations[x.piece]) if capped else None
-            if worn and sleeve_side(up[y.piece], y, roles[x.piece].role) != worn:
-                continue  # a left sleeve goes into a left armhole
-            fit, ease = _length_fit(x, y, -CAP_TIGHT_SHARE if capped else 0.0, CAP_EASE_SHARE if capped else 0.0)
-            if fit <= 0.0:
-                continue
-            # a cap bulges where its armhole is scooped: their shapes differ by design
-            straight = np.exp(-abs(a.straightness - b.straightness) / (0.3 if capped else 0.06))
-            size = 1.0 - np.exp(-min(a.length_cm, b.length_cm) / 6.0)
-            notch = _notch_fit(a, b)
-            if _is_pair(pattern.piece(a.piece)) != _is_pair(pattern.piece(b.piece)):
-                notch = max(notch, _notch_fit(a, _forwards(b)))  # the mirror copy runs the other way
-            score = float(fit * straight * size * notch)
-            if score > 0.05:
-                kind = "centre" if twin else "seam"
-                out.append(
-                    Candidate(
-                        a=x,
-                        b=y,
-                        score=score,
-                        kind=kind,
-                        ease_cm=ease,
-                        why=f"lengths agree in every size (ease {ease:+.2f} cm)",
-                    )
-                )
+            if pair_rule(ctx, a, b) is None:
+                cand = _score_pair(ctx, a, b)
+                if cand is not None:
+                    out.append(cand)
     return out
-
-
-def body_side(role: Role, o: Orientation) -> str | None:
-    """``right`` or ``left``: the body side a half piece drawn without a fold is worn on (None: both).
-
-    Seen from outside, a right front has its centre front on its right (+x) and
-    a right back its centre back on its left.
-    """
-    if o.fold is not None or o.whole or role not in (Role.FRONT, Role.BACK):
-        return None
-    right = o.centre_on_right if role is Role.FRONT else not o.centre_on_right
-    return "right" if right else "left"
-
-
-def _other_body_side(oa: Orientation, ob: Orientation) -> bool:
-    """A front half and a back half drawn for opposite sides of the body."""
-    if oa.fold is not None or ob.fold is not None or oa.whole or ob.whole:
-        return False
-    return oa.centre_on_right == ob.centre_on_right
-
-
-def _adjacent(a: Run, b: Run) -> bool:
-    return a.end == b.start or b.end == a.start
-
-
-#: a dart's point turns the outline back on itself (CCW: a right turn sharper than this)
-DART_TURN_DEG = 110.0
-
-
-def _over_cap_top(points: np.ndarray, r: Run) -> bool:
-    """Whether a sleeve run passes over the top of its cap (its highest point in the middle 60 % of the run)."""
-    seg = _run_points(points, r)
-    if seg[:, 1].max() < points[:, 1].max() - 0.05:
-        return False
-    cum = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(seg, axis=0), axis=1))])
-    at = cum[int(np.argmax(seg[:, 1]))] / max(cum[-1], 1e-9)
-    return bool(0.2 < at < 0.8)
-
-
-def sleeve_side(points: np.ndarray, r: Run, partner: Role) -> str:
-    """The arm a sleeve is worn on, read from where its cap run lies (a right sleeve has its front on +x)."""
-    front_on_right = (_run_points(points, r)[:, 0].mean() > 0) == (partner is Role.FRONT)
-    return "right" if front_on_right else "left"
-
-
-def _at_dart(r: Run, turn: np.ndarray) -> bool:
-    """Whether the run ends at a dart's point (it is a dart leg)."""
-    return bool(turn[r.start] < -np.radians(DART_TURN_DEG) or turn[r.end] < -np.radians(DART_TURN_DEG))
-
-
-def _dart(a: Run, b: Run, turn: np.ndarray) -> bool:
-    """Two neighbouring runs of one piece meeting at a dart's point (the two legs of a V dart)."""
-    for first, second in ((a, b), (b, a)):
-        if first.end == second.start and turn[first.end] < -np.radians(DART_TURN_DEG):
-            return True
-    return False
 
 
 def _continue(j1: Join, j2: Join) -> Join | None:
