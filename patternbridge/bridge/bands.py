@@ -13,17 +13,16 @@ short ends of a loop (binding, neckband, cuff, waistband) are sewn together.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from ..library.seams import sew_line
 from ..pattern.model import Pattern
 from .alternatives import copies_cut
-from .edges import Run, breaks, turning
-from .model import Join, Orientation, Role, RoleGuess, Side, is_band
+from .edges import Run, breaks
+from .model import Join, Role, RoleGuess, Side, is_band
+from .openings import Opening, run_side
 
-__all__ = ["Opening", "band_joins", "openings"]
+__all__ = ["band_joins"]
 
 MAX_STRETCH = 1.4
 MAX_EASE = 0.78
@@ -34,120 +33,6 @@ _OPENING_ROLES = {
     "sleeve_hem": (Role.CUFF,),
     "waist": (Role.WAISTBAND,),
 }
-
-
-@dataclass(frozen=True, slots=True, kw_only=True)
-class Opening:
-    """A finished edge of the garment: its free boundary groups and total length (every copy counted)."""
-
-    kind: str
-    sides: tuple[Side, ...]
-    length_cm: float
-
-
-def _side(r: Run) -> Side:
-    return Side(piece=r.piece, start=r.start, end=r.end, length_cm=round(r.length_cm, 3))
-
-
-#: a free group of stretches ends at a corner sharper than this
-GROUP_CORNER_DEG = 60.0
-
-
-def free_groups(pattern: Pattern, name: str, used: set[tuple[str, int]]) -> list[tuple[Side, float]]:
-    """Maximal runs of free stretches of one piece, split at sharp corners: (side, total bend rad)."""
-    piece = pattern.piece(name)
-    pts = sew_line(piece)[0]
-    n = len(pts)
-    brk = breaks(piece)
-    m = len(brk)
-    if m < 2:
-        return []
-    turn = turning(pts)
-    seg = np.linalg.norm(np.roll(pts, -1, axis=0) - pts, axis=1)
-    free = [(name, k) not in used for k in range(m)]
-    cut = [abs(turn[brk[k]]) > np.radians(GROUP_CORNER_DEG) or not free[k - 1] for k in range(m)]
-    if all(free) and not any(cut):
-        cut[0] = True
-    groups = []
-    for k in range(m):
-        if not free[k] or not cut[k]:
-            continue
-        j = k
-        while free[(j + 1) % m] and not cut[(j + 1) % m] and (j + 1) % m != k:
-            j = (j + 1) % m
-        s, e = int(brk[k]), int(brk[(j + 1) % m])
-        idx = np.arange(s, e) if e > s else np.r_[s:n, 0:e]
-        inner = idx[1:]
-        groups.append(
-            (Side(piece=name, start=s, end=e, length_cm=round(float(seg[idx].sum()), 3)), float(turn[inner].sum()))
-        )
-    return groups
-
-
-def shapes_scooped(points: np.ndarray) -> bool:
-    """Whether an upright piece's top is scooped (neckline, armholes) rather than a level waist."""
-    turn = turning(points)
-    top = points[:, 1] >= points[:, 1].max() - 0.4 * np.ptp(points[:, 1])
-    smooth = np.abs(turn) < np.radians(30)
-    return bool(-turn[top & smooth & (turn < 0)].sum() > 0.6)
-
-
-def _side_points(pattern: Pattern, o: Orientation, side: Side) -> tuple[np.ndarray, np.ndarray]:
-    pts = o.apply(sew_line(pattern.piece(side.piece))[0])
-    n = len(pts)
-    idx = np.arange(side.start, side.end + 1) if side.end > side.start else np.r_[side.start : n, 0 : side.end + 1]
-    return pts, pts[idx]
-
-
-def openings(
-    pattern: Pattern,
-    used: set[tuple[str, int]],
-    roles: dict[str, RoleGuess],
-    orientations: dict[str, Orientation],
-    chosen: set[str],
-) -> list[Opening]:
-    """The garment's openings among the free boundary of its chosen pieces."""
-    neck: list[tuple[Side, float]] = []
-    arm: dict[Role, list[tuple[float, Side]]] = {Role.FRONT: [], Role.BACK: []}
-    waist: list[tuple[Side, float]] = []
-    hems = []
-    for name in pattern.piece_names:
-        if name not in chosen:
-            continue
-        role, o, piece = roles[name].role, orientations[name], pattern.piece(name)
-        copies = 2.0 if o.fold is not None or piece.quantity.left > 0 or piece.quantity.right > 1 else 1.0
-        for side, bend in free_groups(pattern, name, used):
-            pts, seg = _side_points(pattern, o, side)
-            h, y0 = np.ptp(pts[:, 1]), pts[:, 1].min()
-            skirt = role in (Role.FRONT, Role.BACK) and not shapes_scooped(pts)
-            if skirt and seg[:, 1].min() >= y0 + 0.85 * h:
-                waist.append((side, copies))
-            elif role in (Role.FRONT, Role.BACK) and seg[:, 1].max() >= y0 + 0.7 * h:
-                if np.abs(seg[:, 0]).min() < 0.5 and seg[:, 1].min() >= y0 + 0.6 * h:
-                    neck.append((side, copies))
-                elif bend < -0.3:
-                    arm[role].append((float(seg[:, 0].mean()), side))
-            elif role is Role.SLEEVE and seg[:, 1].max() <= y0 + 0.15 * h:
-                hems.append(Opening(kind="sleeve_hem", sides=(side,), length_cm=side.length_cm))
-            elif role in (Role.LEG, Role.LEG_FRONT, Role.LEG_BACK) and seg[:, 1].min() >= y0 + 0.8 * h:
-                waist.append((side, copies))
-    out = []
-    if neck:
-        # the whole neckline, and its parts for a neckline bound by several strips
-        parts = [[t] for t in neck] + [[a, b] for i, a in enumerate(neck) for b in neck[i + 1 :]]
-        for group in [neck] + (parts if len(neck) > 1 else []):
-            out.append(
-                Opening(kind="neck", sides=tuple(s for s, _ in group), length_cm=sum(s.length_cm * c for s, c in group))
-            )
-    fronts = [s for _, s in sorted(arm[Role.FRONT], key=lambda t: t[0])]
-    backs = [s for _, s in sorted(arm[Role.BACK], key=lambda t: -t[0])]
-    for f, b in zip(fronts, backs, strict=False):
-        out.append(Opening(kind="armhole", sides=(f, b), length_cm=f.length_cm + b.length_cm))
-    if waist:
-        out.append(
-            Opening(kind="waist", sides=tuple(s for s, _ in waist), length_cm=sum(s.length_cm * c for s, c in waist))
-        )
-    return out + hems
 
 
 def _band_edges(rs: list[Run]) -> tuple[Run, Run | None, list[Run]]:
@@ -217,8 +102,8 @@ def _split_band(pattern: Pattern, runs: dict[str, list[Run]], edge: Run, op: Ope
         joins.append(
             Join(
                 id=f"{b.piece}_{b.start}_{t.piece}_{t.start}",
-                a=_side(t),
-                b=_side(b),
+                a=run_side(t),
+                b=run_side(b),
                 kind="seam",
                 confidence=0.8,
                 ease_cm=round(b.length_cm - t.length_cm, 3),
@@ -309,7 +194,7 @@ def _split_units(band_runs: list[Run], edge: Run, op: Opening, units: list[tuple
             Join(
                 id=f"{run.piece}_{run.start}_{side.piece}_{side.start}",
                 a=side,
-                b=_side(run),
+                b=run_side(run),
                 kind="band",
                 confidence=0.7,
                 ease_cm=round(run.length_cm - side.length_cm, 2),
@@ -366,8 +251,8 @@ def band_joins(
                 joins.append(
                     Join(
                         id=f"{name}_closure",
-                        a=_side(e1),
-                        b=_side(e2),
+                        a=run_side(e1),
+                        b=run_side(e2),
                         kind="seam",
                         confidence=0.8,
                         why="the band's two ends close the loop",
@@ -421,7 +306,7 @@ def _attach(
             Join(
                 id=f"{name}_{op.kind}_{side.piece}_{side.start}",
                 a=side,
-                b=_side(edge),
+                b=run_side(edge),
                 kind="band",
                 confidence=conf,
                 ease_cm=round(edge.length_cm - op.length_cm, 2),

@@ -15,10 +15,11 @@ from collections.abc import Iterable
 from ..library.seams import graded_sew_lines
 from ..pattern.model import Pattern
 from .alternatives import choose_garment
-from .bands import band_joins, openings
+from .bands import band_joins
 from .edges import Run, breaks
 from .edges import runs as all_runs
 from .model import BridgeInference, Join, Side, is_band
+from .openings import openings
 from .orient import orient_piece
 from .roles import infer_roles
 from .seams import assign, body_side, candidates, merge_continuing
