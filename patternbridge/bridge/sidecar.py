@@ -17,7 +17,9 @@ import numpy as np
 
 from ..library.seams import sew_line
 from ..library.sidecar import SIDECAR_FORMAT
+from ..pattern.json import measurement_link_to_dict
 from ..pattern.model import Pattern
+from .links import measurement_links
 from .model import BridgeInference, Join
 
 __all__ = ["SIDECAR_VERSION", "inference_sidecar", "runs_against"]
@@ -70,6 +72,10 @@ def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str,
     for j in inference.joins:
         for side in (j.a, j.b):
             marks[side.piece] |= {side.start, side.end}
+    links = measurement_links(pattern, inference)
+    for link in links:
+        for leg in link.legs:
+            marks[leg.piece] |= {int(leg.start[1:]), int(leg.end[1:])}
     pieces = []
     for p in pattern.pieces:
         o = inference.orientations[p.name]
@@ -110,5 +116,5 @@ def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str,
         "alternatives": [[list(option) for option in group] for group in inference.alternatives],
         "pieces": pieces,
         "seams": [_seam(pattern, inference, j) for j in inference.joins],
-        "measurements": [],
+        "measurements": [measurement_link_to_dict(m) for m in links],
     }

@@ -79,3 +79,18 @@ def test_pattern_for_fit_uses_the_sidecar_beside_a_dxf_and_infers_without_one(tm
     assert inferred.picture is not None and inferred.picture.is_file()
     assert inferred.pattern.seams and "lowest confidence" in inferred.summary
     assert pattern_for_fit("tshirt", tmp_path / "out3").sidecar is None
+
+
+def test_chest_link_read_off_the_pattern_matches_the_library_drafts(tmp_path):
+    """The inferred chest girth of the T-shirt and the shirt equals the drafted chest + ease (104 and 108 cm)."""
+    from patternbridge.bridge.links import REFERENCE_BODY_CM
+    from patternbridge.library.seams import link_lengths
+
+    for name, drafted in (("tshirt", 104.0), ("shirt", 108.0)):
+        pattern, _ = read_dxf(LIBRARY_DIR / name / f"{name}_aama.dxf")
+        path = tmp_path / f"{name}.seams.json"
+        path.write_text(json.dumps(inference_sidecar(pattern, infer_bridge(pattern))))
+        applied = apply_sidecar(pattern, path)
+        chest = next(m for m in applied.measurements if m.measurement == "chest_girth")
+        assert link_lengths(applied)["chest_girth"][0] == pytest.approx(drafted, abs=0.5)
+        assert chest.ease_cm == pytest.approx(drafted - REFERENCE_BODY_CM["chest_girth"], abs=0.5)
