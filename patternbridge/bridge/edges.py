@@ -46,6 +46,11 @@ class Run:
     parts: tuple[int, ...]
     break_fracs: tuple[float, ...] = ()
 
+    def __post_init__(self) -> None:
+        graded = np.array(self.graded_cm, dtype=np.float64).reshape(-1)
+        graded.flags.writeable = False
+        object.__setattr__(self, "graded_cm", graded)
+
     @property
     def straightness(self) -> float:
         return self.chord_cm / max(self.length_cm, 1e-9)
