@@ -95,7 +95,6 @@ def _is_measurements_json(path: Path) -> bool:
 
 def run(args: argparse.Namespace) -> int:
     from ..errors import InputError
-    from ..io.load import load_pattern
     from ._common import print_findings, progress_printer
 
     quiet = args.quiet > 0
@@ -109,10 +108,15 @@ def run(args: argparse.Namespace) -> int:
     if out_dir.exists() and not out_dir.is_dir():
         raise InputError(f"{out_dir}: exists and is not a folder; give a folder for -o")
 
-    # --- pattern
+    # --- pattern (a DXF without a sidecar gets inferred bridge data, written into OUT/)
     stage(f"loading garment {args.garment}")
-    pattern, report = load_pattern(args.garment)
+    from ..bridge.fit_input import pattern_for_fit
+
+    fit_input = pattern_for_fit(args.garment, out_dir)
+    pattern, report = fit_input.pattern, fit_input.report
     print_findings(report)
+    if fit_input.summary:
+        stage(f"inferred {fit_input.summary}; sidecar {fit_input.sidecar}, picture {fit_input.picture}")
     garment = pattern.style or Path(str(args.garment)).stem
     if not pattern.measurements:
         raise InputError(

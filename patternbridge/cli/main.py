@@ -29,6 +29,7 @@ COMMANDS: dict[str, str] = {
     "plot": "plot",
     "check": "check",
     "seams": "seams",
+    "bridge": "bridge",
     "library": "library",
     "measure": "measure",
     "geodesic": "geodesic",

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..pattern.geometry import arc_lengths, boundary_indices
+from ..pattern.grading import _piece_displacements
 from ..pattern.model import Leg, Pattern, Piece
 
 __all__ = [
@@ -33,44 +34,48 @@ SEAM_TOL_CM = 0.1
 NOTCH_TOL_CM = 0.15
 
 
+def _sew_line_index(piece: Piece) -> int | None:
+    """Index in ``piece.sew_lines`` of the line seams are measured on (None: the outline)."""
+    for i, line in enumerate(piece.sew_lines):
+        if line.closed and len(line.points) == piece.n_vertices:
+            return i
+    return None
+
+
 def sew_line(piece: Piece) -> tuple[np.ndarray, tuple[str | None, ...]]:
     """``(points (n, 2) cm, rules)`` of the line seams are measured on.
 
     The first closed sew line with as many vertices as the outline, else the
     outline.
     """
-    for line in piece.sew_lines:
-        if line.closed and len(line.points) == piece.n_vertices:
-            return line.points, line.rules
-    return piece.outline, piece.rules
-
-
-def _deltas(pattern: Pattern, piece: Piece, rules) -> np.ndarray:
-    """(n_sizes, n, 2) displacement of each vertex from the sample size."""
-    table = pattern.rules
-    n_sizes = max(len(table.sizes), 1)
-    out = np.zeros((n_sizes, len(rules), 2))
-    for j, r in enumerate(rules):
-        if r is not None and r in table.deltas:
-            out[:, j, :] = table.deltas[r]
-    if piece.grade_reference is not None:
-        # deltas are given in the grade reference frame (+x along it)
-        ux, uy = piece.grade_reference.direction
-        rot = np.array([[ux, -uy], [uy, ux]])
-        out = out @ rot.T
-    return out
+    i = _sew_line_index(piece)
+    if i is None:
+        return piece.outline, piece.rules
+    return piece.sew_lines[i].points, piece.sew_lines[i].rules
 
 
 def graded_sew_lines(pattern: Pattern) -> dict[str, np.ndarray]:
     """Sew line of every piece in every size: name -> (n_sizes, n, 2) cm.
 
     Sizes follow ``pattern.rules.sizes`` (one row, the sample, when the
-    pattern has no grade rules).
+    pattern has no grade rules). Every size is graded as
+    :func:`patternbridge.pattern.grading.grade` grades it: rule points move by
+    their rule (in the grade reference frame) and the points between rule
+    points follow by arc length, so a seam measured here has the length the
+    graded piece has.
     """
+    table = pattern.rules
     out = {}
     for piece in pattern.pieces:
-        pts, rules = sew_line(piece)
-        out[piece.name] = pts[None, :, :] + _deltas(pattern, piece, rules)
+        pts, _ = sew_line(piece)
+        if not table.sizes:
+            out[piece.name] = pts[None, :, :].copy()
+            continue
+        disp = _piece_displacements(piece, table)
+        i = _sew_line_index(piece)
+        out[piece.name] = pts[None, :, :] + (
+            disp["outline"] if i is None else disp["sew_lines"][i]
+        )
     return out
 
 

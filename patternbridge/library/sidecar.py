@@ -58,6 +58,7 @@ def sidecar_dict(
         entry: dict[str, Any] = {
             "name": p.name,
             "n_vertices": p.n_vertices,
+            **({"role": str(p.role)} if p.role is not None else {}),
             "marks": {
                 m: {"vertex": i, "xy": [round(float(v), 4) for v in p.outline[i]]}
                 for m, i in p.marks.items()
@@ -180,9 +181,10 @@ def apply_sidecar(
 ) -> Pattern:
     """Return ``pattern`` with the bridge data of the sidecar at ``path``.
 
-    Marks, landmarks and placement replace the pieces' own; seams and
+    Marks, landmarks, placement and role replace the pieces' own; seams and
     measurement links replace the pattern's. Seams with ``"status":
-    "proposed"`` are applied too unless ``confirmed_only``.
+    "proposed"`` are applied too unless ``confirmed_only``; ``"status": "band"``
+    entries (a band along an opening of several ranges) are not applied.
 
     Raises
     ------
@@ -216,12 +218,15 @@ def apply_sidecar(
                     marks=marks,
                     landmarks=e.get("landmarks", {}),
                     placement=None if pl is None else Placement(**pl),
+                    role=e.get("role", p.role),
+                    role_confidence=e.get("role_confidence", p.role_confidence),
                 )
             )
         out = replace(pattern, pieces=tuple(pieces))
         seams = []
         for s in data.get("seams", []):
-            if confirmed_only and s.get("status", "confirmed") != "confirmed":
+            status = s.get("status", "confirmed")
+            if status == "band" or (confirmed_only and status != "confirmed"):
                 continue
             seams.append(seam_from_dict(s))
         links = tuple(

@@ -130,6 +130,10 @@ def _piece_to_dict(p: Piece) -> dict[str, Any]:
         "placement": placement_to_dict(p.placement),
         "extra_text": dict(p.extra_text),
     }
+    if p.role is not None:
+        out["role"] = str(p.role)
+        if p.role_confidence is not None:
+            out["role_confidence"] = p.role_confidence
     return out
 
 
@@ -184,6 +188,8 @@ def _piece_from_dict(d: dict[str, Any]) -> Piece:
         landmarks=d.get("landmarks", {}),
         placement=None if pl is None else Placement(**pl),
         extra_text=d.get("extra_text", {}),
+        role=d.get("role"),
+        role_confidence=d.get("role_confidence"),
     )
 
 

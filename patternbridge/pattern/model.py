@@ -49,6 +49,7 @@ __all__ = [
     "Polyline",
     "Provenance",
     "Quantity",
+    "Role",
     "Seam",
     "SeamKind",
     "Side",
@@ -129,6 +130,32 @@ class Side(_StrEnum):
     FRONT = "front"
     BACK = "back"
     AROUND = "around"  # wraps all round (sleeve, cuff, waistband)
+
+
+class Role(_StrEnum):
+    """What a piece is in the garment (``formats/bridge.md``); inferred by ``patternbridge bridge infer``."""
+
+    FRONT = "front"
+    BACK = "back"
+    SLEEVE = "sleeve"
+    COLLAR = "collar"
+    COLLAR_STAND = "collar_stand"
+    CUFF = "cuff"
+    NECKBAND = "neckband"
+    NECK_BINDING = "neck_binding"
+    ARMHOLE_BINDING = "armhole_binding"
+    WAISTBAND = "waistband"
+    YOKE = "yoke"
+    PLACKET = "placket"
+    POCKET = "pocket"
+    HOOD = "hood"
+    FACING = "facing"
+    LEG_FRONT = "leg_front"
+    LEG_BACK = "leg_back"
+    LEG = "leg"
+    GUSSET = "gusset"
+    INTERLINING = "interlining"
+    OTHER = "other"
 
 
 def _vertex_kinds(kinds, n: int, name: str) -> tuple[VertexKind, ...]:
@@ -373,6 +400,8 @@ class Piece:
     landmarks : body landmark name (``../shared/characters/landmarks.json``
         names) -> mark name on this piece
     extra_text : piece system text we do not model, kept for the round trip
+    role, role_confidence : what the piece is in the garment and how sure the
+        inference that named it was (0..1; None when a person set it)
     """
 
     name: str
@@ -397,8 +426,12 @@ class Piece:
     landmarks: Mapping[str, str] = field(default_factory=dict)
     placement: Placement | None = None
     extra_text: Mapping[str, str] = field(default_factory=dict)
+    role: Role | None = None
+    role_confidence: float | None = None
 
     def __post_init__(self) -> None:
+        if self.role is not None:
+            object.__setattr__(self, "role", Role(self.role))
         outline = as_float_array(self.outline, (None, 2), f"piece {self.name!r} outline")
         n = len(outline)
         if n < 3:

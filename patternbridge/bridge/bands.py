@@ -1,0 +1,316 @@
+"""Bands along openings: bindings, neckbands, cuffs, waistbands and collars.
+
+A band is a strip sewn along an *opening* of the garment: the neckline (the
+free edges of the fronts and backs at their centre line, top), an armhole (the
+free scooped edges of one front and one back), a sleeve hem or a waist. Each
+opening's length counts every copy of its edges (a half piece on the fold or
+cut as a pair contributes twice). A band's long edge is matched to the opening
+whose length it fits, stretched by up to ``MAX_STRETCH`` or eased by up to
+``MAX_EASE`` (bias bindings and rib are cut shorter than the edge they bind);
+the band's role follows from the opening when its name does not say. The two
+short ends of a loop (binding, neckband, cuff, waistband) are sewn together.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..library.seams import sew_line
+from ..pattern.model import Pattern
+from .alternatives import copies_cut
+from .edges import Run, breaks
+from .model import Join, Role, RoleGuess, Side, is_band
+from .openings import Opening, run_side
+
+__all__ = ["band_joins"]
+
+MAX_STRETCH = 1.4
+MAX_EASE = 0.78
+
+_OPENING_ROLES = {
+    "neck": (Role.NECK_BINDING, Role.NECKBAND, Role.COLLAR, Role.COLLAR_STAND),
+    "armhole": (Role.ARMHOLE_BINDING,),
+    "sleeve_hem": (Role.CUFF,),
+    "waist": (Role.WAISTBAND,),
+}
+
+
+def _band_edges(rs: list[Run]) -> tuple[Run, Run | None, list[Run]]:
+    """The band's longest run, the longest run apart from it, and its end runs."""
+    longest = max(rs, key=lambda r: r.length_cm)
+    rest = [r for r in rs if not set(r.parts) & set(longest.parts)]
+    other = max(rest, key=lambda r: r.length_cm) if rest else None
+    if other is None:
+        return longest, None, []
+    if other.length_cm >= 0.95 * longest.length_cm and len(other.break_fracs) > len(longest.break_fracs):
+        longest, other = other, longest  # of two long edges, the one marked for its seams is sewn
+    ends = [r for r in rs if (r.start, r.end) in ((longest.end, other.start), (other.end, longest.start))]
+    return longest, other, ends
+
+
+def _within(r: Run, side_parts: set[int]) -> bool:
+    return set(r.parts) <= side_parts
+
+
+def _side_parts(pattern: Pattern, side: Side) -> set[int]:
+    brk = [int(b) for b in breaks(pattern.piece(side.piece))]
+    m = len(brk)
+    k = brk.index(side.start) if side.start in brk else None
+    out: set[int] = set()
+    while k is not None and brk[k] != side.end and len(out) < m:
+        out.add(k)
+        k = (k + 1) % m
+    return out
+
+
+#: a band's stretches sewn one to one must agree within this (cm) plus 2 %
+SPLIT_TOL_CM = 0.3
+
+
+def _split_band(pattern: Pattern, runs: dict[str, list[Run]], edge: Run, op: Opening) -> list[Join] | None:
+    """The band edge sewn stretch by stretch to the opening (a band with marks at the opening's joints).
+
+    Band runs and opening runs of equal length in every size are paired one to
+    one, longest first; None unless they cover 80 % of the band edge.
+    """
+    band_runs = [r for r in runs[edge.piece] if set(r.parts) <= set(edge.parts)]
+    targets = []
+    for side in op.sides:
+        parts = _side_parts(pattern, side)
+        targets += [r for r in runs.get(side.piece, []) if _within(r, parts)]
+    pairs = []
+    for b in band_runs:
+        for t in targets:
+            d = np.asarray(b.graded_cm) - np.asarray(t.graded_cm)
+            tol = SPLIT_TOL_CM + 0.02 * max(b.length_cm, t.length_cm)
+            if np.all(np.abs(d) <= tol):
+                pairs.append((min(b.length_cm, t.length_cm), float(np.abs(d).max()), b, t))
+    pairs.sort(key=lambda p: (-p[0], p[1]))
+    used_band: set[int] = set()
+    used_target: dict[tuple[str, int], int] = {}
+    joins, covered = [], 0.0
+    for length, _, b, t in pairs:
+        tparts = {(t.piece, k) for k in t.parts}
+        piece = pattern.piece(t.piece)
+        copies = 2 if piece.quantity.left > 0 or piece.quantity.right > 1 or piece.mirror_line is not None else 1
+        if set(b.parts) & used_band or any(used_target.get(k, 0) >= copies for k in tparts):
+            continue
+        used_band |= set(b.parts)
+        for k in tparts:
+            used_target[k] = used_target.get(k, 0) + 1
+        covered += length
+        joins.append(
+            Join(
+                id=f"{b.piece}_{b.start}_{t.piece}_{t.start}",
+                a=run_side(t),
+                b=run_side(b),
+                kind="seam",
+                confidence=0.8,
+                ease_cm=round(b.length_cm - t.length_cm, 3),
+                why=f"band stretch along the {op.kind}, equal in every size",
+            )
+        )
+    if covered >= 0.8 * edge.length_cm:
+        return joins
+    return _split_in_proportion(pattern, band_runs, edge, op)
+
+
+def _stretch_sides(pattern: Pattern, side: Side) -> list[Side]:
+    """``side`` cut at its piece's breaks, in order."""
+    piece = pattern.piece(side.piece)
+    pts = sew_line(piece)[0]
+    n = len(pts)
+    seg = np.linalg.norm(np.roll(pts, -1, axis=0) - pts, axis=1)
+    brk = set(int(b) for b in breaks(piece))
+    out, start, k = [], side.start, side.start
+    while k != side.end:
+        k = (k + 1) % n
+        if k in brk or k == side.end:
+            idx = np.arange(start, k) if k > start else np.r_[start:n, 0:k]
+            out.append(Side(piece=side.piece, start=start, end=k, length_cm=round(float(seg[idx].sum()), 3)))
+            start = k
+    return out
+
+
+def _split_in_proportion(pattern: Pattern, band_runs: list[Run], edge: Run, op: Opening) -> list[Join] | None:
+    """The band edge cut at its own marks where they divide it as the opening's stretches divide the opening.
+
+    A back-neck binding with a mark at its middle sews one half to each back
+    half; a neckband marked at its quarters sews a quarter to each half of the
+    front and back necklines. Every joint between the opening's sides needs a
+    band mark within 5 % of the band; joints inside a side are used where the
+    band has a mark. None otherwise.
+    """
+    units = [(k, u) for k, side in enumerate(op.sides) for u in _stretch_sides(pattern, side)]
+    if len(units) < 2:
+        return None
+    # a band closed into a loop may start anywhere around the opening, in either direction
+    for order in (units[::-1], units):  # sewn face to face, a band runs against its opening first
+        for shift in range(len(order)):
+            joins = _split_units(band_runs, edge, op, order[shift:] + order[:shift])
+            if joins:
+                return joins
+    return None
+
+
+def _split_units(band_runs: list[Run], edge: Run, op: Opening, units: list[tuple[int, Side]]) -> list[Join] | None:
+    """The proportional split of ``edge`` along ``units`` taken in this order, or None."""
+    total = sum(u.length_cm for _, u in units)
+    cum = np.cumsum([u.length_cm for _, u in units])[:-1] / total
+    marks = np.array(edge.break_fracs)
+    if not len(marks):
+        return None
+    near = np.min(np.abs(marks[None, :] - cum[:, None]), axis=1) < 0.05
+    side_joint = np.array([units[m][0] != units[m + 1][0] for m in range(len(units) - 1)])
+    if np.any(side_joint & ~near):
+        return None
+    if sum(near) != len(marks) and len(units) > len(op.sides):
+        return None  # every band mark meets a joint of the opening
+    # group the stretches between kept joints; each group lies within one side
+    groups, current = [], [units[0][1]]
+    for m in range(len(units) - 1):
+        if near[m]:
+            groups.append(current)
+            current = []
+        current.append(units[m + 1][1])
+    groups.append(current)
+    fracs = [*cum[near], 1.0]
+    joins, start_frac, pos = [], 0.0, edge.start
+    for group, frac in zip(groups, fracs, strict=True):
+        side = Side(
+            piece=group[0].piece,
+            start=group[0].start,
+            end=group[-1].end,
+            length_cm=round(sum(g.length_cm for g in group), 3),
+        )
+        run = None
+        for r in sorted((r for r in band_runs if r.start == pos), key=lambda r: r.length_cm):
+            if abs((start_frac * edge.length_cm + r.length_cm) / edge.length_cm - frac) < 0.05:
+                run = r
+                break
+        if run is None:
+            return None
+        joins.append(
+            Join(
+                id=f"{run.piece}_{run.start}_{side.piece}_{side.start}",
+                a=side,
+                b=run_side(run),
+                kind="band",
+                confidence=0.7,
+                ease_cm=round(run.length_cm - side.length_cm, 2),
+                why=f"band cut at its own mark in proportion to the {op.kind}",
+            )
+        )
+        start_frac, pos = frac, run.end
+    return joins
+
+
+def band_joins(
+    pattern: Pattern,
+    runs: dict[str, list[Run]],
+    roles: dict[str, RoleGuess],
+    opened: list[Opening],
+    folds: dict[str, tuple[int, int]] | None = None,
+) -> tuple[list[Join], dict[str, RoleGuess]]:
+    """Joins of every band piece to the opening(s) it fits, its closure, and refined band roles.
+
+    folds : piece -> its fold edge; a band folded along it (a rib cuff) is sewn by its other long edge.
+
+    A band cut twice (two armhole bindings, two cuffs) takes two openings.
+    """
+    joins: list[Join] = []
+    new_roles: dict[str, RoleGuess] = {}
+    taken: set[tuple[str, int, int]] = set()
+    bands = [n for n, g in roles.items() if is_band(g.role) and runs.get(n)]
+    folds = folds or {}
+    for name in sorted(bands, key=lambda n: -_band_edges(runs[n])[0].length_cm):
+        guess = roles[name]
+        fold = folds.get(name)
+        edge, _, ends = _band_edges([r for r in runs[name] if fold is None or (r.start, r.end) != fold])
+        kind = None
+        for _ in range(min(max(copies_cut(pattern.piece(name)), 1), 2)):
+            # a second copy binds the twin opening (the other armhole, the other sleeve), never another kind
+            kind = _attach(
+                pattern,
+                runs,
+                name,
+                guess,
+                edge,
+                [o if kind in (None, o.kind) else None for o in opened],
+                taken,
+                joins,
+                new_roles,
+            )
+            if kind is None or kind == "neck":
+                break
+        loop = guess.role not in (Role.COLLAR, Role.COLLAR_STAND)
+        if loop and len(ends) >= 2:
+            e1, e2 = sorted(ends, key=lambda r: -r.length_cm)[:2]
+            # a loop's two short ends meet whatever their slant (a bias binding's ends differ)
+            if max(e1.length_cm, e2.length_cm) <= 0.15 * edge.length_cm:
+                joins.append(
+                    Join(
+                        id=f"{name}_closure",
+                        a=run_side(e1),
+                        b=run_side(e2),
+                        kind="seam",
+                        confidence=0.8,
+                        why="the band's two ends close the loop",
+                    )
+                )
+    return joins, new_roles
+
+
+def _attach(
+    pattern: Pattern,
+    runs: dict[str, list[Run]],
+    name: str,
+    guess: RoleGuess,
+    edge: Run,
+    opened: list[Opening | None],
+    taken: set[tuple[str, int, int]],
+    joins: list[Join],
+    new_roles: dict[str, RoleGuess],
+) -> str | None:
+    """Sew band ``name``'s long ``edge`` along the free opening it fits best; its kind, None when none fits."""
+    best = None
+    for k, op in enumerate(opened):
+        if op is None or any(side.key in taken for side in op.sides):
+            continue
+        ratio = op.length_cm / edge.length_cm
+        if not MAX_EASE <= ratio <= MAX_STRETCH:
+            continue
+        if guess.role not in _OPENING_ROLES[op.kind] and guess.confidence >= 0.7:
+            continue  # a band sure of its role binds only its own kind of opening
+        cost = abs(np.log(ratio / 1.05))
+        centred = any(abs(f - 0.5) < 0.03 for f in edge.break_fracs)
+        if centred and len(op.sides) == 1:
+            cost += 0.5  # a band marked at its middle crosses a centre line: it spans two halves
+        if best is None or cost < best[0]:
+            best = (cost, k, op)
+    if best is None:
+        return None
+    cost, k, op = best
+    taken.update(side.key for side in op.sides)
+    conf = round(float(np.clip(1.0 - cost, 0.3, 0.95)), 2)
+    if guess.role not in _OPENING_ROLES[op.kind] and name not in new_roles:
+        new_roles[name] = RoleGuess(
+            role=_OPENING_ROLES[op.kind][0], confidence=conf, why=f"strip {edge.length_cm:.1f} cm along the {op.kind}"
+        )
+    split = _split_band(pattern, runs, edge, op)
+    if split:
+        joins.extend(split)
+        return op.kind
+    for side in op.sides:
+        joins.append(
+            Join(
+                id=f"{name}_{op.kind}_{side.piece}_{side.start}",
+                a=side,
+                b=run_side(edge),
+                kind="band",
+                confidence=conf,
+                ease_cm=round(edge.length_cm - op.length_cm, 2),
+                why=f"band along the {op.kind}: {op.length_cm:.1f} cm of opening, band {edge.length_cm:.1f} cm",
+            )
+        )
+    return op.kind

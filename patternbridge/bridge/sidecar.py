@@ -1,0 +1,120 @@
+"""The inference as a bridge sidecar (``formats/bridge.md``): marks, roles, turns, seams.
+
+Every seam end becomes a mark ``v<vertex>`` on the designer's own outline (the
+file is not changed: the graded DXF sent back keeps its orientation, names and
+half pieces); each piece records its role and the turn that stands it upright.
+All inferred seams are written ``"status": "proposed"`` with their confidence;
+a band sewn along an opening made of several ranges is written once per range
+with ``"status": "band"`` (not applied as a seam until a person puts marks on
+the band at the opening's joints).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ..library.seams import sew_line
+from ..library.sidecar import SIDECAR_FORMAT
+from ..pattern.json import measurement_link_to_dict
+from ..pattern.model import Pattern
+from .links import measurement_links
+from .model import BridgeInference, Join
+
+__all__ = ["SIDECAR_VERSION", "inference_sidecar", "runs_against"]
+
+SIDECAR_VERSION = "1.1"
+
+
+def _edge(side, copy: str) -> dict[str, Any]:
+    return {"piece": side.piece, "start": f"v{side.start}", "end": f"v{side.end}", "copy": copy}
+
+
+def runs_against(pattern: Pattern, inference: BridgeInference, j: Join) -> bool:
+    """Whether ``b`` runs against ``a`` when sewn (``a.start`` meets ``b.end``), from the upright pieces.
+
+    Along a seam that runs up the body the two sides meet where their ends
+    are level; across the body (a shoulder, a waist) where they are the same
+    distance from the centre line.
+    """
+    ends = []
+    for side in (j.a, j.b):
+        pts = inference.orientations[side.piece].apply(sew_line(pattern.piece(side.piece))[0])
+        ends.append((pts[side.start], pts[side.end]))
+    (a0, a1), (b0, b1) = ends
+    da, db = a1 - a0, b1 - b0
+    if abs(da[1]) > 0.5 * abs(da[0]) and abs(db[1]) > 0.5 * abs(db[0]):
+        return bool(np.sign(da[1]) != np.sign(db[1]))
+    return bool((abs(a1[0]) > abs(a0[0])) != (abs(b1[0]) > abs(b0[0])))
+
+
+def _seam(pattern: Pattern, inference: BridgeInference, j: Join) -> dict[str, Any]:
+    mirror = j.kind == "fold" or (j.kind == "centre" and j.a.piece == j.b.piece)
+    return {
+        "id": j.id,
+        "kind": "fold" if j.kind == "fold" else "seam",
+        "reverse": False if mirror else runs_against(pattern, inference, j),
+        "ease_cm": 0.0 if j.kind == "band" else j.ease_cm,
+        "status": "band" if j.kind == "band" else "proposed",
+        "confidence": j.confidence,
+        "a": _edge(j.a, "primary"),
+        "b": _edge(j.b, "mirror" if mirror else "primary"),
+        "length_a_cm": j.a.length_cm,
+        "length_b_cm": j.b.length_cm,
+        "why": j.why,
+    }
+
+
+def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str, Any]:
+    """The sidecar dict of ``inference`` for ``pattern`` (JSON-ready)."""
+    marks: dict[str, set[int]] = {p.name: set() for p in pattern.pieces}
+    for j in inference.joins:
+        for side in (j.a, j.b):
+            marks[side.piece] |= {side.start, side.end}
+    links = measurement_links(pattern, inference)
+    for link in links:
+        for leg in link.legs:
+            marks[leg.piece] |= {int(leg.start[1:]), int(leg.end[1:])}
+    pieces = []
+    for p in pattern.pieces:
+        o = inference.orientations[p.name]
+        if o.fold is not None:
+            marks[p.name] |= set(o.fold)
+        guess = inference.roles[p.name]
+        pieces.append(
+            {
+                "name": p.name,
+                "n_vertices": p.n_vertices,
+                "role": guess.role.value,
+                "role_confidence": guess.confidence,
+                "role_why": guess.why,
+                "orientation": {
+                    "turn_deg": round(o.turn_deg, 3),
+                    "offset_cm": [round(float(v), 4) for v in o.offset],
+                    "fold": None if o.fold is None else [f"v{o.fold[0]}", f"v{o.fold[1]}"],
+                    "centre_on_right": o.centre_on_right,
+                    "whole": o.whole,
+                    "confidence": round(o.confidence, 2),
+                },
+                "marks": {
+                    f"v{i}": {"vertex": i, "xy": [round(float(v), 4) for v in p.outline[i]]}
+                    for i in sorted(marks[p.name])
+                },
+                "landmarks": {},
+                "placement": None,
+            }
+        )
+    return {
+        "format": SIDECAR_FORMAT,
+        "format_version": SIDECAR_VERSION,
+        "length_unit": "cm",
+        "style": pattern.style,
+        "description": f"inferred by patternbridge bridge infer ({len(inference.joins)} seams)",
+        "sample_size": pattern.sample_size,
+        "garment_pieces": list(inference.chosen),
+        "alternatives": [[list(option) for option in group] for group in inference.alternatives],
+        "pieces": pieces,
+        "seams": [_seam(pattern, inference, j) for j in inference.joins],
+        "measurements": [measurement_link_to_dict(m) for m in links],
+    }

@@ -1,0 +1,80 @@
+"""``infer_bridge`` on real files against the hand labels (tests/bridge/labels)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from patternbridge.bridge.evaluate import score
+from patternbridge.io.dxf_aama import read_dxf
+from patternbridge.pattern.model import Role
+
+pytestmark = pytest.mark.shared
+
+#: measured floors (docs/bridge.md has the table); the inference must not fall below them
+ROLE_FLOOR = 0.95
+RECALL_FLOOR = 0.8
+PRECISION_FLOOR = 0.8
+
+
+def test_roles_and_seams_against_every_label(labelled):
+    pattern, label, pairs, inference = labelled
+    sc = score(pattern, inference, label, pairs)
+    assert sc.roles_right >= sc.roles_total - 1, sc.wrong_roles
+    assert inference.seconds <= 2.0
+
+
+def test_totals_over_the_garments_reach_the_measured_floors(shared_dir):
+    from patternbridge.bridge import infer_bridge
+    from patternbridge.bridge.evaluate import LABELS_DIR, load_labelled
+
+    tot = np.zeros(5)
+    for path in sorted(LABELS_DIR.glob("*.json")):
+        pattern, label, pairs = load_labelled(path, shared_dir)
+        if not label["garment"]:
+            continue
+        sc = score(pattern, infer_bridge(pattern), label, pairs)
+        tot += (sc.roles_right, sc.roles_total, sc.seams_matched, sc.seams_labelled, sc.seams_inferred)
+    assert tot[0] / tot[1] >= ROLE_FLOOR
+    assert tot[2] / tot[3] >= RECALL_FLOOR
+    assert tot[2] / tot[4] >= PRECISION_FLOOR
+
+
+def test_accumark_pieces_drawn_sideways_are_turned_upright_with_their_fold(aama_dir):
+    from patternbridge.bridge.orient import orient_piece
+
+    pattern, _ = read_dxf(aama_dir / "WM LOOSE SHAPE TANK.DXF")
+    for piece in pattern.pieces:
+        o = orient_piece(piece)
+        assert o.fold == (0, 1)  # the straight edge on the mirror line
+        upright = o.apply(piece.outline)
+        # the hem (drawn on the left) is now at the bottom, the strap (drawn on the right) on top, the fold at x = 0
+        assert upright[0, 1] < 1.0 and upright[piece.n_vertices - 1, 1] < 8.0
+        assert np.argmax(upright[:, 1]) in range(4, 9)
+        np.testing.assert_allclose(upright[list(o.fold), 0], 0.0, atol=0.05)
+
+
+def test_front_and_back_told_apart_by_the_neckline_not_the_name(aama_dir):
+    """GLX0924S16's back carries the category text FRONT; its shallow neckline makes it the back."""
+    from patternbridge.bridge import infer_bridge
+
+    pattern, _ = read_dxf(aama_dir / "GLX0924S16_NEW.DXF")
+    roles = infer_bridge(pattern).roles
+    assert pattern.piece("GLX0924S16_NEW_BK").category.upper() == "FRONT"
+    assert roles["GLX0924S16_NEW_BK"].role is Role.BACK
+    assert roles["GLX0924S16_NEW_FR"].role is Role.FRONT
+
+
+def test_alternatives_are_grouped_and_one_set_chosen(aama_dir):
+    from patternbridge.bridge import infer_bridge
+
+    pattern, _ = read_dxf(aama_dir / "GMH1004F15-2.DXF")
+    inference = infer_bridge(pattern)
+    groups = {frozenset(n for option in g for n in option) for g in inference.alternatives}
+    assert frozenset({"GMH1004FSL", "GMH1004FSS"}) in groups
+    assert frozenset({"GMH1004FNR", "GMH1004FRN"}) in groups
+    chosen = set(inference.chosen)
+    assert len(chosen & {"GMH1004FSL", "GMH1004FSS"}) == 1
+    assert len(chosen & {"GMH1004FNR", "GMH1004FRN"}) == 1
+    other = infer_bridge(pattern, pieces=["GMH1004FFA", "GMH1004FBA", "GMH1004FSS", "GMH1004FNR"]).chosen
+    assert set(other) == {"GMH1004FFA", "GMH1004FBA", "GMH1004FSS", "GMH1004FNR"}
