@@ -56,7 +56,13 @@ def test_schema_names_every_field_the_writer_emits(validator):
     doc = pattern_to_dict(example_pattern())
     assert set(doc) == set(schema["properties"])
     front = doc["pieces"][0]
-    assert set(front) == set(schema["$defs"]["piece"]["properties"])
+    optional = {"role", "role_confidence"}  # written only for a piece whose role is known
+    assert set(front) == set(schema["$defs"]["piece"]["properties"]) - optional
+    pattern = example_pattern()
+    with_role = dataclasses.replace(pattern.pieces[0], role="front", role_confidence=0.9)
+    typed = pattern_to_dict(dataclasses.replace(pattern, pieces=(with_role, *pattern.pieces[1:])))
+    assert optional <= set(typed["pieces"][0])
+    assert _errors(validator, json.loads(json.dumps(typed))) == []
     notch = front["notches"][0]
     assert set(notch) == set(schema["$defs"]["notch"]["properties"]) - {
         "source_angle_deg"
