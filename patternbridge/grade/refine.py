@@ -374,6 +374,7 @@ def refine(
     keep_darts: bool = True,
     w_fit: float = 0.02,
     fit_eps_cm: float = 0.01,
+    stall_window: int = 5,
     progress: Progress | None = None,
 ) -> RefineResult:
     """Least change of shape subject to the fit, from the individual ``x``.
@@ -410,6 +411,8 @@ def refine(
         (``1/sqrt(|m − t| + fit_eps_cm)``) so that it acts as an L1 cost,
         which leaves most measurements exact; 0 spends the whole band on
         the shape
+    stall_window : iterations without a 1 % fall of the shape cost (with
+        the fit met) after which the step stops
     progress : ``progress("refine", i, max_iter)``
 
     Returns
@@ -563,9 +566,11 @@ def refine(
         history.append(0.5 * float(s @ s))
         feasible = violation(c, m).max(initial=0.0) < 1e-4
         # converged: a tiny step, or the shape cost has stopped falling (no
-        # value in the last ten iterations 1 % below the one before them;
-        # the reweighting makes single iterations noisy) with the fit met
-        if feasible and (step < 1e-7 or (len(history) > 10 and min(history[-10:]) > 0.99 * history[-11])):
+        # value in the last ``stall_window`` iterations 1 % below the one
+        # before them; the reweighting makes single iterations noisy) with
+        # the fit met
+        if feasible and (step < 1e-7 or (len(history) > stall_window
+                                         and min(history[-stall_window:]) > 0.99 * history[-stall_window - 1])):
             converged = True
             break
     viol = violation(c, m)

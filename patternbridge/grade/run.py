@@ -618,6 +618,7 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
     stages = [(float(a), float(d)) for a in sorted(set(all_levels), reverse=True)
               for d in sorted(set(design_levels), reverse=True)]
     start_stage = [stages[0]]
+    exhausted = [False]  # every stage ran once without passing: later starts run only the closest
 
     def finish_at(start_name: str, x_start: np.ndarray, stage: tuple[float, float]) -> Solution:
         w_all_level, level = stage
@@ -638,38 +639,48 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
 
         The grid-interval design term runs at full weight first; when the
         result changes the design more than proportional scaling does (shape
-        error not below scaling's), the step is run again from the same start
-        at the next ``design_levels`` factor (a third, a ninth, none). When no
-        level passes, the all-vertex angle term steps down to the next
+        error not below scaling's), the step runs again at the next
+        ``design_levels`` factor (a third, a ninth, none), **warm-started**
+        from the previous stage's result when that one met the fit (a
+        homotopy on the weight: the run starts fitted and only moves the
+        shape, so it needs a few iterations instead of a full solve). When
+        no level passes, the all-vertex angle term steps down to the next
         ``all_levels`` factor and the grid-interval levels run again. The
         link-share term keeps its full weight throughout. When a level
         passes after one that did not (at the same all-vertex weight), the
         geometric mean of the two is tried once and taken if it passes too:
         the largest weights found whose shape error is below scaling's.
-        Later starts begin at that stage (it is a property of the garment and
-        the character more than of the start). If no stage passes, the fitted
-        result with the least shape error; None when no run meets the fit.
+        Later starts begin at that stage (it is a property of the garment
+        and the character more than of the start); when no stage passed,
+        later starts run only the stage that came closest. If no stage
+        passes, the fitted result with the least shape error; None when no
+        run meets the fit.
         """
         first = start_stage[0]
-        todo = [first] + [st for st in stages if st < first]
+        todo = [first] if exhausted[0] else [first] + [st for st in stages if st < first]
         best: Solution | None = None
+        best_stage = first
         failed: tuple[float, float] | None = None
+        x_warm = x_start
         for stage in todo:
-            cand = finish_at(start_name, x_start, stage)
+            cand = finish_at(start_name, x_warm, stage)
             if not _meets(cand, **accept):
                 continue
+            x_warm = cand.x
             if cand.scores.shape_error < shape_ref:
                 if failed is not None and failed[0] == stage[0]:
                     level = stage[1]
                     mid = float(np.sqrt(failed[1] * level)) if level > 0 else failed[1] / 3.0
-                    between = finish_at(start_name, x_start, (stage[0], mid))
+                    between = finish_at(start_name, x_warm, (stage[0], mid))
                     if _meets(between, **accept) and between.scores.shape_error < shape_ref:
                         cand, stage = between, (stage[0], mid)
                 start_stage[0] = stage
                 return cand
             if best is None or cand.scores.shape_error < best.scores.shape_error:
-                best = cand
+                best, best_stage = cand, stage
             failed = stage
+        if len(todo) > 1:
+            start_stage[0], exhausted[0] = best_stage, True
         return best
 
     refined: list[Solution] = []
