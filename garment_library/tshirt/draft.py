@@ -305,7 +305,7 @@ LINKS = [
     link(
         "arm_length_right",
         None,
-        leg("sleeve", "underarm_front", "hem_front", "boundary"),
+        leg("sleeve", "hem_front", "underarm_front", "boundary"),
         link_id="sleeve_length",
         proportional=True,
     ),

@@ -475,6 +475,7 @@ def fit_pattern(
     measure_band_cm: float = 0.15,
     keep_straight: bool = True,
     keep_grain: bool = True,
+    keep_symmetry: bool = True,
     refine_iter: int = 40,
     w_fit: float = 0.02,
     w_design: float = 0.7,
@@ -507,6 +508,9 @@ def fit_pattern(
         its target (seams and notches are closed exactly)
     keep_straight : straight grain-parallel edges (centre front, folds,
         straight hems) stay straight and keep their direction
+    keep_symmetry : pieces drawn symmetric about a grain line (a front cut
+        on the fold, a yoke, a collar) stay symmetric
+        (:mod:`.symmetry`)
     refine_iter : iterations of each constrained Gauss–Newton run
     w_fit : cost of the measurement errors inside the band, rad of shape
         error per cm of mean measurement error (:func:`~.refine.refine`)
@@ -546,7 +550,8 @@ def fit_pattern(
             pattern, measurements, seed=seed, pop_size=pop_size, n_gen=n_gen, max_lines=max_lines,
             max_cell_frac=max_cell_frac, deformation=deformation, tol_measure_cm=tol_measure_cm,
             tol_seam=tol_seam, size=size, do_repair=do_repair, measure_band_cm=measure_band_cm,
-            keep_straight=keep_straight, keep_grain=keep_grain, refine_iter=refine_iter, w_fit=w_fit,
+            keep_straight=keep_straight, keep_grain=keep_grain, keep_symmetry=keep_symmetry,
+            refine_iter=refine_iter, w_fit=w_fit,
             w_design=w_design, w_share=w_share, design_levels=tuple(design_levels), w_all=w_all,
             all_levels=tuple(all_levels), n_refine=n_refine, source=source, progress=progress,
         )
@@ -559,7 +564,8 @@ def _meets(sol: Solution, *, mean_cm: float, max_cm: float, seam_cm: float) -> b
 
 
 def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max_cell_frac, deformation,
-                 tol_measure_cm, tol_seam, size, do_repair, measure_band_cm, keep_straight, keep_grain, refine_iter,
+                 tol_measure_cm, tol_seam, size, do_repair, measure_band_cm, keep_straight, keep_grain,
+                 keep_symmetry, refine_iter,
                  w_fit, w_design, w_share, design_levels, w_all, all_levels, n_refine, source, progress):
     from pymoo.algorithms.moo.nsga2 import NSGA2
     from pymoo.optimize import minimize
@@ -567,6 +573,7 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
     from .operators import GridCrossover, GridMutation, SeedSampling
     from .problem import GradingProblem
     from .refine import grain_constraints, refine, row_basis, straight_constraints, straight_edges
+    from .symmetry import mirror_symmetries, symmetry_constraints
 
     t0 = time.perf_counter()
     measurements = {str(k): float(v) for k, v in measurements.items()}
@@ -575,6 +582,7 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
     linear = [straight_constraints(grid, straight_edges(grid))] if keep_straight else []
     if keep_grain:
         linear.append(grain_constraints(grid))
+    symmetric = symmetry_constraints(grid, mirror_symmetries(grid)) if keep_symmetry else None
     straight = row_basis(np.concatenate(linear)) if linear else None
     if progress is not None:
         progress("seed", 0, 1)
@@ -624,7 +632,8 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
         w_all_level, level = stage
         res = refine(grid, data, x_start, measure_tol_cm=measure_band_cm, straight=straight,
                      max_iter=refine_iter, x_design=x_axis, w_design=w_design * level,
-                     w_share=w_share, w_fit=w_fit, w_all=w_all * w_all_level, progress=progress)
+                     w_share=w_share, w_fit=w_fit, w_all=w_all * w_all_level, symmetric=symmetric,
+                     progress=progress)
         if res.max_violation_cm > 1e-3:
             log.info("%s: final step from the %s (design weight x%.3g) left a violation of %.3g cm",
                      source, start_name, level, res.max_violation_cm)
