@@ -39,6 +39,7 @@ import numpy as np
 
 from ..errors import SolverError
 from ..pattern.model import Pattern
+from ..report import Finding
 from .grid import PatternGrid, build_grid, deform_pattern
 from .objectives import FOLD_MARGIN, ObjectiveData, chord_lengths, evaluate, link_error, objective_data, residuals
 
@@ -132,6 +133,9 @@ class FitResult:
         ``"proportional_uniform"`` (Algorithm 4) and ``"nearest_size"`` when
         the pattern has grade rules
     seconds : wall time of the whole fit
+    findings : what :func:`~.checks.design_checks` found wrong with the
+        chosen pattern (a collapsed piece, a flattened curve, a lost
+        symmetry); empty when it still is the design
     """
 
     pattern: Pattern
@@ -152,6 +156,7 @@ class FitResult:
     history: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
     front_refined: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
     front_within: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
+    findings: tuple[Finding, ...] = ()
 
 
 def _is_simple(pattern: Pattern) -> bool:
@@ -557,6 +562,20 @@ def fit_pattern(
         )
 
 
+def _checks(grid: PatternGrid, data: ObjectiveData, sol: Solution, reference: Solution) -> tuple[Finding, ...]:
+    """:func:`~.checks.design_checks` of ``sol`` against proportional scaling."""
+    from .checks import design_checks
+    from .symmetry import mirror_symmetries, symmetry_error
+
+    if sol.x is None or reference.x is None:
+        return ()
+    sym = mirror_symmetries(grid)
+    err = symmetry_error(grid, sym, sol.x[None])[0]
+    return design_checks(data, grid.outlines(sol.x[None])[0], grid.outlines(reference.x[None])[0],
+                         piece_names=tuple(g.name for g in grid.pieces),
+                         symmetry_cm={s.piece: float(e) for s, e in zip(sym, err, strict=True)})
+
+
 def _meets(sol: Solution, *, mean_cm: float, max_cm: float, seam_cm: float) -> bool:
     sc = sol.scores
     return (_valid(sol) and sc.measurement_error <= mean_cm and sc.max_measurement_error <= max_cm
@@ -753,11 +772,14 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
         rep = _solution(grid, data, "nsga2+repair", x_rep, size, "least-squares repair of the NSGA-II choice")
         if _valid(rep) and rep.scores.measurement_error < chosen.scores.measurement_error:
             chosen = rep
+    findings = _checks(grid, data, chosen, baselines["proportional"])
+    for f in findings:
+        log.warning("%s: %s", source, f)
     seconds = time.perf_counter() - t0
     return FitResult(
         pattern=chosen.pattern, original=pattern, chosen=chosen, ga_choice=ga_choice,
         front_F=front_F, front_X=front_X, chosen_index=idx, front_refined=is_refined,
-        front_within=within, baselines=baselines,
+        front_within=within, baselines=baselines, findings=findings,
         measurements=measurements, grid=grid, data=data, seconds=seconds, seed=int(seed),
         pop_size=pop_size, n_gen=n_gen, history=np.array(callback.history, dtype=np.float64).reshape(-1, 4),
     )
