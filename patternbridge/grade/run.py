@@ -49,7 +49,9 @@ __all__ = [
     "Solution",
     "axis_scaling",
     "choose",
+    "choose_member",
     "fit_pattern",
+    "front_members",
     "nearest_size",
     "non_dominated",
     "refine_members",
@@ -133,6 +135,9 @@ class FitResult:
         ``"proportional_uniform"`` (Algorithm 4) and ``"nearest_size"`` when
         the pattern has grade rules
     seconds : wall time of the whole fit
+    finish_settings : keyword arguments of :func:`~.refine.refine` at the
+        stage the continuation settled on (:func:`choose_member` re-runs the
+        final step with them)
     findings : what :func:`~.checks.design_checks` found wrong with the
         chosen pattern (a collapsed piece, a flattened curve, a lost
         symmetry); empty when it still is the design
@@ -157,6 +162,7 @@ class FitResult:
     front_refined: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
     front_within: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
     findings: tuple[Finding, ...] = ()
+    finish_settings: Mapping[str, object] = field(default_factory=dict)
 
 
 def _is_simple(pattern: Pattern) -> bool:
@@ -489,6 +495,7 @@ def fit_pattern(
     w_all: float = 1.0,
     all_levels: tuple[float, ...] = (1.0, 0.5),
     n_refine: int = 3,
+    n_trade: int = 2,
     source: str = "pattern",
     progress: Progress | None = None,
 ) -> FitResult:
@@ -533,6 +540,10 @@ def fit_pattern(
         ``design_levels`` factor brings the shape error below proportional
         scaling's (the slim bodies' trousers)
     n_refine : NSGA-II front members the final step starts from
+    n_trade : tighter-fit versions of the best refined solution added to the
+        front (:func:`_trade_offs`): gradings within tolerance that buy a
+        more exact fit with more change of shape, for the designer to choose
+        from (``fit --choose K``)
     source : pattern name for error messages
     progress : ``progress(stage, done, total)`` callback
 
@@ -558,7 +569,7 @@ def fit_pattern(
             keep_straight=keep_straight, keep_grain=keep_grain, keep_symmetry=keep_symmetry,
             refine_iter=refine_iter, w_fit=w_fit,
             w_design=w_design, w_share=w_share, design_levels=tuple(design_levels), w_all=w_all,
-            all_levels=tuple(all_levels), n_refine=n_refine, source=source, progress=progress,
+            all_levels=tuple(all_levels), n_refine=n_refine, n_trade=n_trade, source=source, progress=progress,
         )
 
 
@@ -576,6 +587,100 @@ def _checks(grid: PatternGrid, data: ObjectiveData, sol: Solution, reference: So
                          symmetry_cm={s.piece: float(e) for s, e in zip(sym, err, strict=True)})
 
 
+TRADE_LEVELS = ((0.05, 0.2), (0.02, 1.0), (0.01, 5.0))
+"""(measurement band cm, fit cost) of the successive tighter-fit front members."""
+
+
+def _trade_offs(grid: PatternGrid, data: ObjectiveData, refined: list[Solution], settings: dict, n: int,
+                size: str, accept: dict, progress: Progress | None) -> list[Solution]:
+    """Tighter-fit versions of the least-shape refined solution: the fit-against-shape side of the front.
+
+    The final step is re-run from that solution (it starts fitted, so a few
+    iterations suffice) with a narrower measurement band and a larger cost on
+    the measurement errors inside it (:data:`TRADE_LEVELS`): each is a
+    grading within tolerance with less measurement error and more change of
+    shape than the one before. The choice rule still takes the least shape
+    error, so they change nothing unless the user picks one.
+    """
+    from .refine import refine
+
+    fitted = [s for s in refined if _meets(s, **accept)]
+    if not fitted:
+        return []
+    base = min(fitted, key=lambda s: s.scores.shape_error)
+    out = []
+    x = base.x
+    for band, w_fit in TRADE_LEVELS[:max(int(n), 0)]:
+        res = refine(grid, data, x, **{**settings, "measure_tol_cm": band, "w_fit": w_fit}, progress=progress)
+        sol = _solution(grid, data, "nsga2+refine", res.x, size,
+                        f"{base.note}; tighter fit: band {band:g} cm, fit cost {w_fit:g}")
+        if _meets(sol, **accept):
+            out.append(sol)
+            x = res.x
+    return out
+
+
+def choose_member(result: FitResult, k: int, *, size: str | None = None) -> FitResult:
+    """``fit --choose K``: the final step re-run from row ``k`` of the final front, as the result.
+
+    The start is the front member's genes; the final step runs with the
+    settings the continuation settled on (:attr:`FitResult.finish_settings`).
+    The front itself is kept; ``chosen_index`` becomes ``k`` and the checks
+    are run on the new pattern.
+
+    Raises
+    ------
+    InputError
+        ``k`` is not a row of the front.
+    """
+    from ..errors import InputError
+    from .refine import refine
+
+    n = len(result.front_X)
+    if not 0 <= int(k) < n:
+        raise InputError(f"--choose {k}: the Pareto front has rows 0 to {n - 1}; pick one of them "
+                         "(pareto.png numbers them)")
+    size = size if size is not None else (result.pattern.pieces[0].size if result.pattern.pieces else "fit")
+    with _single_thread():
+        res = refine(result.grid, result.data, result.front_X[int(k)], **result.finish_settings)
+    sol = _solution(result.grid, result.data, "nsga2+refine", res.x, size,
+                    f"least shape change under the fit, started from front member {int(k)} (chosen by the user)")
+    findings = _checks(result.grid, result.data, sol, result.baselines["proportional"])
+    return dataclasses.replace(result, pattern=sol.pattern, chosen=sol, chosen_index=int(k), findings=findings)
+
+
+def front_members(result: FitResult, n: int = 6) -> list[tuple[int, Pattern]]:
+    """The front rows within tolerance worth showing, with their patterns: ``[(row, pattern), ...]``.
+
+    At most ``n`` rows within tolerance, spread over the fit-against-shape
+    trade (evenly over the rows sorted by measurement error, the chosen row
+    always among them), each with its graded pattern, for the thumbnails of
+    ``pareto.png``.
+    """
+    rows = np.flatnonzero(result.front_within)
+    if not len(rows):
+        return []
+    rows = rows[np.argsort(result.front_F[rows, 0], kind="stable")]
+    # one row per distinct grading: starts that converged to the same solution count once
+    key = np.round(result.front_F[rows][:, [0, 2]] / [0.005, 5e-5]).astype(np.int64)
+    _, first = np.unique(key, axis=0, return_index=True)
+    rows = rows[np.sort(first)]
+    if len(rows) > n:
+        pick = np.unique(np.round(np.linspace(0, len(rows) - 1, n)).astype(int))
+        rows = rows[pick]
+        if result.chosen_index not in rows and result.front_within[result.chosen_index]:
+            rows[np.argmin(np.abs(result.front_F[rows, 0] - result.front_F[result.chosen_index, 0]))] = \
+                result.chosen_index
+    size = result.pattern.pieces[0].size if result.pattern.pieces else "fit"
+    return [(int(r), deform_pattern(result.grid, result.front_X[r], size=size)) for r in sorted(set(rows.tolist()))]
+
+
+def _single_thread():
+    from .blas import single_blas_thread
+
+    return single_blas_thread()
+
+
 def _meets(sol: Solution, *, mean_cm: float, max_cm: float, seam_cm: float) -> bool:
     sc = sol.scores
     return (_valid(sol) and sc.measurement_error <= mean_cm and sc.max_measurement_error <= max_cm
@@ -585,7 +690,7 @@ def _meets(sol: Solution, *, mean_cm: float, max_cm: float, seam_cm: float) -> b
 def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max_cell_frac, deformation,
                  tol_measure_cm, tol_seam, size, do_repair, measure_band_cm, keep_straight, keep_grain,
                  keep_symmetry, refine_iter,
-                 w_fit, w_design, w_share, design_levels, w_all, all_levels, n_refine, source, progress):
+                 w_fit, w_design, w_share, design_levels, w_all, all_levels, n_refine, n_trade, source, progress):
     from pymoo.algorithms.moo.nsga2 import NSGA2
     from pymoo.optimize import minimize
 
@@ -647,12 +752,15 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
     start_stage = [stages[0]]
     exhausted = [False]  # every stage ran once without passing: later starts run only the closest
 
+    def settings_at(stage: tuple[float, float]) -> dict:
+        w_all_level, level = stage
+        return {"measure_tol_cm": measure_band_cm, "straight": straight, "max_iter": refine_iter,
+                "x_design": x_axis, "w_design": w_design * level, "w_share": w_share, "w_fit": w_fit,
+                "w_all": w_all * w_all_level, "symmetric": symmetric}
+
     def finish_at(start_name: str, x_start: np.ndarray, stage: tuple[float, float]) -> Solution:
         w_all_level, level = stage
-        res = refine(grid, data, x_start, measure_tol_cm=measure_band_cm, straight=straight,
-                     max_iter=refine_iter, x_design=x_axis, w_design=w_design * level,
-                     w_share=w_share, w_fit=w_fit, w_all=w_all * w_all_level, symmetric=symmetric,
-                     progress=progress)
+        res = refine(grid, data, x_start, **settings_at(stage), progress=progress)
         if res.max_violation_cm > 1e-3:
             log.info("%s: final step from the %s (design weight x%.3g) left a violation of %.3g cm",
                      source, start_name, level, res.max_violation_cm)
@@ -751,6 +859,9 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
             sol = finish("NSGA-II choice" if i == ga_idx else f"NSGA-II front member {i}", ga_X[i])
             if sol is not None:
                 refined.append(sol)
+    if do_repair and n_trade:
+        refined += _trade_offs(grid, data, refined, settings_at(start_stage[0]), n_trade, size, accept,
+                               progress)
     # the final Pareto front: NSGA-II's front and the refined solutions, the
     # dominated ones removed; the choice is the issue's rule on it
     front_X = np.concatenate([ga_X] + [s.x[None, :] for s in refined])
@@ -780,6 +891,7 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
         pattern=chosen.pattern, original=pattern, chosen=chosen, ga_choice=ga_choice,
         front_F=front_F, front_X=front_X, chosen_index=idx, front_refined=is_refined,
         front_within=within, baselines=baselines, findings=findings,
+        finish_settings=settings_at(start_stage[0]),
         measurements=measurements, grid=grid, data=data, seconds=seconds, seed=int(seed),
         pop_size=pop_size, n_gen=n_gen, history=np.array(callback.history, dtype=np.float64).reshape(-1, 4),
     )
