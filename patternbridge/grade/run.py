@@ -540,10 +540,10 @@ def fit_pattern(
         ``design_levels`` factor brings the shape error below proportional
         scaling's (the slim bodies' trousers)
     n_refine : NSGA-II front members the final step starts from
-    n_trade : tighter-fit versions of the best refined solution added to the
-        front (:func:`_trade_offs`): gradings within tolerance that buy a
-        more exact fit with more change of shape, for the designer to choose
-        from (``fit --choose K``)
+    n_trade : versions of the best refined solution added to the front along
+        the fit-against-shape trade (:func:`_trade_offs`): gradings within
+        tolerance for the designer to choose from (``fit --choose K``); the
+        default choice stays among the rows within ``measure_band_cm``
     source : pattern name for error messages
     progress : ``progress(stage, done, total)`` callback
 
@@ -587,20 +587,29 @@ def _checks(grid: PatternGrid, data: ObjectiveData, sol: Solution, reference: So
                          symmetry_cm={s.piece: float(e) for s, e in zip(sym, err, strict=True)})
 
 
-TRADE_LEVELS = ((0.05, 0.2), (0.02, 1.0), (0.01, 5.0))
-"""(measurement band cm, fit cost) of the successive tighter-fit front members."""
+TRADE_LEVELS = ((0.45, 0.0), (0.05, 0.2), (0.3, 0.005), (0.02, 1.0))
+"""(measurement band cm, fit cost) of the front members that trade fit against shape: a looser
+fit with less change of shape, a tighter one with more, and so on."""
+
+
+def _max_link_error(grid: PatternGrid, data: ObjectiveData, X: np.ndarray) -> np.ndarray:
+    """(n,) largest ``|achieved - target|`` over the links of every individual, cm."""
+    achieved = _achieved(data, grid, np.atleast_2d(X))[0]
+    return np.abs(link_error(data, achieved)).max(axis=1, initial=0.0)
 
 
 def _trade_offs(grid: PatternGrid, data: ObjectiveData, refined: list[Solution], settings: dict, n: int,
                 size: str, accept: dict, progress: Progress | None) -> list[Solution]:
-    """Tighter-fit versions of the least-shape refined solution: the fit-against-shape side of the front.
+    """Versions of the least-shape refined solution along the fit-against-shape trade.
 
     The final step is re-run from that solution (it starts fitted, so a few
-    iterations suffice) with a narrower measurement band and a larger cost on
-    the measurement errors inside it (:data:`TRADE_LEVELS`): each is a
-    grading within tolerance with less measurement error and more change of
-    shape than the one before. The choice rule still takes the least shape
-    error, so they change nothing unless the user picks one.
+    iterations suffice) with another measurement band and cost on the
+    measurement errors inside it (:data:`TRADE_LEVELS`, the first ``n``): a
+    wider band without cost gives a grading within tolerance that changes
+    the shape less and misses the measurements by more, a narrower one with
+    a larger cost the opposite. The default choice keeps to rows within the
+    final step's own band, so the looser ones change nothing unless the user
+    picks one (:func:`choose_member`).
     """
     from .refine import refine
 
@@ -609,14 +618,13 @@ def _trade_offs(grid: PatternGrid, data: ObjectiveData, refined: list[Solution],
         return []
     base = min(fitted, key=lambda s: s.scores.shape_error)
     out = []
-    x = base.x
     for band, w_fit in TRADE_LEVELS[:max(int(n), 0)]:
-        res = refine(grid, data, x, **{**settings, "measure_tol_cm": band, "w_fit": w_fit}, progress=progress)
+        res = refine(grid, data, base.x, **{**settings, "measure_tol_cm": band, "w_fit": w_fit},
+                     progress=progress)
         sol = _solution(grid, data, "nsga2+refine", res.x, size,
-                        f"{base.note}; tighter fit: band {band:g} cm, fit cost {w_fit:g}")
+                        f"{base.note}; fit traded against shape: band {band:g} cm, fit cost {w_fit:g}")
         if _meets(sol, **accept):
             out.append(sol)
-            x = res.x
     return out
 
 
@@ -871,7 +879,13 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
     front_X, front_F, is_refined = front_X[keep], front_F[keep], is_refined[keep]
     within = within_tolerance(grid, data, front_X, mean_cm=accept["mean_cm"], max_cm=accept["max_cm"],
                               seam_cm=accept["seam_cm"], grain_deg=0.5 if keep_grain else None)
-    idx = choose(front_F, tol_measure_cm=tol_measure_cm, tol_seam=tol_seam, within=within)
+    # the default choice keeps the honest fit: among the rows within
+    # tolerance, those whose every measurement is within the final step's
+    # band; the looser rows (less change of shape) stay on the front for the
+    # user to pick (choose_member)
+    honest = within & (_max_link_error(grid, data, front_X) <= measure_band_cm + 1e-3)
+    idx = choose(front_F, tol_measure_cm=tol_measure_cm, tol_seam=tol_seam,
+                 within=honest if honest.any() else within)
     by_x = {s.x.tobytes(): s for s in refined}
     chosen = by_x.get(front_X[idx].tobytes()) or _solution(
         grid, data, "nsga2", front_X[idx], size,
