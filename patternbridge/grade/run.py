@@ -783,12 +783,11 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
 
         The grid-interval design term runs at full weight first; when the
         result changes the design more than proportional scaling does (shape
-        error not below scaling's), the step runs again at the next
-        ``design_levels`` factor (a third, a ninth, none), **warm-started**
-        from the previous stage's result when that one met the fit (a
-        homotopy on the weight: the run starts fitted and only moves the
-        shape, so it needs a few iterations instead of a full solve). When
-        no level passes, the all-vertex angle term steps down to the next
+        error not below scaling's), the step runs again from the same start
+        at the next ``design_levels`` factor (a third, a ninth, none). Each
+        stage starts from ``x_start``, not from the last stage's result:
+        warm-started, the slim female's trousers settled at 0.0030 rad
+        against scaling's 0.0027 (cold: 0.0019). When no level passes, the all-vertex angle term steps down to the next
         ``all_levels`` factor and the grid-interval levels run again. The
         link-share term keeps its full weight throughout. When a level
         passes after one that did not (at the same all-vertex weight), the
@@ -805,17 +804,15 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
         best: Solution | None = None
         best_stage = first
         failed: tuple[float, float] | None = None
-        x_warm = x_start
         for stage in todo:
-            cand = finish_at(start_name, x_warm, stage)
+            cand = finish_at(start_name, x_start, stage)
             if not _meets(cand, **accept):
                 continue
-            x_warm = cand.x
             if cand.scores.shape_error < shape_ref:
                 if failed is not None and failed[0] == stage[0]:
                     level = stage[1]
                     mid = float(np.sqrt(failed[1] * level)) if level > 0 else failed[1] / 3.0
-                    between = finish_at(start_name, x_warm, (stage[0], mid))
+                    between = finish_at(start_name, x_start, (stage[0], mid))
                     if _meets(between, **accept) and between.scores.shape_error < shape_ref:
                         cand, stage = between, (stage[0], mid)
                 start_stage[0] = stage
