@@ -359,6 +359,14 @@ LINKS = [
         None,
         leg("skirt_front", "side_waist_right", "side_hip_right", "boundary"),
     ),
+    # the skirt's length keeps the design's proportion to the body's height
+    link(
+        "stature",
+        None,
+        leg("skirt_front", "side_waist_right", "side_hem_right", "boundary"),
+        link_id="skirt_length",
+        proportional=True,
+    ),
 ]
 
 DESCRIPTION = (

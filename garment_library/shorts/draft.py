@@ -65,6 +65,15 @@ LINKS = [
         leg("back", "cb_waist", "crotch_point", "boundary"),
     ),
     link("waist_to_hip", None, leg("front", "side_waist", "side_hip", "boundary")),
+    # the leg's length below the crotch keeps the design's proportion to the
+    # body's outside leg
+    link(
+        "outside_leg_right",
+        None,
+        leg("front", "side_waist", "side_hem", "boundary"),
+        link_id="side_length",
+        proportional=True,
+    ),
     link(
         "thigh_girth_right",
         None,

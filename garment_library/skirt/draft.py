@@ -222,6 +222,15 @@ LINKS = [
         None,
         leg("front", "side_waist_right", "side_hip_right", "boundary"),
     ),
+    # the length (waist to knee) no fitting measurement fixes: it keeps the
+    # design's proportion to the body's height
+    link(
+        "stature",
+        None,
+        leg("front", "side_waist_right", "side_hem_right", "boundary"),
+        link_id="skirt_length",
+        proportional=True,
+    ),
 ]
 
 DESCRIPTION = "Straight skirt: front cut on the fold, back pair with centre-back zip, two darts a side, waistband"

@@ -293,6 +293,22 @@ LINKS = [
         BICEP_EASE,
         leg("sleeve", "underarm_front", "underarm_back"),
     ),
+    # lengths no fitting measurement fixes keep the design's proportion to the
+    # body height they follow: the body's length to the hem, the short sleeve's
+    link(
+        "stature",
+        None,
+        leg("front", "side_underarm_right", "side_hem_right", "boundary"),
+        link_id="body_length",
+        proportional=True,
+    ),
+    link(
+        "arm_length_right",
+        None,
+        leg("sleeve", "hem_front", "underarm_front", "boundary"),
+        link_id="sleeve_length",
+        proportional=True,
+    ),
 ]
 
 DESCRIPTION = (

@@ -71,6 +71,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--no-drape", action="store_true", help="do not assemble/drape the garment"
     )
     parser.add_argument(
+        "--choose", type=int, metavar="K",
+        help="re-run the final step from row K of the Pareto front (numbered in pareto.png) and take it",
+    )
+    parser.add_argument(
         "-o", "--output", required=True, metavar="OUT/", help="output folder"
     )
 
@@ -197,6 +201,10 @@ def run(args: argparse.Namespace) -> int:
         progress=progress,
         **kwargs,
     )
+    if args.choose is not None:
+        from ..grade.run import choose_member
+
+        result = choose_member(result, args.choose, size=size)
     rep = fit_report(result, character=char_name, garment=garment)
 
     created = not out_dir.exists()
@@ -294,6 +302,7 @@ def _write_outputs(
     stage,
 ) -> list[str]:
     """Write every output into ``tmp``; return the names written (in order)."""
+    from ..grade.run import front_members
     from ..io.pattern_json import save_pattern_json
     from ..io.plot_fit import plot_fit_overlay, plot_pareto
     from ..measure.model import write_measurements
@@ -378,6 +387,7 @@ def _write_outputs(
         refined=result.front_refined,
         within=result.front_within,
         baselines={n: s.scores.F for n, s in result.baselines.items()},
+        members=[(k, p.pieces) for k, p in front_members(result)],
         title=f"{garment} on {size}: final Pareto front",
     )
     names.append("pareto.png")

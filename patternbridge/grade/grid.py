@@ -531,16 +531,14 @@ class PatternGrid:
         X = np.atleast_2d(np.asarray(X, dtype=np.float64))
         parts = []
         for k, g in enumerate(self.pieces):
-            c = X[:, self.var_offsets[k]:self.var_offsets[k + 1]].reshape(len(X), g.n_control, 2)
-            parts.append(np.einsum("pm,imd->ipd", g.outline_weights, c))
+            parts.append(_apply_weights(g.outline_weights, X[:, self.var_offsets[k]:self.var_offsets[k + 1]]))
         return np.concatenate(parts, axis=1)
 
     def piece_outline(self, X: np.ndarray, k: int) -> np.ndarray:
         """Outline of piece ``k`` for every individual, ``(n_pop, n_k, 2)``."""
         X = np.atleast_2d(np.asarray(X, dtype=np.float64))
         g = self.pieces[k]
-        c = X[:, self.var_offsets[k]:self.var_offsets[k + 1]].reshape(len(X), g.n_control, 2)
-        return np.einsum("pm,imd->ipd", g.outline_weights, c)
+        return _apply_weights(g.outline_weights, X[:, self.var_offsets[k]:self.var_offsets[k + 1]])
 
     def fold_margin(self, X: np.ndarray) -> np.ndarray:
         """Smallest corner cross product of every cell relative to the original.
@@ -673,6 +671,16 @@ class PatternGrid:
             sol, *_ = np.linalg.lstsq(a, b, rcond=None)
             x[self.var_offsets[k]:self.var_offsets[k + 1]] = sol.ravel()
         return x
+
+
+def _apply_weights(weights: np.ndarray, genes: np.ndarray) -> np.ndarray:
+    """Points ``(n_pop, p, 2)`` of ``weights (p, m)`` applied to the genes ``(n_pop, 2 m)`` of one piece.
+
+    One matrix product for the whole population (BLAS), not one per individual.
+    """
+    n_pop, m = len(genes), weights.shape[1]
+    c = genes.reshape(n_pop, m, 2).transpose(1, 0, 2).reshape(m, 2 * n_pop)
+    return (weights @ c).reshape(-1, n_pop, 2).transpose(1, 0, 2)
 
 
 def _corner_cross(a: np.ndarray) -> np.ndarray:

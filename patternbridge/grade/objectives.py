@@ -8,7 +8,8 @@ an :class:`ObjectiveData` compiled once per pattern and character by
 Objectives (all minimised)
 --------------------------
 1. **Measurement error**, cm: mean over the pattern's measurement links of
-   ``|target - achieved|`` with ``target = body measurement + ease`` and
+   ``|target - achieved|`` with ``target = body measurement + ease`` (for a
+   proportional link, the sample distance scaled by body / sample body) and
    ``achieved = Σ factor · length(leg)`` (thesis eq. 4.5; a link may run over
    several pieces sewn together); an ``at_least`` link counts only when it
    falls short (:func:`link_error`). A leg taken across the grain also
@@ -281,7 +282,8 @@ def objective_data(
     link_chords = np.zeros((len(chords), L))
     for r, c in enumerate(chords):
         link_chords[r, c[2]] += c[3]
-    target = np.array([float(measurements[lk.measurement]) + lk.ease_cm for lk in pattern.measurements])
+    target = _link_targets(pattern, measurements, points0, nxt, link_edges, chord_a, chord_b, chord_across,
+                           link_chords, source)
 
     # --- seams
     S = len(pattern.seams)
@@ -422,6 +424,35 @@ def objective_data(
     object.__setattr__(data, "turn0", ta - tb)
     object.__setattr__(data, "notch_offset0", (pos_b - pos_a)[0])
     return data
+
+
+def _link_targets(pattern, measurements, points0, nxt, link_edges, chord_a, chord_b, chord_across, link_chords,
+                  source) -> np.ndarray:
+    """(L,) target of every link, cm: body + ease, or for a proportional link ``L₀ · body / (L₀ − ease)``.
+
+    ``L₀`` is the link's distance in the sample size and ``L₀ − ease`` the
+    sample body's measurement (the library writes the ease the sample
+    realises), so a proportional link keeps the design's ratio of the
+    distance to the body measurement it follows.
+    """
+    links = pattern.measurements
+    body = np.array([float(measurements[lk.measurement]) for lk in links])
+    ease = np.array([lk.ease_cm for lk in links], dtype=np.float64)
+    target = body + ease
+    prop = np.array([lk.proportional for lk in links], dtype=bool)
+    if not prop.any():
+        return target
+    v = points0[chord_b] - points0[chord_a]
+    across = np.any(chord_across != 0.0, axis=1)
+    chord0 = np.where(across, np.abs(np.sum(v * chord_across, axis=1)), np.linalg.norm(v, axis=1))
+    length0 = np.linalg.norm(points0[nxt] - points0, axis=1) @ link_edges + chord0 @ link_chords
+    sample_body = length0 - ease
+    bad = prop & (sample_body <= 0.0)
+    if bad.any():
+        names = [lk.id for lk, b in zip(links, bad, strict=True) if b]
+        raise InputError(f"{source}: proportional links {names} have an ease not below their sample distance "
+                         f"(sample body measurement <= 0); fix their ease_cm in the bridge data")
+    return np.where(prop, length0 * body / np.where(prop, sample_body, 1.0), target)
 
 
 def _edge_lengths(data: ObjectiveData, points: np.ndarray) -> np.ndarray:

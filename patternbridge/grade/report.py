@@ -85,7 +85,9 @@ def fit_report(result: FitResult, *, character: str = "", garment: str = "") -> 
     ``shape_error``, ``seconds`` (the whole grading), ``baseline``
     (proportional scaling along/across the grain, same figures),
     ``baselines`` (every baseline by name), ``nsga2`` (NSGA-II's own
-    choice, before the final step), ``pareto_front`` (the final front:
+    choice, before the final step), ``checks`` (findings of
+    :func:`~.checks.design_checks`: a collapsed piece, a flattened curve, a
+    lost symmetry) and ``design_kept`` (no finding), ``pareto_front`` (the final front:
     objectives per row, the chosen row, which rows the final step made and
     which are within tolerance) and
     run settings.
@@ -98,6 +100,8 @@ def fit_report(result: FitResult, *, character: str = "", garment: str = "") -> 
     out["baseline"] = _solution_dict(result, result.baselines["proportional"])
     out["baselines"] = {name: _solution_dict(result, sol) for name, sol in result.baselines.items()}
     out["nsga2"] = _solution_dict(result, result.ga_choice)
+    out["checks"] = [{"code": f.code, "where": f.where, "message": f.message} for f in result.findings]
+    out["design_kept"] = not result.findings
     out["pareto_front"] = {
         "objectives": ["measurement_cm", "seam", "shape_rad"],
         "F": np.round(result.front_F, 5).tolist(),

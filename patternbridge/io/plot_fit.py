@@ -25,9 +25,10 @@ def plot_pareto(
     refined: np.ndarray | None = None,
     within: np.ndarray | None = None,
     baselines: Mapping[str, np.ndarray] | None = None,
+    members: Sequence[tuple[int, Sequence[Piece]]] | None = None,
     title: str | None = None,
 ) -> Path:
-    """Three pairwise projections of the final front, the choice and the baselines.
+    """Three pairwise projections of the final front, the choice and the baselines, and member thumbnails.
 
     Parameters
     ----------
@@ -39,6 +40,10 @@ def plot_pareto(
     within : (n,) bool, the rows within the fit tolerance (filled; the others
         are drawn hollow)
     baselines : name -> (3,) objectives of each baseline
+    members : ``(row, pieces)`` of the front members to show as small
+        pattern thumbnails under the plots (e.g. the gradings within
+        tolerance, :func:`patternbridge.grade.run.front_members`); their rows
+        are numbered on the plots, the number ``fit --choose K`` takes
     """
     import matplotlib
 
@@ -56,7 +61,17 @@ def plot_pareto(
         (refined & ~within, "^", "refined", False),
     ]
     pairs = ((0, 1), (0, 2), (1, 2))
-    fig, axes = plt.subplots(1, 3, figsize=(13.5, 5.0))
+    members = list(members or [])
+    if members:
+        fig = plt.figure(figsize=(13.5, 8.4))
+        rows = fig.add_gridspec(3, 1, height_ratios=(5.0, 0.9, 2.4))
+        top = rows[0].subgridspec(1, 3, wspace=0.3)
+        bottom = rows[2].subgridspec(1, len(members), wspace=0.15)
+        axes = [fig.add_subplot(top[0, c]) for c in range(3)]
+        thumbs = [fig.add_subplot(bottom[0, c]) for c in range(len(members))]
+    else:
+        fig, axes = plt.subplots(1, 3, figsize=(13.5, 5.0))
+        thumbs = []
     markers = ["s", "D", "v", "P", "X"]
     for ax, (i, j) in zip(axes, pairs, strict=True):
         for mask, marker, label, filled in groups:
@@ -74,21 +89,50 @@ def plot_pareto(
         for k, (name, f) in enumerate((baselines or {}).items()):
             ax.scatter([f[i]], [f[j]], s=50, marker=markers[k % len(markers)], c="#555555",
                        alpha=0.8, label=name)
+        for row, _pieces in members:
+            ax.annotate(str(row), (F[row, i], F[row, j]), fontsize=7, color="#1d3557",
+                        xytext=(3, 3), textcoords="offset points")
         ax.set_xlabel(_NAMES[i])
         ax.set_ylabel(_NAMES[j])
         ax.set_xscale("symlog", linthresh=1e-2)
         ax.set_yscale("symlog", linthresh=1e-2)
         ax.grid(True, alpha=0.3)
+    for ax, (row, pieces) in zip(thumbs, members, strict=True):
+        _thumbnail(ax, pieces)
+        ax.set_title(f"{row}: {F[row, 0]:.3f} cm, {F[row, 2]:.4f} rad", fontsize=8)
     handles, names = axes[0].get_legend_handles_labels()
-    fig.legend(handles, names, loc="lower center", ncol=4, fontsize=8, frameon=False)
-    if title:
-        fig.suptitle(title)
-    fig.tight_layout(rect=(0, 0.13, 1, 1))
+    if members:
+        fig.legend(handles, names, loc="center", ncol=4, fontsize=8, frameon=False,
+                   bbox_to_anchor=(0.5, 0.335))
+        fig.text(0.5, 0.285, "gradings within tolerance (front row: measurement error, shape error); "
+                 "fit --choose K takes row K", ha="center", fontsize=9)
+        if title:
+            fig.suptitle(title)
+        fig.subplots_adjust(left=0.06, right=0.98, top=0.93, bottom=0.02)
+    else:
+        fig.legend(handles, names, loc="lower center", ncol=4, fontsize=8, frameon=False)
+        if title:
+            fig.suptitle(title)
+        fig.tight_layout(rect=(0, 0.13, 1, 1))
     path = Path(path)
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110, format=path.suffix.lstrip(".") or "png")
     plt.close(fig)
     return path
+
+
+def _thumbnail(ax, pieces: Sequence[Piece]) -> None:
+    """Every piece's outline side by side, left to right, on one small axes."""
+    x0 = 0.0
+    for piece in pieces:
+        pts = np.asarray(piece.outline, dtype=np.float64)
+        lo, hi = pts.min(axis=0), pts.max(axis=0)
+        shifted = pts - [lo[0] - x0, lo[1]]
+        closed = np.vstack([shifted, shifted[:1]])
+        ax.plot(closed[:, 0], closed[:, 1], lw=0.6, color="#264653")
+        x0 += (hi[0] - lo[0]) * 1.08
+    ax.set_aspect("equal")
+    ax.axis("off")
 
 
 def plot_fit_overlay(

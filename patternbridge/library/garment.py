@@ -163,14 +163,16 @@ def leg(
 
 
 def link(
-    measurement: str, ease_cm: float | None, *legs: Leg, link_id: str = "", at_least: bool = False
+    measurement: str, ease_cm: float | None, *legs: Leg, link_id: str = "", at_least: bool = False,
+    proportional: bool = False,
 ) -> tuple:
     """A measurement link; ``ease_cm=None`` takes the ease the sample size realises.
 
-    ``at_least``: the graded distance may exceed body + ease (see
+    ``at_least``: the graded distance may exceed body + ease; ``proportional``:
+    it follows the body measurement in proportion (see
     :class:`~patternbridge.pattern.model.MeasurementLink`).
     """
-    return (measurement, ease_cm, tuple(legs), link_id, at_least)
+    return (measurement, ease_cm, tuple(legs), link_id, at_least, proportional)
 
 
 def _inward_angle(cut: np.ndarray, i: int) -> float:
@@ -329,8 +331,8 @@ def build_pattern(
     body = chart.body(chart.sample_size)
     measurements = []
     provisional = tuple(
-        MeasurementLink(measurement=m, legs=legs_, ease_cm=0.0, id=lid or m, at_least=least)
-        for m, _e, legs_, lid, least in links
+        MeasurementLink(measurement=m, legs=legs_, ease_cm=0.0, id=lid or m, at_least=least, proportional=prop)
+        for m, _e, legs_, lid, least, prop in links
     )
     achieved = link_lengths(replace(pattern, measurements=provisional))
     for (m, ease, *_rest), ml in zip(links, provisional, strict=True):

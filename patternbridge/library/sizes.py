@@ -82,6 +82,7 @@ MEN = SizeChart(
     "standard body measurements",
     dims={
         "height": _steps(176.0, 0.0),
+        "stature": _steps(176.0, 0.0),
         "chest_girth": _steps(96.0, 4.0),
         "waist_girth": _steps(84.0, 4.0),
         "hip_girth": _steps(100.0, 4.0),
@@ -117,6 +118,7 @@ WOMEN = SizeChart(
     "standard body measurements",
     dims={
         "height": _steps(168.0, 0.0),
+        "stature": _steps(168.0, 0.0),
         "bust_girth": _steps(88.0, 4.0),
         "chest_girth": _steps(88.0, 4.0),
         "waist_girth": _steps(70.0, 4.0),

@@ -236,7 +236,8 @@ def seam_from_dict(d: dict[str, Any]) -> Seam:
 def measurement_link_to_dict(link: MeasurementLink) -> dict[str, Any]:
     """JSON form of a measurement link (also used by the bridge-data sidecar).
 
-    ``at_least`` is written only when set, so two-sided links keep their form.
+    ``at_least`` and ``proportional`` are written only when set, so plain
+    links keep their form.
     """
     d: dict[str, Any] = {
         "id": link.id,
@@ -245,6 +246,8 @@ def measurement_link_to_dict(link: MeasurementLink) -> dict[str, Any]:
     }
     if link.at_least:
         d["at_least"] = True
+    if link.proportional:
+        d["proportional"] = True
     d["legs"] = [
         {"piece": g.piece, "start": g.start, "end": g.end, "along": g.along, "factor": g.factor}
         for g in link.legs
@@ -257,11 +260,15 @@ def measurement_link_from_dict(d: dict[str, Any]) -> MeasurementLink:
     at_least = d.get("at_least", False)
     if not isinstance(at_least, bool):  # "yes" would read as true
         raise ValueError(f"measurement link at_least must be true or false, got {at_least!r}")
+    proportional = d.get("proportional", False)
+    if not isinstance(proportional, bool):
+        raise ValueError(f"measurement link proportional must be true or false, got {proportional!r}")
     return MeasurementLink(
         id=d.get("id", ""),
         measurement=d["measurement"],
         ease_cm=d.get("ease_cm", 0.0),
         at_least=at_least,
+        proportional=proportional,
         legs=tuple(Leg(**g) for g in d["legs"]),
     )
 

@@ -636,6 +636,12 @@ class MeasurementLink:
     legs : the pattern distance is ``sum(leg.factor * length(leg))``, possibly
         across pieces sewn together
     ease_cm : target = body measurement + ease_cm (negative for stretch fabric)
+    proportional : the distance follows the body measurement in proportion
+        instead of by a fixed ease: target = L₀ · body / (L₀ − ease_cm), where
+        L₀ is the distance in the sample size and ``L₀ − ease_cm`` the sample
+        body's measurement. For lengths no fitting measurement fixes (a
+        skirt's length, a short sleeve): they keep the design's proportion
+        to the body height they follow
     at_least : the distance must reach the target and may exceed it (a shirt's
         hem must pass over the hips; wider is a style, not an error)
     """
@@ -645,9 +651,11 @@ class MeasurementLink:
     ease_cm: float = 0.0
     id: str = ""
     at_least: bool = False
+    proportional: bool = False
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "legs", tuple(self.legs))
+        object.__setattr__(self, "proportional", bool(self.proportional))
         object.__setattr__(self, "ease_cm", float(self.ease_cm))
         object.__setattr__(self, "at_least", bool(self.at_least))
         if not self.id:

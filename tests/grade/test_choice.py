@@ -63,9 +63,14 @@ def test_choice_rule_on_the_final_front(skirt_result):
     np.testing.assert_array_equal(non_dominated(r.front_F), True)  # it is a front
     within = within_tolerance(r.grid, r.data, r.front_X)
     np.testing.assert_array_equal(within, r.front_within)
-    # the chosen row is within tolerance and has the least shape error of those that are
-    assert within[r.chosen_index]
-    assert r.front_F[r.chosen_index, 2] == r.front_F[within, 2].min()
+    # the chosen row is within tolerance and has the least shape error of those that keep every
+    # measurement within the final step's band (0.15 cm); looser rows stay on the front as choices
+    from patternbridge.grade.objectives import link_error, measurement_error
+
+    err = np.abs(link_error(r.data, measurement_error(r.data, r.grid.outlines(r.front_X))[0])).max(axis=1)
+    honest = within & (err <= 0.151)
+    assert honest[r.chosen_index]
+    assert r.front_F[r.chosen_index, 2] == r.front_F[honest, 2].min()
     np.testing.assert_allclose(r.front_F[r.chosen_index], r.chosen.scores.F, atol=1e-12)
     np.testing.assert_array_equal(r.front_X[r.chosen_index], r.chosen.x)
     # the proportional baseline misses the fit, so it is not within tolerance

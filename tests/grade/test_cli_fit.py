@@ -163,3 +163,17 @@ def test_the_drape_warnings_name_the_seams_welded_and_the_pieces_through_the_ski
         "[fit] the garment passes through itself in 37 triangle(s), most on sleeve 30, back 4, cuff 2 "
         "(folds pushed through the cloth beside them); look there before simulating it further"
     ]
+
+
+def test_fit_choose_takes_the_front_row_asked_for(inputs, tmp_path, capsys):
+    pattern_path, body_path = inputs
+    out = tmp_path / "out"
+    args = ["fit", str(body_path), "--garment", str(pattern_path), "--seed", "1", "--pop-size", "16",
+            "--generations", "6", "--no-drape"]
+    assert main([*args, "--choose", "0", "-o", str(out)]) == 0
+    rep = json.loads((out / "fit_report.json").read_text())
+    assert rep["pareto_front"]["chosen_index"] == 0
+    assert rep["note"].endswith("started from front member 0 (chosen by the user)")
+    # a row the front does not have is bad input: exit 2, one line naming the rows there are
+    assert main([*args, "--choose", "9999", "-o", str(tmp_path / "bad")]) == 2
+    assert "the Pareto front has rows 0 to" in capsys.readouterr().err

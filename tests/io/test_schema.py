@@ -48,6 +48,9 @@ def test_example_with_bridge_data_is_valid(validator):
     assert _errors(validator, doc) == []
     doc["measurements"][0]["at_least"] = "yes"
     assert any("is not of type 'boolean'" in e for e in _errors(validator, doc))
+    doc["measurements"][0]["at_least"] = True
+    doc["measurements"][0]["proportional"] = "yes"
+    assert any("is not of type 'boolean'" in e for e in _errors(validator, doc))
 
 
 def test_schema_names_every_field_the_writer_emits(validator):
@@ -68,7 +71,7 @@ def test_schema_names_every_field_the_writer_emits(validator):
         "source_angle_deg"
     }
     assert set(doc["seams"][0]) == set(schema["$defs"]["seam"]["properties"])
-    one_sided = dataclasses.replace(example_pattern().measurements[0], at_least=True)
+    one_sided = dataclasses.replace(example_pattern().measurements[0], at_least=True, proportional=True)
     assert set(doc["measurements"][0]) | set(measurement_link_to_dict(one_sided)) == set(
         schema["$defs"]["measurement"]["properties"]
     )

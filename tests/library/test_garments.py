@@ -44,6 +44,7 @@ MEASUREMENT_IDS = {
     "waist_to_hip",
     "side_length",
     "back_width",
+    "stature",
 }
 
 
@@ -125,6 +126,9 @@ def test_links_realise_body_plus_ease_in_the_sample_size(garment):
     k = list(garment.sizes).index(garment.sample_size)
     for m in garment.measurements:
         target = body[m.measurement] + m.ease_cm
+        if m.proportional:  # the sample distance scaled by body / sample body
+            sample = body[m.measurement][chart.sizes.index(chart.sample_size)]
+            target = achieved[m.id][k] * body[m.measurement] / sample
         assert achieved[m.id][k] == pytest.approx(
             target[chart.sizes.index(chart.sample_size)], abs=0.06
         ), m.id

@@ -121,3 +121,8 @@ def test_json_file_round_trip_and_bad_files(tmp_path):
     yes.write_text(json.dumps(doc))
     with pytest.raises(InputError, match="at_least must be true or false, got 'yes'"):
         load_pattern_json(yes)
+    doc["measurements"][1]["at_least"] = True
+    doc["measurements"][1]["proportional"] = "yes"
+    yes.write_text(json.dumps(doc))
+    with pytest.raises(InputError, match="proportional must be true or false, got 'yes'"):
+        load_pattern_json(yes)

@@ -1,0 +1,96 @@
+"""The design checks fail on the degraded patterns they name: a collapsed yoke, a flat neckline, a lost symmetry."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from grade_fixtures import BODY, skirt_pattern
+
+from patternbridge.grade.checks import design_checks, piece_extents, span_sagitta
+from patternbridge.grade.grid import build_grid
+from patternbridge.grade.objectives import objective_data
+from patternbridge.grade.report import fit_report
+from patternbridge.grade.run import axis_scaling, fit_pattern
+from patternbridge.grade.symmetry import mirror_symmetries, symmetry_error
+
+SHIRT_BODY = {
+    "chest_girth": 101.3, "waist_girth": 81.1, "neck_girth": 39.0, "shoulder_width": 46.0,
+    "back_width": 41.0, "shoulder_length_right": 15.0, "front_length": 38.0,
+    "arm_length_right": 62.9, "upper_arm_girth_right": 31.0, "wrist_girth_right": 17.5,
+    "hip_girth": 98.2, "waist_to_hip": 18.2, "side_length": 22.0,
+}
+
+
+@pytest.fixture(scope="module")
+def shirt():
+    from patternbridge.library import load_garment
+
+    grid = build_grid(load_garment("shirt"), max_lines=6, max_cell_frac=0.2)
+    data = objective_data(grid, SHIRT_BODY)
+    x = axis_scaling(grid, data)
+    names = tuple(g.name for g in grid.pieces)
+    return grid, data, x, names
+
+
+def _codes(findings, where):
+    return {f.code for f in findings if f.where == where}
+
+
+def test_proportional_scaling_passes_every_check(shirt):
+    grid, data, x, names = shirt
+    pts = grid.outlines(x[None])[0]
+    assert design_checks(data, pts, pts, piece_names=names) == ()
+
+
+def test_a_collapsed_yoke_is_caught(shirt):
+    grid, data, x, names = shirt
+    k = names.index("yoke")
+    squashed = x.copy()
+    sl = slice(grid.var_offsets[k], grid.var_offsets[k + 1])
+    c = squashed[sl].reshape(-1, 2)
+    c[:, 1] = c[:, 1].mean() + 0.48 * (c[:, 1] - c[:, 1].mean())  # 10 cm high -> 4.8 cm
+    squashed[sl] = c.ravel()
+    ref = grid.outlines(x[None])[0]
+    pts = grid.outlines(squashed[None])[0]
+    assert piece_extents(data, pts[None])[0, k, 1] == pytest.approx(0.48 * piece_extents(data, ref[None])[0, k, 1])
+    found = design_checks(data, pts, ref, piece_names=names)
+    assert _codes(found, "yoke") == {"piece-collapsed"}
+    assert all(f.where == "yoke" for f in found)
+
+
+def test_a_flat_neckline_is_caught(shirt):
+    grid, data, x, names = shirt
+    ref = grid.outlines(x[None])[0]
+    depth = span_sagitta(data, data.points0[None])[0]
+    k = names.index("yoke")
+    span = int(np.argmax(np.where(data.span_piece == k, depth, -1.0)))  # the yoke's deepest curve: the neckline
+    pts = ref.copy()
+    a, b = ref[data.span_a[span]], ref[data.span_b[span]]
+    on = np.flatnonzero(data.span_edges[:, span])
+    t = ((pts[on] - a) @ (b - a)) / ((b - a) @ (b - a))
+    pts[on] = a + t[:, None] * (b - a)  # every neckline vertex pulled onto the chord
+    assert span_sagitta(data, pts[None])[0, span] < 1e-9
+    found = design_checks(data, pts, ref, piece_names=names)
+    assert "curve-flattened" in _codes(found, "yoke")
+
+
+def test_a_lost_symmetry_is_caught(shirt):
+    grid, data, x, names = shirt
+    sym = mirror_symmetries(grid)
+    assert "yoke" in {s.piece for s in sym}
+    k = names.index("yoke")
+    g = grid.pieces[k]
+    lopsided = x.copy()
+    right = np.flatnonzero(g.control[:, 0] > np.median(g.control[:, 0]))
+    lopsided[grid.var_offsets[k] + 2 * right + 1] += 0.5  # the right half raised 5 mm
+    err = dict(zip([s.piece for s in sym], symmetry_error(grid, sym, lopsided[None])[0], strict=True))
+    assert err["yoke"] > 0.2
+    pts = grid.outlines(lopsided[None])[0]
+    found = design_checks(data, pts, grid.outlines(x[None])[0], piece_names=names, symmetry_cm=err)
+    assert "symmetry-lost" in _codes(found, "yoke")
+
+
+def test_the_fit_report_carries_the_checks():
+    result = fit_pattern(skirt_pattern(), BODY, seed=0, pop_size=16, n_gen=5, n_refine=1)
+    report = fit_report(result)
+    assert report["checks"] == [] and report["design_kept"] is True
