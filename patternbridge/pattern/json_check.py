@@ -19,7 +19,7 @@ __all__ = ["MAX_ABS", "MAX_TEXT", "check_pattern_dict"]
 
 MAX_ABS = 1e6
 """Largest magnitude of any number in a pattern (cm: 10 km; radians; counts)."""
-MAX_TEXT = 10_000
+MAX_TEXT = 65_536
 """Longest string in a pattern (names, labels, texts), in characters."""
 
 
