@@ -34,7 +34,7 @@ from pathlib import Path
 import numpy as np
 from fuzz_mutate import mutate
 
-__all__ = ["Case", "Outcome", "Result", "build_cases", "run_case"]
+__all__ = ["Case", "Outcome", "Result", "assert_clean_error", "build_cases", "run_case"]
 
 REPO = Path(__file__).resolve().parents[2]
 SHARED = (REPO.parent / "shared").resolve()
@@ -466,3 +466,19 @@ def measurements_file(work: Path) -> Path:
         character, _ = load_character(SHARED / "characters" / "E_average_male.obj")
         write_measurements(path, measure(character, partial=True))
     return path
+
+
+def assert_clean_error(result, *needles: str, outputs: tuple[Path, ...] = ()) -> str:
+    """Exit 2, one ``patternbridge: error:`` line containing ``needles``, nothing written."""
+    code, _out, err = result
+    assert code == 2, err[-2000:]
+    assert "Traceback" not in err
+    lines = [line for line in err.splitlines() if line.startswith("patternbridge: error:")]
+    assert len(lines) == 1, err[-2000:]
+    assert len(lines[0]) < 1000, "the error line carries the whole bad value"
+    for needle in needles:
+        assert needle.lower() in lines[0].lower(), lines[0]
+    for out in outputs:
+        assert not out.exists(), f"{out} written after an error"
+        assert not list(out.parent.glob(f".{out.stem}.*")), "temporary file left behind"
+    return lines[0]
