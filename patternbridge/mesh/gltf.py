@@ -141,7 +141,7 @@ def _accessor(doc: dict, buffers: list[bytes], index: Any, path: Path, who: str 
     if "sparse" in acc:
         raise MeshError(f"{path}: sparse {where} is not supported; export without sparse data")
     ctype, kind = acc.get("componentType"), acc.get("type")
-    if ctype not in _DTYPES or kind not in _WIDTH:
+    if not isinstance(ctype, int) or not isinstance(kind, str) or ctype not in _DTYPES or kind not in _WIDTH:
         raise _fail(path, f"{where} has componentType {str(ctype)[:20]} / type {str(kind)[:20]}, not glTF 2.0")
     dtype = np.dtype(_DTYPES[ctype])
     width = _WIDTH[kind]
