@@ -410,6 +410,9 @@ def run_case(case: Case, work: Path, measurements: Path, timeout_s: float = 60.0
             err = os.open(ws / "stderr", os.O_WRONLY | os.O_CREAT | os.O_TRUNC)
             os.dup2(out, 1)
             os.dup2(err, 2)
+            # under pytest sys.stdout/sys.stderr are capture objects, not fds 1 and 2
+            sys.stdout = open(1, "w", encoding="utf-8", closefd=False)
+            sys.stderr = open(2, "w", encoding="utf-8", closefd=False)
             signal.signal(signal.SIGINT, signal.SIG_DFL)
             code = _child(case, ws, measurements)
         finally:
