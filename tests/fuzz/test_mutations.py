@@ -1,6 +1,6 @@
 """A deterministic sample of the 1,132-case mutation run (``benchmarks/fuzz.py``) in every CI run.
 
-Every 37th case of the full list (31: all input kinds, every command),
+Every 37th case of the full list from the 11th (31: every input kind and command),
 each in a forked child with a 60 s timeout. A case passes when it ends in a
 clean one-line error or in an exit 0 whose files read back (see ``fuzz_run``).
 """
@@ -11,7 +11,7 @@ import pytest
 from fuzz_run import SHARED, Outcome, build_cases, preload, run_case
 
 STEP = 37
-CASES = build_cases()[::STEP] if SHARED.is_dir() else []
+CASES = build_cases()[10::STEP] if SHARED.is_dir() else []
 
 
 @pytest.fixture(scope="module")
