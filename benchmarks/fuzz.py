@@ -22,6 +22,7 @@ import os
 import platform
 import sys
 import tempfile
+import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
@@ -66,8 +67,18 @@ def main(argv: list[str] | None = None) -> int:
         work = Path(tmp)
         meas = measurements_file(work)
         t0 = time.perf_counter()
+        lock, done = threading.Lock(), [0]
+
+        def one(case):
+            result = run_case(case, work, meas, timeout_s=args.timeout)
+            with lock:
+                done[0] += 1
+                if done[0] % 50 == 0 or done[0] == len(cases):
+                    print(f"# {done[0]}/{len(cases)} cases, {time.perf_counter() - t0:.0f} s", file=sys.stderr)
+            return result
+
         with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
-            results = list(pool.map(lambda c: run_case(c, work, meas, timeout_s=args.timeout), cases))
+            results = list(pool.map(one, cases))
         total = time.perf_counter() - t0
     table: dict[str, collections.Counter] = collections.defaultdict(collections.Counter)
     for r in results:

@@ -495,9 +495,10 @@ def _resolve_sizes(pattern: Pattern, sizes) -> list[str]:
         sizes = [s.strip() for s in sizes.split(",") if s.strip()]
     wanted = [str(s) for s in sizes]
     unknown = [s for s in wanted if s not in size_list]
-    if unknown:
+    if unknown or not wanted:
         raise InputError(
-            f"{pattern.style}: sizes {unknown} are not in the size list {size_list}"
+            f"{_short(pattern.style)}: sizes {[_short(s, 20) for s in unknown[:5]]} are not in the size list "
+            f"{_short(', '.join(size_list), 200)}; give 'sample', 'all' or sizes of the list"
         )
     return [s for s in size_list if s in set(wanted)]
 

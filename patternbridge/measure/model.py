@@ -157,6 +157,14 @@ def _value_cm(entry: Any, mid: str) -> float:
     return float(value)
 
 
+def _points(value: Any, what: str) -> np.ndarray:
+    """(k, 3) float64 points read from a file, each coordinate within ±MAX_VALUE_CM."""
+    pts = np.asarray(value, dtype=np.float64).reshape(-1, 3)
+    if not np.all(np.abs(pts) <= MAX_VALUE_CM):  # also false for NaN
+        raise ValueError(f"{what}: coordinates beyond ±{MAX_VALUE_CM:g} cm or not finite")
+    return pts
+
+
 def measurements_from_dict(
     data: Mapping[str, Any], where: str = "measurements"
 ) -> Measurements:
@@ -188,16 +196,14 @@ def measurements_from_dict(
                 value_cm=_value_cm(m, mid),
                 kind=str(m.get("kind", "length")),
                 method=str(m.get("method", "")),
-                polyline=np.asarray(m.get("polyline", []), dtype=np.float64).reshape(
-                    -1, 3
-                ),
+                polyline=_points(m.get("polyline", []), f"{mid} polyline"),
                 landmarks=tuple(m.get("landmarks", ())),
                 details=m.get("details", {}),
             )
         marks = {
             name: Landmark(
                 name=name,
-                position=lm["position"],
+                position=_points(lm["position"], f"landmark {name}")[0],
                 vertex=lm.get("vertex"),
                 source=lm.get("source", "file"),
             )
