@@ -10,7 +10,8 @@ outcome, and one line per case that is not a clean error or a checked ok.
 
 Usage::
 
-    python benchmarks/fuzz.py [--cases 1132] [--seed 0] [--timeout 60] [--jobs 1] [--only CMD] [--json OUT]
+    python benchmarks/fuzz.py [--cases 1132] [--seed 0] [--timeout 60] [--fit-timeout 180] [--jobs 1]
+                              [--only CMD] [--json OUT]
 """
 
 from __future__ import annotations
@@ -52,6 +53,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--cases", type=int, default=1132)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--timeout", type=float, default=60.0, help="seconds per case before it counts as a hang")
+    parser.add_argument(
+        "--fit-timeout", type=float, default=180.0, help="the same for fit cases (measure + grade on a shared machine)"
+    )
     parser.add_argument("--jobs", type=int, default=1, help="cases run at the same time")
     parser.add_argument("--only", help="run only the cases of this command")
     parser.add_argument("--json", help="also write every result to this JSON file")
@@ -62,7 +66,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.only:
         cases = [c for c in cases if c.command == args.only]
     print(_header())
-    print(f"# {len(cases)} cases, seed {args.seed}, timeout {args.timeout:g} s")
+    print(f"# {len(cases)} cases, seed {args.seed}, timeout {args.timeout:g} s ({args.fit_timeout:g} s for fit)")
     with tempfile.TemporaryDirectory(prefix="pb-fuzz-") as tmp:
         work = Path(tmp)
         meas = measurements_file(work)
@@ -70,7 +74,8 @@ def main(argv: list[str] | None = None) -> int:
         lock, done = threading.Lock(), [0]
 
         def one(case):
-            result = run_case(case, work, meas, timeout_s=args.timeout)
+            limit = args.fit_timeout if case.command == "fit" else args.timeout
+            result = run_case(case, work, meas, timeout_s=limit)
             with lock:
                 done[0] += 1
                 if done[0] % 50 == 0 or done[0] == len(cases):
