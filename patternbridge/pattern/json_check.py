@@ -162,7 +162,8 @@ def _kind(value: Any) -> str:
 
 
 def _fail(where: str, want: str, value: Any) -> None:
-    raise ValueError(f"{where or 'top level'}: expected {want}, got {_kind(value)}")
+    shown = "" if isinstance(value, (list, dict)) or value is None else f" {str(value)[:40]!r}"
+    raise ValueError(f"{where or 'top level'}: expected {want}, got {_kind(value)}{shown}")
 
 
 def _scalar(value: Any, spec: str, where: str) -> None:
