@@ -4,13 +4,14 @@ A case is (input kind, real source file, mutation, seed, command). The child
 process writes the mutated input into its own folder, calls
 ``patternbridge.cli.main.main(argv)`` in-process (the parent imported the heavy
 modules once, so a fork costs milliseconds), then checks what it wrote. The
-parent kills it after a timeout. Outcomes:
+parent kills it after a timeout of CPU time (five times that in wall time at
+the latest), so a loaded machine does not turn slow cases into hangs. Outcomes:
 
 - ``error``: exit 2, one ``patternbridge: error:`` line, no traceback, no output
   and no temporary file left behind;
 - ``ok``: exit 0 and every written file reads back cleanly (see :func:`check_outputs`);
 - ``traceback``: any exception that is not a ``PatternBridgeError``;
-- ``hang``: still running at the timeout;
+- ``hang``: still running at the timeout (a loop, or a file that makes work explode);
 - ``nonsense``: exit 0 with output that fails a check, or an error that left
   output or temporary files behind, or an error message that is not one line.
 """
@@ -395,8 +396,26 @@ def _classify(case: Case, ws: Path, result: dict | None, seconds: float) -> Resu
     return Result(case, Outcome.ERROR, (error_lines or [err.strip().splitlines()[-1]])[0][:300], seconds)
 
 
+WALL_FACTOR = 5.0
+"""A case is also killed after this many times its CPU limit in wall time (a child stuck waiting)."""
+
+
+def _cpu_seconds(pid: int) -> float:
+    """CPU time (user + system) used so far by process ``pid``; 0 once it has ended."""
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except (OSError, IndexError):
+        return 0.0
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
 def run_case(case: Case, work: Path, measurements: Path, timeout_s: float = 60.0, keep: bool = False) -> Result:
-    """Run ``case`` in a forked child under ``work``; classify it (see the module docstring)."""
+    """Run ``case`` in a forked child under ``work``; classify it (see the module docstring).
+
+    ``timeout_s`` counts the child's CPU time, so a case is not called a hang
+    because the machine is shared; ``WALL_FACTOR`` times it in wall time is the
+    hard stop.
+    """
     ws = work / f"case-{zlib.crc32(case.id.encode()):010d}"
     shutil.rmtree(ws, ignore_errors=True)
     ws.mkdir(parents=True)
@@ -417,16 +436,18 @@ def run_case(case: Case, work: Path, measurements: Path, timeout_s: float = 60.0
             code = _child(case, ws, measurements)
         finally:
             os._exit(code)
-    while time.perf_counter() - t0 < timeout_s:
+    while _cpu_seconds(pid) < timeout_s and time.perf_counter() - t0 < WALL_FACTOR * timeout_s:
         done, _ = os.waitpid(pid, os.WNOHANG)
         if done:
             break
         time.sleep(0.02)
     else:
+        cpu = _cpu_seconds(pid)
         with contextlib.suppress(ProcessLookupError):
             os.killpg(pid, signal.SIGKILL)
         os.waitpid(pid, 0)
-        result = Result(case, Outcome.HANG, f"killed after {timeout_s:g} s", time.perf_counter() - t0)
+        wall = time.perf_counter() - t0
+        result = Result(case, Outcome.HANG, f"killed after {cpu:.0f} s CPU, {wall:.0f} s wall", wall)
         if not keep:
             shutil.rmtree(ws, ignore_errors=True)
         return result
