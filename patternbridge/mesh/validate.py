@@ -65,7 +65,8 @@ def _numbers(value: Any, n: int, what: str, path, error: type) -> None:
     except (TypeError, ValueError):
         arr = np.zeros(0)
     if arr.shape != (n,) or not np.all(np.isfinite(arr)) or np.abs(arr).max(initial=0) > MAX_COORD:
-        raise error(f"{path}: {what} is {_short(value)}, expected {n} finite numbers within ±{MAX_COORD:g}; fix it")
+        count = {2: "two", 3: "three"}.get(n, str(n))
+        raise error(f"{path}: {what} is {_short(value)}: not {count} numbers (finite, within ±{MAX_COORD:g}); fix it")
 
 
 def _name(value: Any, what: str, path, error: type) -> None:
