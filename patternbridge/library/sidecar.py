@@ -28,6 +28,7 @@ from ..pattern.json import (
     seam_from_dict,
     seam_to_dict,
 )
+from ..pattern.json_check import check_sidecar_dict
 from ..pattern.model import Pattern, Placement
 
 __all__ = [
@@ -137,6 +138,10 @@ def read_sidecar(path: str | os.PathLike) -> dict[str, Any]:
             f"{path}: not a bridge-data sidecar (format {got!r}, expected {SIDECAR_FORMAT!r}); "
             "give a *.seams.json sidecar"
         )
+    try:
+        check_sidecar_dict(data)
+    except ValueError as exc:
+        raise InputError(f"{path}: malformed sidecar ({exc}); see formats/bridge.md") from None
     return data
 
 

@@ -15,7 +15,7 @@ import math
 from collections.abc import Mapping
 from typing import Any
 
-__all__ = ["MAX_ABS", "MAX_TEXT", "check_pattern_dict"]
+__all__ = ["MAX_ABS", "MAX_TEXT", "check_pattern_dict", "check_sidecar_dict"]
 
 MAX_ABS = 1e6
 """Largest magnitude of any number in a pattern (cm: 10 km; radians; counts)."""
@@ -55,6 +55,15 @@ class _Map:
 
     def __init__(self, value: Any) -> None:
         self.value = value
+
+
+class _Either:
+    """A value matching the first spec or, failing that, the second (whose message is kept)."""
+
+    __slots__ = ("first", "second")
+
+    def __init__(self, first: Any, second: Any) -> None:
+        self.first, self.second = first, second
 
 
 STR, NUM, INT, BOOL = "string", "number", "integer", "boolean"
@@ -109,6 +118,14 @@ _PIECE = {
     "extra_text": _Map(STR),
 }
 _EDGE = {"piece": _Req(STR), "start": _Req(STR), "end": _Req(STR), "copy": STR}
+_SEAM = {"id": _Req(STR), "a": _Req(_EDGE), "b": _Req(_EDGE), "kind": STR, "reverse": BOOL, "ease_cm": NUM}
+_LINK = {
+    "id": STR,
+    "measurement": _Req(STR),
+    "ease_cm": NUM,
+    "at_least": BOOL,
+    "legs": _Req(_List({"piece": _Req(STR), "start": _Req(STR), "end": _Req(STR), "along": STR, "factor": NUM})),
+}
 _PATTERN = {
     "format": _Req(STR),
     "format_version": STR,
@@ -130,20 +147,27 @@ _PATTERN = {
     },
     "rules": {"name": STR, "sizes": _List(STR), "sample_size": STR, "deltas": _Map(_POINTS)},
     "pieces": _Req(_List(_PIECE, min_length=1)),
-    "seams": _List(
-        {"id": _Req(STR), "a": _Req(_EDGE), "b": _Req(_EDGE), "kind": STR, "reverse": BOOL, "ease_cm": NUM}
-    ),
-    "measurements": _List(
+    "seams": _List(_SEAM),
+    "measurements": _List(_LINK),
+}
+_SIDECAR = {
+    "format": _Req(STR),
+    "format_version": STR,
+    "length_unit": STR,
+    "style": STR,
+    "description": _Opt(STR),
+    "sample_size": STR,
+    "pieces": _List(
         {
-            "id": STR,
-            "measurement": _Req(STR),
-            "ease_cm": NUM,
-            "at_least": BOOL,
-            "legs": _Req(
-                _List({"piece": _Req(STR), "start": _Req(STR), "end": _Req(STR), "along": STR, "factor": NUM})
-            ),
+            "name": _Req(STR),
+            "n_vertices": INT,
+            "marks": _Map(_Either(INT, {"vertex": _Req(INT), "xy": _Opt(_POINT)})),
+            "landmarks": _Map(STR),
+            "placement": _PIECE["placement"],
         }
     ),
+    "seams": _List({**_SEAM, "status": STR}),
+    "measurements": _List(_LINK),
 }
 
 
@@ -186,7 +210,12 @@ def _scalar(value: Any, spec: str, where: str) -> None:
 
 
 def _walk(value: Any, spec: Any, where: str) -> None:
-    if isinstance(spec, _Opt):
+    if isinstance(spec, _Either):
+        try:
+            _walk(value, spec.first, where)
+        except ValueError:
+            _walk(value, spec.second, where)
+    elif isinstance(spec, _Opt):
         if value is not None:
             _walk(value, spec.spec, where)
     elif isinstance(spec, str):
@@ -233,3 +262,18 @@ def check_pattern_dict(data: Any) -> None:
     ValueError: top level: expected an object, got an array
     """
     _walk(data, _PATTERN, "")
+
+
+def check_sidecar_dict(data: Any) -> None:
+    """Raise ``ValueError`` at the first part of ``data`` that is not a bridge-data sidecar.
+
+    The sidecar format is ``formats/bridge.md``: per-piece marks (a vertex id, or
+    ``{"vertex", "xy"}``), landmarks and placement, seams with a ``status``, and
+    measurement links.
+
+    Raises
+    ------
+    ValueError
+        With the JSON path and the expected versus actual type or value.
+    """
+    _walk(data, _SIDECAR, "")

@@ -149,3 +149,29 @@ def test_glb_bytes_spliced(tmp_path_factory, cut, junk):
     except MeshError:
         return
     assert np.all(np.isfinite(out["vertices"]))
+
+
+@pytest.fixture(scope="module")
+def shorts_dxf_pattern():
+    from patternbridge.io.dxf_aama import read_dxf
+
+    pattern, _ = read_dxf(LIBRARY / "shorts" / "shorts_aama.dxf")
+    return pattern
+
+
+@SETTINGS
+@given(index=st.integers(min_value=0, max_value=10_000), value=json_values)
+def test_bridge_sidecar_any_value_anywhere(tmp_path_factory, shorts_dxf_pattern, index, value):
+    """The ``*.seams.json`` beside a DXF: applied, or one InputError."""
+    from patternbridge.library.sidecar import apply_sidecar
+
+    data = json.loads((LIBRARY / "shorts" / "shorts.seams.json").read_text(encoding="utf-8"))
+    path = tmp_path_factory.mktemp("s") / "shorts.seams.json"
+    path.write_text(json.dumps(_replace_somewhere(data, index, value), allow_nan=True), encoding="utf-8")
+    try:
+        pattern = apply_sidecar(shorts_dxf_pattern, path)
+    except InputError as exc:
+        assert "\n" not in str(exc) and len(str(exc)) < 1000
+        return
+    names = set(pattern.piece_names)
+    assert all(s.a.piece in names and s.b.piece in names for s in pattern.seams)
