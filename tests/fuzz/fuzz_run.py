@@ -471,8 +471,14 @@ def preload() -> None:
 
     import patternbridge.cli.main
     import patternbridge.io.dxf_aama
+    import patternbridge.io.load
+    import patternbridge.io.pattern_json
     import patternbridge.io.plot
+    import patternbridge.io.plot_fit
+    import patternbridge.library.seams
+    import patternbridge.library.sidecar
     import patternbridge.measure.run
+    import patternbridge.mesh.gltf
     import patternbridge.mesh.load
 
     with contextlib.suppress(ImportError):
