@@ -24,7 +24,16 @@ def atomic_path(target: str | os.PathLike) -> Iterator[Path]:
     file name (matplotlib, trimesh) still work.
     """
     target = Path(target)
-    target.parent.mkdir(parents=True, exist_ok=True)
+    if target.is_dir():
+        from .errors import InputError
+
+        raise InputError(f"{target}: is a folder; give the name of the file to write")
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+    except (FileExistsError, NotADirectoryError):
+        from .errors import InputError
+
+        raise InputError(f"{target}: a part of the folder path is a file; give a folder that can hold it") from None
     fd, tmp = tempfile.mkstemp(
         prefix=f".{target.stem}.", suffix=target.suffix, dir=target.parent
     )

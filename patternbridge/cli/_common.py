@@ -12,11 +12,34 @@ from ..report import Report
 
 __all__ = [
     "add_pattern_arguments",
+    "bounded_int",
     "load_pattern_args",
     "print_findings",
     "print_json",
     "progress_printer",
 ]
+
+
+def bounded_int(lo: int, hi: int) -> Callable[[str], int]:
+    """An argparse ``type`` accepting whole numbers in ``lo..hi`` (bad values: usage error, exit 2).
+
+    Examples
+    --------
+    >>> bounded_int(1, 10)("4")
+    4
+    """
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text, 10)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text[:40]!r} is not a whole number") from None
+        if not lo <= value <= hi:
+            raise argparse.ArgumentTypeError(f"{value} is outside {lo}..{hi}")
+        return value
+
+    parse.__name__ = "whole number"  # argparse names the type in its messages
+    return parse
 
 
 def print_findings(report: Report, *, strict: bool = False) -> None:

@@ -71,6 +71,8 @@ def run(args: argparse.Namespace) -> int:
             "'patternbridge seams infer'",
             file=sys.stderr,
         )
+        if args.json:  # the machine-readable answer: no seam results
+            print_json([])
         return 0
     results = check_seams(
         pattern, tol_cm=args.tol_mm / 10, notch_tol_cm=args.notch_tol_mm / 10

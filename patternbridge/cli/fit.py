@@ -26,6 +26,8 @@ __all__ = ["HELP", "add_arguments", "run"]
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    from ._common import bounded_int
+
     parser.add_argument(
         "character",
         metavar="CHARACTER",
@@ -47,13 +49,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--up", help="character up axis when not +Y (e.g. +Z)")
     parser.add_argument(
-        "--seed", type=int, default=0, help="random seed (same seed, same result)"
+        "--seed", type=bounded_int(0, 2**32 - 1), default=0, help="random seed (same seed, same result)"
     )
     parser.add_argument(
-        "--pop-size", type=int, default=None, help="NSGA-II population size"
+        "--pop-size", type=bounded_int(4, 10_000), default=None, help="NSGA-II population size"
     )
     parser.add_argument(
-        "--generations", type=int, default=None, help="NSGA-II generations"
+        "--generations", type=bounded_int(1, 100_000), default=None, help="NSGA-II generations"
     )
     parser.add_argument(
         "--deformation",
@@ -84,17 +86,9 @@ def _safe_name(text: str) -> str:
 
 
 def _is_measurements_json(path: Path) -> bool:
-    if path.suffix.lower() != ".json" or not path.is_file():
-        return False
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError):
-        return False
-    if not isinstance(data, dict):
-        return False
-    return "measurements" in data or (
-        bool(data) and all(isinstance(v, (int, float)) for v in data.values())
-    )
+    # meshes are never .json (glTF is .gltf): a .json character is read, and
+    # checked, as measurements
+    return path.suffix.lower() == ".json"
 
 
 def run(args: argparse.Namespace) -> int:

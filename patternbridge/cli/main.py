@@ -8,10 +8,13 @@ Heavy imports happen inside ``run`` so ``--help`` stays fast.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import logging
 import os
+import signal
 import sys
+import threading
 from collections.abc import Sequence
 
 from .. import __version__
@@ -76,13 +79,39 @@ def _configure_logging(verbosity: int) -> None:
     logging.basicConfig(level=level, format="patternbridge: %(levelname)s: %(message)s")
 
 
+class _Terminated(BaseException):
+    """SIGTERM turned into an exception so ``finally`` blocks remove temporary files."""
+
+
+def _raise_terminated(signum, frame) -> None:
+    raise _Terminated
+
+
+@contextlib.contextmanager
+def _terminate_cleanly():
+    """While running a command, SIGTERM unwinds the stack (the default would kill at once).
+
+    Atomic writes delete their temporary file in ``finally``; a plain SIGTERM
+    would skip that and leave a ``.name.XXXX`` file beside the target.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGTERM, _raise_terminated)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the CLI; return the process exit code (0 ok, 2 bad input)."""
+    """Run the CLI; return the process exit code (0 ok, 2 bad input, 130/143 interrupted)."""
     parser = build_parser()
     args = parser.parse_args(argv)
     _configure_logging(args.verbose - args.quiet)
     try:
-        code = int(args._run(args) or 0)
+        with _terminate_cleanly():
+            code = int(args._run(args) or 0)
         sys.stdout.flush()  # surface a closed pipe here, not at interpreter exit
         return code
     except PatternBridgeError as exc:
@@ -91,6 +120,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("patternbridge: interrupted", file=sys.stderr)
         return 130
+    except _Terminated:
+        print("patternbridge: terminated", file=sys.stderr)
+        return 143
     except BrokenPipeError:
         # the reader went away (`patternbridge info x.dxf | head`): not an error of ours
         devnull = os.open(os.devnull, os.O_WRONLY)

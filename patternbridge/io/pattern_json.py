@@ -10,6 +10,7 @@ from ..atomic import write_text
 from ..errors import InputError
 from ..pattern.json import pattern_from_dict, pattern_to_dict
 from ..pattern.model import Pattern
+from .json_file import read_json
 
 __all__ = ["dumps_pattern", "load_pattern_json", "save_pattern_json"]
 
@@ -33,13 +34,9 @@ def load_pattern_json(path: str | os.PathLike) -> Pattern:
         When the file is missing, is not JSON, or is not a PatternBridge pattern.
     """
     path = Path(path)
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise InputError(f"{path}: no such file") from None
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise InputError(f"{path}: not valid JSON ({exc}); give a pattern written by 'patternbridge import'") from None
+    hint = "give a pattern written by 'patternbridge import'"
+    data = read_json(path, hint=hint, what="pattern file")
     try:
         return pattern_from_dict(data)
     except (KeyError, TypeError, ValueError) as exc:
-        raise InputError(f"{path}: not a valid PatternBridge pattern ({exc})") from None
+        raise InputError(f"{path}: not a valid PatternBridge pattern ({str(exc)[:300]}); {hint}") from None

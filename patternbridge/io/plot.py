@@ -185,6 +185,26 @@ def _label_point(outline: np.ndarray) -> np.ndarray:
     return np.array([pick.x, pick.y])
 
 
+MAX_LABEL = 60
+"""Longest line of text drawn (names, sizes, labels, titles); longer lines are cut with "…"."""
+
+
+def _short(text: object, limit: int = MAX_LABEL) -> str:
+    """``text`` as at most six lines of at most ``limit`` characters.
+
+    Layout time of a text grows with its length (a 2 MB piece name took minutes
+    and gigabytes), so whatever comes from a file is cut before it is drawn.
+
+    Examples
+    --------
+    >>> _short("x" * 100, 5)
+    'xxxx…'
+    """
+    lines = str(text).splitlines() or [""]
+    cut = [line if len(line) <= limit else line[: limit - 1] + "…" for line in lines[:6]]
+    return "\n".join(cut + (["…"] if len(lines) > 6 else []))
+
+
 def _quantity_text(piece: Piece) -> str:
     q = piece.quantity
     if q.left and q.right:
@@ -242,7 +262,7 @@ def _draw_piece(
         )
         if poly.label:
             ax.annotate(
-                poly.label,
+                _short(poly.label),
                 pts[0],
                 fontsize=6,
                 color=_INTERNAL,
@@ -345,6 +365,7 @@ def _draw_piece(
         )
         ax.add_patch(_circle(c, r * 0.6, style.colour, style.zorder + 0.6))
     if label:
+        label = _short(label)
         at = _label_point(outline)
         width_cm = float(np.ptp(outline[:, 0]))
         height_cm = float(np.ptp(outline[:, 1]))
@@ -474,9 +495,10 @@ def _resolve_sizes(pattern: Pattern, sizes) -> list[str]:
         sizes = [s.strip() for s in sizes.split(",") if s.strip()]
     wanted = [str(s) for s in sizes]
     unknown = [s for s in wanted if s not in size_list]
-    if unknown:
+    if unknown or not wanted:
         raise InputError(
-            f"{pattern.style}: sizes {unknown} are not in the size list {size_list}"
+            f"{_short(pattern.style)}: sizes {[_short(s, 20) for s in unknown[:5]]} are not in the size list "
+            f"{_short(', '.join(size_list), 200)}; give 'sample', 'all' or sizes of the list"
         )
     return [s for s in size_list if s in set(wanted)]
 
@@ -579,7 +601,7 @@ def plot_pattern(
             first = next(p for p in by_size[size_list[0]] if p.name == name)
             ax.text(
                 *_label_point(np.asarray(first.outline) + offsets[k]),
-                first.name,
+                _short(first.name),
                 fontsize=8,
                 ha="center",
                 va="center",
@@ -594,7 +616,7 @@ def plot_pattern(
                 [],
                 color=_SAMPLE_COLOUR if s == pattern.sample_size else colours[s],
                 linewidth=1.4 if s == pattern.sample_size else 1.0,
-                label=f"{s} (sample)" if s == pattern.sample_size else s,
+                label=_short(f"{s} (sample)" if s == pattern.sample_size else s),
             )
             for s in size_list
         ]
@@ -618,7 +640,7 @@ def plot_pattern(
             if not overlay
             else f"{pattern.style} — {len(names)} pieces, sizes {shown} (sample {pattern.sample_size})"
         )
-    ax.set_title(title, fontsize=11, loc="left")
+    ax.set_title(_short(title, 2 * MAX_LABEL), fontsize=11, loc="left")
     return _save(fig, path)
 
 
@@ -695,8 +717,8 @@ def plot_overlay(
 
     fig.legend(
         handles=[
-            Line2D([], [], color="#8c8c8c", linewidth=1.0, label=labels[0]),
-            Line2D([], [], color=colour, linewidth=1.2, label=labels[1]),
+            Line2D([], [], color="#8c8c8c", linewidth=1.0, label=_short(labels[0])),
+            Line2D([], [], color=colour, linewidth=1.2, label=_short(labels[1])),
         ],
         loc="outside lower center",
         ncols=2,
@@ -704,7 +726,7 @@ def plot_overlay(
         fontsize=8,
     )
     ax.set_title(
-        title or f"{labels[0]} vs {labels[1]} — {len(pairs)} pieces",
+        _short(title or f"{labels[0]} vs {labels[1]} — {len(pairs)} pieces", 2 * MAX_LABEL),
         fontsize=11,
         loc="left",
     )

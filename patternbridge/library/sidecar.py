@@ -28,6 +28,7 @@ from ..pattern.json import (
     seam_from_dict,
     seam_to_dict,
 )
+from ..pattern.json_check import check_sidecar_dict
 from ..pattern.model import Pattern, Placement
 
 __all__ = [
@@ -126,22 +127,22 @@ def read_sidecar(path: str | os.PathLike) -> dict[str, Any]:
     InputError
         Missing file, invalid JSON, or not a PatternBridge bridge sidecar.
     """
+    from ..io.json_file import read_json
+
     path = Path(path)
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise InputError(f"{path}: no such sidecar file") from None
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise InputError(
-            f"{path}: not valid JSON ({exc}); give a sidecar written by "
-            "'patternbridge seams infer' or 'library export'"
-        ) from None
+    data = read_json(
+        path, hint="give a sidecar written by 'patternbridge seams infer' or 'library export'", what="sidecar file"
+    )
     if not isinstance(data, dict) or data.get("format") != SIDECAR_FORMAT:
         got = data.get("format") if isinstance(data, dict) else type(data).__name__
         raise InputError(
             f"{path}: not a bridge-data sidecar (format {got!r}, expected {SIDECAR_FORMAT!r}); "
             "give a *.seams.json sidecar"
         )
+    try:
+        check_sidecar_dict(data)
+    except ValueError as exc:
+        raise InputError(f"{path}: malformed sidecar ({exc}); see formats/bridge.md") from None
     return data
 
 

@@ -143,6 +143,30 @@ def measurements_to_dict(result: Measurements) -> dict[str, Any]:
     }
 
 
+MAX_VALUE_CM = 1e4
+"""Largest measurement value read from a file (100 m); anything larger is a broken file."""
+
+
+def _value_cm(entry: Any, mid: str) -> float:
+    """The ``value_cm`` of one entry: a finite number in (0, MAX_VALUE_CM]."""
+    if not isinstance(entry, Mapping):
+        raise TypeError(f"{mid}: expected an object with value_cm, got {type(entry).__name__}")
+    value = entry["value_cm"]
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise TypeError(f"{mid}: value_cm must be a number, got {str(value)[:40]!r}")
+    if not 0 < value <= MAX_VALUE_CM:  # also false for NaN
+        raise ValueError(f"{mid}: value_cm {value:.6g} is outside (0, {MAX_VALUE_CM:g}] cm")
+    return float(value)
+
+
+def _points(value: Any, what: str) -> np.ndarray:
+    """(k, 3) float64 points read from a file, each coordinate within ±MAX_VALUE_CM."""
+    pts = np.asarray(value, dtype=np.float64).reshape(-1, 3)
+    if not np.all(np.abs(pts) <= MAX_VALUE_CM):  # also false for NaN
+        raise ValueError(f"{what}: coordinates beyond ±{MAX_VALUE_CM:g} cm or not finite")
+    return pts
+
+
 def measurements_from_dict(
     data: Mapping[str, Any], where: str = "measurements"
 ) -> Measurements:
@@ -163,24 +187,25 @@ def measurements_from_dict(
         raise InputError(
             f"{where}: units {data.get('units')!r} are not 'cm'; write values in centimetres"
         )
+    for key in ("assumed", "missing", "landmarks"):
+        if not isinstance(data.get(key, {}), Mapping):
+            raise InputError(f"{where}: {key!r} is not a JSON object; regenerate the file with patternbridge measure")
     out = {}
     try:
         for mid, m in data["measurements"].items():
             out[mid] = Measurement(
                 id=mid,
-                value_cm=float(m["value_cm"]),
+                value_cm=_value_cm(m, mid),
                 kind=str(m.get("kind", "length")),
                 method=str(m.get("method", "")),
-                polyline=np.asarray(m.get("polyline", []), dtype=np.float64).reshape(
-                    -1, 3
-                ),
+                polyline=_points(m.get("polyline", []), f"{mid} polyline"),
                 landmarks=tuple(m.get("landmarks", ())),
                 details=m.get("details", {}),
             )
         marks = {
             name: Landmark(
                 name=name,
-                position=lm["position"],
+                position=_points(lm["position"], f"landmark {name}")[0],
                 vertex=lm.get("vertex"),
                 source=lm.get("source", "file"),
                 confidence=lm.get("confidence"),
@@ -214,17 +239,10 @@ def load_measurements(path: str | os.PathLike) -> Measurements:
 
     A plain ``{id: value_cm}`` object is accepted too (no polylines).
     """
+    from ..io.json_file import read_json
+
     path = Path(path)
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise InputError(
-            f"{path}: no such measurements file; run patternbridge measure first"
-        ) from None
-    except (OSError, ValueError) as exc:
-        raise InputError(
-            f"{path}: not valid JSON ({exc}); regenerate it with patternbridge measure"
-        ) from None
+    data = read_json(path, hint="regenerate it with patternbridge measure", what="measurements file")
     if (
         isinstance(data, dict)
         and "measurements" not in data

@@ -10,7 +10,6 @@ Sparse accessors and Draco/meshopt compression are refused with a clear error.
 from __future__ import annotations
 
 import base64
-import json
 import os
 import struct
 from pathlib import Path
@@ -19,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import MeshError
+from ..io.json_file import loads_json
 
 __all__ = ["read_gltf"]
 
@@ -41,88 +41,166 @@ _WIDTH = {
 }
 
 
-def _split_glb(data: bytes, path: Path) -> tuple[dict, bytes]:
+MAX_COUNT = 50_000_000
+"""Most elements an accessor may declare (a character has well under a million vertices)."""
+MAX_ABS = 1e9
+"""Largest vertex coordinate or node transform value accepted, in file units."""
+
+
+def _fail(path: Path, what: str, hint: str = "re-export the file as glTF 2.0") -> MeshError:
+    return MeshError(f"{path}: {what}; {hint}")
+
+
+def _split_glb(data: bytes, path: Path) -> tuple[dict, bytes | None]:
+    """JSON document and BIN chunk (``None`` when absent) of a GLB container."""
     if len(data) < 20 or data[:4] != b"glTF":
-        raise MeshError(
-            f"{path}: not a GLB file (bad magic {data[:4]!r}); export binary glTF 2.0"
-        )
+        raise _fail(path, f"not a GLB file (bad magic {data[:4]!r})", "export binary glTF 2.0")
+    version, total = struct.unpack_from("<II", data, 4)
+    if version != 2:
+        raise _fail(path, f"GLB container version {version}, expected 2")
+    if total > len(data):
+        raise _fail(path, f"truncated GLB (header says {total} bytes, the file has {len(data)})")
     offset = 12
-    doc, binary = None, b""
-    while offset + 8 <= len(data):
+    doc, binary = None, None
+    while offset + 8 <= total:
         length, kind = struct.unpack_from("<I4s", data, offset)
+        if offset + 8 + length > total:
+            raise _fail(
+                path, f"truncated GLB (chunk {kind!r} at byte {offset} needs {length} bytes, {total - offset - 8} left)"
+            )
         chunk = data[offset + 8 : offset + 8 + length]
+        if offset == 12 and kind != b"JSON":
+            raise _fail(path, f"GLB whose first chunk is {kind!r}, not JSON")
         if kind == b"JSON":
-            doc = json.loads(chunk.decode("utf-8"))
-        elif kind == b"BIN\x00":
+            doc = loads_json(chunk, str(path), error=MeshError, hint="re-export the file as glTF 2.0")
+        elif kind == b"BIN\x00" and binary is None:
             binary = chunk
         offset += 8 + length
     if doc is None:
-        raise MeshError(f"{path}: GLB without a JSON chunk; re-export the file")
+        raise _fail(path, "GLB without a JSON chunk")
     return doc, binary
 
 
-def _buffers(doc: dict, binary: bytes, path: Path) -> list[bytes]:
+def _items(doc: dict, key: str, path: Path) -> list:
+    value = doc.get(key, [])
+    if not isinstance(value, list):
+        raise _fail(path, f"glTF {key!r} is not an array")
+    return value
+
+
+def _item(doc: dict, key: str, index: Any, path: Path, who: str) -> dict:
+    """``doc[key][index]`` after checking the index and that the item is an object."""
+    items = _items(doc, key, path)
+    if isinstance(index, bool) or not isinstance(index, int) or not 0 <= index < len(items):
+        raise _fail(path, f"{who} refers to {key}[{str(index)[:20]}], the file has {len(items)}")
+    if not isinstance(items[index], dict):
+        raise _fail(path, f"glTF {key}[{index}] is not an object")
+    return items[index]
+
+
+def _uint(obj: dict, key: str, default: int | None, path: Path, who: str) -> int:
+    value = obj.get(key, default)
+    if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+        raise _fail(path, f"{who} {key} is {str(value)[:20]}, expected a non-negative integer")
+    return value
+
+
+def _buffers(doc: dict, binary: bytes | None, path: Path) -> list[bytes]:
     out = []
-    for i, buf in enumerate(doc.get("buffers", [])):
+    for i, buf in enumerate(_items(doc, "buffers", path)):
+        if not isinstance(buf, dict):
+            raise _fail(path, f"glTF buffers[{i}] is not an object")
         uri = buf.get("uri")
         if uri is None:
-            out.append(binary)
+            if binary is None:
+                raise _fail(path, f"buffer {i} lives in the GLB binary chunk, and the file has none")
+            data = binary
+        elif not isinstance(uri, str):
+            raise _fail(path, f"buffer {i} uri is not a string")
         elif uri.startswith("data:"):
-            out.append(base64.b64decode(uri.split(",", 1)[1]))
+            try:
+                data = base64.b64decode(uri.split(",", 1)[1], validate=True)
+            except (IndexError, ValueError) as exc:
+                raise _fail(path, f"buffer {i} data URI is not base64 ({exc})") from None
         else:
             file = path.parent / uri
             if not file.is_file():
-                raise MeshError(
-                    f"{path}: buffer {i} file {uri!r} is missing; keep it beside the .gltf"
-                )
-            out.append(file.read_bytes())
+                raise MeshError(f"{path}: buffer {i} file {uri[:200]!r} is missing; keep it beside the .gltf")
+            data = file.read_bytes()
+        declared = _uint(buf, "byteLength", len(data), path, f"buffer {i}")
+        if declared > len(data):
+            raise _fail(path, f"buffer {i} declares {declared} bytes, only {len(data)} are present (truncated file?)")
+        out.append(data)
     return out
 
 
-def _accessor(doc: dict, buffers: list[bytes], index: int, path: Path) -> np.ndarray:
-    acc = doc["accessors"][index]
+def _accessor(doc: dict, buffers: list[bytes], index: Any, path: Path, who: str = "a primitive") -> np.ndarray:
+    """Accessor ``index`` as a (count, width) float64 array, bounds checked against its buffer."""
+    acc = _item(doc, "accessors", index, path, who)
+    where = f"accessor {index}"
     if "sparse" in acc:
-        raise MeshError(
-            f"{path}: sparse accessor {index} is not supported; export without sparse data"
-        )
-    dtype = np.dtype(_DTYPES[acc["componentType"]])
-    width = _WIDTH[acc["type"]]
-    count = acc["count"]
+        raise MeshError(f"{path}: sparse {where} is not supported; export without sparse data")
+    ctype, kind = acc.get("componentType"), acc.get("type")
+    if not isinstance(ctype, int) or not isinstance(kind, str) or ctype not in _DTYPES or kind not in _WIDTH:
+        raise _fail(path, f"{where} has componentType {str(ctype)[:20]} / type {str(kind)[:20]}, not glTF 2.0")
+    dtype = np.dtype(_DTYPES[ctype])
+    width = _WIDTH[kind]
+    count = _uint(acc, "count", None, path, where)
+    if count > MAX_COUNT:
+        raise _fail(path, f"{where} declares {count} elements (at most {MAX_COUNT})")
     if "bufferView" not in acc:
         return np.zeros((count, width))
-    view = doc["bufferViews"][acc["bufferView"]]
-    data = buffers[view["buffer"]]
-    start = view.get("byteOffset", 0) + acc.get("byteOffset", 0)
-    stride = view.get("byteStride") or dtype.itemsize * width
-    if stride == dtype.itemsize * width:
-        arr = np.frombuffer(
-            data, dtype=dtype, count=count * width, offset=start
-        ).reshape(count, width)
-    else:
-        rows = np.frombuffer(
-            data,
-            dtype=np.uint8,
-            count=stride * (count - 1) + dtype.itemsize * width,
-            offset=start,
+    view = _item(doc, "bufferViews", acc["bufferView"], path, where)
+    buffer_index = view.get("buffer")
+    if isinstance(buffer_index, bool) or not isinstance(buffer_index, int) or not 0 <= buffer_index < len(buffers):
+        raise _fail(
+            path,
+            f"bufferView {acc['bufferView']} refers to buffer {str(buffer_index)[:20]}, the file has {len(buffers)}",
         )
-        arr = np.stack(
-            [
-                rows[i * stride : i * stride + dtype.itemsize * width].view(dtype)
-                for i in range(count)
-            ]
+    data = buffers[buffer_index]
+    view_start = _uint(view, "byteOffset", 0, path, "bufferView")
+    view_length = _uint(view, "byteLength", len(data) - view_start, path, "bufferView")
+    start = _uint(acc, "byteOffset", 0, path, where)
+    element = dtype.itemsize * width
+    stride = view.get("byteStride") or element
+    if isinstance(stride, bool) or not isinstance(stride, int) or stride < element:
+        raise _fail(path, f"bufferView byteStride {str(stride)[:20]} is smaller than one element ({element} bytes)")
+    need = start + (stride * (count - 1) + element if count else 0)
+    have = min(view_length, len(data) - view_start)
+    if need > have:
+        raise _fail(
+            path,
+            f"{where} needs {need} bytes ({count} × {kind} {dtype.name}), its buffer view holds {max(have, 0)}",
         )
-    arr = arr.astype(np.float64)
+    arr = np.ndarray(
+        (count, width), dtype=dtype.newbyteorder("<"), buffer=data, offset=view_start + start,
+        strides=(stride, dtype.itemsize),
+    ).astype(np.float64)
     if acc.get("normalized") and dtype.kind in "iu":
         arr = arr / np.iinfo(dtype).max
+    if not np.all(np.isfinite(arr)) or (arr.size and np.abs(arr).max() > MAX_ABS):
+        raise _fail(path, f"{where} holds NaN, infinite or values beyond ±{MAX_ABS:g}", "repair the mesh")
     return arr
 
 
-def _local_matrix(node: dict) -> np.ndarray:
+def _numbers(node: dict, key: str, default: list[float], path: Path, index: int) -> np.ndarray:
+    value = node.get(key, default)
+    try:
+        arr = np.array(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        arr = np.zeros(0)
+    if arr.shape != (len(default),) or not np.all(np.isfinite(arr)) or np.abs(arr).max() > MAX_ABS:
+        raise _fail(path, f"node {index} {key} is not {len(default)} finite numbers within ±{MAX_ABS:g}")
+    return arr
+
+
+def _local_matrix(node: dict, path: Path, index: int) -> np.ndarray:
+    """4×4 local transform of a node (``matrix`` or translation/rotation/scale)."""
     if "matrix" in node:
-        return np.array(node["matrix"], dtype=np.float64).reshape(4, 4).T
-    t = np.array(node.get("translation", [0, 0, 0]), dtype=np.float64)
-    x, y, z, w = node.get("rotation", [0, 0, 0, 1])
-    s = np.array(node.get("scale", [1, 1, 1]), dtype=np.float64)
+        return _numbers(node, "matrix", [0.0] * 16, path, index).reshape(4, 4).T
+    t = _numbers(node, "translation", [0.0, 0.0, 0.0], path, index)
+    x, y, z, w = _numbers(node, "rotation", [0.0, 0.0, 0.0, 1.0], path, index)
+    s = _numbers(node, "scale", [1.0, 1.0, 1.0], path, index)
     r = np.array(
         [
             [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
@@ -136,8 +214,151 @@ def _local_matrix(node: dict) -> np.ndarray:
     return m
 
 
+def _node_tree(doc: dict, path: Path) -> tuple[list[dict], dict[int, int], list[np.ndarray]]:
+    """Nodes, child -> parent map and world matrices; refuses cycles and shared children."""
+    nodes = _items(doc, "nodes", path)
+    parent: dict[int, int] = {}
+    for i, node in enumerate(nodes):
+        if not isinstance(node, dict):
+            raise _fail(path, f"glTF nodes[{i}] is not an object")
+        children = node.get("children", [])
+        if not isinstance(children, list):
+            raise _fail(path, f"node {i} children is not an array")
+        for c in children:
+            _item(doc, "nodes", c, path, f"node {i}")
+            if c in parent or c == i:
+                raise _fail(path, f"node {c} has two parents or is its own child (the node tree must be a forest)")
+            parent[c] = i
+    world: list[np.ndarray | None] = [None] * len(nodes)
+    for i in range(len(nodes)):
+        chain = [i]
+        while world[chain[-1]] is None and chain[-1] in parent:
+            chain.append(parent[chain[-1]])
+            if len(chain) > len(nodes):
+                raise _fail(path, f"the node tree has a cycle through node {i}")
+        for k in reversed(chain):
+            if world[k] is None:
+                local = _local_matrix(nodes[k], path, k)
+                world[k] = world[parent[k]] @ local if k in parent else local
+    return nodes, parent, world  # type: ignore[return-value]
+
+
+def _scene_nodes(doc: dict, nodes: list[dict], path: Path) -> list[int]:
+    """Indices of the nodes of the default scene (every node when there is no scene)."""
+    scenes = _items(doc, "scenes", path)
+    if not scenes:
+        return list(range(len(nodes)))
+    scene = _item(doc, "scenes", doc.get("scene", 0), path, "the default scene")
+    roots = scene.get("nodes", [])
+    if not isinstance(roots, list):
+        raise _fail(path, "scene nodes is not an array")
+    for i in roots:
+        _item(doc, "nodes", i, path, "the scene")
+    stack = list(roots)
+    seen: set[int] = set()
+    while stack:
+        i = stack.pop()
+        if i not in seen:
+            seen.add(i)
+            stack.extend(nodes[i].get("children", []))
+    return sorted(seen)
+
+
+def _primitive(doc: dict, buffers: list[bytes], prim: Any, matrix: np.ndarray, path: Path):
+    """(positions, faces, joints, weights) of one triangle primitive, or None to skip it."""
+    if not isinstance(prim, dict) or not isinstance(prim.get("attributes", {}), dict):
+        raise _fail(path, "a mesh primitive is not an object with attributes")
+    attrs = prim.get("attributes", {})
+    if prim.get("mode", 4) != 4 or "POSITION" not in attrs:
+        return None
+    pos = _accessor(doc, buffers, attrs["POSITION"], path, "POSITION")
+    if pos.shape[1] != 3:
+        raise _fail(path, f"POSITION accessor has {pos.shape[1]} components, expected 3")
+    pos = pos @ matrix[:3, :3].T + matrix[:3, 3]
+    if "indices" in prim:
+        idx = _accessor(doc, buffers, prim["indices"], path, "indices").astype(np.int64)
+    else:
+        idx = np.arange(len(pos), dtype=np.int64)
+    if idx.size % 3 or (idx.size and (idx.min() < 0 or idx.max() >= len(pos))):
+        raise _fail(
+            path,
+            f"triangle indices: {idx.size} values (a multiple of 3 expected) in "
+            f"{idx.min(initial=0)}..{idx.max(initial=0)} for {len(pos)} vertices",
+        )
+    return pos, idx.reshape(-1, 3), attrs
+
+
+def _skin_arrays(doc, buffers, attrs, n_vertices: int, n_joints: int, path: Path):
+    """JOINTS_0/WEIGHTS_0 as (V, 4) int64 (-1 where the weight is 0) and float64."""
+    j = _accessor(doc, buffers, attrs["JOINTS_0"], path, "JOINTS_0").astype(np.int64)
+    w = _accessor(doc, buffers, attrs["WEIGHTS_0"], path, "WEIGHTS_0")
+    if j.shape != (n_vertices, 4) or w.shape != (n_vertices, 4):
+        raise _fail(path, f"JOINTS_0/WEIGHTS_0 are {j.shape}/{w.shape}, expected ({n_vertices}, 4) each")
+    j = np.where(w > 0, j, -1)
+    if j.max(initial=-1) >= n_joints or w.min(initial=0) < 0:
+        raise _fail(path, f"skin joint indices reach {j.max()} for {n_joints} joints, or a weight is negative")
+    return j, w
+
+
+def _skeleton(doc: dict, skin: dict, nodes: list[dict], parent: dict[int, int], world, path: Path) -> dict:
+    """Rest-pose skeleton of ``skin``: names, parents, heads, tails of its joints."""
+    jn = list(skin["joints"])
+    jset = {n: k for k, n in enumerate(jn)}
+    parents = []
+    for n in jn:
+        p = parent.get(n)
+        while p is not None and p not in jset:
+            p = parent.get(p)
+        parents.append(jset[p] if p is not None else -1)
+    heads = np.array([world[n][:3, 3] for n in jn]).reshape(-1, 3)
+    tails = heads.copy()
+    for k, n in enumerate(jn):
+        kids = [jset[c] for c in nodes[n].get("children", []) if c in jset]
+        if kids:
+            tails[k] = heads[kids].mean(axis=0)
+        elif parents[k] >= 0:
+            tails[k] = heads[k] + 0.5 * (heads[k] - heads[parents[k]])
+        else:
+            tails[k] = heads[k] + np.array([0.0, 0.1, 0.0])
+    names = [str(nodes[n].get("name", f"joint{k}"))[:200] for k, n in enumerate(jn)]
+    return {"names": names, "parents": parents, "heads": heads, "tails": tails}
+
+
+def _skin(doc: dict, index: Any, path: Path) -> dict:
+    skin = _item(doc, "skins", index, path, "a mesh node")
+    joints = skin.get("joints")
+    if not isinstance(joints, list) or not joints or len(set(map(str, joints))) != len(joints):
+        raise _fail(path, f"skin {index} joints is not a non-empty list of distinct nodes")
+    for n in joints:
+        _item(doc, "nodes", n, path, f"skin {index}")
+    return skin
+
+
+def _read_document(path: Path) -> tuple[dict, bytes | None]:
+    try:
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise _fail(path, f"cannot read glTF ({exc.strerror})") from None
+    if path.suffix.lower() == ".glb":
+        doc, binary = _split_glb(raw, path)
+    else:
+        doc, binary = loads_json(raw, str(path), error=MeshError, hint="re-export the file as glTF 2.0"), None
+    if not isinstance(doc, dict):
+        raise _fail(path, "the glTF JSON is not an object")
+    required = doc.get("extensionsRequired", [])
+    if required:
+        raise MeshError(
+            f"{path}: needs glTF extensions {sorted(map(str, required))[:10]} (compressed geometry); "
+            "export without compression"
+        )
+    return doc, binary
+
+
 def read_gltf(path: str | os.PathLike) -> dict[str, Any]:
     """Read a GLB/glTF file into arrays (file units, file frame).
+
+    Every index, count and byte range in the file is checked against what the
+    file holds before it is used.
 
     Returns
     -------
@@ -149,136 +370,52 @@ def read_gltf(path: str | os.PathLike) -> dict[str, Any]:
     Raises
     ------
     MeshError
-        Not glTF 2.0, unsupported extension or no triangles.
+        Not glTF 2.0, truncated or inconsistent, unsupported extension or no triangles.
     """
     path = Path(path)
-    try:
-        raw = path.read_bytes()
-        if path.suffix.lower() == ".glb":
-            doc, binary = _split_glb(raw, path)
-        else:
-            doc, binary = json.loads(raw.decode("utf-8")), b""
-    except (OSError, ValueError, UnicodeDecodeError) as exc:
-        raise MeshError(
-            f"{path}: cannot read glTF ({exc}); re-export as glTF 2.0"
-        ) from None
-    required = set(doc.get("extensionsRequired", []))
-    if required:
-        raise MeshError(
-            f"{path}: needs glTF extensions {sorted(required)} (compressed geometry); export without compression"
-        )
+    doc, binary = _read_document(path)
     buffers = _buffers(doc, binary, path)
-    nodes = doc.get("nodes", [])
-    parent = {c: i for i, n in enumerate(nodes) for c in n.get("children", [])}
-    world_cache: dict[int, np.ndarray] = {}
-
-    def world(i: int) -> np.ndarray:
-        if i not in world_cache:
-            local = _local_matrix(nodes[i])
-            world_cache[i] = world(parent[i]) @ local if i in parent else local
-        return world_cache[i]
-
-    scenes = doc.get("scenes", [])
-    if scenes:
-        stack = list(scenes[doc.get("scene", 0)].get("nodes", []))
-        in_scene = []
-        while stack:
-            i = stack.pop()
-            in_scene.append(i)
-            stack.extend(nodes[i].get("children", []))
-        in_scene.sort()
-    else:
-        in_scene = list(range(len(nodes)))
-
+    nodes, parent, world = _node_tree(doc, path)
     vertices, faces, joints, weights = [], [], [], []
     skin_index = None
     offset = 0
-    for ni in in_scene:
+    for ni in _scene_nodes(doc, nodes, path):
         node = nodes[ni]
         if "mesh" not in node:
             continue
+        mesh = _item(doc, "meshes", node["mesh"], path, f"node {ni}")
         skinned = "skin" in node
-        if skinned and skin_index is None:
-            skin_index = node["skin"]
-        matrix = world(ni)
+        matrix = world[ni]
         if skinned:
-            skin = doc["skins"][node["skin"]]
+            skin = _skin(doc, node["skin"], path)
+            skin_index = node["skin"] if skin_index is None else skin_index
             if "inverseBindMatrices" in skin:
-                ibm = (
-                    _accessor(doc, buffers, skin["inverseBindMatrices"], path)[0]
-                    .reshape(4, 4)
-                    .T
-                )
-                matrix = world(skin["joints"][0]) @ ibm
-        for prim in doc["meshes"][node["mesh"]].get("primitives", []):
-            if prim.get("mode", 4) != 4 or "POSITION" not in prim.get("attributes", {}):
+                ibm = _accessor(doc, buffers, skin["inverseBindMatrices"], path, "inverseBindMatrices")
+                if ibm.shape[1] != 16 or len(ibm) == 0:
+                    raise _fail(path, "inverseBindMatrices is not a non-empty MAT4 accessor")
+                matrix = world[skin["joints"][0]] @ ibm[0].reshape(4, 4).T
+        primitives = mesh.get("primitives", [])
+        for prim in primitives if isinstance(primitives, list) else [None]:
+            got = _primitive(doc, buffers, prim, matrix, path)
+            if got is None:
                 continue
-            pos = _accessor(doc, buffers, prim["attributes"]["POSITION"], path)
-            pos = pos @ matrix[:3, :3].T + matrix[:3, 3]
-            if "indices" in prim:
-                idx = (
-                    _accessor(doc, buffers, prim["indices"], path)
-                    .astype(np.int64)
-                    .reshape(-1, 3)
-                )
+            pos, idx, attrs = got
+            if skinned and node["skin"] == skin_index and "JOINTS_0" in attrs and "WEIGHTS_0" in attrs:
+                j, w = _skin_arrays(doc, buffers, attrs, len(pos), len(skin["joints"]), path)
             else:
-                idx = np.arange(len(pos), dtype=np.int64).reshape(-1, 3)
-            attrs = prim["attributes"]
-            if (
-                skinned
-                and node["skin"] == skin_index
-                and "JOINTS_0" in attrs
-                and "WEIGHTS_0" in attrs
-            ):
-                j = _accessor(doc, buffers, attrs["JOINTS_0"], path).astype(np.int64)
-                w = _accessor(doc, buffers, attrs["WEIGHTS_0"], path)
-                j = np.where(w > 0, j, -1)
-            else:
-                j = np.full((len(pos), 4), -1, dtype=np.int64)
-                w = np.zeros((len(pos), 4))
+                j, w = np.full((len(pos), 4), -1, dtype=np.int64), np.zeros((len(pos), 4))
             vertices.append(pos)
             faces.append(idx + offset)
             joints.append(j)
             weights.append(w)
             offset += len(pos)
-    if not faces:
-        raise MeshError(
-            f"{path}: the glTF holds no triangle primitives; export the body as a mesh"
-        )
-    out: dict[str, Any] = {
-        "vertices": np.concatenate(vertices),
-        "faces": np.concatenate(faces),
-    }
+    if not faces or not sum(len(f) for f in faces):
+        raise MeshError(f"{path}: the glTF holds no triangle primitives; export the body as a mesh")
+    out: dict[str, Any] = {"vertices": np.concatenate(vertices), "faces": np.concatenate(faces)}
+    if not np.all(np.isfinite(out["vertices"])) or np.abs(out["vertices"]).max() > MAX_ABS:
+        raise _fail(path, f"node transforms put vertices beyond ±{MAX_ABS:g}", "repair the scene's transforms")
     if skin_index is not None:
-        skin = doc["skins"][skin_index]
-        jn = list(skin["joints"])
-        pos_of = {n: world(n)[:3, 3] for n in jn}
-        jset = {n: k for k, n in enumerate(jn)}
-        parents = []
-        for n in jn:
-            p = parent.get(n)
-            while p is not None and p not in jset:
-                p = parent.get(p)
-            parents.append(jset[p] if p is not None else -1)
-        heads = np.array([pos_of[n] for n in jn])
-        tails = heads.copy()
-        for k, n in enumerate(jn):
-            kids = [jset[c] for c in nodes[n].get("children", []) if c in jset]
-            if kids:
-                tails[k] = heads[kids].mean(axis=0)
-            elif parents[k] >= 0:
-                tails[k] = heads[k] + 0.5 * (heads[k] - heads[parents[k]])
-            else:
-                tails[k] = heads[k] + np.array([0.0, 0.1, 0.0])
-        names = [nodes[n].get("name", f"joint{k}") for k, n in enumerate(jn)]
-        out["skeleton"] = {
-            "names": names,
-            "parents": parents,
-            "heads": heads,
-            "tails": tails,
-        }
-        out["skin"] = {
-            "indices": np.concatenate(joints),
-            "weights": np.concatenate(weights),
-        }
+        skin = _skin(doc, skin_index, path)
+        out["skeleton"] = _skeleton(doc, skin, nodes, parent, world, path)
+        out["skin"] = {"indices": np.concatenate(joints), "weights": np.concatenate(weights)}
     return out

@@ -22,7 +22,6 @@ Blender convention) faces +Z afterwards.
 
 from __future__ import annotations
 
-import json
 import logging
 import os
 from collections.abc import Mapping
@@ -32,10 +31,12 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError, LandmarkError, MeshError, UnitsError
+from ..io.json_file import read_json
 from ..report import Report
 from ..units import unit_factor
 from .character import Character, Landmark, LandmarkEvidence, Skeleton, Skin
 from .frame import STATURE_RANGE_CM, detect_facing, facing_matrix, main_component
+from .validate import check_landmark_table, check_sidecar, check_vertices
 
 __all__ = [
     "MESH_SUFFIXES",
@@ -110,16 +111,8 @@ def _read_sidecar(path: Path) -> dict[str, Any] | None:
     sidecar = path.with_suffix(".json")
     if not sidecar.is_file():
         return None
-    try:
-        data = json.loads(sidecar.read_text(encoding="utf-8"))
-    except (OSError, ValueError) as exc:
-        raise MeshError(
-            f"{sidecar}: the sidecar is not valid JSON ({exc}); fix or remove it"
-        ) from None
-    if not isinstance(data, dict):
-        raise MeshError(
-            f"{sidecar}: the sidecar is not a JSON object; fix or remove it"
-        )
+    data = read_json(sidecar, error=MeshError, hint="fix or remove it", what="sidecar")
+    check_sidecar(data, sidecar)
     data["_path"] = str(sidecar)
     return data
 
@@ -352,16 +345,7 @@ def load_landmark_file(path: str | os.PathLike) -> dict[str, dict[str, Any]]:
         a vertex nor a position.
     """
     path = Path(path)
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise LandmarkError(
-            f"{path}: no such landmark file; give a JSON file with a 'landmarks' object"
-        ) from None
-    except (OSError, ValueError) as exc:
-        raise LandmarkError(
-            f"{path}: the landmark file is not valid JSON ({exc}); fix it"
-        ) from None
+    data = read_json(path, error=LandmarkError, hint="give a JSON file with a 'landmarks' object", what="landmark file")
     table = data.get("landmarks") if isinstance(data, dict) else None
     if not isinstance(table, dict):
         raise LandmarkError(
@@ -377,6 +361,7 @@ def _check_landmark_table(
 ) -> dict[str, dict[str, Any]]:
     from .landmarks import LANDMARK_NAMES
 
+    check_landmark_table(table, where)
     out: dict[str, dict[str, Any]] = {}
     for name, entry in table.items():
         if name not in LANDMARK_NAMES:
@@ -687,10 +672,7 @@ def load_character(
     raw = read_mesh_arrays(path)
     vertices = raw["vertices"]
     faces = raw["faces"]
-    if not np.all(np.isfinite(vertices)):
-        raise MeshError(
-            f"{path}: vertex coordinates contain NaN or infinity; repair the mesh"
-        )
+    check_vertices(vertices, path)
     if faces.min() < 0 or faces.max() >= len(vertices):
         raise MeshError(
             f"{path}: face indices out of range "

@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from .json_check import check_pattern_dict
 from .model import (
     Annotation,
     DrillHole,
@@ -315,8 +316,11 @@ def pattern_from_dict(d: dict[str, Any]) -> Pattern:
     ValueError
         When the dict is not a PatternBridge pattern or a field is malformed.
     """
+    if not isinstance(d, dict):
+        check_pattern_dict(d)  # names what the top level is instead
     if d.get("format") != _FORMAT_ID:
-        raise ValueError(f"not a PatternBridge pattern (format={d.get('format')!r}, expected {_FORMAT_ID!r})")
+        raise ValueError(f"not a PatternBridge pattern (format={str(d.get('format'))[:80]!r}, expected {_FORMAT_ID!r})")
+    check_pattern_dict(d)
     if d.get("length_unit", "cm") != "cm":
         raise ValueError(f"length_unit must be 'cm', got {d.get('length_unit')!r}")
     prov = d.get("provenance", {})

@@ -119,7 +119,7 @@ def test_json_file_round_trip_and_bad_files(tmp_path):
     doc = json.loads(path.read_text())
     doc["measurements"][1]["at_least"] = "yes"
     yes.write_text(json.dumps(doc))
-    with pytest.raises(InputError, match="at_least must be true or false, got 'yes'"):
+    with pytest.raises(InputError, match="at_least: expected true or false, got a string 'yes'"):
         load_pattern_json(yes)
     doc["measurements"][1]["at_least"] = True
     doc["measurements"][1]["proportional"] = "yes"
