@@ -115,3 +115,34 @@ def _lengthen_side_seam(pattern, cm: float):
         pattern,
         pieces=tuple(dataclasses.replace(p, outline=outline) if p.name == "front" else p for p in pattern.pieces),
     )
+
+
+@pytest.mark.shared
+def test_the_pictures_draw_the_flagged_faces_red(character_e):
+    from patternbridge.assemble.garment import Garment
+    from patternbridge.assemble.pictures import render_fit
+
+    # a small patch of cloth 5 cm in front of the chest, two triangles
+    v = np.array([[-10.0, 120.0, 0.0], [10.0, 120.0, 0.0], [10.0, 140.0, 0.0], [-10.0, 140.0, 0.0]])
+    v[:, 2] = np.asarray(character_e.vertices)[:, 2].max() + 5.0
+    f = np.array([[0, 1, 2], [0, 2, 3]])
+    n = len(v)
+
+    def red_pixels(flagged):
+        g = Garment(
+            vertices=v,
+            faces=f,
+            uv=v[:, :2],
+            instance=np.zeros(n, np.int64),
+            instance_names=("patch",),
+            weld=np.arange(n),
+            joints=np.zeros((n, 0), np.int64),
+            weights=np.zeros((n, 0)),
+            skeleton=None,
+            flagged=np.array(flagged),
+        )
+        img = render_fit(g, character_e, "front", size=(200, 300)).astype(int)
+        return int(np.count_nonzero((img[..., 0] > 150) & (img[..., 1] < 80) & (img[..., 2] < 80)))
+
+    assert red_pixels([False, False]) == 0
+    assert red_pixels([True, False]) > 50
