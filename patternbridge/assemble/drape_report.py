@@ -67,6 +67,8 @@ class DrapeReport:
         worst_seam_before_weld, seam_gaps_before_weld : before it, per seam
         widest first ; seams_open_before_weld : those wider than 5 mm
     levels_cm : piece -> vertical distance of its anchor mark from its landmark
+    unchecked : checks that could not run, with why (a character without
+        the landmarks the pieces hang from cannot have its levels checked)
     """
 
     verdict: Verdict
@@ -91,6 +93,7 @@ class DrapeReport:
     pieces: tuple[str, ...]
     pose: str
     max_placement_move_cm: float
+    unchecked: tuple[str, ...] = ()
     warnings: tuple[str, ...] = ()
     files: tuple[str, ...] = field(default=())
 
@@ -99,6 +102,7 @@ class DrapeReport:
         return {
             "verdict": self.verdict.value,
             "verdict_reasons": [r.to_dict() for r in self.reasons],
+            "unchecked": list(self.unchecked),
             "penetrating_vertices": self.penetrating_vertices,
             "crossing_triangles": self.crossing_triangles,
             "crossing_pieces": list(self.crossing_pieces),

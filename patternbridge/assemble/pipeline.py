@@ -567,6 +567,12 @@ def _measure(
         pieces=names,
         pose=_pose_name() if sim.rotvecs else "rest",
         max_placement_move_cm=float(np.linalg.norm(x - sim.x_placed, axis=1).max()),
+        unchecked=tuple(
+            f"level of {inst.key}: no landmark {sim.pattern.piece(inst.piece).placement.anchor!r} "
+            "(or its mirror) on the character"
+            for inst in sim.pmesh.instances
+            if inst.key not in levels
+        ),
         warnings=tuple(str(f) for f in sim.findings),
     )
     # the pictures mark in red what the verdict names: open seams, the cloth
