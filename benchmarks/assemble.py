@@ -65,6 +65,36 @@ def _variant_names() -> list[str]:
     return sorted(p.stem for p in VARIANTS.iterdir() if p.suffix in (".obj", ".glb", ".gltf", ".ply"))
 
 
+def contact_sheet(out_dirs: list[Path], path: Path, views: tuple[str, ...] = ("front", "back")) -> int:
+    """Tile the ``fit_<view>.png`` pictures of every case folder under ``out_dirs`` into one PNG; return the count.
+
+    Each case takes one cell per view, scaled to 180 px wide, with its folder
+    name (garment_character) and its verdict (``drape.json``) above.
+    """
+    from PIL import Image, ImageDraw
+
+    cases = sorted(d for out in out_dirs for d in Path(out).iterdir() if (d / "fit_front.png").exists())
+    if not cases:
+        return 0
+    w, h, label = 180, 257, 14
+    cols = 4  # cases per row
+    rows = (len(cases) + cols - 1) // cols
+    sheet = Image.new("RGB", (cols * len(views) * w, rows * (h + label)), "white")
+    draw = ImageDraw.Draw(sheet)
+    for i, case in enumerate(cases):
+        r, c = divmod(i, cols)
+        for j, view in enumerate(views):
+            img = Image.open(case / f"fit_{view}.png").convert("RGB").resize((w, h))
+            x, y = (c * len(views) + j) * w, r * (h + label)
+            sheet.paste(img, (x, y + label))
+        report = case / "drape.json"
+        verdict = json.loads(report.read_text()).get("verdict", "?") if report.exists() else "?"
+        draw.text((c * len(views) * w + 4, r * (h + label)), f"{case.name}: {verdict}", fill="black")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    sheet.save(path, optimize=True)
+    return len(cases)
+
+
 def _rss_mb() -> float:
     try:
         import psutil
@@ -116,6 +146,12 @@ def main(argv: list[str] | None = None) -> int:
         metavar=("POP", "GEN"),
         help="grade with this NSGA-II population and generations instead of fit_pattern's defaults",
     )
+    ap.add_argument(
+        "--contact-sheet",
+        metavar="PNG",
+        help="at the end, tile the front and back pictures of every case under --out (and --sheet-from) into PNG",
+    )
+    ap.add_argument("--sheet-from", nargs="*", default=[], help="more output folders for the contact sheet")
     ap.add_argument("--grade-only", action="store_true", help="only fill --graded-cache, no drape")
     ap.add_argument("--out", default=str(REPO / "bench_out" / "assemble"))
     ap.add_argument("--json", help="also write the rows to this JSON file")
@@ -194,6 +230,7 @@ def main(argv: list[str] | None = None) -> int:
                     rows.append({"character": cname, "garment": gname, "seed": seed, "error": f"dress: {exc}"})
                     continue
                 secs = time.perf_counter() - t
+                (out / "drape.json").write_text(json.dumps(r, indent=1))
                 st = r["stretch"]["percentiles"]
                 worst = r["stretch"]["worst_pieces"][0] if r["stretch"]["worst_pieces"] else {"piece": "-", "p95": 0}
                 verdict = r.get("verdict", "-")
@@ -228,6 +265,12 @@ def main(argv: list[str] | None = None) -> int:
                 print(f"#   {gname} on {cname}: gap0 median {np.median(gaps0):.1f} mm, largest {max(gaps0):.1f} mm")
     if args.json:
         Path(args.json).write_text(json.dumps(rows, indent=1))
+    if args.contact_sheet:
+        folders = [Path(p) for p in (args.out, *args.sheet_from) if Path(p).is_dir()]
+        n = contact_sheet(folders, Path(args.contact_sheet))
+        print(f"# contact sheet of {n} cases: {args.contact_sheet}")
+    if not rows:
+        return 0
     verdicts = [r.get("verdict", "error") for r in rows]
     print("# verdicts: " + ", ".join(f"{v} {verdicts.count(v)}" for v in ("ok", "flawed", "failed", "error")))
     print("# all targets met" if not missed else "# some targets missed: " + "; ".join(missed))
