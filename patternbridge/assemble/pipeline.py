@@ -28,7 +28,17 @@ from .garment import Garment
 from .pose import DRESS_ARM_DROP_DEG
 from .verdict import Measured, VerdictLimits, judge
 
-__all__ = ["Simulation", "assemble", "dress", "finish", "limb_end_seams", "prepare", "sewing_inertia", "simulate"]
+__all__ = [
+    "Simulation",
+    "assemble",
+    "dress",
+    "finish",
+    "limb_end_seams",
+    "prepare",
+    "sewing_inertia",
+    "simulate",
+    "with_anchor_landmarks",
+]
 
 log = logging.getLogger(__name__)
 
@@ -597,6 +607,26 @@ def _crossing(collider, x: np.ndarray, faces: np.ndarray) -> np.ndarray:
     return crossing
 
 
+def with_anchor_landmarks(character: Character, pattern: Pattern) -> tuple[Character, list[str]]:
+    """``character`` with the landmarks the pieces hang from completed as the measuring completes them.
+
+    A character without a sidecar (a glTF from another tool, a bare OBJ)
+    is measured with landmarks found from its rig or its geometry
+    (:func:`~patternbridge.mesh.landmarks.resolve_landmarks`); placed
+    without them, every piece fell back to the middle of its body part and
+    a pair of trousers went round one leg. Returns the character and the
+    names of the landmarks added (none when every anchor is present).
+    """
+    anchors = {p.placement.anchor for p in pattern.pieces if p.placement is not None}
+    if anchors <= set(character.landmarks):
+        return character, []
+    from ..mesh.landmarks import resolve_landmarks
+
+    marks = resolve_landmarks(character, detect=True)
+    added = sorted(set(marks) - set(character.landmarks))
+    return (replace(character, landmarks=marks), added) if added else (character, [])
+
+
 def assemble(
     character: Character,
     pattern: Pattern,
@@ -627,6 +657,7 @@ def assemble(
         A piece has no placement hint, the pattern has no seams, a seam names
         unknown marks, or the body lacks a part a piece goes on.
     """
+    character, found = with_anchor_landmarks(character, pattern)
     posing = character
     if (character.skeleton is None or character.skin is None) and not _on_legs(pattern):
         from .landmark_rig import landmark_rig
@@ -638,6 +669,14 @@ def assemble(
             "landmark-rig",
             "the character has no rig: posed for dressing by an arm rig built from its shoulder, armpit, "
             "elbow and wrist landmarks; the garment carries no skin weights",
+            where=character.name,
+        )
+        log.warning("%s", sim.findings.findings[-1])
+    if found:
+        sim.findings.add(
+            "landmarks-detected",
+            f"the character lacks landmarks the pieces hang from; {len(found)} found from its rig or "
+            f"geometry as the measuring finds them ({', '.join(found[:4])}{', ...' if len(found) > 4 else ''})",
             where=character.name,
         )
         log.warning("%s", sim.findings.findings[-1])
