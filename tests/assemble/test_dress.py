@@ -324,3 +324,23 @@ def test_the_simulation_sews_every_shirt_seam(sewn_shirt):
     assert np.mean(gaps < 5.0) >= 0.8, sorted(sewn.items(), key=lambda kv: -kv[1])
     # and the cloth ends outside the skin
     assert not sim.collider.inside(sim.cloth.x).any()
+
+
+@pytest.mark.shared
+def test_a_character_without_landmarks_gets_the_anchors_its_pieces_hang_from(characters_dir):
+    from patternbridge.assemble.pipeline import with_anchor_landmarks
+    from patternbridge.library import load_garment
+    from patternbridge.mesh.load import load_character
+
+    bare, _ = load_character(characters_dir / "variants" / "D_cartoon_child_rigged.glb")  # no sidecar
+    reference, _ = load_character(characters_dir / "D_cartoon_child.obj")  # the same body with its sidecar
+    trousers = load_garment("trousers")
+    assert not bare.landmarks
+    dressed, added = with_anchor_landmarks(bare, trousers)
+    anchors = {p.placement.anchor for p in trousers.pieces}
+    assert anchors <= set(added)
+    for name in anchors:  # found from the rig and the geometry, near where the sidecar puts them
+        off = np.linalg.norm(dressed.landmarks[name].position - reference.landmarks[name].position)
+        assert off < 3.0, (name, off)
+    # a character that has them is left as it is
+    assert with_anchor_landmarks(reference, trousers) == (reference, [])
