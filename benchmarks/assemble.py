@@ -1,23 +1,25 @@
-"""Benchmark: dress the six ../shared characters in the library shirt and trousers.
+"""Benchmark: dress the shared characters and their variants in the library garments, with the drape's verdict.
 
 Plain script (no asv). For every character and garment it runs
 ``patternbridge.assemble.dress`` with the garment graded to the character as
-``patternbridge fit`` grades it (measure + ``fit_pattern`` with its default
-NSGA-II budget, not timed; ``--sample`` keeps the sample size) and prints one
-line: seconds, peak RSS, penetrating vertices, triangles crossing the skin
-(either way: a garment edge through the body, or the skin through a
-triangle), triangles where a piece passes through itself (``self``, a fold
-pushed through the cloth beside it), seam gap before and after welding,
-stretch percentiles and the worst piece.
-Pictures and meshes go to ``--out`` (default ``bench_out/assemble``), one
-folder per case.
+``patternbridge fit`` grades it (measure + ``fit_pattern``, its default
+NSGA-II budget or ``--grade-budget POP GEN``, not timed; ``--sample`` keeps
+the sample size; ``--graded-cache DIR`` grades each case once) and prints
+one line: seconds, peak RSS, penetrating vertices, triangles crossing the
+skin, triangles where a piece passes through itself (``self``), seam gap
+before and after welding, stretch percentiles, the verdict (``ok`` /
+``flawed`` / ``failed``) and the worst piece, then one line per reason of
+the verdict. Pictures, meshes and ``drape.json`` go to ``--out`` (default
+``bench_out/assemble``), one folder per case; ``--contact-sheet PNG`` tiles
+the front and back pictures of every case folder there.
 
-Targets (issue 7): at most 90 s a case on 2 cores, 0 penetrating vertices and
-triangles crossing the skin, seams closed (<= 1 mm after welding); the gap
-before welding (``gap0``, aim <= 5 mm, so that welding is cosmetic) shows how
-well the simulation sewed them and names the seam where it is largest.
+``--characters`` takes shared characters or variants by name, or paths;
+``--variants`` adds every mesh of ``../shared/characters/variants`` (glTF,
+remeshed Z-up, millimetres, T-poses); ``--garments all`` every library
+garment. A case that cannot be graded or dressed (an ``InputError``) is a
+row, not a crash.
 
-    .venv/bin/python benchmarks/assemble.py [--characters A_superhero ...] [--garments shirt trousers] [--seeds 0 1 2]
+    .venv/bin/python benchmarks/assemble.py [--characters A_superhero ...] [--variants] [--garments all] [--seeds 0 1 2]
 
 The gap before welding is chaotic (it moves by tens of millimetres with the
 seed of the start's jitter); ``--seeds`` dresses every case once per seed
