@@ -3,11 +3,15 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..mesh.character import Skeleton
 from ..report import Report
+
+if TYPE_CHECKING:
+    from .drape_report import DrapeReport
 
 __all__ = ["Garment"]
 
@@ -26,7 +30,9 @@ class Garment:
     joints, weights : (N, 4) int64 / float64 — skin weights on ``skeleton``
         (-1 / 0 for unused slots), rows summing to 1; empty without a rig
     skeleton : the character's skeleton, or None
-    report : the ``drape`` report (see :func:`patternbridge.assemble.dress`)
+    report : the ``drape`` report (:class:`~.drape_report.DrapeReport`), None before measuring
+    flagged : (F,) bool — faces the verdict names (open seams, cloth through
+        itself or the skin, torn stretch), drawn red in the pictures
     findings : recoverable problems met on the way
     """
 
@@ -39,7 +45,8 @@ class Garment:
     joints: np.ndarray
     weights: np.ndarray
     skeleton: Skeleton | None
-    report: dict = field(default_factory=dict)
+    report: DrapeReport | None = None
+    flagged: np.ndarray | None = None
     findings: Report = field(default_factory=Report)
 
     def welded(self) -> tuple[np.ndarray, np.ndarray]:

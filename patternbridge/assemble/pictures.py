@@ -26,10 +26,15 @@ PIECE_COLOURS = np.array(
     dtype=np.uint8,
 )
 _SKIN = np.array([222, 196, 178], dtype=np.uint8)
+_FLAGGED = np.array([220, 30, 30], dtype=np.uint8)  # faces the verdict names
 
 
 def render_fit(garment, character, view: str, size: tuple[int, int] = (700, 1000)) -> np.ndarray:
-    """(H, W, 3) uint8 picture of the character wearing ``garment`` from ``view``."""
+    """(H, W, 3) uint8 picture of the character wearing ``garment`` from ``view``.
+
+    The faces the verdict names (``garment.flagged``: open seams, cloth
+    through itself or the skin, torn stretch) are red.
+    """
     from ..mesh.render import render
 
     gv, gf = garment.vertices, garment.faces
@@ -37,12 +42,10 @@ def render_fit(garment, character, view: str, size: tuple[int, int] = (700, 1000
     bv = np.asarray(character.vertices)
     v = np.concatenate([bv, gv])
     f = np.concatenate([character.faces, gf + len(bv)])
-    colours = np.concatenate(
-        [
-            np.tile(_SKIN, (len(character.faces), 1)),
-            PIECE_COLOURS[garment.instance[gf[:, 0]] % len(PIECE_COLOURS)],
-        ]
-    )
+    cloth = PIECE_COLOURS[garment.instance[gf[:, 0]] % len(PIECE_COLOURS)]
+    if garment.flagged is not None:
+        cloth = np.where(np.asarray(garment.flagged)[:, None], _FLAGGED, cloth)
+    colours = np.concatenate([np.tile(_SKIN, (len(character.faces), 1)), cloth])
     lo, hi = bv.min(axis=0), bv.max(axis=0)
     c, half = (lo + hi) / 2, (hi - lo) / 2
     half[[0, 2]] = half[[0, 2]].max()
@@ -53,7 +56,7 @@ def render_fit(garment, character, view: str, size: tuple[int, int] = (700, 1000
         view=view,
         size=size,
         bounds=np.array([c - half, c + half]),
-        title=f"{character.name} - {view}",
+        title=f"{character.name} - {view}" + (f" - {garment.report.verdict}" if garment.report else ""),
     )
 
 

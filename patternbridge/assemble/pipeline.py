@@ -23,10 +23,22 @@ from ..errors import InputError
 from ..mesh.character import Character
 from ..pattern.model import Copy, Pattern
 from ..report import Report
+from .drape_report import DrapeReport, SeamGap, Stretch
 from .garment import Garment
 from .pose import DRESS_ARM_DROP_DEG
+from .verdict import Measured, VerdictLimits, judge
 
-__all__ = ["Simulation", "assemble", "dress", "finish", "limb_end_seams", "prepare", "sewing_inertia", "simulate"]
+__all__ = [
+    "Simulation",
+    "assemble",
+    "dress",
+    "finish",
+    "limb_end_seams",
+    "prepare",
+    "sewing_inertia",
+    "simulate",
+    "with_anchor_landmarks",
+]
 
 log = logging.getLogger(__name__)
 
@@ -423,21 +435,20 @@ def seam_gap_table(sim: Simulation) -> list[dict]:
 WELDED_OPEN_MM = 5.0  # a seam the simulation left wider than this is listed in the report
 
 
-def finish(sim: Simulation) -> Garment:
-    """Weld the seams, clear the skin, transfer skin weights and measure (the ``drape`` report)."""
+def finish(sim: Simulation, limits: VerdictLimits | None = None) -> Garment:
+    """Weld the seams, clear the skin, transfer skin weights, measure and judge (the ``drape`` report).
+
+    Parameters
+    ----------
+    sim : the sewn and draped simulation, in the rest pose
+    limits : the verdict's limits (:class:`~patternbridge.assemble.verdict.VerdictLimits`)
+    """
     from .drape import seam_gaps, weld_groups
-    from .selfcross import self_crossing
     from .weights import transfer_weights
 
     cloth, collider, settings, character = sim.cloth, sim.collider, sim.settings, sim.character
     gaps_before = seam_gaps(cloth.x, cloth.seams)
     table = seam_gap_table(sim) if len(gaps_before) else []
-    worst_seam = max(table, key=lambda r: r["max_mm"])["seam"] if table else ""
-    # the seams welding had to close by more than a stitch: where to look in the pictures
-    welded_open = sorted(
-        ({"seam": r["seam"], "max_mm": round(r["max_mm"], 1)} for r in table if r["max_mm"] > WELDED_OPEN_MM),
-        key=lambda r: -r["max_mm"],
-    )
 
     # weld the seams, then make sure nothing is left inside the skin
     weld = weld_groups(len(cloth.x), cloth.seams)
@@ -447,24 +458,9 @@ def finish(sim: Simulation) -> Garment:
     wx = np.zeros((len(ids), 3))
     np.add.at(wx, inv, cloth.x)
     wx /= cnt
-    for _ in range(3):
-        wx, moved = collider.push_out(wx, 0.5 * settings.offset_cm, robust=True)
-        if not moved.any():
-            break
-    # no triangle may cut the skin either (a long edge over a thin limb)
-    wx = collider.clear_triangles(wx, wf, settings.offset_cm)
-    wx, _ = collider.push_out(wx, 0.5 * settings.offset_cm, robust=True)
-    inside = collider.inside(wx)
-    if inside.any():  # caught where two body parts touch: out the shortest straight way
-        wx[inside] = collider.escape(wx[inside], 0.5 * settings.offset_cm)
-    # pushing single vertices out can leave an edge between them grazing the
-    # skin where two body parts meet (an armpit): clear the triangles again
-    wx = collider.clear_triangles(wx, wf, 0.5 * settings.offset_cm)
-    # and no tip of the skin may poke through a triangle between its corners
-    wx = collider.lift_over_skin(wx, wf, settings.offset_cm)
+    wx = _clear_skin(collider, wx, wf, settings.offset_cm)
     inside = collider.inside(wx)
     x = wx[inv]
-    seconds = time.perf_counter() - sim.t0
 
     rigged = character.skeleton is not None and character.skin is not None
     if rigged:
@@ -472,63 +468,136 @@ def finish(sim: Simulation) -> Garment:
     else:
         joints = np.zeros((len(x), 0), np.int64)
         weights = np.zeros((len(x), 0))
-    names = sim.names
-    crossing = _crossing(collider, wx, wf)
-    face_piece = cloth.group[cloth.faces[:, 0]]
-    folded = self_crossing(wx, wf, face_piece)
-    folded_pieces, folded_counts = np.unique(face_piece[folded], return_counts=True)
-    # edges shorter than 1 mm in the pattern (a corner collapsed by grading)
-    # would make any ratio meaningless: they are counted, not measured
-    measured = cloth.rest >= 0.1
-    if not measured.any():
-        measured[:] = True
-    ratio = np.linalg.norm(x[cloth.edges[measured, 0]] - x[cloth.edges[measured, 1]], axis=1) / np.maximum(
-        cloth.rest[measured], 1e-9
-    )
-    per = {}
-    egroup = cloth.group[cloth.edges[measured, 0]]
-    for i, n in enumerate(names):
-        r = ratio[egroup == i]
-        if len(r):
-            per[n] = float(np.percentile(r, 95))
-    worst = sorted(per.items(), key=lambda kv: -kv[1])[:3]
-    report = {
-        "penetrating_vertices": int(np.count_nonzero(inside)),
-        "crossing_triangles": int(np.count_nonzero(crossing)),
-        "crossing_pieces": sorted({names[g] for g in face_piece[crossing]}),
-        "self_crossing_triangles": int(np.count_nonzero(folded)),
-        "self_crossing_pieces": {names[g]: int(c) for g, c in zip(folded_pieces, folded_counts, strict=True)},
-        "max_seam_gap_mm": float(seam_gaps(x, cloth.seams).max(initial=0.0) * 10.0),
-        "max_seam_gap_before_weld_mm": float(gaps_before.max(initial=0.0) * 10.0),
-        "worst_seam_before_weld": worst_seam,
-        "seams_open_before_weld": welded_open,
-        "stretch": {
-            "percentiles": {f"p{q}": float(np.percentile(ratio, q)) for q in (1, 5, 50, 95, 99)},
-            "max": float(ratio.max()),
-            "worst_pieces": [{"piece": n, "p95": v} for n, v in worst],
-            "short_edges": int(np.count_nonzero(~measured)),
-        },
-        "seconds": round(seconds, 2),
-        "vertices": len(ids),
-        "triangles": len(cloth.faces),
-        "pieces": list(names),
-        "pose": _pose_name() if sim.rotvecs else "rest",
-        "max_placement_move_cm": float(np.linalg.norm(x - sim.x_placed, axis=1).max()),
-        "warnings": [str(f) for f in sim.findings],
-    }
+    report, flagged = _measure(sim, table, x, wx, wf, inside, limits or VerdictLimits())
     return Garment(
         vertices=x,
         faces=cloth.faces,
         uv=cloth.uv,
         instance=cloth.group,
-        instance_names=names,
+        instance_names=sim.names,
         weld=weld,
         joints=joints,
         weights=weights,
         skeleton=character.skeleton if rigged else None,
         report=report,
+        flagged=flagged,
         findings=sim.findings,
     )
+
+
+def _clear_skin(collider, wx: np.ndarray, wf: np.ndarray, offset_cm: float) -> np.ndarray:
+    """The welded cloth ``wx`` moved out of the skin (vertices, then triangles, then skin tips)."""
+    for _ in range(3):
+        wx, moved = collider.push_out(wx, 0.5 * offset_cm, robust=True)
+        if not moved.any():
+            break
+    # no triangle may cut the skin either (a long edge over a thin limb)
+    wx = collider.clear_triangles(wx, wf, offset_cm)
+    wx, _ = collider.push_out(wx, 0.5 * offset_cm, robust=True)
+    inside = collider.inside(wx)
+    if inside.any():  # caught where two body parts touch: out the shortest straight way
+        wx[inside] = collider.escape(wx[inside], 0.5 * offset_cm)
+    # pushing single vertices out can leave an edge between them grazing the
+    # skin where two body parts meet (an armpit): clear the triangles again
+    wx = collider.clear_triangles(wx, wf, 0.5 * offset_cm)
+    # and no tip of the skin may poke through a triangle between its corners
+    return collider.lift_over_skin(wx, wf, offset_cm)
+
+
+def _measure(
+    sim: Simulation,
+    table: list[dict],
+    x: np.ndarray,
+    wx: np.ndarray,
+    wf: np.ndarray,
+    inside: np.ndarray,
+    limits: VerdictLimits,
+) -> tuple[DrapeReport, np.ndarray]:
+    """The drape report of the finished garment and the (F,) faces to mark red in the pictures."""
+    from .defects import anchor_levels_cm, edge_stretch, faces_touching, seam_excess_cm
+    from .drape import seam_gaps
+    from .selfcross import self_crossing
+    from .skin_check import skin_check
+
+    cloth, names = sim.cloth, sim.names
+    face_piece = cloth.group[cloth.faces[:, 0]]
+    crossing = _crossing(sim.collider, wx, wf)
+    folded = self_crossing(wx, wf, face_piece)
+    folded_pieces, folded_counts = np.unique(face_piece[folded], return_counts=True)
+    body = np.asarray(sim.character.vertices, dtype=np.float64)
+    skin = skin_check(body, sim.character.faces, wx, wf)
+    skin_bad = skin.inside(0.1 * limits.skin_depth_flawed_mm)
+    ratio, measured = edge_stretch(x, cloth.edges, cloth.rest)
+    egroup = cloth.group[cloth.edges[measured, 0]]
+    beyond = ratio > limits.stretch_limit
+    per = {n: float(np.percentile(ratio[egroup == i], 95)) for i, n in enumerate(names) if np.any(egroup == i)}
+    over = {names[g]: int(c) for g, c in zip(*np.unique(egroup[beyond], return_counts=True), strict=True)}
+    gaps = {r["seam"]: r["max_mm"] for r in table}
+    levels = anchor_levels_cm(sim.character, body, sim.pattern, sim.pmesh, x, cloth.group)
+    measured_defects = Measured(
+        seam_gaps_mm=gaps,
+        seam_excess_cm=seam_excess_cm(sim.pattern, sim.pmesh),
+        self_crossing={names[g]: int(c) for g, c in zip(folded_pieces, folded_counts, strict=True)},
+        skin_depth_mm=float(10.0 * skin.depth_cm.max(initial=0.0)),
+        skin_share=float(np.mean(skin_bad)) if len(skin_bad) else 0.0,
+        skin_pieces=tuple(sorted({names[g] for g in face_piece[skin_bad]})),
+        stretch_share=float(np.mean(beyond)) if len(ratio) else 0.0,
+        torn_share=float(np.mean(ratio > limits.stretch_torn)) if len(ratio) else 0.0,
+        stretch_pieces=tuple(sorted(over, key=lambda k: -over[k])),
+        levels_cm=levels,
+    )
+    verdict, reasons = judge(measured_defects, limits)
+    by_gap = sorted((SeamGap(seam=s, max_mm=g) for s, g in gaps.items()), key=lambda g: -g.max_mm)
+    report = DrapeReport(
+        verdict=verdict,
+        reasons=reasons,
+        penetrating_vertices=int(np.count_nonzero(inside)),
+        crossing_triangles=int(np.count_nonzero(crossing)),
+        crossing_pieces=tuple(sorted({names[g] for g in face_piece[crossing]})),
+        skin_depth_mm=measured_defects.skin_depth_mm,
+        skin_triangles=int(np.count_nonzero(skin_bad)),
+        self_crossing_triangles=int(np.count_nonzero(folded)),
+        self_crossing_pieces=measured_defects.self_crossing,
+        max_seam_gap_mm=float(seam_gaps(x, cloth.seams).max(initial=0.0) * 10.0),
+        max_seam_gap_before_weld_mm=by_gap[0].max_mm if by_gap else 0.0,
+        worst_seam_before_weld=by_gap[0].seam if by_gap else "",
+        seam_gaps_before_weld=tuple(by_gap),
+        seams_open_before_weld=tuple(g for g in by_gap if g.max_mm > WELDED_OPEN_MM),
+        levels_cm=levels,
+        stretch=Stretch(
+            percentiles={f"p{q}": float(np.percentile(ratio, q)) for q in (1, 5, 50, 95, 99)},
+            max=float(ratio.max()),
+            worst_pieces=tuple(sorted(per.items(), key=lambda kv: -kv[1])[:3]),
+            beyond_limit_share=measured_defects.stretch_share,
+            short_edges=int(np.count_nonzero(~measured)),
+        ),
+        seconds=round(time.perf_counter() - sim.t0, 2),
+        vertices=len(wx),
+        triangles=len(cloth.faces),
+        pieces=names,
+        pose=_pose_name() if sim.rotvecs else "rest",
+        max_placement_move_cm=float(np.linalg.norm(x - sim.x_placed, axis=1).max()),
+        unchecked=tuple(
+            f"level of {inst.key}: no landmark {sim.pattern.piece(inst.piece).placement.anchor!r} "
+            "(or its mirror) on the character"
+            for inst in sim.pmesh.instances
+            if inst.key not in levels
+        ),
+        warnings=tuple(str(f) for f in sim.findings),
+    )
+    # the pictures mark in red what the verdict names: open seams, the cloth
+    # through itself or the skin, cloth stretched beyond tearing
+    g = seam_gaps(cloth.x, cloth.seams) if len(cloth.seams) else np.zeros(0)
+    open_pairs = cloth.seams[g * 10.0 > limits.seam_gap_flawed_mm]
+    torn = cloth.edges[measured][ratio > limits.stretch_torn]
+    flagged = (
+        folded
+        | crossing
+        | skin_bad
+        | faces_touching(cloth.faces, open_pairs, len(cloth.x))
+        | faces_touching(cloth.faces, torn, len(cloth.x))
+    )
+    return report, flagged
 
 
 def _crossing(collider, x: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -536,6 +605,26 @@ def _crossing(collider, x: np.ndarray, faces: np.ndarray) -> np.ndarray:
     crossing = collider.crossing_triangles(x, faces)
     crossing[collider.skin_through(x, faces)[0]] = True
     return crossing
+
+
+def with_anchor_landmarks(character: Character, pattern: Pattern) -> tuple[Character, list[str]]:
+    """``character`` with the landmarks the pieces hang from completed as the measuring completes them.
+
+    A character without a sidecar (a glTF from another tool, a bare OBJ)
+    is measured with landmarks found from its rig or its geometry
+    (:func:`~patternbridge.mesh.landmarks.resolve_landmarks`); placed
+    without them, every piece fell back to the middle of its body part and
+    a pair of trousers went round one leg. Returns the character and the
+    names of the landmarks added (none when every anchor is present).
+    """
+    anchors = {p.placement.anchor for p in pattern.pieces if p.placement is not None}
+    if anchors <= set(character.landmarks):
+        return character, []
+    from ..mesh.landmarks import resolve_landmarks
+
+    marks = resolve_landmarks(character, detect=True)
+    added = sorted(set(marks) - set(character.landmarks))
+    return (replace(character, landmarks=marks), added) if added else (character, [])
 
 
 def assemble(
@@ -568,6 +657,7 @@ def assemble(
         A piece has no placement hint, the pattern has no seams, a seam names
         unknown marks, or the body lacks a part a piece goes on.
     """
+    character, found = with_anchor_landmarks(character, pattern)
     posing = character
     if (character.skeleton is None or character.skin is None) and not _on_legs(pattern):
         from .landmark_rig import landmark_rig
@@ -579,6 +669,14 @@ def assemble(
             "landmark-rig",
             "the character has no rig: posed for dressing by an arm rig built from its shoulder, armpit, "
             "elbow and wrist landmarks; the garment carries no skin weights",
+            where=character.name,
+        )
+        log.warning("%s", sim.findings.findings[-1])
+    if found:
+        sim.findings.add(
+            "landmarks-detected",
+            f"the character lacks landmarks the pieces hang from; {len(found)} found from its rig or "
+            f"geometry as the measuring finds them ({', '.join(found[:4])}{', ...' if len(found) > 4 else ''})",
             where=character.name,
         )
         log.warning("%s", sim.findings.findings[-1])
@@ -608,11 +706,12 @@ def dress(
 
     Returns
     -------
-    dict, the ``drape`` report: ``penetrating_vertices`` (garment vertices
-    inside the skin), ``crossing_triangles``, ``max_seam_gap_mm`` (after
-    welding), ``max_seam_gap_before_weld_mm``, ``stretch`` (edge length /
-    rest length: ``percentiles``, ``max``, ``worst_pieces``), ``seconds``,
-    ``files``, and counts and warnings.
+    dict, the ``drape`` report (:meth:`DrapeReport.to_dict
+    <patternbridge.assemble.drape_report.DrapeReport.to_dict>`): ``verdict``
+    (``"ok"``, ``"flawed"`` or ``"failed"``) and ``verdict_reasons`` (one
+    dict per check beyond its limit: ``check``, ``verdict``, ``value``,
+    ``limit``, ``unit``, ``where``, ``message``), the measures they judge,
+    ``seconds`` and ``files``. The files are written whatever the verdict.
 
     Raises
     ------
@@ -632,7 +731,9 @@ def dress(
     write_obj(out / "garment.obj", garment)
     write_usd(out / "garment.usda", garment, character)
     pics = write_pictures(out, garment, character)
-    report = dict(garment.report)
-    report["seconds"] = round(time.perf_counter() - t0, 2)
-    report["files"] = [str(out / n) for n in ("garment.glb", "garment.obj", "garment.mtl", "garment.usda", *pics)]
-    return report
+    report = replace(
+        garment.report,
+        seconds=round(time.perf_counter() - t0, 2),
+        files=tuple(str(out / n) for n in ("garment.glb", "garment.obj", "garment.mtl", "garment.usda", *pics)),
+    )
+    return report.to_dict()

@@ -33,7 +33,7 @@ from ..report import Report
 from .bodyparts import HAND_SHARE, PARTS, BodyParts, crotch_height, limb_axis
 from .mesh2d import Instance, PatternMesh
 
-__all__ = ["Cylinder", "bounding_cylinders", "mirror_name", "place_instances"]
+__all__ = ["Cylinder", "bounding_cylinders", "landmark_position", "mirror_name", "place_instances"]
 
 log = logging.getLogger(__name__)
 
@@ -178,14 +178,15 @@ def instance_points2d(pmesh: PatternMesh, inst: Instance) -> np.ndarray:
     return pts * np.array([-1.0, 1.0]) if inst.copy is Copy.MIRROR else pts.copy()
 
 
-def _landmark(character, vertices: np.ndarray, name: str, mirrored: bool) -> np.ndarray | None:
+def landmark_position(character, vertices: np.ndarray, name: str, mirrored: bool) -> np.ndarray | None:
+    """(3,) position of landmark ``name`` on ``vertices`` (its mirror for a mirrored copy), or None if absent."""
     lm = character.landmarks
     if mirrored:
         mname = mirror_name(name)
         if mname != name and mname in lm:
             name = mname
         elif name in lm:
-            p = _landmark(character, vertices, name, False)
+            p = landmark_position(character, vertices, name, False)
             return None if p is None else p * np.array([-1.0, 1.0, 1.0])
     if name not in lm:
         return None
@@ -244,7 +245,7 @@ def place_instances(
         p2 = instance_points2d(pmesh, inst)
         marks = pmesh.pieces[inst.piece].marks
         R = cyl.radius_cm
-        anchor = _landmark(character, vertices, pl.anchor, mirrored)
+        anchor = landmark_position(character, vertices, pl.anchor, mirrored)
         if anchor is not None and pl.anchor_mark in marks:
             th_a, h_a, _ = cyl.coordinates(anchor[None])
             th_a, h_a = float(th_a[0]), float(h_a[0])
@@ -630,7 +631,7 @@ def _band_cylinder(
     """
     import dataclasses
 
-    a = _landmark(character, vertices, anchor, mirrored)
+    a = landmark_position(character, vertices, anchor, mirrored)
     if a is None:
         return cyl
     v = np.asarray(vertices, dtype=np.float64)

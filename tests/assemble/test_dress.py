@@ -12,6 +12,7 @@ from patternbridge.assemble import assemble, dress
 from patternbridge.assemble.collision import BodyCollider
 from patternbridge.assemble.export_gltf import read_glb
 from patternbridge.assemble.mesh2d import mesh_pattern
+from patternbridge.assemble.skin_check import signed_distance
 from patternbridge.errors import InputError
 
 
@@ -49,6 +50,8 @@ def test_dress_writes_every_file_and_a_json_report(dressed):
     ):
         assert (out / name).stat().st_size > 0
     json.dumps(report)
+    assert report["verdict"] in ("ok", "flawed", "failed")
+    assert (report["verdict"] == "ok") == (report["verdict_reasons"] == [])
     for key in ("penetrating_vertices", "max_seam_gap_mm", "stretch", "seconds"):
         assert key in report
     assert set(report["stretch"]["percentiles"]) >= {"p5", "p50", "p95"}
@@ -77,7 +80,7 @@ def test_no_vertex_inside_the_body_and_seams_closed(dressed, character_e):
         view = doc["bufferViews"][acc["bufferView"]]
         pos.append(np.frombuffer(binary, np.float32, acc["count"] * 3, view["byteOffset"]).reshape(-1, 3))
     pos = np.concatenate(pos).astype(np.float64) * 100.0
-    sd = BodyCollider(character_e.vertices, character_e.faces).signed_distance(pos)
+    sd = signed_distance(character_e.vertices, character_e.faces, pos)  # not the solver's collider
     assert sd.min() > -0.05  # float32 rounding of the file
     # the garment covers the torso: between the waist and the chest
     assert pos[:, 1].min() < 100.0 and pos[:, 1].max() > 140.0
@@ -322,3 +325,23 @@ def test_the_simulation_sews_every_shirt_seam(sewn_shirt):
     assert np.mean(gaps < 5.0) >= 0.8, sorted(sewn.items(), key=lambda kv: -kv[1])
     # and the cloth ends outside the skin
     assert not sim.collider.inside(sim.cloth.x).any()
+
+
+@pytest.mark.shared
+def test_a_character_without_landmarks_gets_the_anchors_its_pieces_hang_from(characters_dir):
+    from patternbridge.assemble.pipeline import with_anchor_landmarks
+    from patternbridge.library import load_garment
+    from patternbridge.mesh.load import load_character
+
+    bare, _ = load_character(characters_dir / "variants" / "D_cartoon_child_rigged.glb")  # no sidecar
+    reference, _ = load_character(characters_dir / "D_cartoon_child.obj")  # the same body with its sidecar
+    trousers = load_garment("trousers")
+    assert not bare.landmarks
+    dressed, added = with_anchor_landmarks(bare, trousers)
+    anchors = {p.placement.anchor for p in trousers.pieces}
+    assert anchors <= set(added)
+    for name in anchors:  # found from the rig and the geometry, near where the sidecar puts them
+        off = np.linalg.norm(dressed.landmarks[name].position - reference.landmarks[name].position)
+        assert off < 3.0, (name, off)
+    # a character that has them is left as it is
+    assert with_anchor_landmarks(reference, trousers) == (reference, [])

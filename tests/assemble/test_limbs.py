@@ -65,8 +65,8 @@ def test_trousers_on_arms_down_are_dressed_with_a_warning_and_nothing_inside(arm
     from patternbridge.library import load_garment
 
     g = assemble(arms_down, load_garment("trousers"), max_edge_cm=5.0, steps=40, seed=2)
-    warnings = [w for w in g.report["warnings"] if "limbs-touching" in w]
-    assert warnings, g.report["warnings"]
-    assert g.report["penetrating_vertices"] == 0
+    warnings = [w for w in g.report.warnings if "limbs-touching" in w]
+    assert warnings, g.report.warnings
+    assert g.report.penetrating_vertices == 0
     # a best effort, but still trousers: from the feet to the waist
     assert g.vertices[:, 1].min() < 25.0 and g.vertices[:, 1].max() > 90.0

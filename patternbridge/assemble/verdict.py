@@ -1,0 +1,302 @@
+"""The drape's verdict: ``ok``, ``flawed`` or ``failed``, with the reasons, from measured defects.
+
+Each check compares one measured quantity of the finished drape with two
+documented limits (:class:`VerdictLimits`): beyond the first the garment is
+``flawed`` (usable, the defect shows on a close look), beyond the second it
+has ``failed`` (the pictures show a garment that is not worn as designed).
+The verdict is the worst of the checks. The checks see what the solver
+left before any cosmetic step (the seam gaps are measured before welding)
+and the skin is checked by an independent signed-distance query
+(:mod:`.skin_check`), not by the solver's collider.
+"""
+
+from __future__ import annotations
+
+import enum
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+__all__ = ["Check", "Reason", "Verdict", "VerdictLimits", "judge", "worst"]
+
+
+class Verdict(str, enum.Enum):
+    """How the drape came out, in increasing order of badness."""
+
+    OK = "ok"
+    FLAWED = "flawed"
+    FAILED = "failed"
+
+    def __str__(self) -> str:
+        return self.value
+
+    @property
+    def rank(self) -> int:
+        """0 for ``ok``, 1 for ``flawed``, 2 for ``failed``."""
+        return _RANK[self]
+
+
+_RANK = {Verdict.OK: 0, Verdict.FLAWED: 1, Verdict.FAILED: 2}
+
+
+def worst(verdicts: Iterable[Verdict]) -> Verdict:
+    """The worst of ``verdicts`` (``ok`` for none)."""
+    return max(verdicts, key=lambda v: v.rank, default=Verdict.OK)
+
+
+class Check(str, enum.Enum):
+    """What a reason is about."""
+
+    SEAM_GAP = "seam_gap"  # a seam the simulation left open (before welding)
+    SEAM_LENGTH = "seam_length"  # a seam's two sides differ by more than its declared ease
+    SELF_CROSSING = "self_crossing"  # triangles of the cloth passing through the cloth
+    SKIN = "skin"  # cloth inside the body (independent signed distance)
+    STRETCH = "stretch"  # cloth stretched beyond what the fabric takes
+    LEVEL = "level"  # a piece's anchor (a waist, a neck point, a cuff hem) off its landmark
+
+    def __str__(self) -> str:
+        return self.value
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class VerdictLimits:
+    """The limits of every check: beyond ``*_flawed`` the drape is flawed, beyond ``*_failed`` it failed.
+
+    seam_gap_flawed_mm, seam_gap_failed_mm : widest gap between sewn
+        vertices before welding. Welding moves each side by half the gap:
+        2 mm is under the thickness of a seam; at 10 mm the weld drags the
+        cloth by 5 mm, a visible pucker, and a seam that wide was torn open
+        by the drape.
+    seam_length_flawed_cm, seam_length_failed_cm : how much longer one side
+        of a seam is than the other, beyond the ease the seam declares. The
+        solver gathers the longer side into the shorter, so a pattern error
+        would otherwise sew silently into a ruffle.
+    self_crossing_flawed, self_crossing_failed : triangles where the cloth
+        passes through itself. Any is a defect (a cloth simulation in the
+        animator's tool knots there); more than 20 show as a torn, jagged
+        region in the pictures.
+    skin_depth_flawed_mm, skin_depth_failed_mm : depth of the deepest
+        garment point (vertices, edge midpoints, triangle centres) inside the
+        skin. Under 1 mm is the tolerance of the skin mesh itself.
+    skin_share_failed : share of garment triangles with a point deeper than
+        ``skin_depth_flawed_mm`` that fails the drape whatever the depth.
+    stretch_limit : edge length / pattern length a woven fabric takes
+        (about 10 % across the bias; on the grain far less).
+    stretch_flawed_share, stretch_failed_share : share of the cloth's edges
+        beyond ``stretch_limit`` (flawed), and beyond ``stretch_torn``
+        (failed): cloth stretched by a third is a tear or a hole in the
+        picture.
+    level_flawed_cm, level_failed_cm : vertical distance between a piece's
+        anchor mark and the body landmark it hangs from (a waistband off the
+        waist, a cuff off the wrist, a neck point off the neck).
+    """
+
+    seam_gap_flawed_mm: float = 2.0
+    seam_gap_failed_mm: float = 10.0
+    seam_length_flawed_cm: float = 1.0
+    seam_length_failed_cm: float = 3.0
+    self_crossing_flawed: int = 0
+    self_crossing_failed: int = 20
+    skin_depth_flawed_mm: float = 1.0
+    skin_depth_failed_mm: float = 10.0
+    skin_share_failed: float = 0.01
+    stretch_limit: float = 1.10
+    stretch_torn: float = 1.33
+    stretch_flawed_share: float = 0.01
+    stretch_failed_share: float = 0.01
+    level_flawed_cm: float = 3.0
+    level_failed_cm: float = 8.0
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Reason:
+    """One check beyond its limit.
+
+    value : the measured quantity, in ``unit``
+    limit : the limit it passed (the flawed or the failed one, after ``verdict``)
+    where : the seams or pieces concerned, worst first
+    """
+
+    check: Check
+    verdict: Verdict
+    value: float
+    limit: float
+    unit: str
+    where: tuple[str, ...]
+    message: str
+
+    def to_dict(self) -> dict:
+        """JSON form (``fit_report.json``)."""
+        return {
+            "check": self.check.value,
+            "verdict": self.verdict.value,
+            "value": round(self.value, 3),
+            "limit": self.limit,
+            "unit": self.unit,
+            "where": list(self.where),
+            "message": self.message,
+        }
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Measured:
+    """The quantities the verdict judges, measured on the finished drape.
+
+    seam_gaps_mm : seam id -> widest gap between its sewn vertices before welding
+    seam_excess_cm : seam id -> |length difference of its sides - declared ease|
+    self_crossing : piece -> triangles passing through the cloth
+    skin_depth_mm : deepest garment point inside the skin (0 when none)
+    skin_share : share of garment triangles with a point inside deeper than the flawed limit
+    skin_pieces : pieces with such triangles
+    stretch_share : share of measured edges beyond ``stretch_limit``
+    torn_share : share beyond ``stretch_torn``
+    stretch_pieces : pieces with edges beyond ``stretch_limit``, most first
+    levels_cm : piece instance -> |height of its anchor mark - height of its landmark|
+    """
+
+    seam_gaps_mm: dict[str, float]
+    seam_excess_cm: dict[str, float]
+    self_crossing: dict[str, int]
+    skin_depth_mm: float
+    skin_share: float
+    skin_pieces: tuple[str, ...]
+    stretch_share: float
+    torn_share: float
+    stretch_pieces: tuple[str, ...]
+    levels_cm: dict[str, float]
+
+
+def _grade(value: float, flawed: float, failed: float) -> Verdict:
+    if value > failed:
+        return Verdict.FAILED
+    if value > flawed:
+        return Verdict.FLAWED
+    return Verdict.OK
+
+
+def _worst_keys(values: dict[str, float], above: float) -> tuple[str, ...]:
+    return tuple(k for k, v in sorted(values.items(), key=lambda kv: -kv[1]) if v > above)
+
+
+def _largest(
+    check: Check, values: dict[str, float], flawed: float, failed: float, unit: str, what: str
+) -> Reason | None:
+    """A reason for the largest of ``values`` when it passes ``flawed``."""
+    if not values:
+        return None
+    top = max(values.values())
+    verdict = _grade(top, flawed, failed)
+    if verdict is Verdict.OK:
+        return None
+    limit = failed if verdict is Verdict.FAILED else flawed
+    where = _worst_keys(values, flawed)
+    shown = ", ".join(f"{k} {values[k]:.1f}" for k in where[:3]) + (", ..." if len(where) > 3 else "")
+    return Reason(
+        check=check,
+        verdict=verdict,
+        value=top,
+        limit=limit,
+        unit=unit,
+        where=where,
+        message=f"{what} {top:.1f} {unit} (limit {limit:g} {unit}): {shown}",
+    )
+
+
+def judge(m: Measured, limits: VerdictLimits | None = None) -> tuple[Verdict, tuple[Reason, ...]]:
+    """The verdict on a drape and the reasons for it, worst first.
+
+    Examples
+    --------
+    >>> m = Measured(seam_gaps_mm={"side": 12.0}, seam_excess_cm={}, self_crossing={}, skin_depth_mm=0.0,
+    ...     skin_share=0.0, skin_pieces=(), stretch_share=0.0, torn_share=0.0, stretch_pieces=(), levels_cm={})
+    >>> verdict, reasons = judge(m)
+    >>> str(verdict), reasons[0].check.value
+    ('failed', 'seam_gap')
+    """
+    lim = limits or VerdictLimits()
+    reasons = [
+        _largest(
+            Check.SEAM_GAP,
+            m.seam_gaps_mm,
+            lim.seam_gap_flawed_mm,
+            lim.seam_gap_failed_mm,
+            "mm",
+            "seams open before welding by up to",
+        ),
+        _largest(
+            Check.SEAM_LENGTH,
+            m.seam_excess_cm,
+            lim.seam_length_flawed_cm,
+            lim.seam_length_failed_cm,
+            "cm",
+            "seam sides differ beyond their ease by up to",
+        ),
+        _largest(
+            Check.LEVEL,
+            m.levels_cm,
+            lim.level_flawed_cm,
+            lim.level_failed_cm,
+            "cm",
+            "pieces hang off their landmark by up to",
+        ),
+    ]
+    n_self = sum(m.self_crossing.values())
+    v = _grade(n_self, lim.self_crossing_flawed, lim.self_crossing_failed)
+    if v is not Verdict.OK:
+        where = _worst_keys({k: float(c) for k, c in m.self_crossing.items()}, 0.0)
+        limit = lim.self_crossing_failed if v is Verdict.FAILED else lim.self_crossing_flawed
+        reasons.append(
+            Reason(
+                check=Check.SELF_CROSSING,
+                verdict=v,
+                value=float(n_self),
+                limit=float(limit),
+                unit="triangles",
+                where=where,
+                message=f"{n_self} triangles pass through the cloth (limit {limit}): "
+                + ", ".join(f"{k} {m.self_crossing[k]}" for k in where[:3]),
+            )
+        )
+    v = _grade(m.skin_depth_mm, lim.skin_depth_flawed_mm, lim.skin_depth_failed_mm)
+    value, limit, unit = (
+        m.skin_depth_mm,
+        lim.skin_depth_failed_mm if v is Verdict.FAILED else lim.skin_depth_flawed_mm,
+        "mm",
+    )
+    if v is not Verdict.FAILED and m.skin_share > lim.skin_share_failed:
+        v, value, limit, unit = Verdict.FAILED, 100 * m.skin_share, 100 * lim.skin_share_failed, "% of triangles"
+    if v is not Verdict.OK:
+        reasons.append(
+            Reason(
+                check=Check.SKIN,
+                verdict=v,
+                value=value,
+                limit=limit,
+                unit=unit,
+                where=m.skin_pieces,
+                message=f"cloth inside the skin up to {m.skin_depth_mm:.1f} mm deep on "
+                f"{100 * m.skin_share:.1f} % of the triangles (limit {limit:g} {unit}): {', '.join(m.skin_pieces[:3])}",
+            )
+        )
+    v = Verdict.FAILED if m.torn_share > lim.stretch_failed_share else Verdict.OK
+    if v is Verdict.OK and m.stretch_share > lim.stretch_flawed_share:
+        v = Verdict.FLAWED
+    if v is not Verdict.OK:
+        share, ratio, limit = (
+            (m.torn_share, lim.stretch_torn, lim.stretch_failed_share)
+            if v is Verdict.FAILED
+            else (m.stretch_share, lim.stretch_limit, lim.stretch_flawed_share)
+        )
+        reasons.append(
+            Reason(
+                check=Check.STRETCH,
+                verdict=v,
+                value=100 * share,
+                limit=100 * limit,
+                unit="% of edges",
+                where=m.stretch_pieces,
+                message=f"{100 * share:.1f} % of the edges (limit {100 * limit:g} %) stretched beyond {ratio:g} x "
+                "their pattern length: " + ", ".join(m.stretch_pieces[:3]),
+            )
+        )
+    found = sorted((r for r in reasons if r is not None), key=lambda r: -r.verdict.rank)
+    return worst(r.verdict for r in found), tuple(found)

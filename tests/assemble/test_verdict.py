@@ -1,0 +1,148 @@
+"""The drape verdict: limits, reasons, the independent skin check and the pattern-level seam check."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+
+import numpy as np
+import pytest
+import trimesh
+
+from patternbridge.assemble.defects import seam_excess_cm
+from patternbridge.assemble.mesh2d import mesh_pattern
+from patternbridge.assemble.skin_check import skin_check
+from patternbridge.assemble.verdict import Check, Measured, Verdict, VerdictLimits, judge, worst
+
+
+def _measured(**kw) -> Measured:
+    base = dict(
+        seam_gaps_mm={"side": 0.5},
+        seam_excess_cm={"side": 0.0},
+        self_crossing={},
+        skin_depth_mm=0.0,
+        skin_share=0.0,
+        skin_pieces=(),
+        stretch_share=0.0,
+        torn_share=0.0,
+        stretch_pieces=(),
+        levels_cm={"front": 0.5},
+    )
+    return Measured(**{**base, **kw})
+
+
+def test_a_clean_drape_is_ok_with_no_reason():
+    verdict, reasons = judge(_measured())
+    assert verdict is Verdict.OK
+    assert reasons == ()
+
+
+@pytest.mark.parametrize(
+    ("change", "check", "expected"),
+    [
+        ({"seam_gaps_mm": {"side": 3.0, "cuff": 1.0}}, Check.SEAM_GAP, Verdict.FLAWED),
+        ({"seam_gaps_mm": {"side": 22.0}}, Check.SEAM_GAP, Verdict.FAILED),
+        ({"seam_excess_cm": {"side": 10.0}}, Check.SEAM_LENGTH, Verdict.FAILED),
+        ({"self_crossing": {"front": 4}}, Check.SELF_CROSSING, Verdict.FLAWED),
+        ({"self_crossing": {"front": 400, "back": 251}}, Check.SELF_CROSSING, Verdict.FAILED),
+        ({"skin_depth_mm": 3.0, "skin_share": 0.001, "skin_pieces": ("front",)}, Check.SKIN, Verdict.FLAWED),
+        ({"skin_depth_mm": 3.0, "skin_share": 0.05, "skin_pieces": ("front",)}, Check.SKIN, Verdict.FAILED),
+        ({"stretch_share": 0.04, "stretch_pieces": ("sleeve",)}, Check.STRETCH, Verdict.FLAWED),
+        ({"stretch_share": 0.2, "torn_share": 0.05}, Check.STRETCH, Verdict.FAILED),
+        ({"levels_cm": {"waistband": 12.0}}, Check.LEVEL, Verdict.FAILED),
+    ],
+)
+def test_each_check_beyond_its_limit_gives_its_reason(change, check, expected):
+    verdict, reasons = judge(_measured(**change))
+    assert verdict is expected
+    assert [r.check for r in reasons] == [check]
+    assert reasons[0].verdict is expected
+    assert reasons[0].value > reasons[0].limit
+    json.dumps([r.to_dict() for r in reasons])
+
+
+def test_the_verdict_is_the_worst_reason_and_reasons_come_worst_first():
+    verdict, reasons = judge(_measured(seam_gaps_mm={"side": 3.0}, self_crossing={"front": 300}))
+    assert verdict is Verdict.FAILED
+    assert [r.verdict for r in reasons] == [Verdict.FAILED, Verdict.FLAWED]
+    assert reasons[1].where == ("side",)
+    assert worst([]) is Verdict.OK
+
+
+def test_limits_are_the_documented_ones_and_can_be_changed():
+    strict = VerdictLimits(seam_gap_flawed_mm=0.1)
+    assert judge(_measured(), strict)[0] is Verdict.FLAWED
+    assert VerdictLimits().seam_gap_flawed_mm == 2.0
+    assert str(Verdict.FAILED) == "failed"
+
+
+def test_skin_check_finds_a_triangle_through_a_sphere_by_its_middle():
+    sphere = trimesh.creation.icosphere(subdivisions=4, radius=10.0)
+    # a cloth-sized triangle whose corners are all outside but whose middle dips into the sphere's cap
+    through = np.array([[-4.0, 9.5, -2.0], [4.0, 9.5, -2.0], [0.0, 9.5, 4.0]])
+    assert np.all(np.linalg.norm(through, axis=1) > 10.0)
+    # and one well clear of it
+    clear = through + np.array([0.0, 2.0, 0.0])
+    v = np.concatenate([through, clear])
+    f = np.array([[0, 1, 2], [3, 4, 5]])
+    check = skin_check(sphere.vertices, sphere.faces, v, f)
+    assert check.inside(0.1).tolist() == [True, False]
+    # the deepest point of the plane y = 9.5 inside the sphere lies 0.5 cm under the skin (polygonal sphere:
+    # a little less); the samples reach most of it
+    assert 0.25 < check.depth_cm[0] <= 0.5
+    assert check.depth_cm[1] == 0.0
+
+
+def test_a_seam_ten_cm_too_long_is_found_in_the_pattern(tshirt):
+    before = seam_excess_cm(tshirt, mesh_pattern(tshirt, max_edge_cm=3.0))
+    assert before["side_r"] < 0.1  # the side seams match in the fixture
+    longer = _lengthen_side_seam(tshirt, 10.0)
+    excess = seam_excess_cm(longer, mesh_pattern(longer, max_edge_cm=3.0))
+    # the side seam runs straight down from the underarm: moving its hem end 10 cm lengthens it by 10 cm
+    assert excess["side_r"] == pytest.approx(10.0, abs=0.3)
+    assert {k: v for k, v in excess.items() if k != "side_r"} == pytest.approx(
+        {k: v for k, v in before.items() if k != "side_r"}, abs=1e-6
+    )
+
+
+def _lengthen_side_seam(pattern, cm: float):
+    """``pattern`` with the front's right side seam ``cm`` longer: its hem corner moved down."""
+    front = pattern.piece("front")
+    outline = np.array(front.outline)
+    hem = front.marks["hem_r"]
+    outline[hem, 1] -= cm
+    return dataclasses.replace(
+        pattern,
+        pieces=tuple(dataclasses.replace(p, outline=outline) if p.name == "front" else p for p in pattern.pieces),
+    )
+
+
+@pytest.mark.shared
+def test_the_pictures_draw_the_flagged_faces_red(character_e):
+    from patternbridge.assemble.garment import Garment
+    from patternbridge.assemble.pictures import render_fit
+
+    # a small patch of cloth 5 cm in front of the chest, two triangles
+    v = np.array([[-10.0, 120.0, 0.0], [10.0, 120.0, 0.0], [10.0, 140.0, 0.0], [-10.0, 140.0, 0.0]])
+    v[:, 2] = np.asarray(character_e.vertices)[:, 2].max() + 5.0
+    f = np.array([[0, 1, 2], [0, 2, 3]])
+    n = len(v)
+
+    def red_pixels(flagged):
+        g = Garment(
+            vertices=v,
+            faces=f,
+            uv=v[:, :2],
+            instance=np.zeros(n, np.int64),
+            instance_names=("patch",),
+            weld=np.arange(n),
+            joints=np.zeros((n, 0), np.int64),
+            weights=np.zeros((n, 0)),
+            skeleton=None,
+            flagged=np.array(flagged),
+        )
+        img = render_fit(g, character_e, "front", size=(200, 300)).astype(int)
+        return int(np.count_nonzero((img[..., 0] > 150) & (img[..., 1] < 80) & (img[..., 2] < 80)))
+
+    assert red_pixels([False, False]) == 0
+    assert red_pixels([True, False]) > 50
