@@ -147,6 +147,23 @@ MAX_VALUE_CM = 1e4
 """Largest measurement value read from a file (100 m); anything larger is a broken file."""
 
 
+def _confidence(value: Any, name: str) -> float | None:
+    """A landmark's confidence: absent, or a number in [0, 1]."""
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, int | float) or not 0.0 <= float(value) <= 1.0:
+        raise ValueError(f"landmark {name} confidence {value!r} is not a number in [0, 1]")
+    return float(value)
+
+
+def _evidence(value: Any, name: str) -> LandmarkEvidence:
+    """A landmark's evidence: absent, or an object with a rule and a list of checks."""
+    value = {} if value is None else value
+    if not isinstance(value, dict) or not isinstance(value.get("checks", []), list):
+        raise TypeError(f"landmark {name} evidence must be an object with a list of checks")
+    return LandmarkEvidence(rule=str(value.get("rule", "")), checks=tuple(str(c) for c in value.get("checks", [])))
+
+
 def _value_cm(entry: Any, mid: str) -> float:
     """The ``value_cm`` of one entry: a finite number in (0, MAX_VALUE_CM]."""
     if not isinstance(entry, Mapping):
@@ -208,11 +225,8 @@ def measurements_from_dict(
                 position=_points(lm["position"], f"landmark {name}")[0],
                 vertex=lm.get("vertex"),
                 source=lm.get("source", "file"),
-                confidence=lm.get("confidence"),
-                evidence=LandmarkEvidence(
-                    rule=str(lm.get("evidence", {}).get("rule", "")),
-                    checks=tuple(lm.get("evidence", {}).get("checks", ())),
-                ),
+                confidence=_confidence(lm.get("confidence"), name),
+                evidence=_evidence(lm.get("evidence"), name),
             )
             for name, lm in data.get("landmarks", {}).items()
         }

@@ -87,8 +87,9 @@ def test_pattern_json_wrong_types(cli, tmp_path, shorts_dict, where, value, need
 
 
 def test_pattern_json_unknown_keys_are_kept_readable(cli, tmp_path, shorts_dict):
-    """A newer writer's extra field (a piece role, say) does not make the file unreadable."""
-    shorts_dict["pieces"][0]["role"] = "body"
+    """A newer writer's extra field does not make the file unreadable."""
+    shorts_dict["pieces"][0]["role"] = "front"
+    shorts_dict["pieces"][0]["future_piece_field"] = [1, 2]
     shorts_dict["future_field"] = {"x": 1}
     code, out, err = cli("info", _write_json(tmp_path / "p.json", shorts_dict), "--json")
     assert code == 0, err
