@@ -36,7 +36,14 @@ def test_pattern_without_pieces_is_refused(tee_json, tmp_path, capsys):
     bad = tmp_path / "empty.json"
     bad.write_text(json.dumps(data))
     (tmp_path / "out").mkdir()
-    _cli_refuses(capsys, tmp_path, ["export", bad, "-o", tmp_path / "out" / "e.dxf"], "no pieces")
+    _cli_refuses(capsys, tmp_path, ["export", bad, "-o", tmp_path / "out" / "e.dxf"], "pieces", "at least 1")
+
+
+def test_writer_refuses_a_pattern_without_pieces(tmp_path):
+    empty = dataclasses.replace(example_pattern(), pieces=(), seams=(), measurements=())
+    with pytest.raises(InputError, match="no pieces"):
+        write_dxf(empty, tmp_path / "e.dxf")
+    assert not list(tmp_path.iterdir())
 
 
 @pytest.mark.parametrize("value", [1e308, -1e300, 2e6])
@@ -46,7 +53,18 @@ def test_coordinates_a_dxf_cannot_hold_are_refused(tee_json, tmp_path, capsys, v
     bad = tmp_path / "huge.json"
     bad.write_text(json.dumps(data))
     (tmp_path / "out").mkdir()
-    _cli_refuses(capsys, tmp_path, ["export", bad, "-o", tmp_path / "out" / "h.dxf"], "finite numbers")
+    _cli_refuses(capsys, tmp_path, ["export", bad, "-o", tmp_path / "out" / "h.dxf"], "outline[0][0]", "outside")
+
+
+@pytest.mark.parametrize("value", [1e308, -1e300, 2e6])
+def test_writer_refuses_coordinates_a_dxf_cannot_hold(tmp_path, value):
+    pattern = example_pattern()
+    outline = np.array(pattern.pieces[0].outline)
+    outline[0, 0] = value
+    huge = dataclasses.replace(pattern.pieces[0], outline=outline)
+    with pytest.raises(InputError, match="finite numbers"):
+        write_dxf(dataclasses.replace(pattern, pieces=(huge, *pattern.pieces[1:])), tmp_path / "h.dxf")
+    assert not list(tmp_path.iterdir())
 
 
 def test_huge_rule_delta_is_refused(tmp_path):

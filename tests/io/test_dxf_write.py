@@ -433,7 +433,7 @@ def test_rul_is_written_with_the_dxf(pattern, tmp_path):
 def test_dxf_and_rul_both_or_neither(pattern, tmp_path):
     dxf = tmp_path / "tee.dxf"
     (tmp_path / "blocked.rul").mkdir()  # a directory where the RUL should go
-    with pytest.raises(OSError):
+    with pytest.raises(InputError, match="is a folder"):
         write_dxf(pattern, dxf, rul_path=tmp_path / "blocked.rul")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["blocked.rul"]
     no_rules = dataclasses.replace(

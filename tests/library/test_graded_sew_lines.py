@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -13,9 +15,19 @@ from patternbridge.pattern.grading import grade
 TANK = "WM LOOSE SHAPE TANK.DXF"
 
 
+def _every_fourth_rule(pattern):
+    """The pattern with a rule on every fourth vertex only, as a sparse RUL gives it."""
+    pieces = tuple(
+        dataclasses.replace(p, rules=tuple(r if i % 4 == 0 else None for i, r in enumerate(p.rules)))
+        for p in pattern.pieces
+    )
+    return dataclasses.replace(pattern, pieces=pieces)
+
+
 @pytest.mark.shared
 def test_points_between_rule_points_follow_the_grading_on_a_real_tank(aama_dir):
-    pattern, _ = read_dxf(aama_dir / TANK)
+    # the import keeps this nest exact (a rule on every vertex); thin its rules out
+    pattern = _every_fourth_rule(read_dxf(aama_dir / TANK)[0])
     lines = graded_sew_lines(pattern)
     moved_without_rule = 0
     for k, size in enumerate(pattern.rules.sizes):
