@@ -16,7 +16,7 @@ import sys
 
 HELP = "measure a character and grade a garment to it (NSGA-II), write pattern, DXF+RUL and report"
 
-__all__ = ["HELP", "add_arguments", "drape_warnings", "fit_progress", "options_from_args", "run"]
+__all__ = ["HELP", "add_arguments", "add_fit_options", "drape_warnings", "fit_progress", "options_from_args", "run"]
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -40,6 +40,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="character mesh units when the file does not say (cm, mm, m, in)",
     )
     parser.add_argument("--up", help="character up axis when not +Y (e.g. +Z)")
+    add_fit_options(parser)
+    parser.add_argument(
+        "-o", "--output", required=True, metavar="OUT/", help="output folder"
+    )
+
+
+def add_fit_options(parser: argparse.ArgumentParser) -> None:
+    """The seed, grading and drape flags (shared with ``batch``); read them with :func:`options_from_args`."""
     parser.add_argument(
         "--seed", type=int, default=0, help="random seed (same seed, same result)"
     )
@@ -63,9 +71,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--no-drape", action="store_true", help="do not assemble/drape the garment"
-    )
-    parser.add_argument(
-        "-o", "--output", required=True, metavar="OUT/", help="output folder"
     )
 
 

@@ -50,6 +50,44 @@ class Subject:
     measurements: Measurements
     character: Character | None = None
 
+    def __reduce__(self):
+        # the model's read-only mappings (mappingproxy) do not pickle; a Subject
+        # travels between processes (the batch measures once, fits elsewhere)
+        # as the constructor arguments of its parts, rebuilt on arrival
+        return _rebuild, (_state(self),)
+
+
+class _Parts:
+    """A frozen dataclass taken apart for pickling: its class and constructor arguments."""
+
+    __slots__ = ("cls", "kwargs")
+
+    def __init__(self, cls: type, kwargs: dict[str, Any]) -> None:
+        self.cls, self.kwargs = cls, kwargs
+
+    def __reduce__(self):
+        return _Parts, (self.cls, self.kwargs)
+
+
+def _state(obj: Any) -> Any:
+    if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
+        return _Parts(type(obj), {f.name: _state(getattr(obj, f.name)) for f in dataclasses.fields(obj) if f.init})
+    if isinstance(obj, Mapping):
+        return {k: _state(v) for k, v in obj.items()}
+    if type(obj) in (list, tuple):
+        return type(obj)(_state(v) for v in obj)
+    return obj
+
+
+def _rebuild(state: Any) -> Any:
+    if isinstance(state, _Parts):
+        return state.cls(**{k: _rebuild(v) for k, v in state.kwargs.items()})
+    if isinstance(state, dict):
+        return {k: _rebuild(v) for k, v in state.items()}
+    if type(state) in (list, tuple):
+        return type(state)(_rebuild(v) for v in state)
+    return state
+
 
 def is_measurements_json(path: str | os.PathLike) -> bool:
     """True when ``path`` is a JSON of measurements (``patternbridge measure`` output or ``{id: cm}``)."""
