@@ -17,6 +17,7 @@ __all__ = [
     "Case",
     "CaseOutcome",
     "CaseStatus",
+    "check_inputs",
     "clear_failure",
     "earlier_outcome",
     "make_cases",
@@ -116,6 +117,29 @@ def make_cases(characters: list[str], garments: list[str]) -> list[Case]:
     garments = list(dict.fromkeys(garments))
     return [Case(character=_stem(c), character_path=str(c), garment=_stem(g), garment_spec=str(g))
             for c in characters for g in garments]
+
+
+def check_inputs(characters: list[str], garments: list[str]) -> list[Case]:
+    """The cases of ``characters`` × ``garments`` after checking each input exists.
+
+    Raises
+    ------
+    InputError
+        A character file is missing, a garment is neither a file nor a library
+        garment, or two inputs would share a folder.
+    """
+    from ..errors import InputError
+    from ..library import garment_names
+
+    for path in characters:
+        if not Path(path).is_file():
+            raise InputError(f"{path}: no such character file; give meshes (OBJ/PLY/STL/glTF) or measurements JSONs")
+    library = set(garment_names())
+    for spec in garments:
+        if not Path(spec).is_file() and spec not in library:
+            known = ", ".join(sorted(library))
+            raise InputError(f"{spec}: neither a pattern file nor a library garment (library: {known})")
+    return make_cases(characters, garments)
 
 
 def _report_seconds(report: dict[str, Any]) -> float:

@@ -35,7 +35,8 @@ def _reporter(key: str):
         if last.get(stage) == step and done < total:
             return
         last[stage] = step
-        worker.log_event(PROGRESS_TOPIC, {"case": key, "stage": stage, "done": int(done), "total": int(total)})
+        worker.log_event(PROGRESS_TOPIC, {"case": key, "stage": stage, "done": int(done), "total": int(total),
+                                          "worker": str(worker.address)})
 
     return progress
 

@@ -90,7 +90,7 @@ class _Printer:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..batch import CaseStatus, run_batch
+    from ..batch import CaseStatus, check_inputs, run_batch
     from ..errors import InputError
     from ..workflow import Verdict
 
@@ -98,6 +98,7 @@ def run(args: argparse.Namespace) -> int:
     if os.path.exists(out) and not os.path.isdir(out):
         raise InputError(f"{args.output}: exists and is not a folder; give a folder for -o")
     options = options_from_args(args)
+    check_inputs(args.characters, args.garments)  # before a cluster starts
     if args.verbose < 2:  # Dask logs its cluster's life at INFO on its own loggers
         logging.getLogger("distributed").setLevel(logging.WARNING)
     printer = _Printer(quiet=args.quiet > 0, verbose=args.verbose > 0)
