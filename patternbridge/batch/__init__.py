@@ -10,6 +10,16 @@ writes ``OUT/batch.json`` (:mod:`.manifest`) and ``OUT/index.html``
 from __future__ import annotations
 
 from .cases import Case, CaseOutcome, CaseStatus, check_inputs, make_cases
-from .run import BatchResult, plan, run_batch
+from .run import BatchResult, StageEvent, plan, run_batch
 
-__all__ = ["BatchResult", "Case", "CaseOutcome", "CaseStatus", "check_inputs", "make_cases", "plan", "run_batch"]
+__all__ = [
+    "BatchResult",
+    "Case",
+    "CaseOutcome",
+    "CaseStatus",
+    "StageEvent",
+    "check_inputs",
+    "make_cases",
+    "plan",
+    "run_batch",
+]

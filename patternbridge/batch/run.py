@@ -22,9 +22,22 @@ from .cases import (
 )
 from .manifest import BatchInputs, manifest_dict, write_manifest
 
-__all__ = ["BatchResult", "plan", "run_batch"]
+__all__ = ["BatchResult", "StageEvent", "plan", "run_batch"]
 
-StageProgress = Callable[[str, str, int, int], None] | None
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class StageEvent:
+    """A running case's progress, sent by its worker: ``stage`` reached ``done`` of ``total``."""
+
+    case: str
+    stage: str
+    done: int
+    total: int
+    worker: str = ""
+
+
+StageProgress = Callable[[StageEvent], None] | None
 CaseProgress = Callable[[CaseOutcome, int, int], None] | None
 
 
@@ -98,7 +111,8 @@ def _subscribe(client, stage_progress: StageProgress) -> Callable[[], None]:
     def handler(event) -> None:
         msg = event[1]
         with lock:
-            stage_progress(msg["case"], msg["stage"], msg["done"], msg["total"])
+            stage_progress(StageEvent(case=msg["case"], stage=msg["stage"], done=msg["done"], total=msg["total"],
+                                      worker=msg.get("worker", "")))
 
     client.subscribe_topic(PROGRESS_TOPIC, handler)
     return lambda: client.unsubscribe_topic(PROGRESS_TOPIC)
@@ -133,7 +147,7 @@ def run_batch(
     seed : seed of every case (the same as ``patternbridge fit --seed``)
     options : fit options of every case
     retry_failed : run again the cases an earlier run recorded as failed
-    stage_progress : ``stage_progress(case_key, stage, done, total)`` from the workers
+    stage_progress : ``stage_progress(event)`` with a :class:`StageEvent` from the workers
     case_progress : ``case_progress(outcome, n_finished, n_cases)`` as each case ends
 
     Returns

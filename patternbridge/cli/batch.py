@@ -67,12 +67,12 @@ class _Printer:
         self.quiet, self.verbose = quiet, verbose
         self.stages: dict[str, str] = {}
 
-    def stage(self, key: str, stage: str, done: int, total: int) -> None:
+    def stage(self, event) -> None:
         if self.quiet:
             return
-        if self.stages.get(key) != stage or self.verbose:
-            self.stages[key] = stage
-            print(f"[batch] {key}: {stage} {done}/{total}", file=sys.stderr, flush=True)
+        if self.stages.get(event.case) != event.stage or self.verbose:
+            self.stages[event.case] = event.stage
+            print(f"[batch] {event.case}: {event.stage} {event.done}/{event.total}", file=sys.stderr, flush=True)
 
     def case(self, outcome, n_finished: int, n_cases: int) -> None:
         if self.quiet:
