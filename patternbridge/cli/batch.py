@@ -99,6 +99,9 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"{args.output}: exists and is not a folder; give a folder for -o")
     options = options_from_args(args)
     check_inputs(args.characters, args.garments)  # before a cluster starts
+    # workers on other machines find the files by the same absolute paths (a shared filesystem)
+    characters = [os.path.abspath(c) for c in args.characters]
+    garments = [os.path.abspath(g) if os.path.isfile(g) else g for g in args.garments]
     if args.verbose < 2:  # Dask logs its cluster's life at INFO on its own loggers
         logging.getLogger("distributed").setLevel(logging.WARNING)
     printer = _Printer(quiet=args.quiet > 0, verbose=args.verbose > 0)
@@ -108,7 +111,7 @@ def run(args: argparse.Namespace) -> int:
             print(f"[batch] scheduler {client.scheduler.address}, "
                   f"{len(client.scheduler_info().get('workers', {}))} workers; "
                   f"dashboard {client.dashboard_link}", file=sys.stderr, flush=True)
-        result = run_batch(args.characters, args.garments, out, client=client, seed=args.seed, options=options,
+        result = run_batch(characters, garments, out, client=client, seed=args.seed, options=options,
                            retry_failed=args.retry_failed, stage_progress=printer.stage, case_progress=printer.case)
     finally:
         client.close()
