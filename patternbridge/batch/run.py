@@ -191,7 +191,11 @@ def run_batch(
                 outcome = future.result()
                 clear_failure(case, out)
             else:
-                outcome = _error_outcome(case, future.exception(), worker="")
+                try:
+                    exc = future.exception()
+                except Exception as cancelled:  # a cancelled future raises instead of returning its error
+                    exc = cancelled
+                outcome = _error_outcome(case, exc, worker="")
                 if outcome.status is CaseStatus.FAILED:
                     write_failure(outcome, out)
             future.release()

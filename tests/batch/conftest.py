@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 import sys
 from pathlib import Path
 
@@ -35,3 +36,11 @@ def timeless(obj):
     if isinstance(obj, list):
         return [timeless(v) for v in obj]
     return obj
+
+
+_STAMP = re.compile(rb"(?im)^creation (date|time):.*$")
+
+
+def without_stamps(data: bytes) -> bytes:
+    """DXF/RUL bytes without the writer's creation date and time (the wall clock, not the fit)."""
+    return _STAMP.sub(b"", data)
