@@ -109,3 +109,20 @@ def test_a_real_character_measured_on_one_worker_fits_as_alone(characters_dir, t
             assert timeless(json.loads(f.read_text())) == timeless(json.loads((case / f.name).read_text()))
         elif f.suffix != ".png":
             assert without_stamps(f.read_bytes()) == without_stamps((case / f.name).read_bytes()), f.name
+
+
+@pytest.mark.slow
+def test_batch_on_a_running_scheduler(batch_inputs, tmp_path):
+    from distributed import LocalCluster
+
+    p = batch_inputs
+    out = tmp_path / "out"
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as cluster:
+        code = main(["batch", str(p["hero"]), "--garments", str(p["skirt"]), "-o", str(out), "-q",
+                     "--scheduler", cluster.scheduler_address, *BUDGET])
+        assert code == 0
+        assert len(cluster.scheduler.workers) == 1  # the batch leaves a cluster it did not start running
+    manifest = json.loads((out / "batch.json").read_text())
+    assert manifest["cluster"]["scheduler"] == cluster.scheduler_address
+    assert [c["status"] for c in manifest["cases"]] == ["done"]
+    assert (out / "hero" / "skirt" / "fit_report.json").is_file()
