@@ -10,8 +10,12 @@ its garments. The batch runs the same cases with
 single-threaded worker process per core); its time includes starting the
 cluster. The table gives the wall time, throughput (cases per minute), the
 speed-up over the serial loop and the peak RSS of the serial process and of
-each worker; the last line says whether every case's results are the same
-in both (reports without timings, pattern/DXF/RUL bytes).
+each worker, the CPU time each run used (the serial process's threads, the
+workers' summed) and the 1-minute load average at the start and end of each
+run: on a machine busy with other work the wall times compare shares of the
+cores, and the CPU times show what the batch itself costs. The last line
+says whether every case's results are the same in both (reports without
+timings, pattern/DXF/RUL bytes).
 
 Target (issue 21): ≥ 1.8× the serial throughput with 2 workers on a 2-core
 machine. The exit status is 1 when a case fails or the results differ.
@@ -39,6 +43,12 @@ def peak_rss_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 
 
+def cpu_seconds() -> float:
+    """User + system CPU time of this process so far (all its threads)."""
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    return usage.ru_utime + usage.ru_stime
+
+
 def serial(characters: list[Path], garments: list[str], out: Path, seed: int, options) -> float:
     from patternbridge.workflow import fit, load_subject
 
@@ -61,7 +71,8 @@ def batch(characters: list[Path], garments: list[str], out: Path, seed: int, opt
         result = run_batch([str(c) for c in characters], garments, out, client=client, seed=seed, options=options)
         seconds = time.perf_counter() - t0
         rss = client.run(peak_rss_mb)
-    return result, seconds, sorted(rss.values())
+        cpu = client.run(cpu_seconds)
+    return result, seconds, sorted(rss.values()), sum(cpu.values())
 
 
 # the DXF/RUL writer stamps the wall-clock creation date and time
@@ -120,16 +131,23 @@ def main() -> int:
           f"{args.generations} generations, drape {'on' if args.drape else 'off'}")
     with tempfile.TemporaryDirectory(prefix="pb-bench-batch-") as tmp:
         tmp = Path(tmp)
+        load0, cpu0 = os.getloadavg()[0], cpu_seconds()
         t_serial = serial(characters, garments, tmp / "serial", args.seed, options)
+        cpu_serial, load1 = cpu_seconds() - cpu0, os.getloadavg()[0]
         rss_serial = peak_rss_mb()
-        result, t_batch, rss_workers = batch(characters, garments, tmp / "batch", args.seed, options, args.workers)
+        result, t_batch, rss_workers, cpu_batch = batch(characters, garments, tmp / "batch", args.seed, options,
+                                                        args.workers)
+        load2 = os.getloadavg()[0]
         same = same_results(tmp / "serial", tmp / "batch")
-    header = f"{'run':<22} {'cases':>5} {'wall s':>8} {'cases/min':>10} {'speed-up':>9}  peak RSS MB"
+    header = (f"{'run':<22} {'cases':>5} {'wall s':>8} {'CPU s':>7} {'load':>10} {'cases/min':>10} "
+              f"{'speed-up':>9}  peak RSS MB")
     print(header)
     print("-" * len(header))
-    print(f"{'serial loop':<22} {n:5d} {t_serial:8.1f} {60 * n / t_serial:10.2f} {1.0:9.2f}  {rss_serial:.0f}")
+    print(f"{'serial loop':<22} {n:5d} {t_serial:8.1f} {cpu_serial:7.1f} {f'{load0:.1f}→{load1:.1f}':>10} "
+          f"{60 * n / t_serial:10.2f} {1.0:9.2f}  {rss_serial:.0f}")
     workers = ", ".join(f"{r:.0f}" for r in rss_workers)
-    print(f"{f'batch, {args.workers} workers':<22} {n:5d} {t_batch:8.1f} {60 * n / t_batch:10.2f} "
+    print(f"{f'batch, {args.workers} workers':<22} {n:5d} {t_batch:8.1f} {cpu_batch:7.1f} "
+          f"{f'{load1:.1f}→{load2:.1f}':>10} {60 * n / t_batch:10.2f} "
           f"{t_serial / t_batch:9.2f}  {workers} (per worker)")
     done = result.count(CaseStatus.DONE)
     print(f"# {done}/{n} batch cases done; same results as the serial loop: {'yes' if same else 'NO'}; "

@@ -39,6 +39,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_fit_options(parser)
 
 
+def _quiet_dask() -> None:
+    """Dask logs its cluster's life at INFO on loggers of its own levels; keep warnings and errors."""
+    import distributed  # noqa: F401  (configures its loggers)
+
+    for name in list(logging.root.manager.loggerDict):
+        if name == "distributed" or name.startswith("distributed."):
+            logging.getLogger(name).setLevel(logging.WARNING)
+
+
 def _client(args: argparse.Namespace):
     """``(client, cluster)``: connected to ``--scheduler`` (cluster None) or to a new LocalCluster."""
     from distributed import Client, LocalCluster
@@ -102,8 +111,8 @@ def run(args: argparse.Namespace) -> int:
     # workers on other machines find the files by the same absolute paths (a shared filesystem)
     characters = [os.path.abspath(c) for c in args.characters]
     garments = [os.path.abspath(g) if os.path.isfile(g) else g for g in args.garments]
-    if args.verbose < 2:  # Dask logs its cluster's life at INFO on its own loggers
-        logging.getLogger("distributed").setLevel(logging.WARNING)
+    if args.verbose < 2:
+        _quiet_dask()
     printer = _Printer(quiet=args.quiet > 0, verbose=args.verbose > 0)
     client, cluster = _client(args)
     try:
