@@ -12,7 +12,10 @@ moved into place at the end, so a failed run leaves no partial outputs.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
+
+from ..errors import InputError
 
 HELP = "measure a character and grade a garment to it (NSGA-II), write pattern, DXF+RUL and report"
 
@@ -109,12 +112,18 @@ def fit_progress(quiet: bool):
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..workflow import Verdict, fit, load_subject
+    from ..workflow import Verdict, fit, load_garment_spec, load_subject
     from ._common import print_findings
 
     quiet = args.quiet > 0
     progress = fit_progress(quiet)
     options = options_from_args(args)
+    if os.path.exists(args.output) and not os.path.isdir(args.output):
+        raise InputError(f"{args.output}: exists and is not a folder; give a folder for -o")
+    if not quiet:
+        print(f"[fit] loading garment {args.garment}", file=sys.stderr, flush=True)
+    garment, findings = load_garment_spec(args.garment)  # a bad garment stops before the measuring
+    print_findings(findings)
     if not quiet:
         print(f"[fit] loading character {args.character}", file=sys.stderr, flush=True)
     subject, findings = load_subject(
@@ -123,7 +132,7 @@ def run(args: argparse.Namespace) -> int:
     print_findings(findings)
     if not quiet:
         print(f"[fit] grading {args.garment} to {subject.name}", file=sys.stderr, flush=True)
-    result = fit(subject, args.garment, seed=args.seed, options=options, out_dir=args.output, progress=progress)
+    result = fit(subject, garment, seed=args.seed, options=options, out_dir=args.output, progress=progress)
     print_findings(result.findings)
     rep = result.report
     if not quiet:

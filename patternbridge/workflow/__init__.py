@@ -9,13 +9,14 @@ batch``) both call it. Heavy stages are imported only when a fit runs.
 from __future__ import annotations
 
 from .model import FitFigures, FitOptions, FitResult, Verdict, figures_from_report
-from .run import fit, load_garment_spec
+from .run import Garment, fit, load_garment_spec
 from .subject import Subject, is_measurements_json, load_subject, safe_name
 
 __all__ = [
     "FitFigures",
     "FitOptions",
     "FitResult",
+    "Garment",
     "Subject",
     "Verdict",
     "figures_from_report",

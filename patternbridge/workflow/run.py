@@ -7,6 +7,7 @@ import shutil
 import tempfile
 import time
 from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -19,13 +20,22 @@ from .subject import Subject, load_subject, safe_name
 if TYPE_CHECKING:  # pragma: no cover
     from ..pattern.model import Pattern
 
-__all__ = ["fit", "load_garment_spec"]
+__all__ = ["Garment", "fit", "load_garment_spec"]
 
 Progress = Callable[[str, int, int], None] | None
 
 
-def load_garment_spec(garment: str | os.PathLike | Pattern) -> tuple[Pattern, str, Report]:
-    """``(pattern, name, findings)`` of a library garment name, a pattern file or a loaded pattern.
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class Garment:
+    """A loaded garment: its pattern, its name (file names, report) and where it came from (messages)."""
+
+    pattern: Pattern
+    name: str
+    source: str
+
+
+def load_garment_spec(garment: str | os.PathLike | Pattern | Garment) -> tuple[Garment, Report]:
+    """``(garment, findings)`` of a library garment name, a pattern file or a loaded pattern.
 
     Raises
     ------
@@ -35,18 +45,19 @@ def load_garment_spec(garment: str | os.PathLike | Pattern) -> tuple[Pattern, st
     from ..io.load import load_pattern
     from ..pattern.model import Pattern
 
+    if isinstance(garment, Garment):
+        return garment, Report()
     if isinstance(garment, Pattern):
-        pattern, findings, spec = garment, Report(), garment.style or "garment"
+        pattern, findings, source = garment, Report(), garment.style or "garment"
     else:
         pattern, findings = load_pattern(garment)
-        spec = str(garment)
-    name = pattern.style or Path(spec).stem
+        source = str(garment)
     if not pattern.measurements:
         raise InputError(
-            f"{spec}: the pattern has no landmark-to-measurement mapping (no measurement links); "
+            f"{source}: the pattern has no landmark-to-measurement mapping (no measurement links); "
             "add them with `patternbridge seams infer` or in the pattern's bridge-data sidecar, then run fit again"
         )
-    return pattern, name, findings
+    return Garment(pattern=pattern, name=pattern.style or Path(source).stem, source=source), findings
 
 
 def _check_measurements(subject: Subject, pattern: Pattern, garment: str) -> dict[str, float]:
@@ -64,7 +75,7 @@ def _check_measurements(subject: Subject, pattern: Pattern, garment: str) -> dic
 
 def fit(
     character: Subject | str | os.PathLike,
-    garment: str | os.PathLike | Pattern,
+    garment: str | os.PathLike | Pattern | Garment,
     *,
     seed: int = 0,
     options: FitOptions | None = None,
@@ -83,7 +94,8 @@ def fit(
     Parameters
     ----------
     character : a :class:`Subject` (see :func:`load_subject`), a mesh file or a measurements JSON
-    garment : library garment name, pattern file (JSON, DXF with bridge data) or a :class:`Pattern`
+    garment : library garment name, pattern file (JSON, DXF with bridge data), a :class:`Pattern`, or a
+        :class:`Garment` from :func:`load_garment_spec` (checked before a long measuring)
     seed : seed of the grader and the drape (same inputs and seed, same files)
     options : :class:`FitOptions` (defaults: those of ``patternbridge fit``)
     out_dir : output folder (created when missing)
@@ -102,14 +114,14 @@ def fit(
     """
     from ..grade.report import fit_report
     from ..grade.run import fit_pattern
-    from ..pattern.model import Pattern
 
     t0 = time.perf_counter()
     options = options or FitOptions()
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
         raise InputError(f"{out}: exists and is not a folder; give a folder for the output")
-    pattern, garment_name, findings = load_garment_spec(garment)
+    loaded, findings = load_garment_spec(garment)
+    pattern, garment_name = loaded.pattern, loaded.name
     if not isinstance(character, Subject):
         character, char_findings = load_subject(character, progress=progress)
         findings.extend(char_findings)
@@ -117,9 +129,8 @@ def fit(
     size = safe_name(character.name)
     if size in pattern.sizes:
         size = f"{size}_fit"
-    source = garment_name if isinstance(garment, Pattern) else str(garment)
     grading = fit_pattern(
-        pattern, values, seed=seed, size=size, source=source, progress=progress, **options.grader_kwargs()
+        pattern, values, seed=seed, size=size, source=loaded.source, progress=progress, **options.grader_kwargs()
     )
     report = fit_report(grading, character=character.name, garment=garment_name)
     created = not out.exists()

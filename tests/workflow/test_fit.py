@@ -188,3 +188,16 @@ def test_import_patternbridge_stays_light():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
                          cwd=Path(__file__).resolve().parents[2])
     assert out.stdout.strip() == "[]"
+
+
+def test_cli_refuses_a_garment_without_links_before_measuring(inputs, tmp_path, monkeypatch, capsys):
+    import patternbridge.workflow as workflow
+
+    _, body_path = inputs
+    bare = tmp_path / "bare.json"
+    save_pattern_json(skirt_pattern(links=False), bare)
+    measured = []
+    monkeypatch.setattr(workflow, "load_subject", lambda *a, **k: measured.append(a))
+    assert main(["fit", str(body_path), "--garment", str(bare), "-o", str(tmp_path / "o")]) == 2
+    assert "no measurement links" in capsys.readouterr().err
+    assert measured == [] and not (tmp_path / "o").exists()
