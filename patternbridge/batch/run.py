@@ -178,9 +178,9 @@ def run_batch(
         write_manifest(out, manifest)
         write_index(out, manifest)
 
-    for outcome in kept:
+    for n, outcome in enumerate(kept, 1):
         if case_progress is not None:
-            case_progress(outcome, len(results), len(cases))
+            case_progress(outcome, n, len(cases))
     save()
     unsubscribe = _subscribe(client, stage_progress)
     try:
