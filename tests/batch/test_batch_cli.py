@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 
 import pytest
-from conftest import BUDGET, timeless, without_stamps
+from batch_fixtures import BUDGET, timeless, without_stamps
 
 from patternbridge.cli.main import main
 from patternbridge.io.pattern_json import save_pattern_json
