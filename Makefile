@@ -6,7 +6,7 @@ DEMO_CHARACTER := examples/characters/E_average_male.obj
 DEMO_GARMENT   := shirt
 DEMO_OUT       := out/demo
 
-.PHONY: demo test lint bench system-deps clean help
+.PHONY: demo test lint bench system-deps browser-deps clean help
 
 help:
 	@echo "make demo   create .venv, install, fit the $(DEMO_GARMENT) to the demo character"
@@ -22,6 +22,17 @@ system-deps:
 	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libusb-1.0-0 >/dev/null; \
 	  else \
 	    echo "open3d needs the system library libusb-1.0; run: sudo apt-get install libusb-1.0-0"; exit 1; \
+	  fi; \
+	fi
+
+# The browser test of the batch page drives Debian's chromium through Playwright (never a downloaded browser).
+browser-deps:
+	@if [ ! -x /usr/bin/chromium ]; then \
+	  if [ "$$(id -u)" = "0" ] && command -v apt-get >/dev/null; then \
+	    echo "installing chromium (the browser test of the batch page)"; \
+	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null; \
+	  else \
+	    echo "note: /usr/bin/chromium is missing, the browser test will be skipped (sudo apt-get install chromium)"; \
 	  fi; \
 	fi
 
@@ -56,7 +67,7 @@ demo: system-deps $(VENV)/.installed
 	@echo "Demo outputs are in $(DEMO_OUT)/:"
 	@ls -1 $(DEMO_OUT) | sed 's/^/  /'
 
-test: system-deps $(VENV)/.installed-test $(GLTF_VALIDATOR)
+test: system-deps browser-deps $(VENV)/.installed-test $(GLTF_VALIDATOR)
 	$(BIN)/ruff check patternbridge tests benchmarks garment_library
 	$(BIN)/python -m pytest -q -p no:cacheprovider
 

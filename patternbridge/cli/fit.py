@@ -12,17 +12,14 @@ moved into place at the end, so a failed run leaves no partial outputs.
 from __future__ import annotations
 
 import argparse
-import dataclasses
-import json
-import re
-import shutil
+import os
 import sys
-import tempfile
-from pathlib import Path
+
+from ..errors import InputError
 
 HELP = "measure a character and grade a garment to it (NSGA-II), write pattern, DXF+RUL and report"
 
-__all__ = ["HELP", "add_arguments", "run"]
+__all__ = ["HELP", "add_arguments", "add_fit_options", "drape_warnings", "fit_progress", "options_from_args", "run"]
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -48,6 +45,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="character mesh units when the file does not say (cm, mm, m, in)",
     )
     parser.add_argument("--up", help="character up axis when not +Y (e.g. +Z)")
+    add_fit_options(parser)
+    parser.add_argument(
+        "-o", "--output", required=True, metavar="OUT/", help="output folder"
+    )
+
+
+def add_fit_options(parser: argparse.ArgumentParser) -> None:
+    """The seed, grading and drape flags (shared with ``batch``); read them with :func:`options_from_args`."""
     parser.add_argument(
         "--seed", type=bounded_int(0, 2**32 - 1), default=0, help="random seed (same seed, same result)"
     )
@@ -72,171 +77,66 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--no-drape", action="store_true", help="do not assemble/drape the garment"
     )
-    parser.add_argument(
-        "--choose", type=int, metavar="K",
-        help="re-run the final step from row K of the Pareto front (numbered in pareto.png) and take it",
+
+
+def options_from_args(args: argparse.Namespace):
+    """The :class:`~patternbridge.workflow.FitOptions` of the fit flags (shared with ``batch``)."""
+    from ..workflow import FitOptions
+
+    return FitOptions(
+        pop_size=args.pop_size or None,
+        n_gen=args.generations or None,
+        deformation=args.deformation,
+        repair=not args.no_repair,
+        drape=not args.no_drape,
     )
-    parser.add_argument(
-        "-o", "--output", required=True, metavar="OUT/", help="output folder"
-    )
 
 
-def _safe_name(text: str) -> str:
-    return re.sub(r"[^A-Za-z0-9_.-]+", "_", text).strip("_") or "fit"
+# the workflow's own steps, as the progress lines name them
+STEPS = {"export": "writing DXF-AAMA / DXF-ASTM with the character as one more size",
+         "plot": "drawing pattern.png and pareto.png"}
 
 
-def _is_measurements_json(path: Path) -> bool:
-    # meshes are never .json (glTF is .gltf): a .json character is read, and
-    # checked, as measurements
-    return path.suffix.lower() == ".json"
+def fit_progress(quiet: bool):
+    """The CLI's progress callback: bars for long stages, one line per workflow step."""
+    from ._common import progress_printer
+
+    bars = progress_printer(quiet=quiet)
+
+    def progress(stage: str, done: int, total: int) -> None:
+        if stage in STEPS:
+            if done == 0 and not quiet:
+                print(f"[fit] {STEPS[stage]}", file=sys.stderr, flush=True)
+            return
+        bars(stage, done, total)
+
+    return progress
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..errors import InputError
-    from ._common import print_findings, progress_printer
+    from ..workflow import Verdict, fit, load_garment_spec, load_subject
+    from ._common import print_findings
 
     quiet = args.quiet > 0
-    progress = progress_printer(quiet=quiet)
-
-    def stage(text: str) -> None:
-        if not quiet:
-            print(f"[fit] {text}", file=sys.stderr, flush=True)
-
-    out_dir = Path(args.output)
-    if out_dir.exists() and not out_dir.is_dir():
-        raise InputError(f"{out_dir}: exists and is not a folder; give a folder for -o")
-
-    # --- pattern (a DXF without a sidecar gets inferred bridge data, written into OUT/)
-    stage(f"loading garment {args.garment}")
-    from ..bridge.fit_input import pattern_for_fit
-
-    fit_input = pattern_for_fit(args.garment, out_dir)
-    pattern, report = fit_input.pattern, fit_input.report
-    print_findings(report)
-    if fit_input.summary:
-        stage(f"inferred {fit_input.summary}; sidecar {fit_input.sidecar}, picture {fit_input.picture}")
-    garment = pattern.style or Path(str(args.garment)).stem
-    if not pattern.measurements:
-        raise InputError(
-            f"{args.garment}: the pattern has no landmark-to-measurement mapping (no measurement links); "
-            "add them with `patternbridge seams infer` or in the pattern's bridge-data sidecar, then run fit again"
-        )
-
-    # --- measurements
-    char_path = Path(args.character)
-    character = None
-    from ..measure.model import load_measurements
-
-    if _is_measurements_json(char_path):
-        stage(f"reading measurements {char_path}")
-        meas = load_measurements(char_path)
-        char_name = (
-            meas.character
-            if meas.character and meas.character != "character"
-            else char_path.stem
-        )
-    else:
-        if not char_path.is_file():
-            raise InputError(
-                f"{char_path}: no such character file; give a mesh (OBJ/PLY/STL/glTF) "
-                "or a measurements JSON"
-            )
-        from ..measure.run import measure
-        from ..mesh.load import load_character
-
-        stage(f"loading character {char_path}")
-        character, creport = load_character(
-            char_path, units=args.units, up=args.up, landmarks=args.landmarks
-        )
-        print_findings(creport)
-        stage("measuring")
-        meas = measure(character, progress=progress, partial=True)
-        char_name = getattr(character, "name", "") or char_path.stem
-        # the landmarks measuring found (from the rig or the geometry) also
-        # place the pattern: a bare mesh has none of its own
-        character = dataclasses.replace(character, landmarks={**meas.landmarks, **character.landmarks})
-    values = meas.values_cm()
-    needed = sorted({lk.measurement for lk in pattern.measurements})
-    lacking = [m for m in needed if m not in values]
-    if lacking:
-        reasons = getattr(meas, "missing", {}) or {}
-        detail = ", ".join(
-            f"{m} ({reasons[m]})" if m in reasons else m for m in lacking
-        )
-        raise InputError(
-            f"{args.character}: the character lacks measurements {garment!r} needs: {detail}; "
-            "add the landmarks they need (--landmarks) or give them in a measurements JSON"
-        )
-    size = _safe_name(char_name)
-    if size in pattern.sizes:
-        size = f"{size}_fit"
-
-    # --- grade
-    from ..grade.report import fit_report
-    from ..grade.run import fit_pattern
-
-    kwargs = {}
-    if args.pop_size:
-        kwargs["pop_size"] = int(args.pop_size)
-    if args.generations:
-        kwargs["n_gen"] = int(args.generations)
-    stage(
-        f"grading {garment} to {char_name} ({len(pattern.pieces)} pieces, "
-        f"{len(pattern.measurements)} measurements, {len(pattern.seams)} seams)"
+    progress = fit_progress(quiet)
+    options = options_from_args(args)
+    if os.path.exists(args.output) and not os.path.isdir(args.output):
+        raise InputError(f"{args.output}: exists and is not a folder; give a folder for -o")
+    if not quiet:
+        print(f"[fit] loading garment {args.garment}", file=sys.stderr, flush=True)
+    garment, findings = load_garment_spec(args.garment)  # a bad garment stops before the measuring
+    print_findings(findings)
+    if not quiet:
+        print(f"[fit] loading character {args.character}", file=sys.stderr, flush=True)
+    subject, findings = load_subject(
+        args.character, units=args.units, up=args.up, landmarks=args.landmarks, progress=progress
     )
-    result = fit_pattern(
-        pattern,
-        values,
-        seed=args.seed,
-        size=size,
-        source=str(args.garment),
-        do_repair=not args.no_repair,
-        deformation=args.deformation,
-        progress=progress,
-        **kwargs,
-    )
-    if args.choose is not None:
-        from ..grade.run import choose_member
-
-        result = choose_member(result, args.choose, size=size)
-    rep = fit_report(result, character=char_name, garment=garment)
-
-    created = not out_dir.exists()
-    out_dir.mkdir(parents=True, exist_ok=True)
-    tmp_dir = Path(tempfile.mkdtemp(prefix=".fit-", dir=out_dir))
-    try:
-        written = _write_outputs(
-            tmp_dir,
-            args,
-            pattern,
-            result,
-            rep,
-            meas,
-            character,
-            size,
-            garment,
-            progress,
-            stage,
-        )
-        final = []
-        for name in written:
-            src = tmp_dir / name
-            dst = out_dir / name
-            if src.is_dir():
-                if dst.exists():
-                    shutil.rmtree(dst)
-                src.replace(dst)
-            else:
-                src.replace(dst)
-            final.append(dst)
-    except BaseException:
-        shutil.rmtree(tmp_dir, ignore_errors=True)
-        if created:  # nothing half-written: not even the folder
-            shutil.rmtree(out_dir, ignore_errors=True)
-        raise
-    finally:
-        shutil.rmtree(tmp_dir, ignore_errors=True)
-
+    print_findings(findings)
+    if not quiet:
+        print(f"[fit] grading {args.garment} to {subject.name}", file=sys.stderr, flush=True)
+    result = fit(subject, garment, seed=args.seed, options=options, out_dir=args.output, progress=progress)
+    print_findings(result.findings)
+    rep = result.report
     if not quiet:
         print(
             f"[fit] measurement error mean {rep['mean_error_cm']:.2f} cm, max {rep['max_error_cm']:.2f} cm; "
@@ -247,7 +147,11 @@ def run(args: argparse.Namespace) -> int:
         )
         for line in drape_warnings(rep.get("drape") or {}):
             print(line, file=sys.stderr)
-    print(f"wrote {len(final)} files to {out_dir}: " + ", ".join(p.name for p in final))
+    print(f"wrote {len(result.files)} files to {result.out_dir}: " + ", ".join(result.files))
+    if result.verdict is Verdict.FAILED:
+        print(f"patternbridge: the drape failed (verdict {result.verdict.value}); look at fit_report.json and "
+              "the fit_*.png pictures", file=sys.stderr)
+        return 3
     return 0
 
 
@@ -280,135 +184,3 @@ def drape_warnings(drape: dict) -> list[str]:
             + " (folds pushed through the cloth beside them); look there before simulating it further"
         )
     return out
-
-
-def _write_outputs(
-    tmp: Path,
-    args,
-    pattern,
-    result,
-    rep,
-    meas,
-    character,
-    size,
-    garment,
-    progress,
-    stage,
-) -> list[str]:
-    """Write every output into ``tmp``; return the names written (in order)."""
-    from ..grade.run import front_members
-    from ..io.pattern_json import save_pattern_json
-    from ..io.plot_fit import plot_fit_overlay, plot_pareto
-    from ..measure.model import write_measurements
-    from ..pattern.grading import add_size, single_size
-    from ..report import Report
-    from ._common import print_findings
-
-    names: list[str] = []
-    write_measurements(tmp / "measurements.json", meas)
-    names.append("measurements.json")
-
-    graded = single_size(result.pattern, size)
-    stem = _safe_name(garment)
-    save_pattern_json(graded, tmp / f"{stem}_{size}.json")
-    names.append(f"{stem}_{size}.json")
-
-    # DXF + RUL: the character as one more size beside the original sizes
-    stage("writing DXF-AAMA / DXF-ASTM with the character as one more size")
-    from ..io.dxf_aama.write import write_dxf
-
-    base = pattern
-    if not base.sizes:
-        sample = base.sample_size or "base"
-        base = dataclasses.replace(base, sample_size=sample, sizes=(sample,))
-    outlines = {p.name: p.outline for p in result.pattern.pieces}
-    combined = add_size(base, size, outlines)
-    dxf_report = Report()
-    for flavor in ("aama", "astm"):
-        dxf = f"{stem}_{flavor}.dxf"
-        rul = f"{stem}_{flavor}.rul"
-        write_dxf(
-            combined,
-            tmp / dxf,
-            flavor=flavor,
-            sizes="sample",
-            rul_path=tmp / rul,
-            report=dxf_report,
-        )
-        names += [dxf, rul]
-    print_findings(dxf_report)
-
-    drape_dict = None
-    if not args.no_drape and character is not None:
-        from ..assemble import dress
-
-        stage("assembling and draping")
-        drape_dir = tmp / "drape"
-        drape_dir.mkdir()
-        drape_dict = dress(
-            character, result.pattern, drape_dir, seed=args.seed, progress=progress
-        )
-        moved = []
-        for f in sorted(drape_dir.iterdir()):
-            if not f.name.startswith("."):
-                f.replace(tmp / f.name)
-                names.append(f.name)
-                moved.append(f.name)
-        drape_dir.rmdir()
-        # the assembler names the files where it wrote them (the temporary
-        # folder); the report names them where they end up, relative to OUT/
-        drape_dict = dict(drape_dict)
-        drape_dict["files"] = _relative_files(drape_dict.get("files"), moved)
-    elif character is None and not args.no_drape:
-        rep["drape"] = {"skipped": "measurements given without a character mesh"}
-    if drape_dict is not None:
-        rep["drape"] = drape_dict
-
-    stage("drawing pattern.png and pareto.png")
-    plot_fit_overlay(
-        pattern.pieces,
-        result.pattern.pieces,
-        tmp / "pattern.png",
-        labels=(pattern.sample_size or "original", size),
-        title=f"{garment}: original vs graded for {size}",
-    )
-    names.append("pattern.png")
-    plot_pareto(
-        result.front_F,
-        tmp / "pareto.png",
-        chosen=result.ga_choice.scores.F,
-        final=result.chosen.scores.F,
-        refined=result.front_refined,
-        within=result.front_within,
-        baselines={n: s.scores.F for n, s in result.baselines.items()},
-        members=[(k, p.pieces) for k, p in front_members(result)],
-        title=f"{garment} on {size}: final Pareto front",
-    )
-    names.append("pareto.png")
-
-    from ..atomic import write_text
-
-    write_text(
-        tmp / "fit_report.json", json.dumps(rep, indent=1, default=_json_default) + "\n"
-    )
-    names.append("fit_report.json")
-    return names
-
-
-def _relative_files(files, moved: list[str]) -> list[str]:
-    """File names of the drape outputs relative to OUT/ (they land at its top level)."""
-    if not files:
-        return sorted(moved)
-    return [Path(str(f)).name for f in files if Path(str(f)).name in moved] or sorted(moved)
-
-
-def _json_default(obj):
-    import numpy as np
-
-    if isinstance(obj, np.ndarray):
-        return obj.tolist()
-    if isinstance(obj, (np.floating, np.integer)):
-        return obj.item()
-    if isinstance(obj, Path):
-        return str(obj)
-    raise TypeError(f"not JSON serialisable: {type(obj).__name__}")

@@ -25,6 +25,7 @@ __all__ = ["main"]
 # command name -> module under patternbridge.cli, in the order --help lists them
 COMMANDS: dict[str, str] = {
     "fit": "fit",
+    "batch": "batch",
     "import": "import_",
     "info": "info",
     "export": "export",

@@ -57,14 +57,6 @@ def test_fit_writes_every_output(inputs, tmp_path, capsys):
         assert np.ptp(piece.outline[[0, 1, 2], 1]) < 0.01
 
 
-def test_drape_files_are_named_relative_to_out():
-    from patternbridge.cli.fit import _relative_files
-
-    files = ["/x/OUT/.fit-abc/drape/garment.glb", "/x/OUT/.fit-abc/drape/garment.obj", "/elsewhere/not_moved.png"]
-    assert _relative_files(files, ["garment.glb", "garment.mtl", "garment.obj"]) == ["garment.glb", "garment.obj"]
-    assert _relative_files(None, ["b.png", "a.png"]) == ["a.png", "b.png"]
-
-
 def test_fit_pattern_without_links_exits_2(inputs, tmp_path, capsys):
     _, body_path = inputs
     bare = tmp_path / "bare.json"

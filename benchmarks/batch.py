@@ -1,0 +1,159 @@
+"""Benchmark: ``patternbridge batch`` on a LocalCluster against the serial loop, in the same run.
+
+Usage: ``python benchmarks/batch.py [--characters A_superhero,B_slim_female] [--garments shirt,trousers]
+[--workers 2] [--pop-size 16] [--generations 10] [--drape] [--seed 0]``
+
+The serial loop is what a script without the batch does: in one process,
+measure each character once and call :func:`patternbridge.fit` for each of
+its garments. The batch runs the same cases with
+:func:`patternbridge.batch.run_batch` on a new ``LocalCluster`` (one
+single-threaded worker process per core); its time includes starting the
+cluster. The table gives the wall time, throughput (cases per minute), the
+speed-up over the serial loop and the peak RSS of the serial process and of
+each worker, the CPU time each run used (the serial process's threads, the
+workers' summed) and the 1-minute load average at the start and end of each
+run: on a machine busy with other work the wall times compare shares of the
+cores, and the CPU times show what the batch itself costs. The last line
+says whether every case's results are the same in both (reports without
+timings, pattern/DXF/RUL bytes).
+
+Target (issue 21): ≥ 1.8× the serial throughput with 2 workers on a 2-core
+machine. The exit status is 1 when a case fails or the results differ.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import re
+import resource
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from patternbridge import __version__
+
+SHARED = Path(__file__).resolve().parents[1] / ".." / "shared" / "characters"
+
+
+def peak_rss_mb() -> float:
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def cpu_seconds() -> float:
+    """User + system CPU time of this process so far (all its threads)."""
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    return usage.ru_utime + usage.ru_stime
+
+
+def serial(characters: list[Path], garments: list[str], out: Path, seed: int, options) -> float:
+    from patternbridge.workflow import fit, load_subject
+
+    t0 = time.perf_counter()
+    for path in characters:
+        subject, _ = load_subject(path)
+        for garment in garments:
+            fit(subject, garment, seed=seed, options=options, out_dir=out / path.stem / garment)
+    return time.perf_counter() - t0
+
+
+def batch(characters: list[Path], garments: list[str], out: Path, seed: int, options, n_workers: int):
+    from distributed import Client, LocalCluster
+
+    from patternbridge.batch import run_batch
+
+    t0 = time.perf_counter()
+    with LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
+            Client(cluster) as client:
+        result = run_batch([str(c) for c in characters], garments, out, client=client, seed=seed, options=options)
+        seconds = time.perf_counter() - t0
+        rss = client.run(peak_rss_mb)
+        cpu = client.run(cpu_seconds)
+    return result, seconds, sorted(rss.values()), sum(cpu.values())
+
+
+# the DXF/RUL writer stamps the wall-clock creation date and time
+_STAMP = re.compile(rb"(?im)^creation (date|time):.*$")
+
+
+def _timeless(obj):
+    if isinstance(obj, dict):
+        return {k: _timeless(v) for k, v in obj.items() if k != "seconds"}
+    if isinstance(obj, list):
+        return [_timeless(v) for v in obj]
+    return obj
+
+
+def same_results(a: Path, b: Path) -> bool:
+    for report in a.rglob("fit_report.json"):
+        other = b / report.relative_to(a)
+        if not other.is_file():
+            return False
+        if _timeless(json.loads(report.read_text())) != _timeless(json.loads(other.read_text())):
+            return False
+        for f in report.parent.iterdir():
+            if f.suffix in (".json", ".dxf", ".rul") and f.name != "fit_report.json":
+                if _STAMP.sub(b"", f.read_bytes()) != _STAMP.sub(b"", (other.parent / f.name).read_bytes()):
+                    return False
+    return True
+
+
+def main() -> int:
+    from patternbridge.batch import CaseStatus
+    from patternbridge.workflow import FitOptions
+
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--characters", default="A_superhero,B_slim_female")
+    ap.add_argument("--garments", default="shirt,trousers")
+    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--pop-size", type=int, default=16)
+    ap.add_argument("--generations", type=int, default=10)
+    ap.add_argument("--drape", action="store_true", help="drape every case too (minutes per case)")
+    ap.add_argument("--seed", type=int, default=0)
+    args = ap.parse_args()
+    if not SHARED.is_dir():
+        print(f"benchmark needs {SHARED}", file=sys.stderr)
+        return 1
+    characters = [SHARED / f"{name}.obj" for name in args.characters.split(",")]
+    garments = args.garments.split(",")
+    options = FitOptions(pop_size=args.pop_size, n_gen=args.generations, drape=args.drape)
+    n = len(characters) * len(garments)
+    import dask
+    import numpy as np
+
+    print(f"# batch benchmark — patternbridge {__version__}, dask {dask.__version__}, numpy {np.__version__}, "
+          f"python {platform.python_version()}, {platform.machine()}, {os.cpu_count()} cores, "
+          f"load {os.getloadavg()[0]:.1f}, seed {args.seed}")
+    print(f"# {len(characters)} characters × {len(garments)} garments = {n} cases, pop {args.pop_size}, "
+          f"{args.generations} generations, drape {'on' if args.drape else 'off'}")
+    with tempfile.TemporaryDirectory(prefix="pb-bench-batch-") as tmp:
+        tmp = Path(tmp)
+        load0, cpu0 = os.getloadavg()[0], cpu_seconds()
+        t_serial = serial(characters, garments, tmp / "serial", args.seed, options)
+        cpu_serial, load1 = cpu_seconds() - cpu0, os.getloadavg()[0]
+        rss_serial = peak_rss_mb()
+        result, t_batch, rss_workers, cpu_batch = batch(characters, garments, tmp / "batch", args.seed, options,
+                                                        args.workers)
+        load2 = os.getloadavg()[0]
+        same = same_results(tmp / "serial", tmp / "batch")
+    header = (f"{'run':<22} {'cases':>5} {'wall s':>8} {'CPU s':>7} {'load':>10} {'cases/min':>10} "
+              f"{'speed-up':>9}  peak RSS MB")
+    print(header)
+    print("-" * len(header))
+    print(f"{'serial loop':<22} {n:5d} {t_serial:8.1f} {cpu_serial:7.1f} {f'{load0:.1f}→{load1:.1f}':>10} "
+          f"{60 * n / t_serial:10.2f} {1.0:9.2f}  {rss_serial:.0f}")
+    workers = ", ".join(f"{r:.0f}" for r in rss_workers)
+    print(f"{f'batch, {args.workers} workers':<22} {n:5d} {t_batch:8.1f} {cpu_batch:7.1f} "
+          f"{f'{load1:.1f}→{load2:.1f}':>10} {60 * n / t_batch:10.2f} "
+          f"{t_serial / t_batch:9.2f}  {workers} (per worker)")
+    done = result.count(CaseStatus.DONE)
+    print(f"# {done}/{n} batch cases done; same results as the serial loop: {'yes' if same else 'NO'}; "
+          f"target speed-up ≥ 1.8 with 2 workers: {'met' if t_serial / t_batch >= 1.8 else 'missed'}")
+    return 0 if done == n and same else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,208 @@
+"""``run_batch``: every character × garment as one Dask task, resumable, each case on its own."""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from ..workflow.model import FitOptions
+from .cases import (
+    Case,
+    CaseOutcome,
+    CaseStatus,
+    clear_failure,
+    earlier_outcome,
+    make_cases,
+    remove_partial,
+    write_failure,
+)
+from .manifest import BatchInputs, manifest_dict, write_manifest
+
+__all__ = ["BatchResult", "StageEvent", "plan", "run_batch"]
+
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class StageEvent:
+    """A running case's progress, sent by its worker: ``stage`` reached ``done`` of ``total``."""
+
+    case: str
+    stage: str
+    done: int
+    total: int
+    worker: str = ""
+
+
+StageProgress = Callable[[StageEvent], None] | None
+CaseProgress = Callable[[CaseOutcome, int, int], None] | None
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class BatchResult:
+    """Every case's outcome (in case order), the wall time and where the files are."""
+
+    outcomes: tuple[CaseOutcome, ...]
+    seconds: float
+    out_dir: Path
+
+    def count(self, status: CaseStatus) -> int:
+        return sum(o.status is status for o in self.outcomes)
+
+    @property
+    def is_complete(self) -> bool:
+        """True when every case is done."""
+        return self.count(CaseStatus.DONE) == len(self.outcomes)
+
+
+def plan(cases: Sequence[Case], out_dir: Path, *, retry_failed: bool = False) -> tuple[list[CaseOutcome], list[Case]]:
+    """Split ``cases`` into the outcomes earlier runs left (kept) and the cases to run now.
+
+    A finished case is kept; a failed one is kept unless ``retry_failed``; a
+    lost or never-run one is run (what a killed run left of it is removed).
+    """
+    kept, todo = [], []
+    for case in cases:
+        earlier = earlier_outcome(case, out_dir)
+        if earlier is not None and (earlier.status is CaseStatus.DONE or not retry_failed):
+            kept.append(earlier)
+            continue
+        remove_partial(case, out_dir)
+        todo.append(case)
+    return kept, todo
+
+
+def _error_outcome(case: Case, exc: BaseException, worker: str) -> CaseOutcome:
+    from distributed import KilledWorker
+    from distributed.client import FutureCancelledError
+
+    lost = isinstance(exc, (KilledWorker, FutureCancelledError))
+    text = f"{type(exc).__name__}: {exc}".strip().splitlines()[0]
+    return CaseOutcome(case=case, status=CaseStatus.LOST if lost else CaseStatus.FAILED, error=text, worker=worker)
+
+
+def _submit(client, todo: list[Case], out_dir: Path, seed: int, options: FitOptions) -> dict[Any, Case]:
+    """One measuring task per character, one fit task per case depending on it."""
+    from .tasks import fit_case, measure_character
+
+    subjects = {}
+    for case in todo:
+        if case.character not in subjects:
+            subjects[case.character] = client.submit(
+                measure_character, case.character_path, key=f"measure-{case.character}-{time.time_ns()}", pure=False
+            )
+    return {
+        client.submit(fit_case, subjects[case.character], case, str(out_dir), seed, options,
+                      key=f"fit-{case.key}-{time.time_ns()}", pure=False): case
+        for case in todo
+    }
+
+
+def _subscribe(client, stage_progress: StageProgress) -> Callable[[], None]:
+    from .tasks import PROGRESS_TOPIC
+
+    if stage_progress is None:
+        return lambda: None
+    lock = threading.Lock()
+
+    def handler(event) -> None:
+        msg = event[1]
+        with lock:
+            stage_progress(StageEvent(case=msg["case"], stage=msg["stage"], done=msg["done"], total=msg["total"],
+                                      worker=msg.get("worker", "")))
+
+    client.subscribe_topic(PROGRESS_TOPIC, handler)
+    return lambda: client.unsubscribe_topic(PROGRESS_TOPIC)
+
+
+def run_batch(
+    characters: Sequence[str],
+    garments: Sequence[str],
+    out_dir: str | Path,
+    *,
+    client,
+    seed: int = 0,
+    options: FitOptions | None = None,
+    retry_failed: bool = False,
+    stage_progress: StageProgress = None,
+    case_progress: CaseProgress = None,
+) -> BatchResult:
+    """Fit every garment to every character on the Dask cluster of ``client``.
+
+    Each character is measured once, on one worker; its cases use that
+    result. Each case writes ``OUT/<character>/<garment>/`` atomically; a
+    case that raises is recorded as failed (``<garment>.failed.json`` and the
+    manifest), one whose worker dies as lost, and neither stops the others.
+    ``OUT/batch.json`` and ``OUT/index.html`` are rewritten after every case.
+
+    Parameters
+    ----------
+    characters : mesh files or measurements JSONs
+    garments : library garment names or pattern files
+    out_dir : output folder
+    client : a ``distributed.Client``
+    seed : seed of every case (the same as ``patternbridge fit --seed``)
+    options : fit options of every case
+    retry_failed : run again the cases an earlier run recorded as failed
+    stage_progress : ``stage_progress(event)`` with a :class:`StageEvent` from the workers
+    case_progress : ``case_progress(outcome, n_finished, n_cases)`` as each case ends
+
+    Returns
+    -------
+    BatchResult
+    """
+    from distributed import as_completed
+
+    from .html import write_index
+
+    t0 = time.perf_counter()
+    options = options or FitOptions()
+    out = Path(out_dir)
+    cases = make_cases(list(characters), list(garments))
+    out.mkdir(parents=True, exist_ok=True)
+    kept, todo = plan(cases, out, retry_failed=retry_failed)
+    inputs = BatchInputs(
+        characters={c.character: c.character_path for c in cases},
+        garments={c.garment: c.garment_spec for c in cases},
+        seed=seed, options=options, scheduler=str(client.scheduler.address),
+        dashboard=str(client.dashboard_link or ""), n_workers=len(client.scheduler_info().get("workers", {})),
+    )
+    results: dict[str, CaseOutcome] = {o.case.key: o for o in kept}
+
+    def save() -> None:
+        ordered = [results[c.key] for c in cases if c.key in results]
+        manifest = manifest_dict(inputs, ordered, seconds=time.perf_counter() - t0)
+        write_manifest(out, manifest)
+        write_index(out, manifest)
+
+    for n, outcome in enumerate(kept, 1):
+        if case_progress is not None:
+            case_progress(outcome, n, len(cases))
+    save()
+    unsubscribe = _subscribe(client, stage_progress)
+    try:
+        futures = _submit(client, todo, out, seed, options)
+        for future in as_completed(list(futures)):
+            case = futures[future]
+            if future.status == "finished":
+                outcome = future.result()
+                clear_failure(case, out)
+            else:
+                try:
+                    exc = future.exception()
+                except Exception as cancelled:  # a cancelled future raises instead of returning its error
+                    exc = cancelled
+                outcome = _error_outcome(case, exc, worker="")
+                if outcome.status is CaseStatus.FAILED:
+                    write_failure(outcome, out)
+            future.release()
+            results[case.key] = outcome
+            if case_progress is not None:
+                case_progress(outcome, len(results), len(cases))
+            save()
+    finally:
+        unsubscribe()
+    return BatchResult(outcomes=tuple(results[c.key] for c in cases), seconds=time.perf_counter() - t0, out_dir=out)
