@@ -2,7 +2,8 @@
 
 Every seam end becomes a mark ``v<vertex>`` on the designer's own outline (the
 file is not changed: the graded DXF sent back keeps its orientation, names and
-half pieces); each piece records its role and the turn that stands it upright.
+half pieces); each piece records its role, the turn that stands it upright, its
+named marks on body landmarks and its placement (:mod:`.landmarks`).
 All inferred seams are written ``"status": "proposed"`` with their confidence;
 a band sewn along an opening made of several ranges is written once per range
 with ``"status": "band"`` (not applied as a seam until a person puts marks on
@@ -19,6 +20,7 @@ from ..library.seams import sew_line
 from ..library.sidecar import SIDECAR_FORMAT
 from ..pattern.json import measurement_link_to_dict
 from ..pattern.model import Pattern
+from .landmarks import piece_landmarks
 from .links import measurement_links
 from .model import BridgeInference, Join
 
@@ -76,6 +78,7 @@ def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str,
     for link in links:
         for leg in link.legs:
             marks[leg.piece] |= {int(leg.start[1:]), int(leg.end[1:])}
+    found = piece_landmarks(pattern, inference)
     pieces = []
     for p in pattern.pieces:
         o = inference.orientations[p.name]
@@ -98,11 +101,17 @@ def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str,
                     "confidence": round(o.confidence, 2),
                 },
                 "marks": {
-                    f"v{i}": {"vertex": i, "xy": [round(float(v), 4) for v in p.outline[i]]}
-                    for i in sorted(marks[p.name])
+                    **{
+                        f"v{i}": {"vertex": i, "xy": [round(float(v), 4) for v in p.outline[i]]}
+                        for i in sorted(marks[p.name])
+                    },
+                    **{
+                        name: {"vertex": i, "xy": [round(float(v), 4) for v in p.outline[i]]}
+                        for name, i in found[p.name].marks.items()
+                    },
                 },
-                "landmarks": {},
-                "placement": None,
+                "landmarks": dict(found[p.name].landmarks),
+                "placement": found[p.name].placement,
             }
         )
     return {

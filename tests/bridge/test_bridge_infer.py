@@ -78,3 +78,30 @@ def test_alternatives_are_grouped_and_one_set_chosen(aama_dir):
     assert len(chosen & {"GMH1004FNR", "GMH1004FRN"}) == 1
     other = infer_bridge(pattern, pieces=["GMH1004FFA", "GMH1004FBA", "GMH1004FSS", "GMH1004FNR"]).chosen
     assert set(other) == {"GMH1004FFA", "GMH1004FBA", "GMH1004FSS", "GMH1004FNR"}
+
+
+@pytest.mark.parametrize("garment", ["tshirt", "trousers"])
+def test_inferred_landmarks_sit_where_the_library_drafted_them(garment):
+    """On a library DXF read without its sidecar, every inferred body landmark lands on the drafted mark."""
+    import json
+    from pathlib import Path
+
+    from patternbridge.bridge import infer_bridge
+    from patternbridge.bridge.landmarks import piece_landmarks
+
+    library_dir = Path(__file__).resolve().parents[2] / "garment_library"
+    pattern, _ = read_dxf(library_dir / garment / f"{garment}_aama.dxf")
+    found = piece_landmarks(pattern, infer_bridge(pattern))
+    drafted = json.loads((library_dir / garment / f"{garment}.seams.json").read_text(encoding="utf-8"))
+    checked = 0
+    for entry in drafted["pieces"]:
+        piece, got = pattern.piece(entry["name"]), found[entry["name"]]
+        assert got.placement is not None
+        assert got.placement["body_part"] == entry["placement"]["body_part"]
+        for landmark, mark in got.landmarks.items():
+            if landmark not in entry["landmarks"]:
+                continue
+            want = np.array(entry["marks"][entry["landmarks"][landmark]]["xy"])
+            assert np.linalg.norm(piece.outline[got.marks[mark]] - want) < 1.0, (entry["name"], landmark)
+            checked += 1
+    assert checked >= 6
