@@ -215,6 +215,7 @@ def run(args: argparse.Namespace) -> int:
             garment,
             progress,
             stage,
+            drape_sidecar=fit_input.sidecar,
         )
         final = []
         for name in written:
@@ -292,8 +293,13 @@ def _write_outputs(
     garment,
     progress,
     stage,
+    drape_sidecar: Path | None = None,
 ) -> list[str]:
-    """Write every output into ``tmp``; return the names written (in order)."""
+    """Write every output into ``tmp``; return the names written (in order).
+
+    ``drape_sidecar``: the bridge sidecar of a DXF; its recorded turns stand the
+    pieces upright for draping (the DXF written back keeps the designer's drawing).
+    """
     from ..io.pattern_json import save_pattern_json
     from ..io.plot_fit import plot_fit_overlay, plot_pareto
     from ..measure.model import write_measurements
@@ -342,9 +348,12 @@ def _write_outputs(
         stage("assembling and draping")
         drape_dir = tmp / "drape"
         drape_dir.mkdir()
-        drape_dict = dress(
-            character, result.pattern, drape_dir, seed=args.seed, progress=progress
-        )
+        draped = result.pattern
+        if drape_sidecar is not None:
+            from ..bridge.upright import upright_pattern
+
+            draped = upright_pattern(draped, drape_sidecar)
+        drape_dict = dress(character, draped, drape_dir, seed=args.seed, progress=progress)
         moved = []
         for f in sorted(drape_dir.iterdir()):
             if not f.name.startswith("."):
