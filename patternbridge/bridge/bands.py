@@ -13,6 +13,8 @@ short ends of a loop (binding, neckband, cuff, waistband) are sewn together.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from ..library.seams import sew_line
@@ -67,11 +69,19 @@ def _side_parts(pattern: Pattern, side: Side) -> set[int]:
 SPLIT_TOL_CM = 0.3
 
 
-def _split_band(pattern: Pattern, runs: dict[str, list[Run]], edge: Run, op: Opening) -> list[Join] | None:
+#: whether a band stretch may go on a body stretch where each lies around the body (``rules.band_in_place``)
+PlaceCheck = Callable[[Run, Run], bool]
+
+
+def _split_band(
+    pattern: Pattern, runs: dict[str, list[Run]], edge: Run, op: Opening, in_place: PlaceCheck | None = None
+) -> list[Join] | None:
     """The band edge sewn stretch by stretch to the opening (a band with marks at the opening's joints).
 
-    Band runs and opening runs of equal length in every size are paired one to
-    one, longest first; None unless they cover 80 % of the band edge.
+    Band runs and opening runs of equal length in every size, lying at the same
+    place around the body (``in_place``: a waistband's symmetric stretches
+    are told apart by where they lie), are paired one to one, longest first;
+    None unless they cover 80 % of the band edge.
     """
     band_runs = [r for r in runs[edge.piece] if set(r.parts) <= set(edge.parts)]
     targets = []
@@ -83,7 +93,7 @@ def _split_band(pattern: Pattern, runs: dict[str, list[Run]], edge: Run, op: Ope
         for t in targets:
             d = np.asarray(b.graded_cm) - np.asarray(t.graded_cm)
             tol = SPLIT_TOL_CM + 0.02 * max(b.length_cm, t.length_cm)
-            if np.all(np.abs(d) <= tol):
+            if np.all(np.abs(d) <= tol) and (in_place is None or in_place(b, t)):
                 pairs.append((min(b.length_cm, t.length_cm), float(np.abs(d).max()), b, t))
     pairs.sort(key=lambda p: (-p[0], p[1]))
     used_band: set[int] = set()
@@ -211,6 +221,7 @@ def band_joins(
     roles: dict[str, RoleGuess],
     opened: list[Opening],
     folds: dict[str, tuple[int, int]] | None = None,
+    in_place: PlaceCheck | None = None,
 ) -> tuple[list[Join], dict[str, RoleGuess]]:
     """Joins of every band piece to the opening(s) it fits, its closure, and refined band roles.
 
@@ -240,6 +251,7 @@ def band_joins(
                 taken,
                 joins,
                 new_roles,
+                in_place,
             )
             if kind is None or kind == "neck":
                 break
@@ -271,6 +283,7 @@ def _attach(
     taken: set[tuple[str, int, int]],
     joins: list[Join],
     new_roles: dict[str, RoleGuess],
+    in_place: PlaceCheck | None = None,
 ) -> str | None:
     """Sew band ``name``'s long ``edge`` along the free opening it fits best; its kind, None when none fits."""
     best = None
@@ -297,7 +310,7 @@ def _attach(
         new_roles[name] = RoleGuess(
             role=_OPENING_ROLES[op.kind][0], confidence=conf, why=f"strip {edge.length_cm:.1f} cm along the {op.kind}"
         )
-    split = _split_band(pattern, runs, edge, op)
+    split = _split_band(pattern, runs, edge, op, in_place)
     if split:
         joins.extend(split)
         return op.kind

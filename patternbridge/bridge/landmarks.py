@@ -38,7 +38,7 @@ from ..pattern.model import Pattern, Role
 from .model import BridgeInference, Orientation
 from .openings import shapes_scooped
 
-__all__ = ["PieceLandmarks", "piece_landmarks"]
+__all__ = ["PieceLandmarks", "leg_landmarks", "piece_landmarks", "skirt_panel_landmarks"]
 
 _LEGS = (Role.LEG_FRONT, Role.LEG_BACK, Role.LEG)
 #: band roles -> (body part, anchor landmark)
@@ -98,7 +98,7 @@ def _bodice(up: np.ndarray, o: Orientation, back: bool) -> PieceLandmarks:
     return PieceLandmarks(marks=marks, landmarks=landmarks, placement=placement)
 
 
-def _skirt_panel(up: np.ndarray, o: Orientation, back: bool) -> PieceLandmarks:
+def skirt_panel_landmarks(up: np.ndarray, o: Orientation, back: bool) -> PieceLandmarks:
     d, y = _right_half(up, o, back), up[:, 1]
     top = np.nonzero(y >= y.max() - 0.1 * np.ptp(y))[0]
     centre = top[np.argmin(np.abs(up[top, 0]))]
@@ -109,7 +109,7 @@ def _skirt_panel(up: np.ndarray, o: Orientation, back: bool) -> PieceLandmarks:
     return PieceLandmarks(marks=marks, landmarks=landmarks, placement=placement)
 
 
-def _leg(up: np.ndarray, role: Role) -> PieceLandmarks:
+def leg_landmarks(up: np.ndarray, role: Role) -> PieceLandmarks:
     x, y = up[:, 0], up[:, 1]
     top = np.nonzero(y >= y.max() - 0.03 * np.ptp(y))[0]  # the waist line, above the hip's bulge
     left, right = top[np.argmin(x[top])], top[np.argmax(x[top])]
@@ -170,11 +170,11 @@ def piece_landmarks(pattern: Pattern, inference: BridgeInference) -> dict[str, P
         up = o.apply(sew_line(piece)[0])
         if role in (Role.FRONT, Role.BACK):
             scooped = shapes_scooped(up) or o.fold is not None
-            builder = _bodice if scooped else _skirt_panel
+            builder = _bodice if scooped else skirt_panel_landmarks
             found = builder(up, o, role is Role.BACK)
             out[piece.name] = found if found.placement else _other(up, role)
         elif role in _LEGS:
-            out[piece.name] = _leg(up, role)
+            out[piece.name] = leg_landmarks(up, role)
         elif role is Role.SLEEVE:
             out[piece.name] = _sleeve(up)
         elif role in _BAND_PLACE:
