@@ -8,7 +8,9 @@ cut as a pair contributes twice). A band's long edge is matched to the opening
 whose length it fits, stretched by up to ``MAX_STRETCH`` or eased by up to
 ``MAX_EASE`` (bias bindings and rib are cut shorter than the edge they bind);
 the band's role follows from the opening when its name does not say. The two
-short ends of a loop (binding, neckband, cuff, waistband) are sewn together.
+short ends of a loop (binding, neckband, cuff, waistband) are sewn together,
+unless the band is longer than its opening by more than ``FLAT_APPLIED``: such
+a strip is applied flat and its ends are caught in the next seam.
 """
 
 from __future__ import annotations
@@ -28,6 +30,8 @@ __all__ = ["band_joins"]
 
 MAX_STRETCH = 1.4
 MAX_EASE = 0.78
+#: a band longer than this times its opening is applied flat (ends free), not closed into a loop
+FLAT_APPLIED = 1.05
 
 _OPENING_ROLES = {
     "neck": (Role.NECK_BINDING, Role.NECKBAND, Role.COLLAR, Role.COLLAR_STAND),
@@ -238,7 +242,7 @@ def band_joins(
         guess = roles[name]
         fold = folds.get(name)
         edge, _, ends = _band_edges([r for r in runs[name] if fold is None or (r.start, r.end) != fold])
-        kind = None
+        kind, opening_cm = None, []
         for _ in range(min(max(copies_cut(pattern.piece(name)), 1), 2)):
             # a second copy binds the twin opening (the other armhole, the other sleeve), never another kind
             kind = _attach(
@@ -252,10 +256,13 @@ def band_joins(
                 joins,
                 new_roles,
                 in_place,
+                opening_cm,
             )
             if kind is None or kind == "neck":
                 break
-        loop = guess.role not in (Role.COLLAR, Role.COLLAR_STAND)
+        # a strip longer than its opening is applied flat, its ends caught in the next seam; a collar stays open
+        flat = bool(opening_cm) and edge.length_cm > FLAT_APPLIED * min(opening_cm)
+        loop = guess.role not in (Role.COLLAR, Role.COLLAR_STAND) and not flat
         if loop and len(ends) >= 2:
             e1, e2 = sorted(ends, key=lambda r: -r.length_cm)[:2]
             # a loop's two short ends meet whatever their slant (a bias binding's ends differ)
@@ -284,8 +291,12 @@ def _attach(
     joins: list[Join],
     new_roles: dict[str, RoleGuess],
     in_place: PlaceCheck | None = None,
+    taken_cm: list[float] | None = None,
 ) -> str | None:
-    """Sew band ``name``'s long ``edge`` along the free opening it fits best; its kind, None when none fits."""
+    """Sew band ``name``'s long ``edge`` along the free opening it fits best; its kind, None when none fits.
+
+    ``taken_cm`` receives the length of the opening taken.
+    """
     best = None
     for k, op in enumerate(opened):
         if op is None or any(side.key in taken for side in op.sides):
@@ -305,6 +316,8 @@ def _attach(
         return None
     cost, k, op = best
     taken.update(side.key for side in op.sides)
+    if taken_cm is not None:
+        taken_cm.append(op.length_cm)
     conf = round(float(np.clip(1.0 - cost, 0.3, 0.95)), 2)
     if guess.role not in _OPENING_ROLES[op.kind] and name not in new_roles:
         new_roles[name] = RoleGuess(
