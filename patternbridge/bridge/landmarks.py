@@ -38,7 +38,7 @@ from ..pattern.model import Pattern, Role
 from .model import BridgeInference, Orientation
 from .openings import shapes_scooped
 
-__all__ = ["PieceLandmarks", "leg_landmarks", "piece_landmarks", "skirt_panel_landmarks"]
+__all__ = ["PieceLandmarks", "drawn_side", "leg_landmarks", "piece_landmarks", "skirt_panel_landmarks"]
 
 _LEGS = (Role.LEG_FRONT, Role.LEG_BACK, Role.LEG)
 #: band roles -> (body part, anchor landmark)
@@ -162,6 +162,35 @@ def _other(up: np.ndarray, role: Role) -> PieceLandmarks:
     return PieceLandmarks(marks={"top_middle": mid}, placement=placement)
 
 
+def drawn_side(up: np.ndarray, role: Role, o: Orientation) -> str | None:
+    """``right`` or ``left``: the body half a half piece's copy as drawn covers (None: drawn whole or not a half).
+
+    Seen from outside, a right front has its centre line on its +x side and a
+    right back on its -x side; a right leg's crotch reaches toward +x on the
+    front and toward -x on the back. Sleeves and one-piece legs are drafted as
+    the right one.
+    """
+    if o.whole:
+        return None
+    if role in (Role.FRONT, Role.BACK):
+        return "right" if o.centre_on_right == (role is Role.FRONT) else "left"
+    if role in (Role.LEG_FRONT, Role.LEG_BACK):
+        m = leg_landmarks(up, role).marks
+        toward_plus = up[m["crotch_point"], 0] > up[m["side_waist"], 0]
+        return "right" if toward_plus == (role is Role.LEG_FRONT) else "left"
+    if role in (Role.SLEEVE, Role.LEG):
+        return "right"
+    return None
+
+
+def _sided(found: PieceLandmarks, side: str | None) -> PieceLandmarks:
+    """A piece drawn as the left half names the left landmarks."""
+    if side != "left":
+        return found
+    landmarks = {k.replace("_right", "_left"): v for k, v in found.landmarks.items()}
+    return PieceLandmarks(marks=found.marks, landmarks=landmarks, placement=found.placement)
+
+
 def piece_landmarks(pattern: Pattern, inference: BridgeInference) -> dict[str, PieceLandmarks]:
     """Marks, landmarks and placement of every piece of ``pattern`` from its inferred role and turn."""
     out = {}
@@ -172,9 +201,10 @@ def piece_landmarks(pattern: Pattern, inference: BridgeInference) -> dict[str, P
             scooped = shapes_scooped(up) or o.fold is not None
             builder = _bodice if scooped else skirt_panel_landmarks
             found = builder(up, o, role is Role.BACK)
+            found = _sided(found, drawn_side(up, role, o))
             out[piece.name] = found if found.placement else _other(up, role)
         elif role in _LEGS:
-            out[piece.name] = leg_landmarks(up, role)
+            out[piece.name] = _sided(leg_landmarks(up, role), drawn_side(up, role, o))
         elif role is Role.SLEEVE:
             out[piece.name] = _sleeve(up)
         elif role in _BAND_PLACE:
