@@ -30,6 +30,8 @@ __all__ = ["band_joins"]
 
 MAX_STRETCH = 1.4
 MAX_EASE = 0.78
+#: two strip ends this close in length are sewn together
+END_TOL_CM = 0.1
 #: a band longer than this times its opening is applied flat (ends free), not closed into a loop
 FLAT_APPLIED = 1.05
 
@@ -236,6 +238,7 @@ def band_joins(
     joins: list[Join] = []
     new_roles: dict[str, RoleGuess] = {}
     taken: set[tuple[str, int, int]] = set()
+    part_ends: list[tuple[str, Run]] = []
     bands = [n for n, g in roles.items() if is_band(g.role) and runs.get(n)]
     folds = folds or {}
     for name in sorted(bands, key=lambda n: -_band_edges(runs[n])[0].length_cm):
@@ -260,9 +263,13 @@ def band_joins(
             )
             if kind is None or kind == "neck":
                 break
-        # a strip longer than its opening is applied flat, its ends caught in the next seam; a collar stays open
-        flat = bool(opening_cm) and edge.length_cm > FLAT_APPLIED * min(opening_cm)
-        loop = guess.role not in (Role.COLLAR, Role.COLLAR_STAND) and not flat
+        # a strip longer than its opening is applied flat, its ends caught in the next seam; a collar stays open;
+        # a strip binding one part of an opening meets the next strips with its ends
+        flat = bool(opening_cm) and edge.length_cm > FLAT_APPLIED * min(abs(c) for c in opening_cm)
+        partial = any(c < 0 for c in opening_cm)
+        if partial and len(ends) >= 2:
+            part_ends += [(name, r) for r in sorted(ends, key=lambda r: -r.length_cm)[:2]]
+        loop = guess.role not in (Role.COLLAR, Role.COLLAR_STAND) and not flat and not partial
         if loop and len(ends) >= 2:
             e1, e2 = sorted(ends, key=lambda r: -r.length_cm)[:2]
             # a loop's two short ends meet whatever their slant (a bias binding's ends differ)
@@ -277,7 +284,42 @@ def band_joins(
                         why="the band's two ends close the loop",
                     )
                 )
-    return joins, new_roles
+    return joins + _join_part_ends(part_ends), new_roles
+
+
+def _join_part_ends(ends: list[tuple[str, Run]]) -> list[Join]:
+    """The ends of strips that bind parts of one opening, sewn to each other: equal ends, longest first.
+
+    Each end is sewn once and two strips meet at one end only (a neckline bound
+    by a back strip and two front strips meets at both shoulders and the centre
+    front).
+    """
+    pairs = [
+        (min(ra.length_cm, rb.length_cm), i, k)
+        for i, (na, ra) in enumerate(ends)
+        for k, (nb, rb) in enumerate(ends)
+        if i < k and na != nb and abs(ra.length_cm - rb.length_cm) <= END_TOL_CM
+    ]
+    used: set[int] = set()
+    met: set[frozenset[str]] = set()
+    joins = []
+    for _, i, k in sorted(pairs, key=lambda t: -t[0]):
+        (na, ra), (nb, rb) = ends[i], ends[k]
+        if i in used or k in used or frozenset((na, nb)) in met:
+            continue
+        used |= {i, k}
+        met.add(frozenset((na, nb)))
+        joins.append(
+            Join(
+                id=f"{na}_{nb}_ends",
+                a=run_side(ra),
+                b=run_side(rb),
+                kind="seam",
+                confidence=0.6,
+                why="ends of two strips binding parts of one opening",
+            )
+        )
+    return joins
 
 
 def _attach(
@@ -317,7 +359,7 @@ def _attach(
     cost, k, op = best
     taken.update(side.key for side in op.sides)
     if taken_cm is not None:
-        taken_cm.append(op.length_cm)
+        taken_cm.append(-op.length_cm if op.part else op.length_cm)
     conf = round(float(np.clip(1.0 - cost, 0.3, 0.95)), 2)
     if guess.role not in _OPENING_ROLES[op.kind] and name not in new_roles:
         new_roles[name] = RoleGuess(
