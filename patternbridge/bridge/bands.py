@@ -75,8 +75,9 @@ def _side_parts(pattern: Pattern, side: Side) -> set[int]:
 SPLIT_TOL_CM = 0.3
 
 
-#: whether a band stretch may go on a body stretch where each lies around the body (``rules.band_in_place``)
-PlaceCheck = Callable[[Run, Run], bool]
+#: whether a band stretch may go on a body stretch where each lies around the body, given which centre line
+#: (``front``, ``back`` or either: None) is at the band's middle (``rules.band_in_place``)
+PlaceCheck = Callable[[Run, Run, str | None], bool]
 
 
 def _split_band(
@@ -86,20 +87,41 @@ def _split_band(
 
     Band runs and opening runs of equal length in every size, lying at the same
     place around the body (``in_place``: a waistband's symmetric stretches
-    are told apart by where they lie), are paired one to one, longest first;
-    None unless they cover 80 % of the band edge.
+    are told apart by where they lie, with the front's or the back's centre at
+    the band's middle, whichever sews more of it), are paired one to one,
+    longest first; None unless they cover 80 % of the band edge.
     """
     band_runs = [r for r in runs[edge.piece] if set(r.parts) <= set(edge.parts)]
     targets = []
     for side in op.sides:
         parts = _side_parts(pattern, side)
         targets += [r for r in runs.get(side.piece, []) if _within(r, parts)]
+    best: tuple[list[Join], float] = ([], -1.0)
+    for middle in ("front", "back", None):
+        found = _pair_stretches(pattern, band_runs, targets, op, in_place, middle)
+        if found[1] > best[1] + 1e-6:
+            best = found
+    joins, covered = best
+    if covered >= 0.8 * edge.length_cm:
+        return joins
+    return _split_in_proportion(pattern, band_runs, edge, op)
+
+
+def _pair_stretches(
+    pattern: Pattern,
+    band_runs: list[Run],
+    targets: list[Run],
+    op: Opening,
+    in_place: PlaceCheck | None,
+    middle: str | None,
+) -> tuple[list[Join], float]:
+    """Band and opening stretches equal in every size and in place, paired longest first; the joins and length sewn."""
     pairs = []
     for b in band_runs:
         for t in targets:
             d = np.asarray(b.graded_cm) - np.asarray(t.graded_cm)
             tol = SPLIT_TOL_CM + 0.02 * max(b.length_cm, t.length_cm)
-            if np.all(np.abs(d) <= tol) and (in_place is None or in_place(b, t)):
+            if np.all(np.abs(d) <= tol) and (in_place is None or in_place(b, t, middle)):
                 pairs.append((min(b.length_cm, t.length_cm), float(np.abs(d).max()), b, t))
     pairs.sort(key=lambda p: (-p[0], p[1]))
     used_band: set[int] = set()
@@ -126,9 +148,7 @@ def _split_band(
                 why=f"band stretch along the {op.kind}, equal in every size",
             )
         )
-    if covered >= 0.8 * edge.length_cm:
-        return joins
-    return _split_in_proportion(pattern, band_runs, edge, op)
+    return joins, covered
 
 
 def _stretch_sides(pattern: Pattern, side: Side) -> list[Side]:

@@ -157,18 +157,20 @@ def _waist_fraction(ctx: PairContext, r: Run) -> float | None:
         marks = skirt_panel_landmarks(up, o, role is Role.BACK).marks
     else:
         return None
-    c, sd = up[marks["centre_waist"]], up[marks["side_waist"]]
-    mid = _run_points(up, r).mean(axis=0)
-    return float(np.clip((mid - c) @ (sd - c) / max(float((sd - c) @ (sd - c)), 1e-9), 0.0, 1.0))
+    # across the body: a piece drawn whole has its two halves on either side of the centre
+    c, sd = up[marks["centre_waist"], 0], up[marks["side_waist"], 0]
+    mid = _run_points(up, r)[:, 0].mean()
+    return float(np.clip(abs(mid - c) / max(abs(sd - c), 1e-9), 0.0, 1.0))
 
 
-def band_in_place(ctx: PairContext, band: Run, body: Run) -> bool:
+def band_in_place(ctx: PairContext, band: Run, body: Run, middle: str | None = None) -> bool:
     """A waistband's stretch lies where the body's waist stretch lies around the waist.
 
-    Along a waistband drawn whole, its middle is one centre line (back or
-    front), its ends the other and its quarters the sides: a body stretch a
-    fraction f of the way from its centre to its side belongs half f of the
-    half-band from the middle, or 1 - f/2 of it.
+    Along a waistband drawn whole, its middle is one centre line (``middle``:
+    ``front`` or ``back``; None: either), its ends the other and its quarters
+    the sides: a body stretch a fraction f of the way from its centre to its
+    side belongs f/2 of the half-band from the middle when its centre is the
+    middle, else 1 - f/2.
     """
     if ctx.roles[band.piece].role is not Role.WAISTBAND:
         return True
@@ -178,7 +180,28 @@ def band_in_place(ctx: PairContext, band: Run, body: Run) -> bool:
     x = ctx.up[band.piece][:, 0]
     pos = (_run_points(ctx.up[band.piece], band)[:, 0].mean() - x.min()) / max(float(np.ptp(x)), 1e-9)
     d = abs(2.0 * pos - 1.0)
-    return bool(min(abs(d - 0.5 * f), abs(d - (1.0 - 0.5 * f))) < WAISTBAND_PLACE_TOL)
+    side = "front" if ctx.roles[body.piece].role in (Role.FRONT, Role.LEG_FRONT) else "back"
+    wanted = [0.5 * f, 1.0 - 0.5 * f] if middle is None else [0.5 * f if side == middle else 1.0 - 0.5 * f]
+    if middle is not None and ctx.orientations[body.piece].whole and not _same_body_half(ctx, band, body, middle):
+        return False
+    return bool(min(abs(d - w) for w in wanted) < WAISTBAND_PLACE_TOL)
+
+
+def _same_body_half(ctx: PairContext, band: Run, body: Run, middle: str) -> bool:
+    """Whether a stretch of a piece drawn whole and a waistband stretch lie on one body half.
+
+    Seen from outside, the body's right half is a whole front's -x side and a
+    whole back's +x side; along a waistband going round the body in its +x
+    direction, the half beyond its middle is the body's left when the middle
+    is the centre front and the body's right when it is the centre back.
+    """
+    x_band = _run_points(ctx.up[band.piece], band)[:, 0].mean() - 0.5 * sum(
+        (ctx.up[band.piece][:, 0].min(), ctx.up[band.piece][:, 0].max())
+    )
+    band_right = x_band < 0 if middle == "front" else x_band > 0
+    x_body = _run_points(ctx.up[body.piece], body)[:, 0].mean()
+    body_right = x_body < 0 if ctx.roles[body.piece].role is Role.FRONT else x_body > 0
+    return bool(abs(x_band) < 0.5 or abs(x_body) < 0.5 or band_right == body_right)
 
 
 def body_side(role: Role, o: Orientation) -> str | None:
