@@ -5,7 +5,8 @@ Plain script. For every label in ``tests/bridge/labels`` (the files of
 the sidecar) it runs :func:`patternbridge.bridge.infer_bridge`, scores it with
 :mod:`patternbridge.bridge.evaluate` and prints the file, its pieces, roles
 right, seam recall and precision at the edge level and the seconds taken.
-Totals count the files labelled as garments (``"garment": true``).
+Totals count the files labelled as garments (``"garment": true``): a style
+exported in both flavours (AAMA and ASTM twins) counts once.
 
 Targets (issue 17): roles >= 95 %, seams >= 95 % recall and precision, <= 2 s a file.
 
@@ -50,7 +51,8 @@ def main() -> int:
         inference = infer_bridge(pattern)
         seconds = time.perf_counter() - t0
         sc = score(pattern, inference, label, pairs)
-        name = label["file"].split("/")[-1] + ("" if label["garment"] else " (not counted)")
+        twin = f" (twin of {label['twin_of']}, not counted)" if "twin_of" in label else " (not counted)"
+        name = label["file"].split("/")[-1] + ("" if label["garment"] else twin)
         if label["garment"]:
             for k, v in enumerate(
                 (sc.roles_right, sc.roles_total, sc.seams_matched, sc.seams_labelled, sc.seams_inferred)

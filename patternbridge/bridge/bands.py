@@ -8,10 +8,14 @@ cut as a pair contributes twice). A band's long edge is matched to the opening
 whose length it fits, stretched by up to ``MAX_STRETCH`` or eased by up to
 ``MAX_EASE`` (bias bindings and rib are cut shorter than the edge they bind);
 the band's role follows from the opening when its name does not say. The two
-short ends of a loop (binding, neckband, cuff, waistband) are sewn together.
+short ends of a loop (binding, neckband, cuff, waistband) are sewn together,
+unless the band is longer than its opening by more than ``FLAT_APPLIED``: such
+a strip is applied flat and its ends are caught in the next seam.
 """
 
 from __future__ import annotations
+
+from collections.abc import Callable
 
 import numpy as np
 
@@ -26,6 +30,10 @@ __all__ = ["band_joins"]
 
 MAX_STRETCH = 1.4
 MAX_EASE = 0.78
+#: two strip ends this close in length are sewn together
+END_TOL_CM = 0.1
+#: a band longer than this times its opening is applied flat (ends free), not closed into a loop
+FLAT_APPLIED = 1.05
 
 _OPENING_ROLES = {
     "neck": (Role.NECK_BINDING, Role.NECKBAND, Role.COLLAR, Role.COLLAR_STAND),
@@ -67,23 +75,53 @@ def _side_parts(pattern: Pattern, side: Side) -> set[int]:
 SPLIT_TOL_CM = 0.3
 
 
-def _split_band(pattern: Pattern, runs: dict[str, list[Run]], edge: Run, op: Opening) -> list[Join] | None:
+#: whether a band stretch may go on a body stretch where each lies around the body, given which centre line
+#: (``front``, ``back`` or either: None) is at the band's middle (``rules.band_in_place``)
+PlaceCheck = Callable[[Run, Run, str | None], bool]
+
+
+def _split_band(
+    pattern: Pattern, runs: dict[str, list[Run]], edge: Run, op: Opening, in_place: PlaceCheck | None = None
+) -> list[Join] | None:
     """The band edge sewn stretch by stretch to the opening (a band with marks at the opening's joints).
 
-    Band runs and opening runs of equal length in every size are paired one to
-    one, longest first; None unless they cover 80 % of the band edge.
+    Band runs and opening runs of equal length in every size, lying at the same
+    place around the body (``in_place``: a waistband's symmetric stretches
+    are told apart by where they lie, with the front's or the back's centre at
+    the band's middle, whichever sews more of it), are paired one to one,
+    longest first; None unless they cover 80 % of the band edge.
     """
     band_runs = [r for r in runs[edge.piece] if set(r.parts) <= set(edge.parts)]
     targets = []
     for side in op.sides:
         parts = _side_parts(pattern, side)
         targets += [r for r in runs.get(side.piece, []) if _within(r, parts)]
+    best: tuple[list[Join], float] = ([], -1.0)
+    for middle in ("front", "back", None):
+        found = _pair_stretches(pattern, band_runs, targets, op, in_place, middle)
+        if found[1] > best[1] + 1e-6:
+            best = found
+    joins, covered = best
+    if covered >= 0.8 * edge.length_cm:
+        return joins
+    return _split_in_proportion(pattern, band_runs, edge, op)
+
+
+def _pair_stretches(
+    pattern: Pattern,
+    band_runs: list[Run],
+    targets: list[Run],
+    op: Opening,
+    in_place: PlaceCheck | None,
+    middle: str | None,
+) -> tuple[list[Join], float]:
+    """Band and opening stretches equal in every size and in place, paired longest first; the joins and length sewn."""
     pairs = []
     for b in band_runs:
         for t in targets:
             d = np.asarray(b.graded_cm) - np.asarray(t.graded_cm)
             tol = SPLIT_TOL_CM + 0.02 * max(b.length_cm, t.length_cm)
-            if np.all(np.abs(d) <= tol):
+            if np.all(np.abs(d) <= tol) and (in_place is None or in_place(b, t, middle)):
                 pairs.append((min(b.length_cm, t.length_cm), float(np.abs(d).max()), b, t))
     pairs.sort(key=lambda p: (-p[0], p[1]))
     used_band: set[int] = set()
@@ -110,9 +148,7 @@ def _split_band(pattern: Pattern, runs: dict[str, list[Run]], edge: Run, op: Ope
                 why=f"band stretch along the {op.kind}, equal in every size",
             )
         )
-    if covered >= 0.8 * edge.length_cm:
-        return joins
-    return _split_in_proportion(pattern, band_runs, edge, op)
+    return joins, covered
 
 
 def _stretch_sides(pattern: Pattern, side: Side) -> list[Side]:
@@ -211,6 +247,7 @@ def band_joins(
     roles: dict[str, RoleGuess],
     opened: list[Opening],
     folds: dict[str, tuple[int, int]] | None = None,
+    in_place: PlaceCheck | None = None,
 ) -> tuple[list[Join], dict[str, RoleGuess]]:
     """Joins of every band piece to the opening(s) it fits, its closure, and refined band roles.
 
@@ -221,13 +258,14 @@ def band_joins(
     joins: list[Join] = []
     new_roles: dict[str, RoleGuess] = {}
     taken: set[tuple[str, int, int]] = set()
+    part_ends: list[tuple[str, Run]] = []
     bands = [n for n, g in roles.items() if is_band(g.role) and runs.get(n)]
     folds = folds or {}
     for name in sorted(bands, key=lambda n: -_band_edges(runs[n])[0].length_cm):
         guess = roles[name]
         fold = folds.get(name)
         edge, _, ends = _band_edges([r for r in runs[name] if fold is None or (r.start, r.end) != fold])
-        kind = None
+        kind, opening_cm = None, []
         for _ in range(min(max(copies_cut(pattern.piece(name)), 1), 2)):
             # a second copy binds the twin opening (the other armhole, the other sleeve), never another kind
             kind = _attach(
@@ -240,10 +278,18 @@ def band_joins(
                 taken,
                 joins,
                 new_roles,
+                in_place,
+                opening_cm,
             )
             if kind is None or kind == "neck":
                 break
-        loop = guess.role not in (Role.COLLAR, Role.COLLAR_STAND)
+        # a strip longer than its opening is applied flat, its ends caught in the next seam; a collar stays open;
+        # a strip binding one part of an opening meets the next strips with its ends
+        flat = bool(opening_cm) and edge.length_cm > FLAT_APPLIED * min(abs(c) for c in opening_cm)
+        partial = any(c < 0 for c in opening_cm)
+        if partial and len(ends) >= 2:
+            part_ends += [(name, r) for r in sorted(ends, key=lambda r: -r.length_cm)[:2]]
+        loop = guess.role not in (Role.COLLAR, Role.COLLAR_STAND) and not flat and not partial
         if loop and len(ends) >= 2:
             e1, e2 = sorted(ends, key=lambda r: -r.length_cm)[:2]
             # a loop's two short ends meet whatever their slant (a bias binding's ends differ)
@@ -258,7 +304,42 @@ def band_joins(
                         why="the band's two ends close the loop",
                     )
                 )
-    return joins, new_roles
+    return joins + _join_part_ends(part_ends), new_roles
+
+
+def _join_part_ends(ends: list[tuple[str, Run]]) -> list[Join]:
+    """The ends of strips that bind parts of one opening, sewn to each other: equal ends, longest first.
+
+    Each end is sewn once and two strips meet at one end only (a neckline bound
+    by a back strip and two front strips meets at both shoulders and the centre
+    front).
+    """
+    pairs = [
+        (min(ra.length_cm, rb.length_cm), i, k)
+        for i, (na, ra) in enumerate(ends)
+        for k, (nb, rb) in enumerate(ends)
+        if i < k and na != nb and abs(ra.length_cm - rb.length_cm) <= END_TOL_CM
+    ]
+    used: set[int] = set()
+    met: set[frozenset[str]] = set()
+    joins = []
+    for _, i, k in sorted(pairs, key=lambda t: -t[0]):
+        (na, ra), (nb, rb) = ends[i], ends[k]
+        if i in used or k in used or frozenset((na, nb)) in met:
+            continue
+        used |= {i, k}
+        met.add(frozenset((na, nb)))
+        joins.append(
+            Join(
+                id=f"{na}_{nb}_ends",
+                a=run_side(ra),
+                b=run_side(rb),
+                kind="seam",
+                confidence=0.6,
+                why="ends of two strips binding parts of one opening",
+            )
+        )
+    return joins
 
 
 def _attach(
@@ -271,8 +352,13 @@ def _attach(
     taken: set[tuple[str, int, int]],
     joins: list[Join],
     new_roles: dict[str, RoleGuess],
+    in_place: PlaceCheck | None = None,
+    taken_cm: list[float] | None = None,
 ) -> str | None:
-    """Sew band ``name``'s long ``edge`` along the free opening it fits best; its kind, None when none fits."""
+    """Sew band ``name``'s long ``edge`` along the free opening it fits best; its kind, None when none fits.
+
+    ``taken_cm`` receives the length of the opening taken.
+    """
     best = None
     for k, op in enumerate(opened):
         if op is None or any(side.key in taken for side in op.sides):
@@ -292,12 +378,14 @@ def _attach(
         return None
     cost, k, op = best
     taken.update(side.key for side in op.sides)
+    if taken_cm is not None:
+        taken_cm.append(-op.length_cm if op.part else op.length_cm)
     conf = round(float(np.clip(1.0 - cost, 0.3, 0.95)), 2)
     if guess.role not in _OPENING_ROLES[op.kind] and name not in new_roles:
         new_roles[name] = RoleGuess(
             role=_OPENING_ROLES[op.kind][0], confidence=conf, why=f"strip {edge.length_cm:.1f} cm along the {op.kind}"
         )
-    split = _split_band(pattern, runs, edge, op)
+    split = _split_band(pattern, runs, edge, op, in_place)
     if split:
         joins.extend(split)
         return op.kind

@@ -3,7 +3,10 @@
 A label (``tests/bridge/labels/*.json``, format in ``docs/bridge.md``) names
 each piece's role, its fold edge and the seams as pairs of boundary ranges
 ``[piece, start vertex, end vertex]`` on the imported sample-size outline; a
-side may list alternative ranges (either long edge of a symmetric band). An
+side may list alternative ranges (either long edge of a symmetric band); seams
+the geometry cannot settle (a piece that does not grade, so its lengths agree in
+the sample size only) are listed under ``uncertain`` and not scored: an
+inferred seam that matches one counts neither as found nor as extra. An
 inferred seam matches a labelled one when each of its two ranges covers the
 labelled range's arc length with an overlap of at least ``MIN_OVERLAP`` of the
 longer of the two (so a 2 cm step at the end of a seam does not count against
@@ -88,10 +91,17 @@ def score(pattern: Pattern, inference: BridgeInference, label: dict, pairs=None)
     )
     seg = {p.name: np.linalg.norm(np.roll(sew_line(p)[0], -1, axis=0) - sew_line(p)[0], axis=1) for p in pattern.pieces}
     pairs = label_pairs(label) if pairs is None else pairs
-    inferred = [(j.a.key, j.b.key, j.id) for j in inference.joins]
 
     def side_ok(x, options):
         return any(o[0] == x[0] and _overlap(seg[x[0]], x, o) >= MIN_OVERLAP for o in options)
+
+    unsure = label_pairs({"seams": label.get("uncertain", [])})
+    inferred = [
+        (j.a.key, j.b.key, j.id)
+        for j in inference.joins
+        if not any((side_ok(j.a.key, oa) and side_ok(j.b.key, ob)) or (side_ok(j.a.key, ob) and side_ok(j.b.key, oa))
+                   for oa, ob in unsure)
+    ]
 
     matched, used = 0, set()
     missed = []

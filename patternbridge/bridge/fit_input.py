@@ -4,11 +4,15 @@ A library name or a canonical JSON is used as it is. A DXF uses the bridge
 sidecar beside it (``<stem>.seams.json``) when there is one; otherwise the
 bridge data are inferred (:func:`~.infer.infer_bridge`), and the inferred
 sidecar and its review picture are written into the output folder so the user
-can correct the sidecar and run again.
+can correct the sidecar and run again. When the sidecar names the pieces of
+its default garment (``garment_pieces``), only those are fitted and draped:
+a file holding alternatives (three leg lengths, two sleeves) is one garment on
+the body, and the graded DXF sent back holds that garment.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import os
 from dataclasses import dataclass
@@ -24,7 +28,7 @@ from .picture import review_png
 from .sidecar import inference_sidecar
 from .summary import summary_line
 
-__all__ = ["FitInput", "pattern_for_fit"]
+__all__ = ["FitInput", "garment_only", "pattern_for_fit"]
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -42,6 +46,20 @@ class FitInput:
     sidecar: Path | None = None
     picture: Path | None = None
     summary: str | None = None
+
+
+def garment_only(pattern: Pattern, sidecar: str | os.PathLike) -> Pattern:
+    """``pattern`` cut down to the sidecar's ``garment_pieces``, with the seams and links among them."""
+    names = json.loads(Path(sidecar).read_text(encoding="utf-8")).get("garment_pieces")
+    if not names:
+        return pattern
+    keep = set(names)
+    return dataclasses.replace(
+        pattern,
+        pieces=tuple(p for p in pattern.pieces if p.name in keep),
+        seams=tuple(s for s in pattern.seams if s.a.piece in keep and s.b.piece in keep),
+        measurements=tuple(m for m in pattern.measurements if all(g.piece in keep for g in m.legs)),
+    )
 
 
 def pattern_for_fit(
@@ -70,7 +88,7 @@ def pattern_for_fit(
         return FitInput(pattern=pattern, report=report)
     beside = sidecar_beside(path)
     if beside is not None:
-        return FitInput(pattern=apply_sidecar(pattern, beside), report=report, sidecar=beside)
+        return FitInput(pattern=garment_only(apply_sidecar(pattern, beside), beside), report=report, sidecar=beside)
     inference = infer_bridge(pattern)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -79,7 +97,7 @@ def pattern_for_fit(
     write_text(sidecar, json.dumps(inference_sidecar(pattern, inference), indent=1, ensure_ascii=False) + "\n")
     write_bytes(picture, review_png(pattern, inference))
     return FitInput(
-        pattern=apply_sidecar(pattern, sidecar),
+        pattern=garment_only(apply_sidecar(pattern, sidecar), sidecar),
         report=report,
         sidecar=sidecar,
         picture=picture,

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Iterable
+from functools import partial
 
 from ..library.seams import graded_sew_lines
 from ..pattern.model import Pattern
@@ -22,6 +23,7 @@ from .model import BridgeInference, Join, Side, is_band
 from .openings import openings
 from .orient import orient_piece
 from .roles import infer_roles
+from .rules import PairContext, band_in_place
 from .seams import assign, body_side, candidates, merge_continuing
 
 __all__ = ["infer_bridge"]
@@ -94,7 +96,10 @@ def infer_bridge(
         found = assign(cands, local, parts_of, sides, twice=paired, whole=whole)
         found = merge_continuing(found)
         opened = openings(pattern, local, roles, orientations, variant)
-        banded, new_roles = band_joins(pattern, {n: rs[n] for n in variant}, roles, opened, folds)
+        ctx = PairContext.of(pattern, roles, orientations, set())
+        banded, new_roles = band_joins(
+            pattern, {n: rs[n] for n in variant}, roles, opened, folds, partial(band_in_place, ctx)
+        )
         if k == 0:
             roles.update(new_roles)
         for j in found + banded:

@@ -4,10 +4,13 @@ A bodice controls the chest girth, taken across the grain at the underarm: on
 every chosen front and back (bodices, whose tops are scooped), from the
 underarm to the centre line — doubled for a half cut on the fold or as a pair —
 or, on a piece drawn whole, from one underarm to the other. Legs and skirt
-panels control the waist girth across their top. The **ease** is read off the
+panels control the waist girth across their top. A neckband or neck binding
+controls the neck girth along its sewn edge (the strips of a neckline bound
+in parts together), so grading keeps the band as long as the neckline needs
+even when no applied seam ties it to the neckline. The **ease** is read off the
 pattern itself: its girth in the sample size minus the girth of the
 **reference body** ``REFERENCE_BODY_CM`` (the men's sample body of the library's
-size chart, EN 13402-3 intervals: chest 96, waist 84 cm, `docs/library.md`),
+size chart, EN 13402-3 intervals: chest 96, waist 84, neck 39 cm, `docs/library.md`),
 used because a file's own size label does not say which chart it follows.
 The marks the links need are added as ``v<vertex>``.
 """
@@ -24,7 +27,7 @@ from .openings import shapes_scooped
 __all__ = ["REFERENCE_BODY_CM", "measurement_links"]
 
 #: the body whose girths the ease is read against (library men's sample size)
-REFERENCE_BODY_CM = {"chest_girth": 96.0, "waist_girth": 84.0}
+REFERENCE_BODY_CM = {"chest_girth": 96.0, "waist_girth": 84.0, "neck_girth": 39.0}
 
 _LEGS = (Role.LEG, Role.LEG_FRONT, Role.LEG_BACK)
 
@@ -63,7 +66,26 @@ def _waist_leg(piece: Piece, o: Orientation) -> Leg | None:
     return Leg(piece=piece.name, start=f"v{lo}", end=f"v{hi}", along="across", factor=_copies(piece, o))
 
 
+def _neck_legs(inference: BridgeInference) -> list[Leg]:
+    """The sewn long edge of every chosen neckband or neck binding, once per band, along its boundary."""
+    legs: dict[str, Leg] = {}
+    for j in inference.joins:
+        band = j.b.piece
+        if j.kind != "band" or band not in inference.chosen or band in legs:
+            continue
+        if inference.roles[band].role in (Role.NECKBAND, Role.NECK_BINDING):
+            legs[band] = Leg(piece=band, start=f"v{j.b.start}", end=f"v{j.b.end}", along="boundary", factor=1.0)
+    return list(legs.values())
+
+
 def _span(piece: Piece, leg: Leg) -> float:
+    if leg.along == "boundary":
+        lines = sew_line(piece)[0]
+        n, k, total = len(lines), int(leg.start[1:]), 0.0
+        while k != int(leg.end[1:]):
+            total += float(np.linalg.norm(lines[(k + 1) % n] - lines[k]))
+            k = (k + 1) % n
+        return total * leg.factor
     pts = sew_line(piece)[0]
     d = pts[int(leg.end[1:])] - pts[int(leg.start[1:])]
     return float(abs(d @ piece.across_grain)) * leg.factor
@@ -82,7 +104,7 @@ def measurement_links(pattern: Pattern, inference: BridgeInference) -> list[Meas
             leg = _waist_leg(piece, o)
             waist += [leg] if leg else []
     links = []
-    for measurement, legs in (("chest_girth", chest), ("waist_girth", waist)):
+    for measurement, legs in (("chest_girth", chest), ("waist_girth", waist), ("neck_girth", _neck_legs(inference))):
         if not legs:
             continue
         girth = sum(_span(pattern.piece(g.piece), g) for g in legs)

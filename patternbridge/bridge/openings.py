@@ -31,6 +31,7 @@ class Opening:
     kind: str
     sides: tuple[Side, ...]
     length_cm: float
+    part: bool = False  # one part of an opening bound by several strips
 
 
 def run_side(r: Run) -> Side:
@@ -126,7 +127,12 @@ def openings(
         parts = [[t] for t in neck] + [[a, b] for i, a in enumerate(neck) for b in neck[i + 1 :]]
         for group in [neck] + (parts if len(neck) > 1 else []):
             out.append(
-                Opening(kind="neck", sides=tuple(s for s, _ in group), length_cm=sum(s.length_cm * c for s, c in group))
+                Opening(
+                    kind="neck",
+                    sides=tuple(s for s, _ in group),
+                    length_cm=sum(s.length_cm * c for s, c in group),
+                    part=group is not neck,
+                )
             )
     fronts = [s for _, s in sorted(arm[Role.FRONT], key=lambda t: t[0])]
     backs = [s for _, s in sorted(arm[Role.BACK], key=lambda t: -t[0])]

@@ -22,6 +22,7 @@ __all__ = [
     "LEGS",
     "TORSO",
     "PairContext",
+    "band_in_place",
     "body_side",
     "is_centre",
     "is_rise",
@@ -75,6 +76,10 @@ def pieces_meet(ra: Role, rb: Role, same_piece: bool) -> bool:
     if pair & LEGS and pair & {Role.FRONT, Role.BACK}:
         return True  # a dress or a jumpsuit: bodice to leg at the waist
     return False
+
+
+#: how far (in half-band lengths) a waistband stretch may lie from where the body's stretch puts it
+WAISTBAND_PLACE_TOL = 0.12
 
 
 def _run_points(points: np.ndarray, r: Run) -> np.ndarray:
@@ -138,6 +143,65 @@ def _across(points_a: np.ndarray, a: Run, points_b: np.ndarray, b: Run, whole: b
     if whole:
         return bool(abs(xa / wa - xb / wb) > 0.15)
     return bool(abs(abs(xa) / wa - abs(xb) / wb) > 0.15)
+
+
+def _waist_fraction(ctx: PairContext, r: Run) -> float | None:
+    """Where a leg's or skirt panel's run lies along its waist: 0 at the centre, 1 at the side (None: no waist)."""
+    from .landmarks import leg_landmarks, skirt_panel_landmarks
+    from .openings import shapes_scooped
+
+    role, up, o = ctx.roles[r.piece].role, ctx.up[r.piece], ctx.orientations[r.piece]
+    if role in (Role.LEG_FRONT, Role.LEG_BACK):
+        marks = leg_landmarks(up, role).marks
+    elif role in (Role.FRONT, Role.BACK) and not shapes_scooped(up) and o.fold is None:
+        marks = skirt_panel_landmarks(up, o, role is Role.BACK).marks
+    else:
+        return None
+    # across the body: a piece drawn whole has its two halves on either side of the centre
+    c, sd = up[marks["centre_waist"], 0], up[marks["side_waist"], 0]
+    mid = _run_points(up, r)[:, 0].mean()
+    return float(np.clip(abs(mid - c) / max(abs(sd - c), 1e-9), 0.0, 1.0))
+
+
+def band_in_place(ctx: PairContext, band: Run, body: Run, middle: str | None = None) -> bool:
+    """A waistband's stretch lies where the body's waist stretch lies around the waist.
+
+    Along a waistband drawn whole, its middle is one centre line (``middle``:
+    ``front`` or ``back``; None: either), its ends the other and its quarters
+    the sides: a body stretch a fraction f of the way from its centre to its
+    side belongs f/2 of the half-band from the middle when its centre is the
+    middle, else 1 - f/2.
+    """
+    if ctx.roles[band.piece].role is not Role.WAISTBAND:
+        return True
+    f = _waist_fraction(ctx, body)
+    if f is None:
+        return True
+    x = ctx.up[band.piece][:, 0]
+    pos = (_run_points(ctx.up[band.piece], band)[:, 0].mean() - x.min()) / max(float(np.ptp(x)), 1e-9)
+    d = abs(2.0 * pos - 1.0)
+    side = "front" if ctx.roles[body.piece].role in (Role.FRONT, Role.LEG_FRONT) else "back"
+    wanted = [0.5 * f, 1.0 - 0.5 * f] if middle is None else [0.5 * f if side == middle else 1.0 - 0.5 * f]
+    if middle is not None and ctx.orientations[body.piece].whole and not _same_body_half(ctx, band, body, middle):
+        return False
+    return bool(min(abs(d - w) for w in wanted) < WAISTBAND_PLACE_TOL)
+
+
+def _same_body_half(ctx: PairContext, band: Run, body: Run, middle: str) -> bool:
+    """Whether a stretch of a piece drawn whole and a waistband stretch lie on one body half.
+
+    Seen from outside, the body's right half is a whole front's -x side and a
+    whole back's +x side; along a waistband going round the body in its +x
+    direction, the half beyond its middle is the body's left when the middle
+    is the centre front and the body's right when it is the centre back.
+    """
+    x_band = _run_points(ctx.up[band.piece], band)[:, 0].mean() - 0.5 * sum(
+        (ctx.up[band.piece][:, 0].min(), ctx.up[band.piece][:, 0].max())
+    )
+    band_right = x_band < 0 if middle == "front" else x_band > 0
+    x_body = _run_points(ctx.up[body.piece], body)[:, 0].mean()
+    body_right = x_body < 0 if ctx.roles[body.piece].role is Role.FRONT else x_body > 0
+    return bool(abs(x_band) < 0.5 or abs(x_body) < 0.5 or band_right == body_right)
 
 
 def body_side(role: Role, o: Orientation) -> str | None:
@@ -240,6 +304,9 @@ def pair_rule(ctx: PairContext, a: Run, b: Run) -> str | None:
     if twin and not (is_centre(ua, a) and is_centre(ub, b)):
         if abs(a.length_cm - b.length_cm) < 0.05 * a.length_cm and abs(a.bend_rad - b.bend_rad) < 0.1:
             return "the same edge on a left and a right twin"
+    for band, body in ((a, b), (b, a)):
+        if not band_in_place(ctx, band, body):
+            return "a waistband's stretch lies where the body's waist stretch lies around the waist"
     if rb is Role.SLEEVE and ra is not Role.SLEEVE:
         return _sleeve_rule(ctx, a, b)
     if ra is Role.SLEEVE and rb is not Role.SLEEVE:

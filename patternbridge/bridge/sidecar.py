@@ -2,7 +2,8 @@
 
 Every seam end becomes a mark ``v<vertex>`` on the designer's own outline (the
 file is not changed: the graded DXF sent back keeps its orientation, names and
-half pieces); each piece records its role and the turn that stands it upright.
+half pieces); each piece records its role, the turn that stands it upright, its
+named marks on body landmarks and its placement (:mod:`.landmarks`).
 All inferred seams are written ``"status": "proposed"`` with their confidence;
 a band sewn along an opening made of several ranges is written once per range
 with ``"status": "band"`` (not applied as a seam until a person puts marks on
@@ -19,6 +20,8 @@ from ..library.seams import sew_line
 from ..library.sidecar import SIDECAR_FORMAT
 from ..pattern.json import measurement_link_to_dict
 from ..pattern.model import Pattern
+from .alternatives import copies_cut
+from .landmarks import drawn_side, piece_landmarks
 from .links import measurement_links
 from .model import BridgeInference, Join
 
@@ -49,12 +52,21 @@ def runs_against(pattern: Pattern, inference: BridgeInference, j: Join) -> bool:
     return bool((abs(a1[0]) > abs(a0[0])) != (abs(b1[0]) > abs(b0[0])))
 
 
+def _side_of(pattern: Pattern, inference: BridgeInference, name: str) -> str | None:
+    o = inference.orientations[name]
+    return drawn_side(o.apply(sew_line(pattern.piece(name))[0]), inference.roles[name].role, o)
+
+
 def _seam(pattern: Pattern, inference: BridgeInference, j: Join) -> dict[str, Any]:
-    mirror = j.kind == "fold" or (j.kind == "centre" and j.a.piece == j.b.piece)
+    """One seam; a half drawn as the left half meets a right-drawn piece's mirror copy (one body side)."""
+    mirror = centre = j.kind == "fold" or (j.kind == "centre" and j.a.piece == j.b.piece)
+    if not mirror and j.kind != "band" and j.a.piece != j.b.piece:
+        sa, sb = _side_of(pattern, inference, j.a.piece), _side_of(pattern, inference, j.b.piece)
+        mirror = sa is not None and sb is not None and sa != sb
     return {
         "id": j.id,
         "kind": "fold" if j.kind == "fold" else "seam",
-        "reverse": False if mirror else runs_against(pattern, inference, j),
+        "reverse": False if centre else runs_against(pattern, inference, j),
         "ease_cm": 0.0 if j.kind == "band" else j.ease_cm,
         "status": "band" if j.kind == "band" else "proposed",
         "confidence": j.confidence,
@@ -64,6 +76,34 @@ def _seam(pattern: Pattern, inference: BridgeInference, j: Join) -> dict[str, An
         "length_b_cm": j.b.length_cm,
         "why": j.why,
     }
+
+
+def _has_mirror_copy(pattern: Pattern, inference: BridgeInference, name: str) -> bool:
+    return inference.orientations[name].fold is not None or copies_cut(pattern.piece(name)) > 1
+
+
+def _with_twins(pattern: Pattern, inference: BridgeInference, seams: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """Each seam between pieces that both have a mirror copy, also on the other body side (copies swapped).
+
+    A sleeve's underarm or a pair of fronts and backs is sewn on both copies; the
+    seam inferred on the drawn pieces is written once per body side.
+    """
+    swap = {"primary": "mirror", "mirror": "primary"}
+    out = list(seams)
+    for s in seams:
+        a, b = s["a"]["piece"], s["b"]["piece"]
+        if s["kind"] == "fold" or s["status"] == "band" or (a == b and s["a"]["copy"] != s["b"]["copy"]):
+            continue  # a fold or a centre seam joins the two copies already
+        if _has_mirror_copy(pattern, inference, a) and _has_mirror_copy(pattern, inference, b):
+            out.append(
+                {
+                    **s,
+                    "id": f"{s['id']}_twin",
+                    "a": {**s["a"], "copy": swap[s["a"]["copy"]]},
+                    "b": {**s["b"], "copy": swap[s["b"]["copy"]]},
+                }
+            )
+    return out
 
 
 def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str, Any]:
@@ -76,6 +116,7 @@ def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str,
     for link in links:
         for leg in link.legs:
             marks[leg.piece] |= {int(leg.start[1:]), int(leg.end[1:])}
+    found = piece_landmarks(pattern, inference)
     pieces = []
     for p in pattern.pieces:
         o = inference.orientations[p.name]
@@ -98,11 +139,17 @@ def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str,
                     "confidence": round(o.confidence, 2),
                 },
                 "marks": {
-                    f"v{i}": {"vertex": i, "xy": [round(float(v), 4) for v in p.outline[i]]}
-                    for i in sorted(marks[p.name])
+                    **{
+                        f"v{i}": {"vertex": i, "xy": [round(float(v), 4) for v in p.outline[i]]}
+                        for i in sorted(marks[p.name])
+                    },
+                    **{
+                        name: {"vertex": i, "xy": [round(float(v), 4) for v in p.outline[i]]}
+                        for name, i in found[p.name].marks.items()
+                    },
                 },
-                "landmarks": {},
-                "placement": None,
+                "landmarks": dict(found[p.name].landmarks),
+                "placement": found[p.name].placement,
             }
         )
     return {
@@ -115,6 +162,6 @@ def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str,
         "garment_pieces": list(inference.chosen),
         "alternatives": [[list(option) for option in group] for group in inference.alternatives],
         "pieces": pieces,
-        "seams": [_seam(pattern, inference, j) for j in inference.joins],
+        "seams": _with_twins(pattern, inference, [_seam(pattern, inference, j) for j in inference.joins]),
         "measurements": [measurement_link_to_dict(m) for m in links],
     }

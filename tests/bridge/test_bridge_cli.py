@@ -94,3 +94,39 @@ def test_chest_link_read_off_the_pattern_matches_the_library_drafts(tmp_path):
         chest = next(m for m in applied.measurements if m.measurement == "chest_girth")
         assert link_lengths(applied)["chest_girth"][0] == pytest.approx(drafted, abs=0.5)
         assert chest.ease_cm == pytest.approx(drafted - REFERENCE_BODY_CM["chest_girth"], abs=0.5)
+
+
+@pytest.mark.shared
+def test_fit_input_of_a_tee_is_one_garment_placed_on_both_body_sides(aama_dir, tmp_path):
+    """The T-shirt's default garment only; its left-drawn halves meet the sleeve's mirror copy, on both sides."""
+    fit = pattern_for_fit(aama_dir / "MEN CLASSIC TEE.DXF", tmp_path)
+    data = json.loads(fit.sidecar.read_text())
+    assert sorted(p.name for p in fit.pattern.pieces) == sorted(data["garment_pieces"])
+    assert all(p.placement is not None for p in fit.pattern.pieces)
+    roles = {p["name"]: p["role"] for p in data["pieces"]}
+    to_sleeve = [
+        s
+        for s in data["seams"]
+        if s["status"] != "band"
+        and {roles[s["a"]["piece"]], roles[s["b"]["piece"]]} == {"front", "sleeve"}
+        and s["a"]["piece"] in data["garment_pieces"]
+        and s["b"]["piece"] in data["garment_pieces"]
+    ]
+    # the front is drawn as the left half, the sleeve as the right one: one seam per body side
+    assert sorted((s["a"]["copy"], s["b"]["copy"]) for s in to_sleeve) == [("mirror", "primary"), ("primary", "mirror")]
+    front = next(p for p in data["pieces"] if p["role"] == "front")
+    assert "shoulder_point_left" in front["landmarks"]
+
+
+@pytest.mark.shared
+def test_upright_pattern_stands_a_sideways_accumark_tank_up(aama_dir, tmp_path):
+    """The tank is drawn sideways; stood up for the drape, its neck is above its hem and its centre on x = 0."""
+    from patternbridge.bridge.upright import upright_pattern
+
+    fit = pattern_for_fit(aama_dir / "WM LOOSE SHAPE TANK.DXF", tmp_path)
+    up = upright_pattern(fit.pattern, fit.sidecar)
+    for piece in up.pieces:
+        neck, hem = piece.outline[piece.marks["centre_neck"]], piece.outline[piece.marks["centre_hem"]]
+        assert neck[1] - hem[1] > 50.0  # a body length up the +y axis
+        assert abs(neck[0]) < 0.5 and abs(hem[0]) < 0.5
+        assert abs(piece.grain_line.points[1] - piece.grain_line.points[0])[0] < 0.5  # grain along y

@@ -58,12 +58,18 @@ def test_band_labels_fit_their_openings(labelled):
     bands = {
         n for n, v in label["pieces"].items() if v["role"] in ("neck_binding", "armhole_binding", "neckband", "cuff")
     }
-    for band in bands:
-        partners = [ob[0] if oa[0][0] == band else oa[0] for oa, ob in pairs if band in (oa[0][0], ob[0][0])]
-        partners = [p for p in partners if p[0] != band]
+    for band in bands - set(label.get("sewn_to_internal_lines", ())):
+        sewn = [(oa, ob) if oa[0][0] == band else (ob, oa) for oa, ob in pairs if band in (oa[0][0], ob[0][0])]
+        sewn = [(own, other) for own, other in sewn if other[0][0] not in bands]  # not the ends joined to a band
+        partners = [other[0] for _, other in sewn]
         if not partners:
             continue
-        edge = max(_length(lines[band][k], s, e) for oa, ob in pairs for (p, s, e) in oa + ob if p == band)
+        # one long edge: the longest range, or the band's ranges together when it is sewn in several parts
+        ranges = {own[0] for own, _ in sewn}
+        edge = max(
+            max(_length(lines[band][k], s, e) for own, _ in sewn for (_, s, e) in own),
+            sum(_length(lines[band][k], s, e) for _, s, e in ranges),
+        )
         neck = label["pieces"][band]["role"] in ("neck_binding", "neckband")
         total = sum(
             _length(lines[p][k], s, e) * (2 if neck and pattern.piece(p).mirror_line is not None else 1)
