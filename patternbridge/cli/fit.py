@@ -23,8 +23,6 @@ __all__ = ["HELP", "add_arguments", "add_fit_options", "drape_warnings", "fit_pr
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    from ._common import bounded_int
-
     parser.add_argument(
         "character",
         metavar="CHARACTER",
@@ -53,6 +51,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def add_fit_options(parser: argparse.ArgumentParser) -> None:
     """The seed, grading and drape flags (shared with ``batch``); read them with :func:`options_from_args`."""
+    from ._common import bounded_int
+
     parser.add_argument(
         "--seed", type=bounded_int(0, 2**32 - 1), default=0, help="random seed (same seed, same result)"
     )
@@ -77,6 +77,10 @@ def add_fit_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--no-drape", action="store_true", help="do not assemble/drape the garment"
     )
+    parser.add_argument(
+        "--choose", type=bounded_int(0, 10_000), metavar="K",
+        help="re-run the final step from row K of the Pareto front (numbered in pareto.png) and take it",
+    )
 
 
 def options_from_args(args: argparse.Namespace):
@@ -89,6 +93,7 @@ def options_from_args(args: argparse.Namespace):
         deformation=args.deformation,
         repair=not args.no_repair,
         drape=not args.no_drape,
+        choose=args.choose,
     )
 
 
@@ -126,6 +131,9 @@ def run(args: argparse.Namespace) -> int:
         print(f"[fit] loading garment {args.garment}", file=sys.stderr, flush=True)
     garment, findings = load_garment_spec(args.garment)  # a bad garment stops before the measuring
     print_findings(findings)
+    if garment.summary and not quiet:
+        print(f"[fit] inferred {garment.summary}; sidecar and picture written into {args.output}",
+              file=sys.stderr, flush=True)
     if not quiet:
         print(f"[fit] loading character {args.character}", file=sys.stderr, flush=True)
     subject, findings = load_subject(

@@ -42,6 +42,8 @@ class FitOptions:
     deformation : grid map of the pieces, ``"bilinear"`` or ``"cubic"``
     repair : run the final least-change step after NSGA-II
     drape : assemble and drape the garment (needs a character mesh)
+    choose : take row K of the Pareto front (numbered in ``pareto.png``) through the final step
+        instead of the grader's own choice (None: the grader's choice)
     """
 
     pop_size: int | None = None
@@ -49,12 +51,16 @@ class FitOptions:
     deformation: str = "bilinear"
     repair: bool = True
     drape: bool = True
+    choose: int | None = None
 
     def __post_init__(self) -> None:
         from ..errors import InputError
 
         if self.deformation not in DEFORMATIONS:
             raise InputError(f"deformation {self.deformation!r} is unknown; give one of {', '.join(DEFORMATIONS)}")
+        if self.choose is not None and (isinstance(self.choose, bool) or int(self.choose) != self.choose
+                                        or self.choose < 0):
+            raise InputError(f"choose must be a row number of the Pareto front, 0 or more (got {self.choose!r})")
         for name in ("pop_size", "n_gen"):
             value = getattr(self, name)
             if value is not None and (isinstance(value, bool) or int(value) != value or value < 1):

@@ -46,6 +46,7 @@ def write_outputs(
     garment: str,
     seed: int,
     drape: bool,
+    drape_sidecar: Path | None = None,
     progress: Progress = None,
 ) -> FitOutputs:
     """Write every output of a fit into the folder ``tmp``.
@@ -54,7 +55,9 @@ def write_outputs(
     pattern), ``<garment>_{aama,astm}.{dxf,rul}`` (the character as one more
     size), the drape's files when ``drape`` and a mesh is known,
     ``pattern.png``, ``pareto.png`` and ``fit_report.json`` (``report`` with
-    the ``drape`` entry added).
+    the ``drape`` entry added). ``drape_sidecar``: the bridge sidecar of a DXF,
+    whose recorded turns stand the pieces upright for the drape (the DXF
+    written back keeps the designer's drawing).
     """
     from ..atomic import write_text
     from ..io.pattern_json import save_pattern_json
@@ -74,7 +77,12 @@ def write_outputs(
 
     rep = dict(report)
     if drape and subject.character is not None:
-        drape_names, drape_report = _write_drape(tmp, subject, grading.pattern, seed, progress)
+        draped = grading.pattern
+        if drape_sidecar is not None:
+            from ..bridge.upright import upright_pattern
+
+            draped = upright_pattern(draped, drape_sidecar)
+        drape_names, drape_report = _write_drape(tmp, subject, draped, seed, progress)
         names += drape_names
         rep["drape"] = drape_report
     elif drape:
@@ -129,6 +137,7 @@ def _write_drape(
 
 
 def _write_plots(tmp: Path, original: Pattern, grading: GradingResult, size: str, garment: str) -> list[str]:
+    from ..grade.run import front_members
     from ..io.plot_fit import plot_fit_overlay, plot_pareto
 
     plot_fit_overlay(
@@ -147,6 +156,7 @@ def _write_plots(tmp: Path, original: Pattern, grading: GradingResult, size: str
         within=grading.front_within,
         baselines={n: s.scores.F for n, s in grading.baselines.items()},
         title=f"{garment} on {size}: final Pareto front",
+        members=[(k, p.pieces) for k, p in front_members(grading)],
     )
     return ["pattern.png", "pareto.png"]
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import shutil
 import tempfile
@@ -32,32 +33,60 @@ class Garment:
     pattern: Pattern
     name: str
     source: str
+    sidecar: Path | None = None
+    inferred: tuple[tuple[str, bytes], ...] = ()
+    summary: str | None = None
+
+    @property
+    def drape_sidecar_name(self) -> str | None:
+        """File name of the inferred sidecar among :attr:`inferred` (None when the bridge data were given)."""
+        return next((name for name, _ in self.inferred if name.endswith(".seams.json")), None)
+
+
+def _bridged(garment: str | os.PathLike) -> tuple[Pattern, Report, Path | None, tuple[tuple[str, bytes], ...],
+                                                  str | None]:
+    """A pattern file with its bridge data: the sidecar beside a DXF, or inferred (kept in memory) without one."""
+    from ..bridge.fit_input import pattern_for_fit
+
+    with tempfile.TemporaryDirectory(prefix="patternbridge-bridge-") as scratch:
+        loaded = pattern_for_fit(garment, scratch)
+        inferred = tuple((p.name, p.read_bytes()) for p in (loaded.sidecar, loaded.picture)
+                         if p is not None and loaded.summary is not None)
+    given = loaded.sidecar if loaded.summary is None else None
+    return loaded.pattern, loaded.report, given, inferred, loaded.summary
 
 
 def load_garment_spec(garment: str | os.PathLike | Pattern | Garment) -> tuple[Garment, Report]:
     """``(garment, findings)`` of a library garment name, a pattern file or a loaded pattern.
+
+    A DXF uses the bridge sidecar beside it (``<stem>.seams.json``); without
+    one its bridge data are inferred, and the inferred sidecar and its review
+    picture travel with the garment into the fit's output folder, where the
+    user can correct the sidecar and run again.
 
     Raises
     ------
     InputError
         The garment cannot be loaded, or it has no measurement links (nothing tells the grader where it sits).
     """
-    from ..io.load import load_pattern
     from ..pattern.model import Pattern
 
     if isinstance(garment, Garment):
         return garment, Report()
+    sidecar, inferred, summary = None, (), None
     if isinstance(garment, Pattern):
         pattern, findings, source = garment, Report(), garment.style or "garment"
     else:
-        pattern, findings = load_pattern(garment)
+        pattern, findings, sidecar, inferred, summary = _bridged(garment)
         source = str(garment)
     if not pattern.measurements:
         raise InputError(
             f"{source}: the pattern has no landmark-to-measurement mapping (no measurement links); "
             "add them with `patternbridge seams infer` or in the pattern's bridge-data sidecar, then run fit again"
         )
-    return Garment(pattern=pattern, name=pattern.style or Path(source).stem, source=source), findings
+    name = pattern.style or Path(source).stem
+    return Garment(pattern=pattern, name=name, source=source, sidecar=sidecar, inferred=inferred,
+                   summary=summary), findings
 
 
 def _check_measurements(subject: Subject, pattern: Pattern, garment: str) -> dict[str, float]:
@@ -132,15 +161,24 @@ def fit(
     grading = fit_pattern(
         pattern, values, seed=seed, size=size, source=loaded.source, progress=progress, **options.grader_kwargs()
     )
+    if options.choose is not None:
+        from ..grade.run import choose_member
+
+        grading = choose_member(grading, options.choose, size=size)
     report = fit_report(grading, character=character.name, garment=garment_name)
     created = not out.exists()
     out.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=".fit-", dir=out))
     try:
+        for name, data in loaded.inferred:  # the inferred bridge data, for the user to check and correct
+            (tmp / name).write_bytes(data)
+        inferred_sidecar = loaded.drape_sidecar_name
         written = write_outputs(
             tmp, original=pattern, grading=grading, report=report, subject=character, size=size,
             garment=garment_name, seed=seed, drape=options.drape, progress=progress,
+            drape_sidecar=tmp / inferred_sidecar if inferred_sidecar else loaded.sidecar,
         )
+        written = dataclasses.replace(written, names=(*(n for n, _ in loaded.inferred), *written.names))
         for name in written.names:
             dst = out / name
             if (tmp / name).is_dir() and dst.exists():
