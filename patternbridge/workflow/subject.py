@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import dataclasses
-import json
 import os
 import re
 from collections.abc import Callable, Mapping
@@ -12,6 +11,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ..errors import InputError
+from ..io.json_file import read_json
 from ..report import Report
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -95,8 +95,8 @@ def is_measurements_json(path: str | os.PathLike) -> bool:
     if path.suffix.lower() != ".json" or not path.is_file():
         return False
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError):
+        data = read_json(path, what="measurements file")
+    except InputError:
         return False
     if not isinstance(data, dict):
         return False
