@@ -11,7 +11,6 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ..errors import InputError
-from ..io.json_file import read_json
 from ..report import Report
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -94,6 +93,8 @@ def is_measurements_json(path: str | os.PathLike) -> bool:
     path = Path(path)
     if path.suffix.lower() != ".json" or not path.is_file():
         return False
+    from ..io.json_file import read_json  # numpy: not at import time (the batch scheduler imports this module)
+
     try:
         data = read_json(path, what="measurements file")
     except InputError:
