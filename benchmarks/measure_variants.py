@@ -26,17 +26,9 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-SHARED = ROOT.parent / "shared" / "characters"
-VARIANTS = SHARED / "variants"
-CHARACTERS = (
-    "A_superhero",
-    "B_slim_female",
-    "C_heavy_male",
-    "D_cartoon_child",
-    "E_average_male",
-    "F_tall_thin_elder",
-)
+# the six shared characters and where they and their variants live, as the assembly benchmark names them
+from assemble import CHARACTERS, SHARED, VARIANTS
+
 #: reference id -> (our comparable value's key, bar in %)
 COLUMNS = {
     "stature": 1.0,
