@@ -21,18 +21,14 @@ from patternbridge.workflow import FitOptions, Subject, Verdict, figures_from_re
 from patternbridge.workflow.outputs import relative_files
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "grade"))
-from grade_fixtures import BODY, skirt_pattern
+from grade_fixtures import skirt_pattern, write_skirt_inputs
 
 TINY = FitOptions(pop_size=20, n_gen=10)
 
 
 @pytest.fixture
 def inputs(tmp_path):
-    pattern_path = tmp_path / "skirt.json"
-    save_pattern_json(skirt_pattern(), pattern_path)
-    body_path = tmp_path / "hero.json"
-    body_path.write_text(json.dumps(BODY))
-    return pattern_path, body_path
+    return write_skirt_inputs(tmp_path)
 
 
 def test_fit_returns_what_it_wrote(inputs, tmp_path):
