@@ -27,7 +27,6 @@ import argparse
 import json
 import os
 import platform
-import re
 import resource
 import sys
 import tempfile
@@ -35,6 +34,7 @@ import time
 from pathlib import Path
 
 from patternbridge import __version__
+from patternbridge.testing import timeless, without_stamps
 
 SHARED = Path(__file__).resolve().parents[1] / ".." / "shared" / "characters"
 
@@ -75,28 +75,16 @@ def batch(characters: list[Path], garments: list[str], out: Path, seed: int, opt
     return result, seconds, sorted(rss.values()), sum(cpu.values())
 
 
-# the DXF/RUL writer stamps the wall-clock creation date and time
-_STAMP = re.compile(rb"(?im)^creation (date|time):.*$")
-
-
-def _timeless(obj):
-    if isinstance(obj, dict):
-        return {k: _timeless(v) for k, v in obj.items() if k != "seconds"}
-    if isinstance(obj, list):
-        return [_timeless(v) for v in obj]
-    return obj
-
-
 def same_results(a: Path, b: Path) -> bool:
     for report in a.rglob("fit_report.json"):
         other = b / report.relative_to(a)
         if not other.is_file():
             return False
-        if _timeless(json.loads(report.read_text())) != _timeless(json.loads(other.read_text())):
+        if timeless(json.loads(report.read_text())) != timeless(json.loads(other.read_text())):
             return False
         for f in report.parent.iterdir():
             if f.suffix in (".json", ".dxf", ".rul") and f.name != "fit_report.json":
-                if _STAMP.sub(b"", f.read_bytes()) != _STAMP.sub(b"", (other.parent / f.name).read_bytes()):
+                if without_stamps(f.read_bytes()) != without_stamps((other.parent / f.name).read_bytes()):
                     return False
     return True
 

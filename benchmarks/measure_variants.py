@@ -26,17 +26,9 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-SHARED = ROOT.parent / "shared" / "characters"
-VARIANTS = SHARED / "variants"
-CHARACTERS = (
-    "A_superhero",
-    "B_slim_female",
-    "C_heavy_male",
-    "D_cartoon_child",
-    "E_average_male",
-    "F_tall_thin_elder",
-)
+# the six shared characters and where they and their variants live, as the assembly benchmark names them
+from assemble import CHARACTERS, SHARED, VARIANTS
+
 #: reference id -> (our comparable value's key, bar in %)
 COLUMNS = {
     "stature": 1.0,
@@ -90,6 +82,22 @@ def measure_file(path: Path, *, drop_landmarks: bool = False):
     return character, report, result, {**values, **girths}, seconds
 
 
+def compare_cells(ours: dict[str, float], ref: dict[str, float]) -> tuple[list[str], int]:
+    """One table cell per ``COLUMNS`` key (``ours/ref off%``, ``–`` when missing) and the count outside its bar."""
+    cells = []
+    failures = 0
+    for key, bar in COLUMNS.items():
+        if key not in ours or key not in ref:
+            cells.append("–")
+            failures += 1
+            continue
+        off = 100.0 * (ours[key] - ref[key]) / ref[key]
+        bad = abs(off) > bar
+        failures += bad
+        cells.append(f"{ours[key]:.1f}/{ref[key]:.1f} {off:+.1f}%{' **X**' if bad else ''}")
+    return cells, failures
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--only", nargs="*", help="names (stems) to run")
@@ -115,16 +123,8 @@ def main(argv=None) -> int:
         ref = reference_values(name)
         character, _, result, ours, seconds = measure_file(path)
         values[name] = ours
-        cells = []
-        for key, bar in COLUMNS.items():
-            if key not in ours or key not in ref:
-                cells.append("–")
-                failures += 1
-                continue
-            off = 100.0 * (ours[key] - ref[key]) / ref[key]
-            bad = abs(off) > bar
-            failures += bad
-            cells.append(f"{ours[key]:.1f}/{ref[key]:.1f} {off:+.1f}%{' **X**' if bad else ''}")
+        cells, bad = compare_cells(ours, ref)
+        failures += bad
         low = sorted(n for n, lm in result.landmarks.items() if lm.is_low_confidence)
         assumed = f"{character.assumed.get('units', '')}; {character.assumed.get('up', '')}"
         print(
@@ -143,16 +143,8 @@ def main(argv=None) -> int:
         *_, ref, _ = measure_file(path)
         *_, ours, _ = measure_file(path, drop_landmarks=True)
         values[name] = ref
-        cells = []
-        for key, bar in COLUMNS.items():
-            if key not in ours or key not in ref:
-                cells.append("–")
-                failures += 1
-                continue
-            off = 100.0 * (ours[key] - ref[key]) / ref[key]
-            bad = abs(off) > bar
-            failures += bad
-            cells.append(f"{ours[key]:.1f}/{ref[key]:.1f} {off:+.1f}%{' **X**' if bad else ''}")
+        cells, bad = compare_cells(ours, ref)
+        failures += bad
         print(f"| {name} | " + " | ".join(cells) + " |")
 
     # -- A-pose against T-pose girths

@@ -8,6 +8,7 @@ failing round trip says what was lost.
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Iterable
 
 import numpy as np
@@ -28,6 +29,8 @@ __all__ = [
     "assert_patterns_equal",
     "example_pattern",
     "pattern_differences",
+    "timeless",
+    "without_stamps",
 ]
 
 #: fields a DXF cannot carry (bridge data, provenance details, the source's
@@ -430,3 +433,21 @@ def example_pattern() -> Pattern:
             ),
         ),
     )
+
+
+# the DXF/RUL writer stamps the wall-clock creation date and time
+_STAMP = re.compile(rb"(?im)^creation (date|time):.*$")
+
+
+def timeless(obj):
+    """A fit report (parsed JSON) without its timings: the only thing two runs of one fit may differ in."""
+    if isinstance(obj, dict):
+        return {k: timeless(v) for k, v in obj.items() if k != "seconds"}
+    if isinstance(obj, list):
+        return [timeless(v) for v in obj]
+    return obj
+
+
+def without_stamps(data: bytes) -> bytes:
+    """DXF/RUL bytes without the writer's creation date and time (the wall clock, not the fit)."""
+    return _STAMP.sub(b"", data)

@@ -201,6 +201,74 @@ def _largest(
     )
 
 
+def _self_crossing_reason(m: Measured, lim: VerdictLimits) -> Reason | None:
+    """Too many triangles passing through the cloth, or None."""
+    n_self = sum(m.self_crossing.values())
+    v = _grade(n_self, lim.self_crossing_flawed, lim.self_crossing_failed)
+    if v is not Verdict.OK:
+        where = _worst_keys({k: float(c) for k, c in m.self_crossing.items()}, 0.0)
+        limit = lim.self_crossing_failed if v is Verdict.FAILED else lim.self_crossing_flawed
+        return Reason(
+            check=Check.SELF_CROSSING,
+            verdict=v,
+            value=float(n_self),
+            limit=float(limit),
+            unit="triangles",
+            where=where,
+            message=f"{n_self} triangles pass through the cloth (limit {limit}): "
+            + ", ".join(f"{k} {m.self_crossing[k]}" for k in where[:3]),
+        )
+    return None
+
+
+def _skin_reason(m: Measured, lim: VerdictLimits) -> Reason | None:
+    """Cloth too deep inside the skin, or on too many triangles, or None."""
+    v = _grade(m.skin_depth_mm, lim.skin_depth_flawed_mm, lim.skin_depth_failed_mm)
+    value, limit, unit = (
+        m.skin_depth_mm,
+        lim.skin_depth_failed_mm if v is Verdict.FAILED else lim.skin_depth_flawed_mm,
+        "mm",
+    )
+    if v is not Verdict.FAILED and m.skin_share > lim.skin_share_failed:
+        v, value, limit, unit = Verdict.FAILED, 100 * m.skin_share, 100 * lim.skin_share_failed, "% of triangles"
+    if v is not Verdict.OK:
+        return Reason(
+            check=Check.SKIN,
+            verdict=v,
+            value=value,
+            limit=limit,
+            unit=unit,
+            where=m.skin_pieces,
+            message=f"cloth inside the skin up to {m.skin_depth_mm:.1f} mm deep on "
+            f"{100 * m.skin_share:.1f} % of the triangles (limit {limit:g} {unit}): {', '.join(m.skin_pieces[:3])}",
+        )
+    return None
+
+
+def _stretch_reason(m: Measured, lim: VerdictLimits) -> Reason | None:
+    """Too many edges stretched (flawed) or torn (failed), or None."""
+    v = Verdict.FAILED if m.torn_share > lim.stretch_failed_share else Verdict.OK
+    if v is Verdict.OK and m.stretch_share > lim.stretch_flawed_share:
+        v = Verdict.FLAWED
+    if v is not Verdict.OK:
+        share, ratio, limit = (
+            (m.torn_share, lim.stretch_torn, lim.stretch_failed_share)
+            if v is Verdict.FAILED
+            else (m.stretch_share, lim.stretch_limit, lim.stretch_flawed_share)
+        )
+        return Reason(
+            check=Check.STRETCH,
+            verdict=v,
+            value=100 * share,
+            limit=100 * limit,
+            unit="% of edges",
+            where=m.stretch_pieces,
+            message=f"{100 * share:.1f} % of the edges (limit {100 * limit:g} %) stretched beyond {ratio:g} x "
+            "their pattern length: " + ", ".join(m.stretch_pieces[:3]),
+        )
+    return None
+
+
 def judge(m: Measured, limits: VerdictLimits | None = None) -> tuple[Verdict, tuple[Reason, ...]]:
     """The verdict on a drape and the reasons for it, worst first.
 
@@ -239,64 +307,6 @@ def judge(m: Measured, limits: VerdictLimits | None = None) -> tuple[Verdict, tu
             "pieces hang off their landmark by up to",
         ),
     ]
-    n_self = sum(m.self_crossing.values())
-    v = _grade(n_self, lim.self_crossing_flawed, lim.self_crossing_failed)
-    if v is not Verdict.OK:
-        where = _worst_keys({k: float(c) for k, c in m.self_crossing.items()}, 0.0)
-        limit = lim.self_crossing_failed if v is Verdict.FAILED else lim.self_crossing_flawed
-        reasons.append(
-            Reason(
-                check=Check.SELF_CROSSING,
-                verdict=v,
-                value=float(n_self),
-                limit=float(limit),
-                unit="triangles",
-                where=where,
-                message=f"{n_self} triangles pass through the cloth (limit {limit}): "
-                + ", ".join(f"{k} {m.self_crossing[k]}" for k in where[:3]),
-            )
-        )
-    v = _grade(m.skin_depth_mm, lim.skin_depth_flawed_mm, lim.skin_depth_failed_mm)
-    value, limit, unit = (
-        m.skin_depth_mm,
-        lim.skin_depth_failed_mm if v is Verdict.FAILED else lim.skin_depth_flawed_mm,
-        "mm",
-    )
-    if v is not Verdict.FAILED and m.skin_share > lim.skin_share_failed:
-        v, value, limit, unit = Verdict.FAILED, 100 * m.skin_share, 100 * lim.skin_share_failed, "% of triangles"
-    if v is not Verdict.OK:
-        reasons.append(
-            Reason(
-                check=Check.SKIN,
-                verdict=v,
-                value=value,
-                limit=limit,
-                unit=unit,
-                where=m.skin_pieces,
-                message=f"cloth inside the skin up to {m.skin_depth_mm:.1f} mm deep on "
-                f"{100 * m.skin_share:.1f} % of the triangles (limit {limit:g} {unit}): {', '.join(m.skin_pieces[:3])}",
-            )
-        )
-    v = Verdict.FAILED if m.torn_share > lim.stretch_failed_share else Verdict.OK
-    if v is Verdict.OK and m.stretch_share > lim.stretch_flawed_share:
-        v = Verdict.FLAWED
-    if v is not Verdict.OK:
-        share, ratio, limit = (
-            (m.torn_share, lim.stretch_torn, lim.stretch_failed_share)
-            if v is Verdict.FAILED
-            else (m.stretch_share, lim.stretch_limit, lim.stretch_flawed_share)
-        )
-        reasons.append(
-            Reason(
-                check=Check.STRETCH,
-                verdict=v,
-                value=100 * share,
-                limit=100 * limit,
-                unit="% of edges",
-                where=m.stretch_pieces,
-                message=f"{100 * share:.1f} % of the edges (limit {100 * limit:g} %) stretched beyond {ratio:g} x "
-                "their pattern length: " + ", ".join(m.stretch_pieces[:3]),
-            )
-        )
+    reasons += [_self_crossing_reason(m, lim), _skin_reason(m, lim), _stretch_reason(m, lim)]
     found = sorted((r for r in reasons if r is not None), key=lambda r: -r.verdict.rank)
     return worst(r.verdict for r in found), tuple(found)

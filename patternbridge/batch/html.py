@@ -16,8 +16,6 @@ from typing import Any
 
 __all__ = ["index_html", "write_index"]
 
-_PICTURES = ("fit_front.png", "fit_back.png", "fit_side.png", "pattern.png", "pareto.png")
-
 _STYLE = """
 body{font:14px system-ui,sans-serif;margin:1.2em;color:#222}
 h1{font-size:1.3em;margin:0 0 .3em}

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..atomic import write_bytes, write_text
+from ..io.json_file import read_json
 from ..io.load import load_pattern
 from ..library.sidecar import apply_sidecar, sidecar_beside
 from ..pattern.model import Pattern
@@ -29,6 +30,8 @@ from .sidecar import inference_sidecar
 from .summary import summary_line
 
 __all__ = ["FitInput", "garment_only", "pattern_for_fit"]
+
+_SIDECAR_HINT = "give a sidecar written by 'patternbridge seams infer' or 'library export'"
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -50,7 +53,7 @@ class FitInput:
 
 def garment_only(pattern: Pattern, sidecar: str | os.PathLike) -> Pattern:
     """``pattern`` cut down to the sidecar's ``garment_pieces``, with the seams and links among them."""
-    names = json.loads(Path(sidecar).read_text(encoding="utf-8")).get("garment_pieces")
+    names = read_json(sidecar, hint=_SIDECAR_HINT, what="sidecar file").get("garment_pieces")
     if not names:
         return pattern
     keep = set(names)

@@ -17,7 +17,7 @@ from ..library.seams import graded_sew_lines
 from ..pattern.model import Pattern
 from .alternatives import choose_garment
 from .bands import band_joins
-from .edges import Run, breaks
+from .edges import Run
 from .edges import runs as all_runs
 from .model import BridgeInference, Join, Side, is_band
 from .openings import openings
@@ -29,17 +29,9 @@ from .seams import assign, body_side, candidates, merge_continuing
 __all__ = ["infer_bridge"]
 
 
-def _parts_of(pattern: Pattern):
-    cache = {p.name: breaks(p) for p in pattern.pieces}
-
-    def parts(r: Run) -> set[tuple[str, int]]:
-        return {(r.piece, k) for k in r.parts}
-
-    return parts, cache
-
-
-def _free_runs(rs: dict[str, list[Run]], used: set[tuple[str, int]]) -> dict[str, list[Run]]:
-    return {n: [r for r in v if not any((n, k) in used for k in r.parts)] for n, v in rs.items()}
+def _parts_of(r: Run) -> set[tuple[str, int]]:
+    """The (piece, stretch) pairs run ``r`` covers."""
+    return {(r.piece, k) for k in r.parts}
 
 
 def infer_bridge(
@@ -67,7 +59,6 @@ def infer_bridge(
     lines = graded_sew_lines(pattern)
     rs = all_runs(pattern, lines)
     groups, chosen = choose_garment(pattern, roles, shapes, pieces=pieces, exclude=exclude)
-    parts_of, _ = _parts_of(pattern)
     used: set[tuple[str, int]] = set()
     joins: list[Join] = []
     for name, o in orientations.items():
@@ -79,7 +70,7 @@ def infer_bridge(
             Join(id=f"{name}_fold", a=side, b=side, kind="fold", confidence=0.95, why="edge on the mirror line")
         )
         for r in fold_runs:
-            used |= parts_of(r)
+            used |= _parts_of(r)
     # every alternative is sewn like the default: seams are searched per garment variant
     variants = [set(chosen)] + [set(chosen) - set(old) | set(new) for g in groups for old in g[:1] for new in g[1:]]
     base_used = set(used)
@@ -93,7 +84,7 @@ def infer_bridge(
     for k, variant in enumerate(variants):
         cands = [c for c in every if c.a.piece in variant and c.b.piece in variant]
         local = set(base_used)
-        found = assign(cands, local, parts_of, sides, twice=paired, whole=whole)
+        found = assign(cands, local, _parts_of, sides, twice=paired, whole=whole)
         found = merge_continuing(found)
         opened = openings(pattern, local, roles, orientations, variant)
         ctx = PairContext.of(pattern, roles, orientations, set())

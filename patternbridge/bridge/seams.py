@@ -20,7 +20,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..library.seams import sew_line
+from ..library.infer import mirror_twins
 from ..pattern.model import Pattern
 from .edges import Run
 from .model import Join, Orientation, Role, RoleGuess, Side
@@ -36,6 +36,8 @@ CAP_EASE_SHARE = 0.09
 #: … or fall short of it by this share (a knit sleeve stretched into its armhole)
 CAP_TIGHT_SHARE = 0.02
 MIN_RUN_CM = 2.0
+#: mirror twins here agree in area and perimeter within this share (stricter than a seam proposal's)
+TWIN_TOL_SHARE = 0.003
 #: a paired piece's straight centre edge (or a leg's crotch curve) sewn to its mirror copy
 CENTRE_SCORE = 0.95
 
@@ -103,18 +105,6 @@ def _notch_fit(a: Run, b: Run) -> float:
     return 1.0 if ok else 0.4
 
 
-def _twins(pattern: Pattern) -> set[frozenset[str]]:
-    from ..pattern.geometry import area, perimeter
-
-    stats = [(p.name, float(area(sew_line(p)[0])), float(perimeter(sew_line(p)[0]))) for p in pattern.pieces]
-    return {
-        frozenset((na, nb))
-        for i, (na, aa, pa) in enumerate(stats)
-        for nb, ab, pb in stats[i + 1 :]
-        if abs(aa - ab) <= 0.003 * max(aa, ab) and abs(pa - pb) <= 0.003 * max(pa, pb)
-    }
-
-
 def _centre_candidates(ctx: PairContext, items: list[Run]) -> list[Candidate]:
     """A paired piece's straight centre edge, or a leg's crotch curve, sewn to its mirror copy."""
     out = []
@@ -159,7 +149,7 @@ def candidates(
     skip: set[str],
 ) -> list[Candidate]:
     """Scored candidate seams between the runs of the pieces not in ``skip`` (:func:`.rules.pair_rule` first)."""
-    ctx = PairContext.of(pattern, roles, orientations, _twins(pattern))
+    ctx = PairContext.of(pattern, roles, orientations, mirror_twins(pattern, tol_share=TWIN_TOL_SHARE))
     items = [r for name, rs in runs.items() if name not in skip for r in rs if r.length_cm >= MIN_RUN_CM]
     out = _centre_candidates(ctx, items)
     items.sort(key=lambda r: r.length_cm)

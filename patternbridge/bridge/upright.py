@@ -12,12 +12,11 @@ marks, seams and the counter-clockwise outline stay valid.
 from __future__ import annotations
 
 import dataclasses
-import json
 import os
-from pathlib import Path
 
 import numpy as np
 
+from ..io.json_file import read_json
 from ..pattern.model import Pattern, Piece
 
 __all__ = ["turn_piece", "upright_pattern"]
@@ -50,7 +49,9 @@ def turn_piece(piece: Piece, turn_rad: float, offset_cm: np.ndarray) -> Piece:
 
 def upright_pattern(pattern: Pattern, sidecar: str | os.PathLike) -> Pattern:
     """``pattern`` with every piece the sidecar gives an ``orientation`` turned upright (the others as they are)."""
-    data = json.loads(Path(sidecar).read_text(encoding="utf-8"))
+    data = read_json(
+        sidecar, hint="give a sidecar written by 'patternbridge seams infer' or 'library export'", what="sidecar file"
+    )
     turns = {e["name"]: e["orientation"] for e in data.get("pieces", []) if e.get("orientation")}
     pieces = tuple(
         turn_piece(p, np.radians(turns[p.name]["turn_deg"]), np.array(turns[p.name]["offset_cm"]))

@@ -27,7 +27,7 @@ from ..pattern.geometry import interior_angles
 from ..pattern.model import EdgeRange, Pattern, Seam, VertexKind
 from .seams import sew_line
 
-__all__ = ["SeamProposal", "Stretch", "infer_seams", "stretches", "with_proposals"]
+__all__ = ["SeamProposal", "Stretch", "infer_seams", "mirror_twins", "stretches", "with_proposals"]
 
 CORNER_DEG = 30.0
 LENGTH_TOL_CM = 0.3
@@ -36,6 +36,8 @@ MIN_STRETCH_CM = 2.0
 MAX_RUN = 5
 #: a corner this sharp between two neighbouring stretches is a dart's point
 DART_DEG = 40.0
+#: mirror twins' areas and perimeters agree within this share of the larger
+TWIN_TOL_SHARE = 0.005
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -183,22 +185,21 @@ def _score(a: Stretch, b: Stretch) -> float:
     return float(length_term * shape_term * size_term * notch_term)
 
 
-def _twins(pattern: Pattern) -> set[frozenset[str]]:
-    """Pairs of pieces that are mirror images of each other (same area and perimeter)."""
+def mirror_twins(pattern: Pattern, *, tol_share: float = TWIN_TOL_SHARE) -> set[frozenset[str]]:
+    """Pairs of pieces that are mirror images of each other (same area and perimeter).
+
+    Two pieces are twins when their sew lines' areas and perimeters agree within
+    ``tol_share`` of the larger one.
+    """
     from ..pattern.geometry import area, perimeter
 
-    stats = [
-        (p.name, float(area(sew_line(p)[0])), float(perimeter(sew_line(p)[0])))
-        for p in pattern.pieces
-    ]
-    out = set()
-    for i, (na, aa, pa) in enumerate(stats):
-        for nb, ab, pb in stats[i + 1 :]:
-            if abs(aa - ab) <= 0.005 * max(aa, ab) and abs(pa - pb) <= 0.005 * max(
-                pa, pb
-            ):
-                out.add(frozenset((na, nb)))
-    return out
+    stats = [(p.name, float(area(sew_line(p)[0])), float(perimeter(sew_line(p)[0]))) for p in pattern.pieces]
+    return {
+        frozenset((na, nb))
+        for i, (na, aa, pa) in enumerate(stats)
+        for nb, ab, pb in stats[i + 1 :]
+        if abs(aa - ab) <= tol_share * max(aa, ab) and abs(pa - pb) <= tol_share * max(pa, pb)
+    }
 
 
 #: confidence factor for a match between mirror-twin pieces: the same edge on a
@@ -229,7 +230,7 @@ def infer_seams(pattern: Pattern, *, min_confidence: float = 0.2) -> list[SeamPr
     Proposals sorted by decreasing confidence; every stretch appears at most once.
     """
     items = stretches(pattern)
-    twins = _twins(pattern)
+    twins = mirror_twins(pattern)
     centre_x = {
         p.name: float(
             np.mean(

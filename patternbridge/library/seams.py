@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..pattern.geometry import arc_lengths, boundary_indices
-from ..pattern.grading import _piece_displacements
+from ..pattern.grading import piece_displacements
 from ..pattern.model import Leg, Pattern, Piece
 
 __all__ = [
@@ -71,7 +71,7 @@ def graded_sew_lines(pattern: Pattern) -> dict[str, np.ndarray]:
         if not table.sizes:
             out[piece.name] = pts[None, :, :].copy()
             continue
-        disp = _piece_displacements(piece, table)
+        disp = piece_displacements(piece, table)
         i = _sew_line_index(piece)
         out[piece.name] = pts[None, :, :] + (
             disp["outline"] if i is None else disp["sew_lines"][i]

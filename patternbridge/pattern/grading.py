@@ -37,6 +37,7 @@ __all__ = [
     "grade_piece",
     "graded_outlines",
     "inward_angles",
+    "piece_displacements",
     "rebase_rules",
     "rules_from_nest",
     "single_size",
@@ -212,8 +213,13 @@ def _point_displacement(points, rules, table, rot, outline, boundary_disp) -> np
 # --------------------------------------------------------------------------- grading
 
 
-def _piece_displacements(piece: Piece, table: GradeRuleTable) -> dict:
-    """Displacements for every size of ``table``: a dict of element -> (n_sizes, ..., 2)."""
+def piece_displacements(piece: Piece, table: GradeRuleTable) -> dict:
+    """Displacements for every size of ``table``: a dict of element -> (n_sizes, ..., 2).
+
+    Keys: ``outline``, ``internal_lines``, ``cutouts``, ``sew_lines``, ``grain_line``,
+    ``grade_reference``, ``mirror_line`` and, when the piece has them, ``drill_holes`` and
+    ``annotations``; each array is in cm.
+    """
     rot = _rotation(frame_angle(piece))
     outline = piece.outline
     b = _polyline_displacement(outline, piece.rules, table, rot, True, None)
@@ -295,7 +301,7 @@ def grade_piece(piece: Piece, table: GradeRuleTable, size: str) -> Piece:
     table count as no rule.
     """
     k = table.size_index(size)
-    return _apply(piece, _piece_displacements(piece, table), k, str(size))
+    return _apply(piece, piece_displacements(piece, table), k, str(size))
 
 
 def rebase_rules(table: GradeRuleTable, size: str) -> GradeRuleTable:
@@ -323,7 +329,7 @@ def grade(pattern: Pattern, size: str) -> Pattern:
         pieces = tuple(dataclasses.replace(p, size=size) for p in pattern.pieces)
         return dataclasses.replace(pattern, pieces=pieces)
     k = table.size_index(size)
-    pieces = tuple(_apply(p, _piece_displacements(p, table), k, size) for p in pattern.pieces)
+    pieces = tuple(_apply(p, piece_displacements(p, table), k, size) for p in pattern.pieces)
     return dataclasses.replace(pattern, pieces=pieces, sample_size=size, rules=rebase_rules(table, size))
 
 
@@ -376,7 +382,7 @@ def graded_outlines(pattern: Pattern) -> dict[str, dict[str, np.ndarray]]:
     table = pattern.rules
     if not table.sizes:
         return {pattern.sample_size: {p.name: p.outline.copy() for p in pattern.pieces}}
-    disp = {p.name: _piece_displacements(p, table)["outline"] for p in pattern.pieces}
+    disp = {p.name: piece_displacements(p, table)["outline"] for p in pattern.pieces}
     return {
         size: {p.name: p.outline + disp[p.name][k] for p in pattern.pieces}
         for k, size in enumerate(table.sizes)
@@ -709,7 +715,7 @@ def add_size(
             )
         theta = frame_angle(piece)
         inv = _rotation(-theta)
-        disp = _piece_displacements(piece, table)
+        disp = piece_displacements(piece, table)
         old_local = np.einsum("ij,snj->nsi", inv, disp["outline"])  # (n, n_sizes, 2)
         new_local = (target - piece.outline) @ inv.T  # (n, 2)
         rules = []

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import dataclasses
-import json
 import os
 import re
 from collections.abc import Callable, Mapping
@@ -94,9 +93,11 @@ def is_measurements_json(path: str | os.PathLike) -> bool:
     path = Path(path)
     if path.suffix.lower() != ".json" or not path.is_file():
         return False
+    from ..io.json_file import read_json  # numpy: not at import time (the batch scheduler imports this module)
+
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError):
+        data = read_json(path, what="measurements file")
+    except InputError:
         return False
     if not isinstance(data, dict):
         return False

@@ -2,24 +2,9 @@
 
 from __future__ import annotations
 
-import re
+from patternbridge.testing import timeless, without_stamps
+
+__all__ = ["BUDGET", "timeless", "without_stamps"]
 
 # the grader's budget of every batch test: tiny, the skirt still fits
 BUDGET = ["--pop-size", "20", "--generations", "10"]
-
-
-def timeless(obj):
-    """A fit report without its timings (the only thing two runs of one case may differ in)."""
-    if isinstance(obj, dict):
-        return {k: timeless(v) for k, v in obj.items() if k != "seconds"}
-    if isinstance(obj, list):
-        return [timeless(v) for v in obj]
-    return obj
-
-
-_STAMP = re.compile(rb"(?im)^creation (date|time):.*$")
-
-
-def without_stamps(data: bytes) -> bytes:
-    """DXF/RUL bytes without the writer's creation date and time (the wall clock, not the fit)."""
-    return _STAMP.sub(b"", data)

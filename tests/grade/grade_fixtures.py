@@ -2,8 +2,12 @@
 
 from __future__ import annotations
 
+import json
+from pathlib import Path
+
 import numpy as np
 
+from patternbridge.io.pattern_json import save_pattern_json
 from patternbridge.pattern.model import (
     EdgeRange,
     Leg,
@@ -60,6 +64,15 @@ def skirt_pattern(*, links: bool = True, seams: bool = True) -> Pattern:
 
 
 BODY = {"waist_girth": 84.0, "hip_girth": 104.0, "waist_to_knee": 55.0}
+
+
+def write_skirt_inputs(folder: Path) -> tuple[Path, Path]:
+    """``skirt.json`` (the skirt pattern) and ``hero.json`` (``BODY``) written into ``folder``: their paths."""
+    pattern_path = folder / "skirt.json"
+    save_pattern_json(skirt_pattern(), pattern_path)
+    body_path = folder / "hero.json"
+    body_path.write_text(json.dumps(BODY))
+    return pattern_path, body_path
 
 
 

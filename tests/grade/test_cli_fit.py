@@ -7,7 +7,7 @@ import os
 
 import numpy as np
 import pytest
-from grade_fixtures import BODY, skirt_pattern
+from grade_fixtures import skirt_pattern, write_skirt_inputs
 
 from patternbridge.cli.main import main
 from patternbridge.io.dxf_aama import read_dxf
@@ -17,11 +17,7 @@ from patternbridge.io.pattern_json import load_pattern_json, save_pattern_json
 
 @pytest.fixture
 def inputs(tmp_path):
-    pattern_path = tmp_path / "skirt.json"
-    save_pattern_json(skirt_pattern(), pattern_path)
-    body_path = tmp_path / "hero.json"
-    body_path.write_text(json.dumps(BODY))
-    return pattern_path, body_path
+    return write_skirt_inputs(tmp_path)
 
 
 def test_fit_writes_every_output(inputs, tmp_path, capsys):

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import json
 import pickle
-import re
 import subprocess
 import sys
 from pathlib import Path
@@ -17,22 +16,19 @@ from patternbridge.cli.main import main
 from patternbridge.errors import InputError
 from patternbridge.io.pattern_json import save_pattern_json
 from patternbridge.report import Report
+from patternbridge.testing import timeless, without_stamps
 from patternbridge.workflow import FitOptions, Subject, Verdict, figures_from_report, load_subject
 from patternbridge.workflow.outputs import relative_files
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "grade"))
-from grade_fixtures import BODY, skirt_pattern
+from grade_fixtures import skirt_pattern, write_skirt_inputs
 
 TINY = FitOptions(pop_size=20, n_gen=10)
 
 
 @pytest.fixture
 def inputs(tmp_path):
-    pattern_path = tmp_path / "skirt.json"
-    save_pattern_json(skirt_pattern(), pattern_path)
-    body_path = tmp_path / "hero.json"
-    body_path.write_text(json.dumps(BODY))
-    return pattern_path, body_path
+    return write_skirt_inputs(tmp_path)
 
 
 def test_fit_returns_what_it_wrote(inputs, tmp_path):
@@ -64,21 +60,9 @@ def test_fit_is_the_cli_fit(inputs, tmp_path):
     for name in lib.files:
         a, b = (tmp_path / "lib" / name), (tmp_path / "cli" / name)
         if name == "fit_report.json":
-            assert _timeless(json.loads(a.read_text())) == _timeless(json.loads(b.read_text()))
+            assert timeless(json.loads(a.read_text())) == timeless(json.loads(b.read_text()))
         elif not name.endswith(".png"):
-            assert _STAMP.sub(b"", a.read_bytes()) == _STAMP.sub(b"", b.read_bytes()), name
-
-
-# the DXF/RUL writer stamps the wall-clock creation date and time
-_STAMP = re.compile(rb"(?im)^creation (date|time):.*$")
-
-
-def _timeless(obj):
-    if isinstance(obj, dict):
-        return {k: _timeless(v) for k, v in obj.items() if k != "seconds"}
-    if isinstance(obj, list):
-        return [_timeless(v) for v in obj]
-    return obj
+            assert without_stamps(a.read_bytes()) == without_stamps(b.read_bytes()), name
 
 
 def test_a_failed_fit_leaves_no_folder(inputs, tmp_path):
