@@ -61,13 +61,13 @@ def serial(characters: list[Path], garments: list[str], out: Path, seed: int, op
 
 
 def batch(characters: list[Path], garments: list[str], out: Path, seed: int, options, n_workers: int):
-    from distributed import Client, LocalCluster
+    from distributed import Client
 
     from patternbridge.batch import run_batch
+    from patternbridge.batch.cluster import local_cluster
 
     t0 = time.perf_counter()
-    with LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
-            Client(cluster) as client:
+    with local_cluster(n_workers, dashboard_address=None) as cluster, Client(cluster) as client:
         result = run_batch([str(c) for c in characters], garments, out, client=client, seed=seed, options=options)
         seconds = time.perf_counter() - t0
         rss = client.run(peak_rss_mb)

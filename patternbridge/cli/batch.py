@@ -50,8 +50,9 @@ def _quiet_dask() -> None:
 
 def _client(args: argparse.Namespace):
     """``(client, cluster)``: connected to ``--scheduler`` (cluster None) or to a new LocalCluster."""
-    from distributed import Client, LocalCluster
+    from distributed import Client
 
+    from ..batch.cluster import local_cluster
     from ..errors import InputError
 
     if args.scheduler:
@@ -64,8 +65,8 @@ def _client(args: argparse.Namespace):
     if n < 1:
         raise InputError(f"--workers {n}: give at least 1 worker")
     # the workers' own log lines repeat what the batch records per case
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, memory_limit=args.memory_limit,
-                           silence_logs=logging.CRITICAL if args.verbose < 2 else logging.INFO)
+    cluster = local_cluster(n, memory_limit=args.memory_limit,
+                            silence_logs=logging.CRITICAL if args.verbose < 2 else logging.INFO)
     return Client(cluster), cluster
 
 

@@ -15,7 +15,9 @@ from patternbridge.workflow import FitOptions
 @pytest.mark.slow
 def test_a_killed_worker_loses_only_its_cases_and_a_rerun_completes_them(batch_inputs, tmp_path):
     import dask
-    from distributed import Client, LocalCluster
+    from distributed import Client
+
+    from patternbridge.batch.cluster import local_cluster
 
     p = batch_inputs
     characters = [str(p["hero"]), str(p["big"])]
@@ -24,8 +26,10 @@ def test_a_killed_worker_loses_only_its_cases_and_a_rerun_completes_them(batch_i
     out = tmp_path / "out"
     # no retries: a case whose worker dies is reported lost at once (by default Dask retries it elsewhere)
     with dask.config.set({"distributed.scheduler.allowed-failures": 0}), \
-            LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
-            Client(cluster) as client:
+            local_cluster(2, dashboard_address=None) as cluster, Client(cluster) as client:
+        # workers keep glibc's sliding mmap threshold (see batch/cluster.py) and one BLAS thread
+        environ = client.run(lambda: (os.environ.get("MALLOC_TRIM_THRESHOLD_"), os.environ.get("OMP_NUM_THREADS")))
+        assert set(environ.values()) == {(None, "1")}
         pids = client.run(os.getpid)
         killed: dict[str, str] = {}
         lock = threading.Lock()
