@@ -156,11 +156,13 @@ def run(args: argparse.Namespace) -> int:
         for line in drape_warnings(rep.get("drape") or {}):
             print(line, file=sys.stderr)
     print(f"wrote {len(result.files)} files to {result.out_dir}: " + ", ".join(result.files))
-    if result.verdict is Verdict.FAILED:
-        print(f"patternbridge: the drape failed (verdict {result.verdict.value}); look at fit_report.json and "
-              "the fit_*.png pictures", file=sys.stderr)
-        return 3
-    return 0
+    if result.verdict is None:
+        return 0
+    reasons = [r.get("message", "") for r in (rep.get("drape") or {}).get("verdict_reasons", [])]
+    print(f"patternbridge: drape verdict {result.verdict.value}" + (f": {'; '.join(reasons)}" if reasons else "")
+          + ("" if result.verdict is Verdict.OK else " (failing regions in red in the fit_*.png pictures)"),
+          file=sys.stderr)
+    return 3 if result.verdict is Verdict.FAILED else 0
 
 
 def drape_warnings(drape: dict) -> list[str]:

@@ -133,6 +133,7 @@ def test_cli_exits_3_on_a_failed_drape_and_still_writes_the_files(inputs, tmp_pa
     def failed_drape(character, pattern, out_dir, *, seed, progress):
         (Path(out_dir) / "fit_front.png").write_bytes(b"png")
         return {"verdict": "failed", "seconds": 1.0, "max_seam_gap_before_weld_mm": 80.0,
+                "verdict_reasons": [{"check": "seam_gap", "message": "seams open before welding by up to 80.0 mm"}],
                 "files": [str(Path(out_dir) / "fit_front.png")]}
 
     monkeypatch.setattr(workflow, "load_subject", lambda *a, **k: (subject, Report()))
@@ -141,7 +142,8 @@ def test_cli_exits_3_on_a_failed_drape_and_still_writes_the_files(inputs, tmp_pa
     code = main(["fit", str(body_path), "--garment", str(pattern_path), "-o", str(out), "-q",
                  "--pop-size", "20", "--generations", "10"])
     assert code == 3
-    assert "the drape failed" in capsys.readouterr().err
+    last = capsys.readouterr().err.strip().splitlines()[-1]  # the verdict is said last, with its reasons
+    assert last.startswith("patternbridge: drape verdict failed: seams open before welding by up to 80.0 mm")
     rep = json.loads((out / "fit_report.json").read_text())
     assert rep["drape"]["verdict"] == "failed" and rep["drape"]["files"] == ["fit_front.png"]
     assert (out / "fit_front.png").is_file() and (out / "skirt_aama.dxf").is_file()
