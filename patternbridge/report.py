@@ -46,9 +46,10 @@ class Report:
     def add(
         self, code: str, message: str, where: str = "", fixed: bool = False, severity: str = "warning"
     ) -> None:
-        self.findings.append(
-            Finding(code=code, message=message, where=where, fixed=fixed, severity=severity)
-        )
+        """Record a finding; one already recorded word for word (two writers of one pattern) is kept once."""
+        finding = Finding(code=code, message=message, where=where, fixed=fixed, severity=severity)
+        if finding not in self.findings:
+            self.findings.append(finding)
 
     @property
     def warnings(self) -> list[Finding]:
@@ -56,7 +57,8 @@ class Report:
         return [f for f in self.findings if f.severity == "warning"]
 
     def extend(self, other: Report) -> None:
-        self.findings.extend(other.findings)
+        for f in other.findings:
+            self.add(f.code, f.message, f.where, f.fixed, f.severity)
 
     def codes(self) -> list[str]:
         return [f.code for f in self.findings]

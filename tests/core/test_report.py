@@ -43,3 +43,14 @@ def test_closed_pipe_is_not_a_traceback(aama_dir, monkeypatch):
         assert main(["info", str(aama_dir / "simple.DXF"), "--json"]) == 0
     finally:
         stdout.close()
+
+
+def test_a_finding_said_twice_is_kept_once_and_the_order_stays():
+    first, second = Report(), Report()
+    first.add("size-coded", "size 'hero' written as 901", "shirt")
+    first.add("units-implausible", "largest piece 7 cm", "shirt")
+    second.add("size-coded", "size 'hero' written as 901", "shirt")  # the ASTM writer says it again
+    second.add("size-coded", "size 'hero' written as 901", "dress")  # another file: a finding of its own
+    first.extend(second)
+    assert [(f.code, f.where) for f in first] == [
+        ("size-coded", "shirt"), ("units-implausible", "shirt"), ("size-coded", "dress")]
