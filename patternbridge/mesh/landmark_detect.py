@@ -504,7 +504,7 @@ def detect_torso_points(sc: Scan) -> None:
         rule = f"narrowest torso section (waist, y = {y:.1f} cm)"
         if len(midp):
             sc.put("waist_front", midp[np.argmax(midp[:, 2])], f"front midline of the {rule}")
-            _waist_back(sc, midp[np.argmin(midp[:, 2])], y, rule)
+            sc.put("waist_back", midp[np.argmin(midp[:, 2])], f"back midline of the {rule}")
         sc.put("waist_side_left", allp[np.argmax(allp[:, 0])], f"left-most point of the {rule}")
         sc.put("waist_side_right", allp[np.argmin(allp[:, 0])], f"right-most point of the {rule}")
     _bust_points(sc, levels["chest"][0])
@@ -518,28 +518,6 @@ def detect_torso_points(sc: Scan) -> None:
             if len(side):
                 sc.put(f"buttock_point_{s}", side[np.argmin(side[:, 2])], f"back-most point {rule}")
                 sc.put(f"hip_side_{s}", side[np.argmax(sg * (side[:, 0] - xm))], f"outer-most point {rule}")
-
-
-def _waist_back(sc: Scan, back: np.ndarray, y: float, rule: str) -> None:
-    """The back waist point: the back midline's vertex row at or just above the waist level.
-
-    As the reference tables define it (a tape from the nape stops on the
-    waist line, not below it): the lowest back-midline vertex not below the
-    level ``y``, within 2 % of S above it and 2 % of S of the section's back
-    point ``back``; the section point itself when there is none.
-    """
-    v, S = sc.v, sc.S
-    row = (
-        (np.abs(v[:, 0] - sc.x_mid) < max(0.004 * S, 0.3))
-        & (v[:, 1] >= y)
-        & (v[:, 1] < y + 0.02 * S)
-        & (np.abs(v[:, 2] - back[2]) < 0.02 * S)
-    )
-    if row.any():
-        i = np.flatnonzero(row)
-        sc.put("waist_back", v[i[np.argmin(v[i, 1])]], f"back midline vertex row at or just above the {rule}")
-    else:
-        sc.put("waist_back", back, f"back midline of the {rule}")
 
 
 def _bust_points(sc: Scan, y: float) -> None:

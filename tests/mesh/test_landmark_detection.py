@@ -25,8 +25,7 @@ from patternbridge.mesh.load import load_character
 pytestmark = pytest.mark.shared
 
 #: cm; the waist points follow each body's narrowest level, the answer key a
-#: fixed vertex chosen on E (3-7.5 cm apart on the women and C, see
-#: docs/measurements.md; on E itself the rule gives the key's vertex, tested below)
+#: fixed vertex chosen on E (3-7 cm apart on the women and C, see docs/measurements.md)
 TOLERANCE_CM = {
     "top_of_head": 1.0,
     "front_neck_point": 3.0,
@@ -38,7 +37,7 @@ TOLERANCE_CM = {
     "axilla_back": 4.5,
     "bust_point": 2.5,
     "waist_front": 3.5,
-    "waist_back": 7.5,
+    "waist_back": 6.0,
     "waist_side": 2.5,
     "buttock_point": 4.0,
     "hip_side": 6.0,
@@ -59,7 +58,7 @@ T_POSE_NO_RIG_CM = {
     "bust_point": 7.0,
     "elbow_point": 2.0,  # a straight elbow: half-way (9 cm off while a bulge counted as a bend)
     "waist_front": 4.5,  # C's answer-key waist is a fixed vertex on its belly
-    "waist_back": 7.5,
+    "waist_back": 7.0,
     "waist_side": 7.5,
 }
 
@@ -146,9 +145,7 @@ def test_detection_alone_on_the_shared_characters(characters_dir):
     """Rule points against the sidecar table, from the geometry alone (landmarks and rig dropped).
 
     The elbow sat 1.5-2.5 cm down the forearm (4.5 cm on A), the crotch up to
-    2.9 cm in front of the inseams' meeting point; the back waist point is the
-    back midline row at or just above the waist level, which on E (where the
-    table's vertex was chosen by that rule) is the table's vertex.
+    2.9 cm in front of the inseams' meeting point.
     """
     far: dict[str, dict[str, float]] = {}
     for name in SHARED:
@@ -156,12 +153,11 @@ def test_detection_alone_on_the_shared_characters(characters_dir):
         found = resolve_landmarks(replace(c, landmarks={}, skeleton=None, skin=None))
         far[name] = {
             n: float(np.linalg.norm(found[n].position - c.landmarks[n].position))
-            for n in ("crotch_point", "elbow_point_left", "elbow_point_right", "waist_back")
+            for n in ("crotch_point", "elbow_point_left", "elbow_point_right")
         }
     assert all(d["crotch_point"] < 0.5 for d in far.values()), far
     elbows = [d[f"elbow_point_{s}"] for d in far.values() for s in ("left", "right")]
     assert np.median(elbows) < 1.5 and max(elbows) < 4.0, far
-    assert far["E_average_male"]["waist_back"] < 0.5, far
 
 
 def test_every_landmark_has_a_confidence_and_evidence(variants):
