@@ -62,7 +62,9 @@ FALLBACK = 0.35  # confidence of a point placed by a rule's fallback
 PROVISIONAL = 0.3  # a point a later rule replaces
 NO_CORNER = "no shoulder corner: highest vertex 1.2 % of S outside the armpit (provisional)"
 SHARP = 0.85  # a rule that found a sharp geometric feature (the shoulder corner, the neck base)
+LEVEL_ARM_SHARE = 0.53  # a level arm's acromion: this share of the way from the side neck point to the armpit
 WRIST_END = 1.1  # the wrist ends where its section is this much wider than the narrowest
+STRAIGHT_DEG = 20.0  # an elbow flexed less than this is straight (A-pose elbows: 45°)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)
@@ -84,9 +86,7 @@ class Scan:
     known : name -> (3,) position of landmarks already known (anchors)
     """
 
-    def __init__(
-        self, vertices: np.ndarray, faces: np.ndarray, known: Mapping[str, np.ndarray]
-    ) -> None:
+    def __init__(self, vertices: np.ndarray, faces: np.ndarray, known: Mapping[str, np.ndarray]) -> None:
         from ..measure.section import SlabIndex
 
         self.v, self.f = vertices, faces
@@ -104,14 +104,16 @@ class Scan:
         from ..measure.section import plane_loops
 
         sec = plane_loops(
-            self.v, self.f, np.array([0.0, y, 0.0]), np.array([0.0, 1.0, 0.0]),
+            self.v,
+            self.f,
+            np.array([0.0, y, 0.0]),
+            np.array([0.0, 1.0, 0.0]),
             candidates=self.slabs.faces_at(y),
         )
         return [lp.points for lp in sec.loops if len(lp.points) >= 3]
 
     def put(self, name: str, p: np.ndarray, rule: str, confidence: float = FOUND) -> None:
-        self.found[name] = Found(position=np.asarray(p, dtype=np.float64), rule=rule,
-                                 confidence=confidence)
+        self.found[name] = Found(position=np.asarray(p, dtype=np.float64), rule=rule, confidence=confidence)
 
     def has(self, name: str) -> bool:
         return name in self.known or name in self.found
@@ -169,26 +171,58 @@ def detect_crotch(sc: Scan) -> None:
             y_crotch = float(y)
             break
     if y_crotch is None:
-        raise LandmarkError(
-            "geometry: no crotch found (the legs never separate); give landmarks with --landmarks"
-        )
+        raise LandmarkError("geometry: no crotch found (the legs never separate); give landmarks with --landmarks")
     above = (v[:, 1] > y_crotch) & (v[:, 1] < y_crotch + 0.06 * S)
-    band = above & (np.abs(v[:, 0] - xm) < 0.001 * S)  # on the midline seam
-    if not band.any():
-        band = above & (np.abs(v[:, 0] - xm) < max(0.004 * S, 0.3))
+    z_seam = _inseam_depth(sc, y_crotch - 0.01 * S)
     rule = f"legs separate below y = {y_crotch:.1f} cm"
-    if band.any():
+    for tol in (0.001 * S, max(0.004 * S, 0.3)):
+        band = above & (np.abs(v[:, 0] - xm) < tol)  # on the midline seam
+        if not band.any():
+            continue
         cands = np.flatnonzero(band)
-        sc.put("crotch_point", v[cands[np.argmin(v[cands, 1])]], f"{rule}; lowest midline vertex above")
-    else:
-        sc.put("crotch_point", np.array([xm, y_crotch + sc.step, 0.0]),
-               f"{rule}; no midline vertex there", FALLBACK)
+        low = cands[np.argmin(v[cands, 1])]
+        if z_seam is None:
+            sc.put("crotch_point", v[low], f"{rule}; lowest midline vertex above")
+            return
+        # the midline vertex nearest the inseams' meeting point, level with the lowest one
+        target = np.array([v[low, 1], z_seam])
+        best = cands[np.argmin(np.sum((v[cands][:, [1, 2]] - target) ** 2, axis=1))]
+        sc.put(
+            "crotch_point",
+            v[best],
+            f"{rule}; midline vertex nearest the inseams' meeting point (thighs' mid-depth "
+            f"z = {z_seam:.1f} cm, level with the lowest midline vertex)",
+            SHARP,
+        )
+        return
+    sc.put("crotch_point", np.array([xm, y_crotch + sc.step, 0.0]), f"{rule}; no midline vertex there", FALLBACK)
+
+
+def _inseam_depth(sc: Scan, y: float) -> float | None:
+    """Mean mid-depth (z, cm) of the two thigh sections at ``y``: where the inseams meet the crotch.
+
+    The bottom of the crotch is a saddle nearly level from front to back, so
+    its lowest midline vertex wanders 3 cm forward on some bodies; the inseams
+    run up the middle of the thighs' depth, and the crotch point is where they
+    meet.
+    """
+    loops = [p for p in sc.loops(y) if abs(p[:, 0].mean() - sc.x_mid) < 0.12 * sc.S]
+    mids = []
+    for sg in SIDES.values():
+        side = [p for p in loops if np.min(sg * (p[:, 0] - sc.x_mid)) > 0]
+        if not side:
+            return None
+        p = max(side, key=len)
+        mids.append(0.5 * float(p[:, 2].min() + p[:, 2].max()))
+    return float(np.mean(mids))
 
 
 def _armpit_profile(sc: Scan, y_crotch: float):
     """Per level from the crotch up: the torso loop's lateral reach and the gap to the next loop out."""
     S, xm = sc.S, sc.x_mid
-    ys = np.arange(y_crotch + 0.15 * S, sc.floor + 0.85 * S, sc.step)
+    # levels on a grid fixed to the floor, so that a crotch a few mm higher or lower moves no level
+    k0 = np.ceil((y_crotch + 0.15 * S - sc.floor) / sc.step)
+    ys = sc.floor + sc.step * np.arange(k0, np.floor(0.85 * S / sc.step) + 1)
     ext = {s: [] for s in SIDES}
     gap = {s: [] for s in SIDES}
     for y in ys:
@@ -202,8 +236,7 @@ def _armpit_profile(sc: Scan, y_crotch: float):
             reach = float(np.max(sg * (t[:, 0] - xm)))
             ext[s].append(reach)
             others = [p for p in loops if p is not t and np.mean(sg * (p[:, 0] - xm)) > reach]
-            gap[s].append(min((float(np.min(sg * (p[:, 0] - xm))) for p in others),
-                              default=reach + 0.05 * S))
+            gap[s].append(min((float(np.min(sg * (p[:, 0] - xm))) for p in others), default=reach + 0.05 * S))
     return ys, {s: np.asarray(e) for s, e in ext.items()}, {s: np.asarray(g) for s, g in gap.items()}
 
 
@@ -236,17 +269,20 @@ def detect_armpits(sc: Scan) -> None:
             y0 = ys[k]
             rel = sg * (v[:, 0] - xm)
             hi_x = min(gap[s][k], e[k] + 0.03 * S) + 0.01 * S  # not out to a T-pose hand
-            col = ((rel > e[k] - 0.01 * S) & (rel < hi_x)
-                   & (v[:, 1] > y0) & (v[:, 1] < y0 + 0.08 * S))
+            col = (rel > e[k] - 0.01 * S) & (rel < hi_x) & (v[:, 1] > y0) & (v[:, 1] < y0 + 0.08 * S)
             if not col.any():
                 continue
             idx = np.flatnonzero(col)
             zc = _arm_depth(sc, y0, e[k], sg, v[idx, 2])
             close = np.abs(v[idx, 2] - zc) < 0.015 * S
             idx = idx[close] if close.any() else idx
+            # the apex of the gap: above the gap itself, not the torso wall just above the level
+            bridge = idx[(rel[idx] > e[k]) & (rel[idx] < min(gap[s][k], e[k] + 0.03 * S))]
+            idx = bridge if len(bridge) else idx
             arm = v[idx[np.argmin(v[idx, 1])]]
-            sc.put(f"armpit_point_{s}", arm,
-                   f"torso section meets the arm at y = {y0:.1f} cm; lowest vertex above the gap")
+            sc.put(
+                f"armpit_point_{s}", arm, f"torso section meets the arm at y = {y0:.1f} cm; lowest vertex above the gap"
+            )
         _axillae(sc, s, arm, zc)
         if not sc.has(f"shoulder_point_{s}"):
             _shoulder_point(sc, s, arm, zc)
@@ -270,8 +306,8 @@ def _axillae(sc: Scan, s: str, arm: np.ndarray, zc: float) -> None:
 def _shoulder_point(sc: Scan, s: str, arm: np.ndarray, zc: float) -> None:
     """Acromion: the convex corner of the shoulder/arm top contour in the frontal plane of the shoulder.
 
-    The frontal plane is the mid-depth of the shoulder above the armpit (up to
-    12 % of S above it, below the head). Along
+    The frontal plane is at the median depth of the skin in the column 1.2 %
+    of S outside the armpit, above it (up to 12 % of S, below the head). Along
     it, the highest vertex per x bin from 4 % of S inside the armpit to 6 %
     outside gives the top contour; the corner is the point farthest above the
     chord of that contour (the shoulder slope turning down the arm, which
@@ -283,13 +319,12 @@ def _shoulder_point(sc: Scan, s: str, arm: np.ndarray, zc: float) -> None:
     v, S, sg = sc.v, sc.S, SIDES[s]
     xs = arm[0] + sg * 0.012 * S
     shoulder_band = (v[:, 1] > arm[1]) & (v[:, 1] < arm[1] + 0.12 * S)  # below the head
-    colm = (np.abs(v[:, 0] - xs) < max(0.004 * S, 0.3)) & shoulder_band & (
-        np.abs(v[:, 2] - zc) < 0.08 * S
-    )
+    colm = (np.abs(v[:, 0] - xs) < max(0.004 * S, 0.3)) & shoulder_band & (np.abs(v[:, 2] - zc) < 0.08 * S)
     if not colm.any():
         return
-    top = v[colm][v[colm][:, 1] > v[colm][:, 1].max() - 0.03 * S]
-    zm = 0.5 * float(top[:, 2].min() + top[:, 2].max())
+    # the shoulder's frontal mid-plane: the median depth of the column's skin (the mid-depth of
+    # its top 3 % of S drifted 2.2 cm back onto the trapezius of the heavy A and C)
+    zm = float(np.median(v[colm][:, 2]))
     slab = (np.abs(v[:, 2] - zm) < 0.01 * S) & shoulder_band
     xs_bins = arm[0] + sg * np.linspace(-0.04 * S, 0.06 * S, 26)
     prof = []
@@ -309,22 +344,30 @@ def _shoulder_point(sc: Scan, s: str, arm: np.ndarray, zc: float) -> None:
         drop = (p[k, 1] - p[-1, 1]) / max(abs(p[-1, 0] - p[k, 0]), 1e-9)  # the arm's fall
         beside = abs(p[k, 0] - xs) < 0.025 * S  # an acromion sits just outside the armpit
         if height[k] > 0.004 * S and 0 < k < len(p) - 1 and drop > 0.5 and beside:
-            sc.put(f"shoulder_point_{s}", v[prof[k]],
-                   f"convex corner of the shoulder/arm top contour ({height[k]:.1f} cm above its chord)",
-                   SHARP)
+            sc.put(
+                f"shoulder_point_{s}",
+                v[prof[k]],
+                f"convex corner of the shoulder/arm top contour ({height[k]:.1f} cm above its chord)",
+                SHARP,
+            )
             return
-    sel = np.flatnonzero(colm & (np.abs(v[:, 2] - zm) < 0.01 * S)) if (
-        colm & (np.abs(v[:, 2] - zm) < 0.01 * S)).any() else np.flatnonzero(colm)
+    sel = (
+        np.flatnonzero(colm & (np.abs(v[:, 2] - zm) < 0.01 * S))
+        if (colm & (np.abs(v[:, 2] - zm) < 0.01 * S)).any()
+        else np.flatnonzero(colm)
+    )
     sc.put(f"shoulder_point_{s}", v[sel[np.argmax(v[sel, 1])]], NO_CORNER, PROVISIONAL)
 
 
 def level_arm_shoulder(sc: Scan, s: str) -> None:
     """Shoulder point of a level (T-pose) arm, which has no corner to find.
 
-    Once the side neck point is known, the acromion is taken 60 % of the way
-    from it to the armpit (its A-pose share on the test bodies, 52-69 % in
-    their T-poses), at the top of the shoulder in its frontal mid-plane. The
-    rule is coarse: the point keeps a low confidence.
+    Once the side neck point is known, the acromion is taken
+    :data:`LEVEL_ARM_SHARE` of the way from it to the armpit (the mean of its
+    share on the two T-posed test bodies, 47 % on C and 58 % on B, from their
+    detected side neck points and armpits; in an A-pose the acromion lies
+    outside the armpit, 109-149 %), at the top of the shoulder in its frontal
+    mid-plane. The rule is coarse: the point keeps a low confidence.
     """
     name = f"shoulder_point_{s}"
     f = sc.found.get(name)
@@ -332,7 +375,7 @@ def level_arm_shoulder(sc: Scan, s: str) -> None:
         return
     v, S = sc.v, sc.S
     snp, ap = sc.at(f"neck_shoulder_point_{s}"), sc.at(f"armpit_point_{s}")
-    x = snp[0] + 0.6 * (ap[0] - snp[0])
+    x = snp[0] + LEVEL_ARM_SHARE * (ap[0] - snp[0])
     col = (np.abs(v[:, 0] - x) < max(0.004 * S, 0.3)) & (v[:, 1] > ap[1]) & (v[:, 1] < ap[1] + 0.12 * S)
     if not col.any():
         return
@@ -340,9 +383,13 @@ def level_arm_shoulder(sc: Scan, s: str) -> None:
     zm = 0.5 * float(top[:, 2].min() + top[:, 2].max())
     near = np.flatnonzero(col & (np.abs(v[:, 2] - zm) < 0.01 * S))
     if len(near):
-        sc.put(name, v[near[np.argmax(v[near, 1])]],
-               "level arm without a shoulder corner: top of the shoulder 60 % of the way from the side "
-               "neck point to the armpit", 0.45)
+        sc.put(
+            name,
+            v[near[np.argmax(v[near, 1])]],
+            f"level arm without a shoulder corner: top of the shoulder {LEVEL_ARM_SHARE:.0%} of the way from the side "
+            "neck point to the armpit",
+            0.45,
+        )
 
 
 def _narrowest_neck(sc: Scan, y_sh: float):
@@ -384,8 +431,11 @@ def detect_neck(sc: Scan) -> None:
             ab = (b - a)[[1, 2]]
             n2 = np.array([ab[1], -ab[0]]) / np.linalg.norm(ab)
             depth = (p[:, [1, 2]] - a[[1, 2]]) @ n2
-            sc.put("front_neck_point", p[int(np.argmax(depth))],
-                   "front midline point deepest behind the chord of the neck/chest profile")
+            sc.put(
+                "front_neck_point",
+                p[int(np.argmax(depth))],
+                "front midline point deepest behind the chord of the neck/chest profile",
+            )
     if not sc.has("back_neck_point"):
         y_base, conf, rule = y_sh, FALLBACK, "back midline at the shoulder height (no neck base found)"
         for y in np.arange(y_neck, y_sh - 0.05 * S, -step):  # raised shoulders: a little lower
@@ -411,8 +461,12 @@ def _side_neck_point(sc: Scan, s: str, tn: np.ndarray, y_neck: float, zc: float)
     x_n = sc.x_mid + sg * 0.5 * float(np.ptp(tn[:, 0]))
     prof = []
     for x in np.linspace(x_n, spt[0], 24):
-        sel = ((np.abs(v[:, 0] - x) < max(0.004 * S, 0.3)) & (np.abs(v[:, 2] - zc) < 0.01 * S)
-               & (v[:, 1] < y_neck + 0.02 * S) & (v[:, 1] > spt[1] - 0.02 * S))
+        sel = (
+            (np.abs(v[:, 0] - x) < max(0.004 * S, 0.3))
+            & (np.abs(v[:, 2] - zc) < 0.01 * S)
+            & (v[:, 1] < y_neck + 0.02 * S)
+            & (v[:, 1] > spt[1] - 0.02 * S)
+        )
         if sel.any():
             i = np.flatnonzero(sel)
             prof.append(i[np.argmax(v[i, 1])])
@@ -425,8 +479,11 @@ def _side_neck_point(sc: Scan, s: str, tn: np.ndarray, y_neck: float, zc: float)
     if n2[1] > 0:
         n2 = -n2  # below the chord
     depth = (p[:, [0, 1]] - a) @ n2
-    sc.put(f"neck_shoulder_point_{s}", p[int(np.argmax(depth))],
-           "neck/shoulder corner of the frontal contour between the neck and the shoulder point")
+    sc.put(
+        f"neck_shoulder_point_{s}",
+        p[int(np.argmax(depth))],
+        "neck/shoulder corner of the frontal contour between the neck and the shoulder point",
+    )
 
 
 def detect_torso_points(sc: Scan) -> None:
@@ -491,9 +548,11 @@ def _bust_points(sc: Scan, y: float) -> None:
         if n[1] < 0:
             n = -n  # pointing forward (+z)
         depth = (side[:, [0, 2]] - m[[0, 2]]) @ n
-        sc.put(f"bust_point_{s}", side[int(np.argmax(depth))],
-               f"apex of the chest front between the midline and the side (widest chest section, "
-               f"y = {y:.1f} cm)")
+        sc.put(
+            f"bust_point_{s}",
+            side[int(np.argmax(depth))],
+            f"apex of the chest front between the midline and the side (widest chest section, y = {y:.1f} cm)",
+        )
 
 
 def _arm_sections(sc: Scan, spt: np.ndarray, tip: np.ndarray, x_arm: float, sg: float):
@@ -547,7 +606,7 @@ def detect_arm(sc: Scan, s: str) -> None:
     sg = SIDES[s]
     if not (sc.has(f"shoulder_point_{s}") and sc.has(f"armpit_point_{s}")):
         return
-    v, S = sc.v, sc.S
+    v = sc.v
     spt = sc.at(f"shoulder_point_{s}")
     x_arm = float(sc.at(f"armpit_point_{s}")[0])
     # the arm leaves the shoulder sideways: within ~63 degrees of horizontal
@@ -562,8 +621,11 @@ def detect_arm(sc: Scan, s: str) -> None:
     k_w = _wrist_index(ts, widths)
     if not sc.has(f"wrist_point_{s}") and loops[k_w] is not None:
         lp = loops[k_w]
-        sc.put(f"wrist_point_{s}", lp[np.argmin(lp[:, 2])],
-               f"back of the narrowest arm section before the hand ({ts[k_w]:.2f} of shoulder-fingertip)")
+        sc.put(
+            f"wrist_point_{s}",
+            lp[np.argmin(lp[:, 2])],
+            f"back of the narrowest arm section before the hand ({ts[k_w]:.2f} of shoulder-fingertip)",
+        )
     if sc.has(f"elbow_point_{s}"):
         return
     a, b = cents[first], cents[k_w]
@@ -574,26 +636,51 @@ def detect_arm(sc: Scan, s: str) -> None:
     if not len(cand):
         return
     k_e = int(cand[np.argmax(dist[cand])])
-    conf, rule = FOUND, f"largest bend of the arm's centre line ({dist[k_e]:.1f} cm off the chord)"
-    if dist[k_e] < 0.01 * S:  # a straight arm: half-way
+    u1, u2 = cents[k_e] - a, b - cents[k_e]
+    flexion = float(np.degrees(np.arccos(np.clip(u1 @ u2 / (np.linalg.norm(u1) * np.linalg.norm(u2)), -1.0, 1.0))))
+    conf = FOUND
+    rule = f"largest bend of the arm's centre line ({dist[k_e]:.1f} cm off the chord, flexed {flexion:.0f}°)"
+    if flexion < STRAIGHT_DEG:  # a straight arm (biceps and forearm bulges bend its centre line a little): half-way
         k_e = int(cand[np.argmin(np.abs(ts[cand] - 0.5 * (ts[first] + ts[k_w])))])
         conf, rule = 0.5, "straight arm: half-way between the shoulder and the wrist, behind"
     c_e = cents[k_e]
     bend = (c_e - a) / np.linalg.norm(c_e - a) - (b - c_e) / np.linalg.norm(b - c_e)
     if np.linalg.norm(bend) < 0.2:
         bend = np.array([0.0, 0.0, -1.0])
-    lp = loops[k_e]
-    if lp is not None:  # the olecranon: the section's point furthest out along the bend
-        sc.put(f"elbow_point_{s}", lp[int(np.argmax((lp - c_e) @ bend))], rule, conf)
-        return
-    hit = _ray_hit(v, c_e, bend, max(0.006 * S, 0.5))
+    hit = _olecranon(sc, c_e, bend, a, b, widths[k_e])
     if hit is not None:
         sc.put(f"elbow_point_{s}", v[hit], rule, conf)
 
 
+def _olecranon(sc: Scan, c_e: np.ndarray, bend: np.ndarray, a: np.ndarray, b: np.ndarray, width: float) -> int | None:
+    """The olecranon: the elbow's skin point furthest out along the bend, in the flexion plane.
+
+    Among the vertices within an arm's diameter of the elbow's centre ``c_e`` and
+    within 1 % of S of the plane through the shoulder end ``a``, the elbow and
+    the wrist end ``b`` (the flexion plane; for a straight arm the plane holding
+    the bend direction), the one furthest along ``bend``, the outward bisector
+    of upper arm and forearm. The point of a section square to the whole arm's
+    line sat 1.5-2.5 cm down the forearm of a bent elbow.
+    """
+    v, S = sc.v, sc.S
+    d = bend / np.linalg.norm(bend)
+    n = np.cross(c_e - a, b - c_e)
+    if np.linalg.norm(n) < 1e-6 * S * S:
+        n = np.cross(b - a, d)
+    n = n / max(float(np.linalg.norm(n)), 1e-12)
+    rel = v - c_e
+    radius = max(0.5 * float(width), 0.02 * S) if np.isfinite(width) else 0.04 * S
+    near = (np.sum(rel * rel, axis=1) < radius * radius) & (np.abs(rel @ n) < 0.01 * S)
+    if not near.any():
+        return _ray_hit(v, c_e, d, max(0.006 * S, 0.5))
+    idx = np.flatnonzero(near)
+    return int(idx[np.argmax(rel[idx] @ d)])
+
+
 def _foot_loop(sc: Scan, y: float, sg: float):
-    loops = [p for p in sc.loops(y)
-             if sg * (p[:, 0].mean() - sc.x_mid) > 0 and abs(p[:, 0].mean() - sc.x_mid) < 0.15 * sc.S]
+    loops = [
+        p for p in sc.loops(y) if sg * (p[:, 0].mean() - sc.x_mid) > 0 and abs(p[:, 0].mean() - sc.x_mid) < 0.15 * sc.S
+    ]
     return max(loops, key=len) if loops else None
 
 
@@ -624,12 +711,18 @@ def detect_leg(sc: Scan, s: str) -> None:
         i = np.flatnonzero(foot)
         sc.put(f"heel_point_{s}", v[i[np.argmin(v[i, 2])]], "back-most vertex below the ankle")
     y_knee = y_ank + 0.6 * (float(sc.at("crotch_point")[1]) - y_ank)
-    leg = ((sg * (v[:, 0] - xm) > 0) & (np.abs(v[:, 1] - y_knee) < 0.011 * S)
-           & (np.abs(v[:, 0] - p[:, 0].mean()) < 0.08 * S))
+    leg = (
+        (sg * (v[:, 0] - xm) > 0)
+        & (np.abs(v[:, 1] - y_knee) < 0.011 * S)
+        & (np.abs(v[:, 0] - p[:, 0].mean()) < 0.08 * S)
+    )
     if leg.any():
         i = np.flatnonzero(leg)
-        sc.put(f"knee_point_{s}", v[i[np.argmax(v[i, 2])]],
-               "front-most leg vertex at 60 % of the height from ankle to crotch")
+        sc.put(
+            f"knee_point_{s}",
+            v[i[np.argmax(v[i, 2])]],
+            "front-most leg vertex at 60 % of the height from ankle to crotch",
+        )
 
 
 def detect_landmarks(
@@ -676,7 +769,11 @@ def detect_landmarks(
             continue
         vid = int(np.argmin(np.sum((v - f.position) ** 2, axis=1)))
         out[name] = Landmark(
-            name=name, position=v[vid], vertex=vid, source=LandmarkSource.DETECTED,
-            confidence=f.confidence, evidence=LandmarkEvidence(rule=f.rule),
+            name=name,
+            position=v[vid],
+            vertex=vid,
+            source=LandmarkSource.DETECTED,
+            confidence=f.confidence,
+            evidence=LandmarkEvidence(rule=f.rule),
         )
     return out

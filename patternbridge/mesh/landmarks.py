@@ -89,45 +89,24 @@ _SIGN = {"left": 1.0, "right": -1.0}
 #: rig puts that joint (1.5 cm below the nape on the T-posed B), while the
 #: nape is where the neck section widens into the shoulders. Rig and detection
 #: both propose these; the more confident one is taken (a found feature: 0.85,
-#: the rig: 0.8, a level T-pose arm without a shoulder corner: 0.45).
-GEOMETRY_FIRST = frozenset({"shoulder_point_left", "shoulder_point_right", "back_neck_point"})
+#: the rig: 0.8, a level T-pose arm without a shoulder corner: 0.45). The
+#: crotch projected straight down from between the hip joints lies 1.7-2.5 cm
+#: off the meeting point of the inseams on the rigged D and B, which the
+#: geometry finds where the legs separate.
+GEOMETRY_FIRST = frozenset({"shoulder_point_left", "shoulder_point_right", "back_neck_point", "crotch_point"})
 
 
 # --------------------------------------------------------------------------- skeleton
 #: landmark -> (bone role, side or None, "head"/"tail", projection direction in the rest frame)
 SKELETON_RULES: dict[str, tuple[str, str | None, str, tuple[float, float, float]]] = {
-    **{
-        f"shoulder_point_{s}": ("upperarm", s, "head", (0.0, 1.0, 0.0))
-        for s in ("left", "right")
-    },
-    **{
-        f"armpit_point_{s}": ("upperarm", s, "head", (0.0, -1.0, 0.0))
-        for s in ("left", "right")
-    },
-    **{
-        f"elbow_point_{s}": ("lowerarm", s, "head", (0.0, 0.0, -1.0))
-        for s in ("left", "right")
-    },
-    **{
-        f"wrist_point_{s}": ("wrist", s, "head", (0.0, 0.0, -1.0))
-        for s in ("left", "right")
-    },
-    **{
-        f"knee_point_{s}": ("lowerleg", s, "head", (0.0, 0.0, 1.0))
-        for s in ("left", "right")
-    },
-    **{
-        f"ankle_inside_{s}": ("foot", s, "head", (-_SIGN[s], 0.0, 0.0))
-        for s in ("left", "right")
-    },
-    **{
-        f"ankle_outside_{s}": ("foot", s, "head", (_SIGN[s], 0.0, 0.0))
-        for s in ("left", "right")
-    },
-    **{
-        f"heel_point_{s}": ("foot", s, "head", (0.0, -0.5, -1.0))
-        for s in ("left", "right")
-    },
+    **{f"shoulder_point_{s}": ("upperarm", s, "head", (0.0, 1.0, 0.0)) for s in ("left", "right")},
+    **{f"armpit_point_{s}": ("upperarm", s, "head", (0.0, -1.0, 0.0)) for s in ("left", "right")},
+    **{f"elbow_point_{s}": ("lowerarm", s, "head", (0.0, 0.0, -1.0)) for s in ("left", "right")},
+    **{f"wrist_point_{s}": ("wrist", s, "head", (0.0, 0.0, -1.0)) for s in ("left", "right")},
+    **{f"knee_point_{s}": ("lowerleg", s, "head", (0.0, 0.0, 1.0)) for s in ("left", "right")},
+    **{f"ankle_inside_{s}": ("foot", s, "head", (-_SIGN[s], 0.0, 0.0)) for s in ("left", "right")},
+    **{f"ankle_outside_{s}": ("foot", s, "head", (_SIGN[s], 0.0, 0.0)) for s in ("left", "right")},
+    **{f"heel_point_{s}": ("foot", s, "head", (0.0, -0.5, -1.0)) for s in ("left", "right")},
     "back_neck_point": ("neck", None, "head", (0.0, 0.0, -1.0)),
     "front_neck_point": ("neck", None, "head", (0.0, -0.45, 1.0)),
     "crotch_point": (
@@ -164,8 +143,7 @@ def skeleton_landmarks(character: Character) -> dict[str, Landmark]:
         if name == "crotch_point":  # between the hip joints, not at the pelvis root
             try:
                 joint = 0.5 * (
-                    sk.heads[find_bone(sk, "upperleg", "left")]
-                    + sk.heads[find_bone(sk, "upperleg", "right")]
+                    sk.heads[find_bone(sk, "upperleg", "left")] + sk.heads[find_bone(sk, "upperleg", "right")]
                 )
             except InputError:
                 pass
@@ -194,7 +172,10 @@ def skeleton_landmarks(character: Character) -> dict[str, Landmark]:
         hit = _ray_hit(v, joint, d, radius)
         if hit is not None:
             out[name] = Landmark(
-                name=name, position=v[hit], vertex=hit, source=LandmarkSource.SKELETON,
+                name=name,
+                position=v[hit],
+                vertex=hit,
+                source=LandmarkSource.SKELETON,
                 evidence=LandmarkEvidence(
                     rule=f"{sk.names[b]} joint {end} projected to the skin along "
                     f"({d[0]:+.2f}, {d[1]:+.2f}, {d[2]:+.2f})"
@@ -203,9 +184,7 @@ def skeleton_landmarks(character: Character) -> dict[str, Landmark]:
     return out
 
 
-def resolve_landmarks(
-    character: Character, *, detect: bool = True, check: bool = True
-) -> dict[str, Landmark]:
+def resolve_landmarks(character: Character, *, detect: bool = True, check: bool = True) -> dict[str, Landmark]:
     """The character's landmarks, completed from the skeleton and then the geometry, then checked.
 
     Parameters
@@ -257,9 +236,7 @@ def resolve_landmarks(
     return marks
 
 
-def landmark_errors(
-    found: Mapping[str, Landmark], reference: Mapping[str, Landmark]
-) -> dict[str, float]:
+def landmark_errors(found: Mapping[str, Landmark], reference: Mapping[str, Landmark]) -> dict[str, float]:
     """Distance (cm) from each found landmark to the reference one of the same name."""
     return {
         n: float(np.linalg.norm(found[n].position - reference[n].position))

@@ -23,12 +23,9 @@ HELD = {
     "C_heavy_male_tpose_remesh.obj": ALL,
     "I_tall_apple_woman.obj": ALL,
     "B_slim_female_tpose.glb": tuple(k for k in ALL if k != "back_length"),
-    "D_cartoon_child_rigged.glb": (
-        "stature", "bust_girth", "waist_girth", "hip_girth", "arm_length_left", "arm_length_right",
-        "shoulder_width",
-    ),
+    "D_cartoon_child_rigged.glb": tuple(k for k in ALL if k != "back_length"),
     "F_tall_thin_elder_mm_back.obj": (
-        "stature", "bust_girth", "waist_girth", "hip_girth", "shoulder_width",
+        "stature", "bust_girth", "waist_girth", "hip_girth", "shoulder_width", "inside_leg_left",
     ),
 }
 
