@@ -25,6 +25,7 @@ from .alternatives import copies_cut
 from .edges import Run, breaks
 from .model import Join, Role, RoleGuess, Side, is_band
 from .openings import Opening, run_side
+from .seams import crosses
 
 __all__ = ["band_joins"]
 
@@ -34,6 +35,8 @@ MAX_EASE = 0.78
 END_TOL_CM = 0.1
 #: a band longer than this times its opening is applied flat (ends free), not closed into a loop
 FLAT_APPLIED = 1.05
+#: a loop's ends are its short sides: each at most this share of the sewn edge (a cuff or rib is a wide strip)
+END_SHARE = 0.3
 
 _OPENING_ROLES = {
     "neck": (Role.NECK_BINDING, Role.NECKBAND, Role.COLLAR, Role.COLLAR_STAND),
@@ -81,7 +84,12 @@ PlaceCheck = Callable[[Run, Run, str | None], bool]
 
 
 def _split_band(
-    pattern: Pattern, runs: dict[str, list[Run]], edge: Run, op: Opening, in_place: PlaceCheck | None = None
+    pattern: Pattern,
+    runs: dict[str, list[Run]],
+    edge: Run,
+    op: Opening,
+    in_place: PlaceCheck | None = None,
+    centres: set[tuple[str, int]] = frozenset(),
 ) -> list[Join] | None:
     """The band edge sewn stretch by stretch to the opening (a band with marks at the opening's joints).
 
@@ -89,13 +97,16 @@ def _split_band(
     place around the body (``in_place``: a waistband's symmetric stretches
     are told apart by where they lie, with the front's or the back's centre at
     the band's middle, whichever sews more of it), are paired one to one,
-    longest first; None unless they cover 80 % of the band edge.
+    longest first (an opening stretch never crosses the centre line of a piece
+    drawn whole, ``centres``); None unless they cover 80 % of the band edge.
     """
     band_runs = [r for r in runs[edge.piece] if set(r.parts) <= set(edge.parts)]
     targets = []
     for side in op.sides:
         parts = _side_parts(pattern, side)
-        targets += [r for r in runs.get(side.piece, []) if _within(r, parts)]
+        n = len(pattern.piece(side.piece).outline)
+        own = runs.get(side.piece, [])
+        targets += [r for r in own if _within(r, parts) and not crosses(r.piece, r.start, r.end, n, centres)]
     best: tuple[list[Join], float] = ([], -1.0)
     for middle in ("front", "back", None):
         found = _pair_stretches(pattern, band_runs, targets, op, in_place, middle)
@@ -248,10 +259,12 @@ def band_joins(
     opened: list[Opening],
     folds: dict[str, tuple[int, int]] | None = None,
     in_place: PlaceCheck | None = None,
+    centres: set[tuple[str, int]] = frozenset(),
 ) -> tuple[list[Join], dict[str, RoleGuess]]:
     """Joins of every band piece to the opening(s) it fits, its closure, and refined band roles.
 
     folds : piece -> its fold edge; a band folded along it (a rib cuff) is sewn by its other long edge.
+    centres : marks on the centre line of pieces drawn whole (:func:`.seams.centre_vertices`).
 
     A band cut twice (two armhole bindings, two cuffs) takes two openings.
     """
@@ -280,6 +293,7 @@ def band_joins(
                 new_roles,
                 in_place,
                 opening_cm,
+                centres,
             )
             if kind is None or kind == "neck":
                 break
@@ -293,7 +307,7 @@ def band_joins(
         if loop and len(ends) >= 2:
             e1, e2 = sorted(ends, key=lambda r: -r.length_cm)[:2]
             # a loop's two short ends meet whatever their slant (a bias binding's ends differ)
-            if max(e1.length_cm, e2.length_cm) <= 0.15 * edge.length_cm:
+            if max(e1.length_cm, e2.length_cm) <= END_SHARE * edge.length_cm:
                 joins.append(
                     Join(
                         id=f"{name}_closure",
@@ -354,6 +368,7 @@ def _attach(
     new_roles: dict[str, RoleGuess],
     in_place: PlaceCheck | None = None,
     taken_cm: list[float] | None = None,
+    centres: set[tuple[str, int]] = frozenset(),
 ) -> str | None:
     """Sew band ``name``'s long ``edge`` along the free opening it fits best; its kind, None when none fits.
 
@@ -385,7 +400,7 @@ def _attach(
         new_roles[name] = RoleGuess(
             role=_OPENING_ROLES[op.kind][0], confidence=conf, why=f"strip {edge.length_cm:.1f} cm along the {op.kind}"
         )
-    split = _split_band(pattern, runs, edge, op, in_place)
+    split = _split_band(pattern, runs, edge, op, in_place, centres)
     if split:
         joins.extend(split)
         return op.kind

@@ -24,7 +24,7 @@ from .openings import openings
 from .orient import orient_piece
 from .roles import infer_roles
 from .rules import PairContext, band_in_place
-from .seams import assign, body_side, candidates, merge_continuing
+from .seams import assign, body_side, candidates, centre_vertices, merge_continuing
 
 __all__ = ["infer_bridge"]
 
@@ -81,19 +81,20 @@ def infer_bridge(
     folds = {n: o.fold for n, o in orientations.items() if o.fold is not None}
     paired = {p.name for p in pattern.pieces if p.quantity.left > 0 or p.quantity.right > 1}
     whole = {n for n, o in orientations.items() if o.whole}
+    keep = centre_vertices(pattern, orientations)
     for k, variant in enumerate(variants):
         cands = [c for c in every if c.a.piece in variant and c.b.piece in variant]
         local = set(base_used)
         found = assign(cands, local, _parts_of, sides, twice=paired, whole=whole)
-        found = merge_continuing(found)
+        found = merge_continuing(found, keep)
         opened = openings(pattern, local, roles, orientations, variant)
         ctx = PairContext.of(pattern, roles, orientations, set())
         banded, new_roles = band_joins(
-            pattern, {n: rs[n] for n in variant}, roles, opened, folds, partial(band_in_place, ctx)
+            pattern, {n: rs[n] for n in variant}, roles, opened, folds, partial(band_in_place, ctx), keep
         )
         if k == 0:
             roles.update(new_roles)
-        for j in found + banded:
+        for j in found + merge_continuing(banded, keep):
             key = (j.a.key, j.b.key)
             if key not in seen:
                 seen.add(key)

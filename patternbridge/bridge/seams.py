@@ -21,12 +21,13 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..library.infer import mirror_twins
+from ..library.seams import sew_line
 from ..pattern.model import Pattern
-from .edges import Run
+from .edges import Run, breaks
 from .model import Join, Orientation, Role, RoleGuess, Side
 from .rules import LEGS, TORSO, PairContext, body_side, is_centre, is_rise, pair_rule
 
-__all__ = ["Candidate", "assign", "body_side", "candidates", "merge_continuing"]
+__all__ = ["Candidate", "assign", "body_side", "candidates", "centre_vertices", "crosses", "merge_continuing"]
 
 #: seams agree within this (cm) plus ``LENGTH_TOL_SHARE`` of their length
 LENGTH_TOL_CM = 0.3
@@ -166,9 +167,37 @@ def candidates(
     return out
 
 
-def _continue(j1: Join, j2: Join) -> Join | None:
+#: a vertex of a piece drawn whole this close to its centre line (upright x = 0) is on the centre line
+CENTRE_TOL_CM = 0.3
+
+
+def centre_vertices(pattern: Pattern, orientations: dict[str, Orientation]) -> set[tuple[str, int]]:
+    """(piece, vertex) of the marks on the centre line of every piece drawn whole.
+
+    A seam is one per body side: it is not merged, nor matched, across such a mark
+    (a waist seam or a neckband meets the front's two halves in two seams).
+    """
+    out = set()
+    for name, o in orientations.items():
+        if not o.whole:
+            continue
+        piece = pattern.piece(name)
+        x = o.apply(sew_line(piece)[0])[:, 0]
+        out |= {(name, int(v)) for v in breaks(piece) if abs(x[v]) < CENTRE_TOL_CM}
+    return out
+
+
+def crosses(piece: str, start: int, end: int, n: int, marks: set[tuple[str, int]]) -> bool:
+    """Whether the range ``start`` → ``end`` of an ``n``-vertex outline has one of ``marks`` strictly inside."""
+    span = (end - start) % n
+    return any(p == piece and 0 < (v - start) % n < span for p, v in marks)
+
+
+def _continue(j1: Join, j2: Join, keep: set[tuple[str, int]]) -> Join | None:
     """``j1`` followed by ``j2`` as one seam, when ``j2`` continues both of ``j1``'s sides."""
-    if j1.a.end != j2.a.start or j1.a.start == j2.a.end:
+    if j1.a.end != j2.a.start or j1.a.start == j2.a.end or (j1.a.piece, j1.a.end) in keep:
+        return None
+    if (j1.b.piece, j1.b.start) in keep or (j1.b.piece, j1.b.end) in keep:
         return None
     if j2.b.end == j1.b.start:  # b runs against a (both pieces seen from one side)
         b = Side(piece=j1.b.piece, start=j2.b.start, end=j1.b.end, length_cm=j1.b.length_cm + j2.b.length_cm)
@@ -180,27 +209,31 @@ def _continue(j1: Join, j2: Join) -> Join | None:
         id=j1.id,
         a=Side(piece=j1.a.piece, start=j1.a.start, end=j2.a.end, length_cm=j1.a.length_cm + j2.a.length_cm),
         b=b,
-        kind="seam",
+        kind=j1.kind,
         confidence=min(j1.confidence, j2.confidence),
         ease_cm=round(j1.ease_cm + j2.ease_cm, 3),
         why=j1.why + "; continued past a notch",
     )
 
 
-def merge_continuing(joins: list[Join]) -> list[Join]:
-    """Join seams that continue each other on the same two pieces (a seam split at a notch)."""
+def merge_continuing(joins: list[Join], keep: set[tuple[str, int]] = frozenset()) -> list[Join]:
+    """Join seams that continue each other on the same two pieces (a seam split at a notch).
+
+    Seams and band entries merge with their own kind; folds and centre seams stay as they are.
+    keep : (piece, vertex) marks no seam is merged across (:func:`centre_vertices`).
+    """
     out = list(joins)
     changed = True
     while changed:
         changed = False
         for i, j1 in enumerate(out):
             for k, j2 in enumerate(out):
-                if i == k or j1.kind != "seam" or j2.kind != "seam":
+                if i == k or j1.kind not in ("seam", "band") or j2.kind != j1.kind:
                     continue
                 merged = None
                 for second in (j2, replace(j2, a=j2.b, b=j2.a)):
                     if merged is None and (j1.a.piece, j1.b.piece) == (second.a.piece, second.b.piece):
-                        merged = _continue(j1, second)
+                        merged = _continue(j1, second, keep)
                 if merged is not None:
                     out = [j for m, j in enumerate(out) if m not in (i, k)] + [merged]
                     changed = True
