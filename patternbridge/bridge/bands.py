@@ -55,6 +55,10 @@ def _band_edges(rs: list[Run]) -> tuple[Run, Run | None, list[Run]]:
         return longest, None, []
     if other.length_cm >= 0.95 * longest.length_cm and len(other.break_fracs) > len(longest.break_fracs):
         longest, other = other, longest  # of two long edges, the one marked for its seams is sewn
+    if other.length_cm < 0.5 * longest.length_cm:
+        # the other long edge is a fold left out (a rib folded lengthwise): the ends adjoin the sewn edge
+        adjoin = [r for r in rs if len(r.parts) == 1 and (r.end == longest.start or r.start == longest.end)]
+        return longest, other, [r for r in adjoin if r.key != longest.key]
     ends = [r for r in rs if (r.start, r.end) in ((longest.end, other.start), (other.end, longest.start))]
     return longest, other, ends
 
@@ -188,7 +192,7 @@ def _split_in_proportion(pattern: Pattern, band_runs: list[Run], edge: Run, op: 
     band mark within 5 % of the band; joints inside a side are used where the
     band has a mark. None otherwise.
     """
-    units = [(k, u) for k, side in enumerate(op.sides) for u in _stretch_sides(pattern, side)]
+    units = _loop_units(pattern, op)
     if len(units) < 2:
         return None
     # a band closed into a loop may start anywhere around the opening, in either direction
@@ -198,6 +202,41 @@ def _split_in_proportion(pattern: Pattern, band_runs: list[Run], edge: Run, op: 
             if joins:
                 return joins
     return None
+
+
+def _loop_units(pattern: Pattern, op: Opening) -> list[tuple[int, Side]]:
+    """The opening's stretches in order around the body, as (side index, stretch).
+
+    A neckline of two sides (front and back) of which a half piece is cut twice
+    goes once around the body: each half from its outer end to the centre line
+    and back out on its mirror copy (a piece drawn whole crosses once), so a
+    collar's marks at the shoulders divide it into front, whole back and front.
+    Otherwise each side's stretches once, in the opening's order.
+    """
+    per_side = [_stretch_sides(pattern, side) for side in op.sides]
+    if op.kind != "neck" or len(op.sides) != 2 or 2 not in op.copies or len(op.centre_first) != 2:
+        return [(k, u) for k, units in enumerate(per_side) for u in units]
+    out = []
+    for k, units in enumerate(per_side):
+        if op.copies[k] == 2:
+            inward = units[::-1] if op.centre_first[k] else units  # outer end -> centre line
+            units = inward + inward[::-1]
+        out += [(k, u) for u in units]
+    return out
+
+
+def _covering(group: list[Side]) -> Side:
+    """The one range the stretches of ``group`` cover (both copies of a stretch count once)."""
+    unique = {(g.start, g.end): g for g in group}
+    starts = {s for s, _ in unique} - {e for _, e in unique}
+    ends = {e for _, e in unique} - {s for s, _ in unique}
+    first = group[0]
+    return Side(
+        piece=first.piece,
+        start=starts.pop() if starts else first.start,
+        end=ends.pop() if ends else group[-1].end,
+        length_cm=round(sum(g.length_cm for g in unique.values()), 3),
+    )
 
 
 def _split_units(band_runs: list[Run], edge: Run, op: Opening, units: list[tuple[int, Side]]) -> list[Join] | None:
@@ -224,12 +263,7 @@ def _split_units(band_runs: list[Run], edge: Run, op: Opening, units: list[tuple
     fracs = [*cum[near], 1.0]
     joins, start_frac, pos = [], 0.0, edge.start
     for group, frac in zip(groups, fracs, strict=True):
-        side = Side(
-            piece=group[0].piece,
-            start=group[0].start,
-            end=group[-1].end,
-            length_cm=round(sum(g.length_cm for g in group), 3),
-        )
+        side = _covering(group)
         run = None
         for r in sorted((r for r in band_runs if r.start == pos), key=lambda r: r.length_cm):
             if abs((start_frac * edge.length_cm + r.length_cm) / edge.length_cm - frac) < 0.05:

@@ -86,7 +86,7 @@ def infer_bridge(
         cands = [c for c in every if c.a.piece in variant and c.b.piece in variant]
         local = set(base_used)
         found = assign(cands, local, _parts_of, sides, twice=paired, whole=whole)
-        found = merge_continuing(found, keep)
+        found = merge_continuing(found, keep, set(folds))
         opened = openings(pattern, local, roles, orientations, variant)
         ctx = PairContext.of(pattern, roles, orientations, set())
         banded, new_roles = band_joins(
@@ -94,7 +94,7 @@ def infer_bridge(
         )
         if k == 0:
             roles.update(new_roles)
-        for j in found + merge_continuing(banded, keep):
+        for j in found + merge_continuing(banded, keep, set(folds)):
             key = (j.a.key, j.b.key)
             if key not in seen:
                 seen.add(key)

@@ -193,22 +193,38 @@ def crosses(piece: str, start: int, end: int, n: int, marks: set[tuple[str, int]
     return any(p == piece and 0 < (v - start) % n < span for p, v in marks)
 
 
-def _continue(j1: Join, j2: Join, keep: set[tuple[str, int]]) -> Join | None:
-    """``j1`` followed by ``j2`` as one seam, when ``j2`` continues both of ``j1``'s sides."""
-    if j1.a.end != j2.a.start or j1.a.start == j2.a.end or (j1.a.piece, j1.a.end) in keep:
+def _continued_b(j1: Join, j2: Join) -> tuple[Side, int] | None:
+    """``j1.b`` continued by ``j2.b`` (either way round) and the vertex where they meet, or None."""
+    length = j1.b.length_cm + j2.b.length_cm
+    if j2.b.end == j1.b.start and j2.b.start != j1.b.end:  # b runs against a (both pieces seen from one side)
+        return Side(piece=j1.b.piece, start=j2.b.start, end=j1.b.end, length_cm=length), j1.b.start
+    if j1.b.end == j2.b.start and j1.b.start != j2.b.end:  # b runs along a (one piece drawn mirrored)
+        return Side(piece=j1.b.piece, start=j1.b.start, end=j2.b.end, length_cm=length), j1.b.end
+    return None
+
+
+def _continue(j1: Join, j2: Join, keep: set[tuple[str, int]], folded: set[str]) -> Join | None:
+    """``j1`` followed by ``j2`` as one seam, when ``j2`` continues both of ``j1``'s sides.
+
+    Also when both sew the same range ``a`` of a half cut on the fold (``folded``:
+    its two copies are one piece) and ``b`` continues across the centre line: a
+    collar along both halves of a back neck is one seam.
+    """
+    b = _continued_b(j1, j2)
+    if b is None:
         return None
-    if (j1.b.piece, j1.b.start) in keep or (j1.b.piece, j1.b.end) in keep:
+    if j1.a.key == j2.a.key and j1.a.piece in folded:
+        a = j1.a
+    elif j1.a.end != j2.a.start or j1.a.start == j2.a.end or (j1.a.piece, j1.a.end) in keep:
         return None
-    if j2.b.end == j1.b.start:  # b runs against a (both pieces seen from one side)
-        b = Side(piece=j1.b.piece, start=j2.b.start, end=j1.b.end, length_cm=j1.b.length_cm + j2.b.length_cm)
-    elif j1.b.end == j2.b.start:  # b runs along a (one piece drawn mirrored)
-        b = Side(piece=j1.b.piece, start=j1.b.start, end=j2.b.end, length_cm=j1.b.length_cm + j2.b.length_cm)
+    elif (j1.b.piece, b[1]) in keep:
+        return None
     else:
-        return None
+        a = Side(piece=j1.a.piece, start=j1.a.start, end=j2.a.end, length_cm=j1.a.length_cm + j2.a.length_cm)
     return Join(
         id=j1.id,
-        a=Side(piece=j1.a.piece, start=j1.a.start, end=j2.a.end, length_cm=j1.a.length_cm + j2.a.length_cm),
-        b=b,
+        a=a,
+        b=b[0],
         kind=j1.kind,
         confidence=min(j1.confidence, j2.confidence),
         ease_cm=round(j1.ease_cm + j2.ease_cm, 3),
@@ -216,11 +232,14 @@ def _continue(j1: Join, j2: Join, keep: set[tuple[str, int]]) -> Join | None:
     )
 
 
-def merge_continuing(joins: list[Join], keep: set[tuple[str, int]] = frozenset()) -> list[Join]:
+def merge_continuing(
+    joins: list[Join], keep: set[tuple[str, int]] = frozenset(), folded: set[str] = frozenset()
+) -> list[Join]:
     """Join seams that continue each other on the same two pieces (a seam split at a notch).
 
     Seams and band entries merge with their own kind; folds and centre seams stay as they are.
     keep : (piece, vertex) marks no seam is merged across (:func:`centre_vertices`).
+    folded : pieces drawn as a half on the fold.
     """
     out = list(joins)
     changed = True
@@ -233,7 +252,7 @@ def merge_continuing(joins: list[Join], keep: set[tuple[str, int]] = frozenset()
                 merged = None
                 for second in (j2, replace(j2, a=j2.b, b=j2.a)):
                     if merged is None and (j1.a.piece, j1.b.piece) == (second.a.piece, second.b.piece):
-                        merged = _continue(j1, second, keep)
+                        merged = _continue(j1, second, keep, folded)
                 if merged is not None:
                     out = [j for m, j in enumerate(out) if m not in (i, k)] + [merged]
                     changed = True
