@@ -99,10 +99,8 @@ def score(pattern: Pattern, inference: BridgeInference, label: dict, pairs=None)
     inferred = [
         (j.a.key, j.b.key, j.id)
         for j in inference.joins
-        if not any(
-            (side_ok(j.a.key, oa) and side_ok(j.b.key, ob)) or (side_ok(j.a.key, ob) and side_ok(j.b.key, oa))
-            for oa, ob in unsure
-        )
+        if not any((side_ok(j.a.key, oa) and side_ok(j.b.key, ob)) or (side_ok(j.a.key, ob) and side_ok(j.b.key, oa))
+                   for oa, ob in unsure)
     ]
 
     matched, used = 0, set()

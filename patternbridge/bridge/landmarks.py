@@ -147,7 +147,9 @@ def _band(up: np.ndarray, role: Role) -> PieceLandmarks:
 def _sleeve(up: np.ndarray) -> PieceLandmarks:
     cap = int(np.argmax(up[:, 1]))
     placement = {"body_part": "right_arm", "side": "around", "anchor": "shoulder_point_right", "anchor_mark": "cap_top"}
-    return PieceLandmarks(marks={"cap_top": cap}, landmarks={"shoulder_point_right": "cap_top"}, placement=placement)
+    return PieceLandmarks(
+        marks={"cap_top": cap}, landmarks={"shoulder_point_right": "cap_top"}, placement=placement
+    )
 
 
 def _other(up: np.ndarray, role: Role) -> PieceLandmarks:
