@@ -35,6 +35,9 @@ MAX_EASE = 0.78
 END_TOL_CM = 0.1
 #: a band longer than this times its opening is applied flat (ends free), not closed into a loop
 FLAT_APPLIED = 1.05
+#: of a band's two long edges the one with more marks is sewn when at least this share of the longer
+#: (a collar's neck edge, marked at the shoulders and the centre back, is shorter than its fall edge)
+SEWN_EDGE_SHARE = 0.85
 #: a loop's ends are its short sides: each at most this share of the sewn edge (a cuff or rib is a wide strip)
 END_SHARE = 0.3
 
@@ -53,7 +56,7 @@ def _band_edges(rs: list[Run]) -> tuple[Run, Run | None, list[Run]]:
     other = max(rest, key=lambda r: r.length_cm) if rest else None
     if other is None:
         return longest, None, []
-    if other.length_cm >= 0.95 * longest.length_cm and len(other.break_fracs) > len(longest.break_fracs):
+    if other.length_cm >= SEWN_EDGE_SHARE * longest.length_cm and len(other.break_fracs) > len(longest.break_fracs):
         longest, other = other, longest  # of two long edges, the one marked for its seams is sewn
     if other.length_cm < 0.5 * longest.length_cm:
         # the other long edge is a fold left out (a rib folded lengthwise): the ends adjoin the sewn edge

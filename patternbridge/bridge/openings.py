@@ -117,7 +117,7 @@ def openings(
             skirt = role in (Role.FRONT, Role.BACK) and not shapes_scooped(pts)
             if skirt and seg[:, 1].min() >= y0 + 0.85 * h:
                 waist.append((side, copies))
-            elif role in (Role.FRONT, Role.BACK) and seg[:, 1].max() >= y0 + 0.7 * h:
+            elif role in (Role.FRONT, Role.BACK, Role.YOKE) and seg[:, 1].max() >= y0 + 0.7 * h:
                 if np.abs(seg[:, 0]).min() < 0.5 and seg[:, 1].min() >= y0 + 0.6 * h:
                     neck.append((side, copies))
                     centre_first[side.key] = bool(abs(seg[0, 0]) < abs(seg[-1, 0]))

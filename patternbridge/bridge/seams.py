@@ -237,7 +237,7 @@ def merge_continuing(
 ) -> list[Join]:
     """Join seams that continue each other on the same two pieces (a seam split at a notch).
 
-    Seams and band entries merge with their own kind; folds and centre seams stay as they are.
+    Seams, centre seams and band entries merge with their own kind; folds stay as they are.
     keep : (piece, vertex) marks no seam is merged across (:func:`centre_vertices`).
     folded : pieces drawn as a half on the fold.
     """
@@ -247,7 +247,7 @@ def merge_continuing(
         changed = False
         for i, j1 in enumerate(out):
             for k, j2 in enumerate(out):
-                if i == k or j1.kind not in ("seam", "band") or j2.kind != j1.kind:
+                if i == k or j1.kind not in ("seam", "band", "centre") or j2.kind != j1.kind:
                     continue
                 merged = None
                 for second in (j2, replace(j2, a=j2.b, b=j2.a)):
