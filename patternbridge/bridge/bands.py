@@ -15,7 +15,7 @@ a strip is applied flat and its ends are caught in the next seam.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -26,6 +26,7 @@ from .edges import Run, breaks
 from .model import Join, Role, RoleGuess, Side, is_band
 from .openings import Opening, run_side
 from .seams import crosses
+from .strips import PartStrip, chain_order, place_part_strips, vertex_roots
 
 __all__ = ["band_joins"]
 
@@ -88,6 +89,8 @@ SPLIT_TOL_CM = 0.3
 #: whether a band stretch may go on a body stretch where each lies around the body, given which centre line
 #: (``front``, ``back`` or either: None) is at the band's middle (``rules.band_in_place``)
 PlaceCheck = Callable[[Run, Run, str | None], bool]
+#: the place on the garment of a boundary vertex (:func:`.strips.vertex_roots`)
+Roots = Callable[[tuple[str, int]], tuple[str, int]]
 
 
 def _split_band(
@@ -97,6 +100,7 @@ def _split_band(
     op: Opening,
     in_place: PlaceCheck | None = None,
     centres: set[tuple[str, int]] = frozenset(),
+    root: Roots | None = None,
 ) -> list[Join] | None:
     """The band edge sewn stretch by stretch to the opening (a band with marks at the opening's joints).
 
@@ -122,7 +126,7 @@ def _split_band(
     joins, covered = best
     if covered >= 0.8 * edge.length_cm:
         return joins
-    return _split_in_proportion(pattern, band_runs, edge, op)
+    return _split_in_proportion(pattern, band_runs, edge, op, root)
 
 
 def _pair_stretches(
@@ -186,24 +190,36 @@ def _stretch_sides(pattern: Pattern, side: Side) -> list[Side]:
     return out
 
 
-def _split_in_proportion(pattern: Pattern, band_runs: list[Run], edge: Run, op: Opening) -> list[Join] | None:
+def _split_in_proportion(
+    pattern: Pattern, band_runs: list[Run], edge: Run, op: Opening, root: Roots | None = None
+) -> list[Join] | None:
     """The band edge cut at its own marks where they divide it as the opening's stretches divide the opening.
 
     A back-neck binding with a mark at its middle sews one half to each back
     half; a neckband marked at its quarters sews a quarter to each half of the
     front and back necklines. Every joint between the opening's sides needs a
     band mark within 5 % of the band; joints inside a side are used where the
-    band has a mark. None otherwise.
+    band has a mark. When the seams found say in which order the opening's
+    sides follow each other on the garment (``root``, pieces cut once), the
+    band runs against them from the chain's end (from anywhere around a closed
+    loop). None otherwise.
     """
     units = _loop_units(pattern, op)
     if len(units) < 2:
         return None
-    # a band closed into a loop may start anywhere around the opening, in either direction
-    for order in (units[::-1], units):  # sewn face to face, a band runs against its opening first
-        for shift in range(len(order)):
-            joins = _split_units(band_runs, edge, op, order[shift:] + order[:shift])
-            if joins:
-                return joins
+    chain = chain_order(op.sides, root) if root is not None and len(op.sides) > 1 and set(op.copies) == {1} else None
+    if chain is not None:
+        units = [(k, u) for k, side in enumerate(chain) for u in _stretch_sides(pattern, side)]
+        closed = root((chain[-1].piece, chain[-1].end)) == root((chain[0].piece, chain[0].start))
+        against = units[::-1]
+        orders = [against[k:] + against[:k] for k in range(len(against) if closed else 1)]
+    else:
+        # a band closed into a loop may start anywhere around the opening, in either direction
+        orders = [order[k:] + order[:k] for order in (units[::-1], units) for k in range(len(order))]
+    for order in orders:  # sewn face to face, a band runs against its opening first
+        joins = _split_units(band_runs, edge, op, order)
+        if joins:
+            return joins
     return None
 
 
@@ -297,11 +313,14 @@ def band_joins(
     folds: dict[str, tuple[int, int]] | None = None,
     in_place: PlaceCheck | None = None,
     centres: set[tuple[str, int]] = frozenset(),
+    seams: Sequence[Join] = (),
 ) -> tuple[list[Join], dict[str, RoleGuess]]:
     """Joins of every band piece to the opening(s) it fits, its closure, and refined band roles.
 
     folds : piece -> its fold edge; a band folded along it (a rib cuff) is sewn by its other long edge.
     centres : marks on the centre line of pieces drawn whole (:func:`.seams.centre_vertices`).
+    seams : the seams found between the pieces; they place the ends of strips binding parts of one
+        opening (:mod:`.strips`).
 
     A band cut twice (two armhole bindings, two cuffs) takes two openings.
     """
@@ -309,13 +328,15 @@ def band_joins(
     new_roles: dict[str, RoleGuess] = {}
     taken: set[tuple[str, int, int]] = set()
     part_ends: list[tuple[str, Run]] = []
+    part_strips: list[PartStrip] = []
+    root = vertex_roots(seams) if seams else None
     bands = [n for n, g in roles.items() if is_band(g.role) and runs.get(n)]
     folds = folds or {}
     for name in sorted(bands, key=lambda n: -_band_edges(runs[n])[0].length_cm):
         guess = roles[name]
         fold = folds.get(name)
         edge, _, ends = _band_edges([r for r in runs[name] if fold is None or (r.start, r.end) != fold])
-        kind, opening_cm = None, []
+        kind, opening_cm, first = None, [], len(joins)
         for _ in range(min(max(copies_cut(pattern.piece(name)), 1), 2)):
             # a second copy binds the twin opening (the other armhole, the other sleeve), never another kind
             kind = _attach(
@@ -331,6 +352,7 @@ def band_joins(
                 in_place,
                 opening_cm,
                 centres,
+                root,
             )
             if kind is None or kind == "neck":
                 break
@@ -338,7 +360,10 @@ def band_joins(
         # a strip binding one part of an opening meets the next strips with its ends
         flat = bool(opening_cm) and edge.length_cm > FLAT_APPLIED * min(abs(c) for c in opening_cm)
         partial = any(c < 0 for c in opening_cm)
-        if partial and len(ends) >= 2:
+        if partial and len(ends) >= 2 and root is not None:
+            part_strips.append(PartStrip(name=name, edge=edge, ends=tuple(ends), joins=tuple(joins[first:])))
+            del joins[first:]
+        elif partial and len(ends) >= 2:
             part_ends += [(name, r) for r in sorted(ends, key=lambda r: -r.length_cm)[:2]]
         loop = guess.role not in (Role.COLLAR, Role.COLLAR_STAND) and not flat and not partial
         if loop and len(ends) >= 2:
@@ -355,6 +380,8 @@ def band_joins(
                         why="the band's two ends close the loop",
                     )
                 )
+    if part_strips:
+        joins += place_part_strips(part_strips, root)
     return joins + _join_part_ends(part_ends), new_roles
 
 
@@ -406,6 +433,7 @@ def _attach(
     in_place: PlaceCheck | None = None,
     taken_cm: list[float] | None = None,
     centres: set[tuple[str, int]] = frozenset(),
+    root: Roots | None = None,
 ) -> str | None:
     """Sew band ``name``'s long ``edge`` along the free opening it fits best; its kind, None when none fits.
 
@@ -437,7 +465,7 @@ def _attach(
         new_roles[name] = RoleGuess(
             role=_OPENING_ROLES[op.kind][0], confidence=conf, why=f"strip {edge.length_cm:.1f} cm along the {op.kind}"
         )
-    split = _split_band(pattern, runs, edge, op, in_place, centres)
+    split = _split_band(pattern, runs, edge, op, in_place, centres, root)
     if split:
         joins.extend(split)
         return op.kind

@@ -90,7 +90,7 @@ def infer_bridge(
         opened = openings(pattern, local, roles, orientations, variant)
         ctx = PairContext.of(pattern, roles, orientations, set())
         banded, new_roles = band_joins(
-            pattern, {n: rs[n] for n in variant}, roles, opened, folds, partial(band_in_place, ctx), keep
+            pattern, {n: rs[n] for n in variant}, roles, opened, folds, partial(band_in_place, ctx), keep, found
         )
         if k == 0:
             roles.update(new_roles)
