@@ -28,7 +28,7 @@ from .openings import Opening, run_side
 from .seams import crosses
 from .strips import PartStrip, chain_order, place_part_strips, vertex_roots
 
-__all__ = ["band_joins"]
+__all__ = ["band_joins", "side_parts"]
 
 MAX_STRETCH = 1.4
 MAX_EASE = 0.78
@@ -71,7 +71,7 @@ def _within(r: Run, side_parts: set[int]) -> bool:
     return set(r.parts) <= side_parts
 
 
-def _side_parts(pattern: Pattern, side: Side) -> set[int]:
+def side_parts(pattern: Pattern, side: Side) -> set[int]:
     brk = [int(b) for b in breaks(pattern.piece(side.piece))]
     m = len(brk)
     k = brk.index(side.start) if side.start in brk else None
@@ -114,7 +114,7 @@ def _split_band(
     band_runs = [r for r in runs[edge.piece] if set(r.parts) <= set(edge.parts)]
     targets = []
     for side in op.sides:
-        parts = _side_parts(pattern, side)
+        parts = side_parts(pattern, side)
         n = len(pattern.piece(side.piece).outline)
         own = runs.get(side.piece, [])
         targets += [r for r in own if _within(r, parts) and not crosses(r.piece, r.start, r.end, n, centres)]

@@ -16,7 +16,7 @@ from functools import partial
 from ..library.seams import graded_sew_lines
 from ..pattern.model import Pattern
 from .alternatives import choose_garment
-from .bands import band_joins
+from .bands import band_joins, side_parts
 from .edges import Run
 from .edges import runs as all_runs
 from .model import BridgeInference, Join, Side, is_band
@@ -77,6 +77,7 @@ def infer_bridge(
     seen: set[tuple] = set()
     skip = {n for n in pattern.piece_names if is_band(roles[n].role) or not _sewn(roles[n].role)}
     every = candidates(pattern, rs, roles, orientations, skip)
+    sample_only = candidates(pattern, rs, roles, orientations, skip, sample_only=True)
     sides = {n: body_side(roles[n].role, orientations[n]) for n in pattern.piece_names}
     folds = {n: o.fold for n, o in orientations.items() if o.fold is not None}
     paired = {p.name for p in pattern.pieces if p.quantity.left > 0 or p.quantity.right > 1}
@@ -92,6 +93,11 @@ def infer_bridge(
         banded, new_roles = band_joins(
             pattern, {n: rs[n] for n in variant}, roles, opened, folds, partial(band_in_place, ctx), keep, found
         )
+        # edges still free after the bands that agree in the sample size only (a file graded unequally): uncertain
+        for j in banded:
+            local |= {(side.piece, part) for side in (j.a, j.b) for part in side_parts(pattern, side)}
+        loose = [c for c in sample_only if c.a.piece in variant and c.b.piece in variant]
+        found += assign(loose, local, _parts_of, sides, twice=paired, whole=whole)
         if k == 0:
             roles.update(new_roles)
         for j in found + merge_continuing(banded, keep, set(folds)):

@@ -41,6 +41,10 @@ MIN_RUN_CM = 2.0
 TWIN_TOL_SHARE = 0.003
 #: a paired piece's straight centre edge (or a leg's crotch curve) sewn to its mirror copy
 CENTRE_SCORE = 0.95
+#: a seam whose sides agree in the sample size only scores this share of its score (always "uncertain") …
+SAMPLE_ONLY_SCORE = 0.5
+#: … and is proposed only when it scored at least this before (equal length, shape and notches: no size backs it)
+SAMPLE_ONLY_MIN = 0.85
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -142,17 +146,35 @@ def _score_pair(ctx: PairContext, a: Run, b: Run) -> Candidate | None:
     return Candidate(a=x, b=y, score=score, kind=kind, ease_cm=ease, why=why)
 
 
+def _uncertain(cand: Candidate) -> Candidate | None:
+    """A candidate scored on the sample size alone, kept only when near certain and then marked uncertain."""
+    if cand.score < SAMPLE_ONLY_MIN:
+        return None
+    why = f"lengths agree in the sample size only (ease {cand.ease_cm:+.2f} cm); the graded sizes disagree"
+    return replace(cand, score=cand.score * SAMPLE_ONLY_SCORE, why=why)
+
+
 def candidates(
     pattern: Pattern,
     runs: dict[str, list[Run]],
     roles: dict[str, RoleGuess],
     orientations: dict[str, Orientation],
     skip: set[str],
+    *,
+    sample_only: bool = False,
 ) -> list[Candidate]:
-    """Scored candidate seams between the runs of the pieces not in ``skip`` (:func:`.rules.pair_rule` first)."""
+    """Scored candidate seams between the runs of the pieces not in ``skip`` (:func:`.rules.pair_rule` first).
+
+    sample_only : compare lengths in the sample size only (the second pass, for
+        edges the file grades unequally): only pairs scoring ``SAMPLE_ONLY_MIN``
+        are kept, their scores scaled by ``SAMPLE_ONLY_SCORE`` so every such seam
+        stays below the picture's confidence mark.
+    """
     ctx = PairContext.of(pattern, roles, orientations, mirror_twins(pattern, tol_share=TWIN_TOL_SHARE))
     items = [r for name, rs in runs.items() if name not in skip for r in rs if r.length_cm >= MIN_RUN_CM]
-    out = _centre_candidates(ctx, items)
+    if sample_only:
+        items = [replace(r, graded_cm=np.array([r.length_cm])) for r in items]
+    out = [] if sample_only else _centre_candidates(ctx, items)
     items.sort(key=lambda r: r.length_cm)
     lengths = np.array([r.length_cm for r in items])
     widest = 1 + CAP_EASE_SHARE + LENGTH_TOL_SHARE
@@ -162,6 +184,8 @@ def candidates(
         for b in items[i + 1 : stop]:
             if pair_rule(ctx, a, b) is None:
                 cand = _score_pair(ctx, a, b)
+                if cand is not None and sample_only:
+                    cand = _uncertain(cand)
                 if cand is not None:
                     out.append(cand)
     return out

@@ -146,3 +146,23 @@ def test_polo_collar_goes_once_around_the_folded_neckline_and_its_rib_cuff_close
     assert score(pattern, inference, label, pairs).missed == ()
     collar = sorted((j.b.start, j.b.end, j.a.piece) for j in inference.joins if j.b.piece == "GMX1016S18CO")
     assert collar == [(4, 7, "GMX1016S18FR"), (7, 14, "GMX1016S18BK"), (14, 0, "GMX1016S18FR")]
+
+
+def test_tank_side_seam_graded_unequally_is_proposed_as_uncertain(aama_dir):
+    """The loose tank's side edges agree in the sample size (43.6 cm) but not across its graded nest.
+
+    They are proposed in the second pass, below the review picture's confidence mark; nothing else of the tank is.
+    """
+    from patternbridge.bridge import infer_bridge
+    from patternbridge.bridge.picture import LOW_CONFIDENCE
+
+    pattern, _ = read_dxf(aama_dir / "WM LOOSE SHAPE TANK.DXF")
+    joins = infer_bridge(pattern).joins
+    side = [j for j in joins if "sample size only" in j.why]
+    assert len(side) == 1
+    assert {(side[0].a.piece, side[0].a.start), (side[0].b.piece, side[0].b.start)} == {
+        ("RELAXED TANK BK V2", 15),
+        ("RELAXED TANK FR V2", 14),
+    }
+    assert side[0].confidence < LOW_CONFIDENCE
+    assert abs(side[0].a.length_cm - side[0].b.length_cm) < 0.1
