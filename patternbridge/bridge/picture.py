@@ -5,7 +5,8 @@ with its role's colour and labelled with its name, role and confidence; each
 seam is drawn in its own colour on both of its edges with the same number,
 written just outside the edge (``n mirror`` for an edge sewn to the piece's
 mirror copy); folds are dashed and marked ``fold``; the body landmarks the fit uses
-are dots with their names. A band the file draws along its grain (a cuff or
+are dots with their names, and a small front view of the body lists the
+chosen pieces at the part each is placed on. A band the file draws along its grain (a cuff or
 collar standing on its short side) is shown lying along the body; its
 recorded orientation is unchanged. Anything below ``LOW_CONFIDENCE`` is written in
 red with its value, and the list under the pieces repeats every seam with its
@@ -185,13 +186,56 @@ def _draw_pieces(draw, pattern, inference, shapes, canvas, fonts, centres, label
         _label_at(draw, (cx, cy + 9), role, role_ink, fonts["piece"])
 
 
-def _draw_landmarks(draw, pattern, inference, shapes, canvas, fonts) -> None:
+def _landmarks(pattern: Pattern, inference: BridgeInference) -> dict:
+    """The inferred marks, landmarks and placement of every piece (empty when they cannot be read)."""
     from .landmarks import piece_landmarks
 
     try:
-        found = piece_landmarks(pattern, inference)
+        return piece_landmarks(pattern, inference)
     except (ValueError, IndexError):  # a picture never fails for want of landmarks
-        return
+        return {}
+
+
+#: where each body part sits on the placement diagram (x, y in px from its corner; front view, so the body's
+#: right arm and leg are on the left)
+_BODY_SPOTS = {
+    ("neck", None): (60, 36),
+    ("torso", "front"): (60, 62),
+    ("torso", "back"): (60, 92),
+    ("right_arm", None): (22, 100),
+    ("right_leg", None): (46, 165),
+}
+BODY_PX = (430, 210)
+
+
+def _draw_body(draw, x0: float, y0: float, found: dict, inference: BridgeInference, fonts) -> None:
+    """A small front view of the body with the chosen pieces listed at the part each is placed on."""
+    line = {"fill": (150, 150, 150), "width": 3}
+    draw.ellipse([x0 + 46, y0 + 4, x0 + 74, y0 + 32], outline=line["fill"], width=3)
+    draw.rectangle([x0 + 35, y0 + 40, x0 + 85, y0 + 120], outline=line["fill"], width=3)
+    for seg in (((35, 45), (15, 115)), ((85, 45), (105, 115)), ((48, 120), (44, 195)), ((72, 120), (76, 195))):
+        draw.line([(x0 + u, y0 + v) for u, v in seg], **line)
+    draw.text((x0, y0 - 16), "placement (front view)", fill=INK, font=fonts["small"])
+    listed: dict[tuple[str, str | None], list[str]] = {}
+    for name in inference.chosen:
+        place = found.get(name).placement if found.get(name) is not None else None
+        if place:
+            part = place.get("body_part", "")
+            key = (part, place.get("side")) if part == "torso" else (part, None)
+            listed.setdefault(key, []).append(name)
+    for row, (key, (u, v)) in enumerate(_BODY_SPOTS.items()):
+        names = listed.get(key, [])
+        if not names:
+            continue
+        colour = _ROLE_FILL.get(inference.roles[names[0]].role, _OTHER_FILL)
+        draw.ellipse([x0 + u - 5, y0 + v - 5, x0 + u + 5, y0 + v + 5], fill=colour, outline=INK)
+        ty = y0 + 20 + 36 * row
+        draw.line([(x0 + u + 5, y0 + v), (x0 + 125, ty + 7)], fill=(190, 190, 190), width=1)
+        label = " ".join(k for k in key if k).replace("_", " ")
+        draw.text((x0 + 128, ty), f"{label}: " + ", ".join(names), fill=INK, font=fonts["small"])
+
+
+def _draw_landmarks(draw, found: dict, shapes, canvas, fonts) -> None:
     for name, lm in found.items():
         pts = canvas.px(shapes[name])
         for landmark, mark in lm.landmarks.items():
@@ -286,8 +330,8 @@ def review_png(pattern: Pattern, inference: BridgeInference, *, px_per_cm: float
     k = px_per_cm
     listed = _seam_list(inference)
     head_px, line_px = 64.0, 17
-    columns = max(1, int((width_cm + 2 * GAP_CM) * k // 430))
-    list_px = (len(listed) + columns - 1) // columns * line_px + 20 if listed else 0
+    columns = max(1, int((width_cm + 2 * GAP_CM) * k - BODY_PX[0]) // 430)
+    list_px = max((len(listed) + columns - 1) // columns * line_px + 20 if listed else 0, BODY_PX[1] + 30)
     n_seams = sum(j.kind != "fold" for j in inference.joins)
     heading = title or (
         f"{pattern.style}: {len(inference.chosen)} of {len(pattern.pieces)} pieces, "
@@ -295,7 +339,7 @@ def review_png(pattern: Pattern, inference: BridgeInference, *, px_per_cm: float
         f"lowest confidence {inference.lowest_confidence:.2f} (red: below {LOW_CONFIDENCE})"
     )
     title_px = ImageDraw.Draw(Image.new("RGB", (1, 1))).textlength(heading, font=fonts["title"])
-    width_px = int(max((width_cm + 2 * GAP_CM) * k, title_px + 2 * GAP_CM * k, 640))
+    width_px = int(max((width_cm + 2 * GAP_CM) * k, title_px + 2 * GAP_CM * k, GAP_CM * k + columns * 430 + BODY_PX[0]))
     height_px = int(head_px + (height_cm + GAP_CM) * k + list_px)
     img = Image.new("RGB", (width_px, height_px), "white")
     draw = ImageDraw.Draw(img)
@@ -308,13 +352,15 @@ def review_png(pattern: Pattern, inference: BridgeInference, *, px_per_cm: float
             shared.setdefault(side.key, []).append(number)
     for number, j in _numbered(inference):
         _draw_join(draw, number, j, shapes, canvas, fonts, centres, shared)
-    _draw_landmarks(draw, pattern, inference, shapes, canvas, fonts)
+    found = _landmarks(pattern, inference)
+    _draw_landmarks(draw, found, shapes, canvas, fonts)
     draw.text((GAP_CM * k, 10), heading, fill=INK, font=fonts["title"])
     y0 = head_px + (height_cm + GAP_CM) * k
     rows = (len(listed) + columns - 1) // columns if listed else 0
     for i, (text, colour) in enumerate(listed):
         col, row = divmod(i, rows)
         draw.text((GAP_CM * k + col * 430, y0 + row * line_px), text, fill=colour, font=fonts["small"])
+    _draw_body(draw, GAP_CM * k + columns * 430, y0 + 16, found, inference, fonts)
     buf = io.BytesIO()
     img.save(buf, format="PNG", optimize=True)
     return buf.getvalue()
