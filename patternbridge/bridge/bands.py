@@ -366,23 +366,29 @@ def band_joins(
         elif partial and len(ends) >= 2:
             part_ends += [(name, r) for r in sorted(ends, key=lambda r: -r.length_cm)[:2]]
         loop = guess.role not in (Role.COLLAR, Role.COLLAR_STAND) and not flat and not partial
-        if loop and len(ends) >= 2:
-            e1, e2 = sorted(ends, key=lambda r: -r.length_cm)[:2]
-            # a loop's two short ends meet whatever their slant (a bias binding's ends differ)
-            if max(e1.length_cm, e2.length_cm) <= END_SHARE * edge.length_cm:
-                joins.append(
-                    Join(
-                        id=f"{name}_closure",
-                        a=run_side(e1),
-                        b=run_side(e2),
-                        kind="seam",
-                        confidence=0.8,
-                        why="the band's two ends close the loop",
-                    )
-                )
+        joins += _closure(name, edge, ends) if loop else []
     if part_strips:
         joins += place_part_strips(part_strips, root)
     return joins + _join_part_ends(part_ends), new_roles
+
+
+def _closure(name: str, edge: Run, ends: list[Run]) -> list[Join]:
+    """A loop's two short ends sewn together, whatever their slant (a bias binding's ends differ); [] without two."""
+    if len(ends) < 2:
+        return []
+    e1, e2 = sorted(ends, key=lambda r: -r.length_cm)[:2]
+    if max(e1.length_cm, e2.length_cm) > END_SHARE * edge.length_cm:
+        return []
+    return [
+        Join(
+            id=f"{name}_closure",
+            a=run_side(e1),
+            b=run_side(e2),
+            kind="seam",
+            confidence=0.8,
+            why="the band's two ends close the loop",
+        )
+    ]
 
 
 def _join_part_ends(ends: list[tuple[str, Run]]) -> list[Join]:
