@@ -18,7 +18,7 @@ from ..library.seams import graded_sew_lines
 from ..pattern.model import Pattern
 from .alternatives import choose_garment
 from .bands import band_joins, side_parts
-from .edges import Run
+from .edges import Run, corner_vertices
 from .edges import runs as all_runs
 from .model import BridgeInference, Join, Orientation, RoleGuess, Side, is_band
 from .openings import openings
@@ -72,7 +72,7 @@ def infer_bridge(
         folds={n: o.fold for n, o in orientations.items() if o.fold is not None},
         paired={p.name for p in pattern.pieces if p.quantity.left > 0 or p.quantity.right > 1},
         whole={n for n, o in orientations.items() if o.whole},
-        keep=centre_vertices(pattern, orientations),
+        keep=centre_vertices(pattern, orientations) | corner_vertices(pattern),
     )
     # every alternative is sewn like the default: seams are searched per garment variant
     variants = [set(chosen)] + [set(chosen) - set(old) | set(new) for g in groups for old in g[:1] for new in g[1:]]

@@ -166,3 +166,15 @@ def test_tank_side_seam_graded_unequally_is_proposed_as_uncertain(aama_dir):
     }
     assert side[0].confidence < LOW_CONFIDENCE
     assert abs(side[0].a.length_cm - side[0].b.length_cm) < 0.1
+
+
+def test_seams_are_not_merged_round_a_corner(shared_dir):
+    """The dress's shoulder seam stays its own seam: a seam met past the shoulder point's corner is another seam."""
+    from patternbridge.bridge import infer_bridge
+    from patternbridge.bridge.evaluate import LABELS_DIR, load_labelled
+
+    pattern, label, pairs = load_labelled(LABELS_DIR / "dress_aama.dxf.json", shared_dir)
+    inference = infer_bridge(pattern)
+    assert score(pattern, inference, label, pairs).missed == ()
+    sides = {frozenset((j.a.key, j.b.key)) for j in inference.joins}
+    assert frozenset((("bodice_front", 51, 52), ("bodice_back", 23, 24))) in sides
