@@ -236,6 +236,8 @@ def _draw_body(draw, x0: float, y0: float, found: dict, inference: BridgeInferen
 
 
 def _draw_landmarks(draw, found: dict, shapes, canvas, fonts) -> None:
+    """Landmark dots with their names; a name that would overprint an earlier one moves down a line."""
+    taken: list[tuple[float, float, float, float]] = []
     for name, lm in found.items():
         pts = canvas.px(shapes[name])
         for landmark, mark in lm.landmarks.items():
@@ -244,7 +246,15 @@ def _draw_landmarks(draw, found: dict, shapes, canvas, fonts) -> None:
                 continue
             x, y = pts[vertex]
             draw.ellipse([x - 3, y - 3, x + 3, y + 3], fill=INK)
-            draw.text((x + 5, y + 2), landmark.replace("_", " "), fill=GREY, font=fonts["small"])
+            text = landmark.replace("_", " ")
+            left, top, right, bottom = draw.textbbox((x + 5, y + 2), text, font=fonts["small"])
+            shift = 0.0
+            while shift < 60 and any(
+                left < r and right > q and top + shift < b and bottom + shift > t for q, t, r, b in taken
+            ):
+                shift += bottom - top + 2
+            taken.append((left, top + shift, right, bottom + shift))
+            draw.text((x + 5, y + 2 + shift), text, fill=GREY, font=fonts["small"])
 
 
 def _dashes(seg: list[tuple[float, float]], k: int, of: int, dash_px: float = 10.0) -> list[list[tuple[float, float]]]:
