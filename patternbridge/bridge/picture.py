@@ -187,13 +187,10 @@ def _draw_pieces(draw, pattern, inference, shapes, canvas, fonts, centres, label
 
 
 def _landmarks(pattern: Pattern, inference: BridgeInference) -> dict:
-    """The inferred marks, landmarks and placement of every piece (empty when they cannot be read)."""
+    """The inferred marks, landmarks and placement of every piece."""
     from .landmarks import piece_landmarks
 
-    try:
-        return piece_landmarks(pattern, inference)
-    except (ValueError, IndexError):  # a picture never fails for want of landmarks
-        return {}
+    return piece_landmarks(pattern, inference)
 
 
 #: where each body part sits on the placement diagram (x, y in px from its corner; front view, so the body's
