@@ -178,3 +178,18 @@ def test_seams_are_not_merged_round_a_corner(shared_dir):
     assert score(pattern, inference, label, pairs).missed == ()
     sides = {frozenset((j.a.key, j.b.key)) for j in inference.joins}
     assert frozenset((("bodice_front", 51, 52), ("bodice_back", 23, 24))) in sides
+
+
+def test_a_two_piece_sleeve_is_one_alternative_to_the_one_piece_sleeve(aama_dir):
+    """MEN CLASSIC TEE: the back and front sleeve halves (65 % and 43 % of the one-piece sleeve) add up to it."""
+    from patternbridge.bridge import infer_bridge
+
+    pattern, _ = read_dxf(aama_dir / "MEN CLASSIC TEE.DXF")
+    inference = infer_bridge(pattern)
+    sleeves = next(g for g in inference.alternatives if ("REGULAR TEESL1",) in g)
+    assert {frozenset(o) for o in sleeves} == {
+        frozenset({"REGULAR TEESL1"}),
+        frozenset({"REGULAR TEESL BK", "REGULAR TEESL FR"}),
+    }
+    halves = {frozenset((j.a.key, j.b.key)) for j in inference.joins}
+    assert frozenset((("REGULAR TEESL BK", 1, 3), ("REGULAR TEESL FR", 10, 12))) in halves
