@@ -23,6 +23,8 @@ __all__ = ["choose_garment", "copies_cut"]
 #: roles a garment has one kind of (its copies aside); bindings are left out, a neckline is often bound
 #: by several strips (the CLO shirt's two front and one back binding)
 _SINGLE = (Role.SLEEVE, Role.NECKBAND, Role.COLLAR, Role.LEG, Role.CUFF, Role.COLLAR_STAND)
+#: the two halves of a two-piece sleeve add up to the largest sleeve's area within this share
+HALVES_TOL_SHARE = 0.15
 
 
 def copies_cut(piece) -> int:
@@ -80,10 +82,25 @@ def choose_garment(
 
 
 def _two_piece_sleeves(options: list[list[str]], shapes: dict[str, Shape]) -> list[list[str]]:
-    """Join the small sleeve pieces that are halves of one sleeve (each under 60 % of the largest)."""
+    """Join two sleeve pieces that are the halves of one sleeve: together about as large as the largest sleeve.
+
+    The upper and under sleeve of a two-piece sleeve add up to a one-piece sleeve
+    of the same garment (within ``HALVES_TOL_SHARE`` of its area); either half
+    may be over half of it (the T-shirt's back sleeve is 65 % of the one-piece).
+    """
     if len(options) < 3:
         return options
-    big = max(shapes[o[0]].area_share for o in options)
-    whole = [o for o in options if shapes[o[0]].area_share >= 0.6 * big]
-    halves = [n for o in options if shapes[o[0]].area_share < 0.6 * big for n in o]
-    return whole + ([halves] if halves else [])
+    area = [shapes[o[0]].area_share for o in options]
+    big = max(area)
+    best = None
+    for i in range(len(options)):
+        for k in range(i + 1, len(options)):
+            if big in (area[i], area[k]):
+                continue
+            miss = abs(area[i] + area[k] - big)
+            if miss <= HALVES_TOL_SHARE * big and (best is None or miss < best[0]):
+                best = (miss, i, k)
+    if best is None:
+        return options
+    _, i, k = best
+    return [o for m, o in enumerate(options) if m not in (i, k)] + [options[i] + options[k]]

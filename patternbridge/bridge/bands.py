@@ -15,7 +15,7 @@ a strip is applied flat and its ends are caught in the next seam.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -25,8 +25,10 @@ from .alternatives import copies_cut
 from .edges import Run, breaks
 from .model import Join, Role, RoleGuess, Side, is_band
 from .openings import Opening, run_side
+from .seams import crosses
+from .strips import PartStrip, chain_order, place_part_strips, vertex_roots
 
-__all__ = ["band_joins"]
+__all__ = ["band_joins", "side_parts"]
 
 MAX_STRETCH = 1.4
 MAX_EASE = 0.78
@@ -34,6 +36,11 @@ MAX_EASE = 0.78
 END_TOL_CM = 0.1
 #: a band longer than this times its opening is applied flat (ends free), not closed into a loop
 FLAT_APPLIED = 1.05
+#: of a band's two long edges the one with more marks is sewn when at least this share of the longer
+#: (a collar's neck edge, marked at the shoulders and the centre back, is shorter than its fall edge)
+SEWN_EDGE_SHARE = 0.85
+#: a loop's ends are its short sides: each at most this share of the sewn edge (a cuff or rib is a wide strip)
+END_SHARE = 0.3
 
 _OPENING_ROLES = {
     "neck": (Role.NECK_BINDING, Role.NECKBAND, Role.COLLAR, Role.COLLAR_STAND),
@@ -50,8 +57,12 @@ def _band_edges(rs: list[Run]) -> tuple[Run, Run | None, list[Run]]:
     other = max(rest, key=lambda r: r.length_cm) if rest else None
     if other is None:
         return longest, None, []
-    if other.length_cm >= 0.95 * longest.length_cm and len(other.break_fracs) > len(longest.break_fracs):
+    if other.length_cm >= SEWN_EDGE_SHARE * longest.length_cm and len(other.break_fracs) > len(longest.break_fracs):
         longest, other = other, longest  # of two long edges, the one marked for its seams is sewn
+    if other.length_cm < 0.5 * longest.length_cm:
+        # the other long edge is a fold left out (a rib folded lengthwise): the ends adjoin the sewn edge
+        adjoin = [r for r in rs if len(r.parts) == 1 and (r.end == longest.start or r.start == longest.end)]
+        return longest, other, [r for r in adjoin if r.key != longest.key]
     ends = [r for r in rs if (r.start, r.end) in ((longest.end, other.start), (other.end, longest.start))]
     return longest, other, ends
 
@@ -60,7 +71,7 @@ def _within(r: Run, side_parts: set[int]) -> bool:
     return set(r.parts) <= side_parts
 
 
-def _side_parts(pattern: Pattern, side: Side) -> set[int]:
+def side_parts(pattern: Pattern, side: Side) -> set[int]:
     brk = [int(b) for b in breaks(pattern.piece(side.piece))]
     m = len(brk)
     k = brk.index(side.start) if side.start in brk else None
@@ -78,10 +89,18 @@ SPLIT_TOL_CM = 0.3
 #: whether a band stretch may go on a body stretch where each lies around the body, given which centre line
 #: (``front``, ``back`` or either: None) is at the band's middle (``rules.band_in_place``)
 PlaceCheck = Callable[[Run, Run, str | None], bool]
+#: the place on the garment of a boundary vertex (:func:`.strips.vertex_roots`)
+Roots = Callable[[tuple[str, int]], tuple[str, int]]
 
 
 def _split_band(
-    pattern: Pattern, runs: dict[str, list[Run]], edge: Run, op: Opening, in_place: PlaceCheck | None = None
+    pattern: Pattern,
+    runs: dict[str, list[Run]],
+    edge: Run,
+    op: Opening,
+    in_place: PlaceCheck | None = None,
+    centres: set[tuple[str, int]] = frozenset(),
+    root: Roots | None = None,
 ) -> list[Join] | None:
     """The band edge sewn stretch by stretch to the opening (a band with marks at the opening's joints).
 
@@ -89,13 +108,16 @@ def _split_band(
     place around the body (``in_place``: a waistband's symmetric stretches
     are told apart by where they lie, with the front's or the back's centre at
     the band's middle, whichever sews more of it), are paired one to one,
-    longest first; None unless they cover 80 % of the band edge.
+    longest first (an opening stretch never crosses the centre line of a piece
+    drawn whole, ``centres``); None unless they cover 80 % of the band edge.
     """
     band_runs = [r for r in runs[edge.piece] if set(r.parts) <= set(edge.parts)]
     targets = []
     for side in op.sides:
-        parts = _side_parts(pattern, side)
-        targets += [r for r in runs.get(side.piece, []) if _within(r, parts)]
+        parts = side_parts(pattern, side)
+        n = len(pattern.piece(side.piece).outline)
+        own = runs.get(side.piece, [])
+        targets += [r for r in own if _within(r, parts) and not crosses(r.piece, r.start, r.end, n, centres)]
     best: tuple[list[Join], float] = ([], -1.0)
     for middle in ("front", "back", None):
         found = _pair_stretches(pattern, band_runs, targets, op, in_place, middle)
@@ -104,7 +126,7 @@ def _split_band(
     joins, covered = best
     if covered >= 0.8 * edge.length_cm:
         return joins
-    return _split_in_proportion(pattern, band_runs, edge, op)
+    return _split_in_proportion(pattern, band_runs, edge, op, root)
 
 
 def _pair_stretches(
@@ -168,25 +190,72 @@ def _stretch_sides(pattern: Pattern, side: Side) -> list[Side]:
     return out
 
 
-def _split_in_proportion(pattern: Pattern, band_runs: list[Run], edge: Run, op: Opening) -> list[Join] | None:
+def _split_in_proportion(
+    pattern: Pattern, band_runs: list[Run], edge: Run, op: Opening, root: Roots | None = None
+) -> list[Join] | None:
     """The band edge cut at its own marks where they divide it as the opening's stretches divide the opening.
 
     A back-neck binding with a mark at its middle sews one half to each back
     half; a neckband marked at its quarters sews a quarter to each half of the
     front and back necklines. Every joint between the opening's sides needs a
     band mark within 5 % of the band; joints inside a side are used where the
-    band has a mark. None otherwise.
+    band has a mark. When the seams found say in which order the opening's
+    sides follow each other on the garment (``root``, pieces cut once), the
+    band runs against them from the chain's end (from anywhere around a closed
+    loop). None otherwise.
     """
-    units = [(k, u) for k, side in enumerate(op.sides) for u in _stretch_sides(pattern, side)]
+    units = _loop_units(pattern, op)
     if len(units) < 2:
         return None
-    # a band closed into a loop may start anywhere around the opening, in either direction
-    for order in (units[::-1], units):  # sewn face to face, a band runs against its opening first
-        for shift in range(len(order)):
-            joins = _split_units(band_runs, edge, op, order[shift:] + order[:shift])
-            if joins:
-                return joins
+    chain = chain_order(op.sides, root) if root is not None and len(op.sides) > 1 and set(op.copies) == {1} else None
+    if chain is not None:
+        units = [(k, u) for k, side in enumerate(chain) for u in _stretch_sides(pattern, side)]
+        closed = root((chain[-1].piece, chain[-1].end)) == root((chain[0].piece, chain[0].start))
+        against = units[::-1]
+        orders = [against[k:] + against[:k] for k in range(len(against) if closed else 1)]
+    else:
+        # a band closed into a loop may start anywhere around the opening, in either direction
+        orders = [order[k:] + order[:k] for order in (units[::-1], units) for k in range(len(order))]
+    for order in orders:  # sewn face to face, a band runs against its opening first
+        joins = _split_units(band_runs, edge, op, order)
+        if joins:
+            return joins
     return None
+
+
+def _loop_units(pattern: Pattern, op: Opening) -> list[tuple[int, Side]]:
+    """The opening's stretches in order around the body, as (side index, stretch).
+
+    A neckline of two sides (front and back) of which a half piece is cut twice
+    goes once around the body: each half from its outer end to the centre line
+    and back out on its mirror copy (a piece drawn whole crosses once), so a
+    collar's marks at the shoulders divide it into front, whole back and front.
+    Otherwise each side's stretches once, in the opening's order.
+    """
+    per_side = [_stretch_sides(pattern, side) for side in op.sides]
+    if op.kind != "neck" or len(op.sides) != 2 or 2 not in op.copies or len(op.centre_first) != 2:
+        return [(k, u) for k, units in enumerate(per_side) for u in units]
+    out = []
+    for k, units in enumerate(per_side):
+        if op.copies[k] == 2:
+            inward = units[::-1] if op.centre_first[k] else units  # outer end -> centre line
+            units = inward + inward[::-1]
+        out += [(k, u) for u in units]
+    return out
+
+
+def _covering(group: list[Side]) -> Side:
+    """The one range the stretches of ``group`` cover (both copies of a stretch count once)."""
+    unique = {(g.start, g.end): g for g in group}
+    starts = {s for s, _ in unique} - {e for _, e in unique}
+    ends = {e for _, e in unique} - {s for s, _ in unique}
+    first = group[0]
+    return Side(
+        piece=first.piece,
+        start=starts.pop() if starts else first.start,
+        end=ends.pop() if ends else group[-1].end,
+        length_cm=round(sum(g.length_cm for g in unique.values()), 3),
+    )
 
 
 def _split_units(band_runs: list[Run], edge: Run, op: Opening, units: list[tuple[int, Side]]) -> list[Join] | None:
@@ -213,12 +282,7 @@ def _split_units(band_runs: list[Run], edge: Run, op: Opening, units: list[tuple
     fracs = [*cum[near], 1.0]
     joins, start_frac, pos = [], 0.0, edge.start
     for group, frac in zip(groups, fracs, strict=True):
-        side = Side(
-            piece=group[0].piece,
-            start=group[0].start,
-            end=group[-1].end,
-            length_cm=round(sum(g.length_cm for g in group), 3),
-        )
+        side = _covering(group)
         run = None
         for r in sorted((r for r in band_runs if r.start == pos), key=lambda r: r.length_cm):
             if abs((start_frac * edge.length_cm + r.length_cm) / edge.length_cm - frac) < 0.05:
@@ -248,10 +312,15 @@ def band_joins(
     opened: list[Opening],
     folds: dict[str, tuple[int, int]] | None = None,
     in_place: PlaceCheck | None = None,
+    centres: set[tuple[str, int]] = frozenset(),
+    seams: Sequence[Join] = (),
 ) -> tuple[list[Join], dict[str, RoleGuess]]:
     """Joins of every band piece to the opening(s) it fits, its closure, and refined band roles.
 
     folds : piece -> its fold edge; a band folded along it (a rib cuff) is sewn by its other long edge.
+    centres : marks on the centre line of pieces drawn whole (:func:`.seams.centre_vertices`).
+    seams : the seams found between the pieces; they place the ends of strips binding parts of one
+        opening (:mod:`.strips`).
 
     A band cut twice (two armhole bindings, two cuffs) takes two openings.
     """
@@ -259,13 +328,15 @@ def band_joins(
     new_roles: dict[str, RoleGuess] = {}
     taken: set[tuple[str, int, int]] = set()
     part_ends: list[tuple[str, Run]] = []
+    part_strips: list[PartStrip] = []
+    root = vertex_roots(seams) if seams else None
     bands = [n for n, g in roles.items() if is_band(g.role) and runs.get(n)]
     folds = folds or {}
     for name in sorted(bands, key=lambda n: -_band_edges(runs[n])[0].length_cm):
         guess = roles[name]
         fold = folds.get(name)
         edge, _, ends = _band_edges([r for r in runs[name] if fold is None or (r.start, r.end) != fold])
-        kind, opening_cm = None, []
+        kind, opening_cm, first = None, [], len(joins)
         for _ in range(min(max(copies_cut(pattern.piece(name)), 1), 2)):
             # a second copy binds the twin opening (the other armhole, the other sleeve), never another kind
             kind = _attach(
@@ -280,6 +351,8 @@ def band_joins(
                 new_roles,
                 in_place,
                 opening_cm,
+                centres,
+                root,
             )
             if kind is None or kind == "neck":
                 break
@@ -287,24 +360,35 @@ def band_joins(
         # a strip binding one part of an opening meets the next strips with its ends
         flat = bool(opening_cm) and edge.length_cm > FLAT_APPLIED * min(abs(c) for c in opening_cm)
         partial = any(c < 0 for c in opening_cm)
-        if partial and len(ends) >= 2:
+        if partial and len(ends) >= 2 and root is not None:
+            part_strips.append(PartStrip(name=name, edge=edge, ends=tuple(ends), joins=tuple(joins[first:])))
+            del joins[first:]
+        elif partial and len(ends) >= 2:
             part_ends += [(name, r) for r in sorted(ends, key=lambda r: -r.length_cm)[:2]]
         loop = guess.role not in (Role.COLLAR, Role.COLLAR_STAND) and not flat and not partial
-        if loop and len(ends) >= 2:
-            e1, e2 = sorted(ends, key=lambda r: -r.length_cm)[:2]
-            # a loop's two short ends meet whatever their slant (a bias binding's ends differ)
-            if max(e1.length_cm, e2.length_cm) <= 0.15 * edge.length_cm:
-                joins.append(
-                    Join(
-                        id=f"{name}_closure",
-                        a=run_side(e1),
-                        b=run_side(e2),
-                        kind="seam",
-                        confidence=0.8,
-                        why="the band's two ends close the loop",
-                    )
-                )
+        joins += _closure(name, edge, ends) if loop else []
+    if part_strips:
+        joins += place_part_strips(part_strips, root)
     return joins + _join_part_ends(part_ends), new_roles
+
+
+def _closure(name: str, edge: Run, ends: list[Run]) -> list[Join]:
+    """A loop's two short ends sewn together, whatever their slant (a bias binding's ends differ); [] without two."""
+    if len(ends) < 2:
+        return []
+    e1, e2 = sorted(ends, key=lambda r: -r.length_cm)[:2]
+    if max(e1.length_cm, e2.length_cm) > END_SHARE * edge.length_cm:
+        return []
+    return [
+        Join(
+            id=f"{name}_closure",
+            a=run_side(e1),
+            b=run_side(e2),
+            kind="seam",
+            confidence=0.8,
+            why="the band's two ends close the loop",
+        )
+    ]
 
 
 def _join_part_ends(ends: list[tuple[str, Run]]) -> list[Join]:
@@ -354,6 +438,8 @@ def _attach(
     new_roles: dict[str, RoleGuess],
     in_place: PlaceCheck | None = None,
     taken_cm: list[float] | None = None,
+    centres: set[tuple[str, int]] = frozenset(),
+    root: Roots | None = None,
 ) -> str | None:
     """Sew band ``name``'s long ``edge`` along the free opening it fits best; its kind, None when none fits.
 
@@ -385,7 +471,7 @@ def _attach(
         new_roles[name] = RoleGuess(
             role=_OPENING_ROLES[op.kind][0], confidence=conf, why=f"strip {edge.length_cm:.1f} cm along the {op.kind}"
         )
-    split = _split_band(pattern, runs, edge, op, in_place)
+    split = _split_band(pattern, runs, edge, op, in_place, centres, root)
     if split:
         joins.extend(split)
         return op.kind

@@ -16,7 +16,7 @@ from ..library.seams import graded_sew_lines, sew_line
 from ..pattern.geometry import interior_angles
 from ..pattern.model import Pattern, Piece, VertexKind
 
-__all__ = ["Run", "piece_runs", "runs", "turning"]
+__all__ = ["Run", "corner_vertices", "piece_runs", "runs", "turning"]
 
 CORNER_DEG = 30.0
 RUN_CORNER_DEG = 35.0
@@ -80,6 +80,15 @@ def breaks(piece: Piece) -> np.ndarray:
         brk[notch.vertex] = True
     brk |= np.abs(turning(pts)) > np.radians(CORNER_DEG)
     return np.nonzero(brk)[0]
+
+
+def corner_vertices(pattern: Pattern) -> set[tuple[str, int]]:
+    """(piece, vertex) of every corner sharper than ``RUN_CORNER_DEG``: no run, and no merged seam, turns one."""
+    out = set()
+    for piece in pattern.pieces:
+        turn = turning(sew_line(piece)[0])
+        out |= {(piece.name, int(v)) for v in np.nonzero(np.abs(turn) > np.radians(RUN_CORNER_DEG))[0]}
+    return out
 
 
 def piece_runs(piece: Piece, graded: np.ndarray, *, max_run: int = MAX_RUN) -> list[Run]:

@@ -32,6 +32,10 @@ class Opening:
     sides: tuple[Side, ...]
     length_cm: float
     part: bool = False  # one part of an opening bound by several strips
+    #: per side: the copies cut (2 for a half on the fold or cut as a pair), and whether the side
+    #: starts (outline order) at the centre line rather than at its outer end
+    copies: tuple[int, ...] = ()
+    centre_first: tuple[bool, ...] = ()
 
 
 def run_side(r: Run) -> Side:
@@ -98,6 +102,7 @@ def openings(
 ) -> list[Opening]:
     """The garment's openings among the free boundary of its chosen pieces."""
     neck: list[tuple[Side, float]] = []
+    centre_first: dict[tuple[str, int, int], bool] = {}
     arm: dict[Role, list[tuple[float, Side]]] = {Role.FRONT: [], Role.BACK: []}
     waist: list[tuple[Side, float]] = []
     hems = []
@@ -112,9 +117,10 @@ def openings(
             skirt = role in (Role.FRONT, Role.BACK) and not shapes_scooped(pts)
             if skirt and seg[:, 1].min() >= y0 + 0.85 * h:
                 waist.append((side, copies))
-            elif role in (Role.FRONT, Role.BACK) and seg[:, 1].max() >= y0 + 0.7 * h:
+            elif role in (Role.FRONT, Role.BACK, Role.YOKE) and seg[:, 1].max() >= y0 + 0.7 * h:
                 if np.abs(seg[:, 0]).min() < 0.5 and seg[:, 1].min() >= y0 + 0.6 * h:
                     neck.append((side, copies))
+                    centre_first[side.key] = bool(abs(seg[0, 0]) < abs(seg[-1, 0]))
                 elif bend < -0.3:
                     arm[role].append((float(seg[:, 0].mean()), side))
             elif role is Role.SLEEVE and seg[:, 1].max() <= y0 + 0.15 * h:
@@ -132,6 +138,8 @@ def openings(
                     sides=tuple(s for s, _ in group),
                     length_cm=sum(s.length_cm * c for s, c in group),
                     part=group is not neck,
+                    copies=tuple(int(c) for _, c in group),
+                    centre_first=tuple(centre_first[s.key] for s, _ in group),
                 )
             )
     fronts = [s for _, s in sorted(arm[Role.FRONT], key=lambda t: t[0])]

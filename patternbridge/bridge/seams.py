@@ -21,12 +21,13 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..library.infer import mirror_twins
+from ..library.seams import sew_line
 from ..pattern.model import Pattern
-from .edges import Run
+from .edges import Run, breaks
 from .model import Join, Orientation, Role, RoleGuess, Side
 from .rules import LEGS, TORSO, PairContext, body_side, is_centre, is_rise, pair_rule
 
-__all__ = ["Candidate", "assign", "body_side", "candidates", "merge_continuing"]
+__all__ = ["Candidate", "assign", "body_side", "candidates", "centre_vertices", "crosses", "merge_continuing"]
 
 #: seams agree within this (cm) plus ``LENGTH_TOL_SHARE`` of their length
 LENGTH_TOL_CM = 0.3
@@ -40,6 +41,10 @@ MIN_RUN_CM = 2.0
 TWIN_TOL_SHARE = 0.003
 #: a paired piece's straight centre edge (or a leg's crotch curve) sewn to its mirror copy
 CENTRE_SCORE = 0.95
+#: a seam whose sides agree in the sample size only scores this share of its score (always "uncertain") …
+SAMPLE_ONLY_SCORE = 0.5
+#: … and is proposed only when it scored at least this before (equal length, shape and notches: no size backs it)
+SAMPLE_ONLY_MIN = 0.85
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -141,17 +146,35 @@ def _score_pair(ctx: PairContext, a: Run, b: Run) -> Candidate | None:
     return Candidate(a=x, b=y, score=score, kind=kind, ease_cm=ease, why=why)
 
 
+def _uncertain(cand: Candidate) -> Candidate | None:
+    """A candidate scored on the sample size alone, kept only when near certain and then marked uncertain."""
+    if cand.score < SAMPLE_ONLY_MIN:
+        return None
+    why = f"lengths agree in the sample size only (ease {cand.ease_cm:+.2f} cm); the graded sizes disagree"
+    return replace(cand, score=cand.score * SAMPLE_ONLY_SCORE, why=why)
+
+
 def candidates(
     pattern: Pattern,
     runs: dict[str, list[Run]],
     roles: dict[str, RoleGuess],
     orientations: dict[str, Orientation],
     skip: set[str],
+    *,
+    sample_only: bool = False,
 ) -> list[Candidate]:
-    """Scored candidate seams between the runs of the pieces not in ``skip`` (:func:`.rules.pair_rule` first)."""
+    """Scored candidate seams between the runs of the pieces not in ``skip`` (:func:`.rules.pair_rule` first).
+
+    sample_only : compare lengths in the sample size only (the second pass, for
+        edges the file grades unequally): only pairs scoring ``SAMPLE_ONLY_MIN``
+        are kept, their scores scaled by ``SAMPLE_ONLY_SCORE`` so every such seam
+        stays below the picture's confidence mark.
+    """
     ctx = PairContext.of(pattern, roles, orientations, mirror_twins(pattern, tol_share=TWIN_TOL_SHARE))
     items = [r for name, rs in runs.items() if name not in skip for r in rs if r.length_cm >= MIN_RUN_CM]
-    out = _centre_candidates(ctx, items)
+    if sample_only:
+        items = [replace(r, graded_cm=np.array([r.length_cm])) for r in items]
+    out = [] if sample_only else _centre_candidates(ctx, items)
     items.sort(key=lambda r: r.length_cm)
     lengths = np.array([r.length_cm for r in items])
     widest = 1 + CAP_EASE_SHARE + LENGTH_TOL_SHARE
@@ -161,46 +184,99 @@ def candidates(
         for b in items[i + 1 : stop]:
             if pair_rule(ctx, a, b) is None:
                 cand = _score_pair(ctx, a, b)
+                if cand is not None and sample_only:
+                    cand = _uncertain(cand)
                 if cand is not None:
                     out.append(cand)
     return out
 
 
-def _continue(j1: Join, j2: Join) -> Join | None:
-    """``j1`` followed by ``j2`` as one seam, when ``j2`` continues both of ``j1``'s sides."""
-    if j1.a.end != j2.a.start or j1.a.start == j2.a.end:
+#: a vertex of a piece drawn whole this close to its centre line (upright x = 0) is on the centre line
+CENTRE_TOL_CM = 0.3
+
+
+def centre_vertices(pattern: Pattern, orientations: dict[str, Orientation]) -> set[tuple[str, int]]:
+    """(piece, vertex) of the marks on the centre line of every piece drawn whole.
+
+    A seam is one per body side: it is not merged, nor matched, across such a mark
+    (a waist seam or a neckband meets the front's two halves in two seams).
+    """
+    out = set()
+    for name, o in orientations.items():
+        if not o.whole:
+            continue
+        piece = pattern.piece(name)
+        x = o.apply(sew_line(piece)[0])[:, 0]
+        out |= {(name, int(v)) for v in breaks(piece) if abs(x[v]) < CENTRE_TOL_CM}
+    return out
+
+
+def crosses(piece: str, start: int, end: int, n: int, marks: set[tuple[str, int]]) -> bool:
+    """Whether the range ``start`` → ``end`` of an ``n``-vertex outline has one of ``marks`` strictly inside."""
+    span = (end - start) % n
+    return any(p == piece and 0 < (v - start) % n < span for p, v in marks)
+
+
+def _continued_b(j1: Join, j2: Join) -> tuple[Side, int] | None:
+    """``j1.b`` continued by ``j2.b`` (either way round) and the vertex where they meet, or None."""
+    length = j1.b.length_cm + j2.b.length_cm
+    if j2.b.end == j1.b.start and j2.b.start != j1.b.end:  # b runs against a (both pieces seen from one side)
+        return Side(piece=j1.b.piece, start=j2.b.start, end=j1.b.end, length_cm=length), j1.b.start
+    if j1.b.end == j2.b.start and j1.b.start != j2.b.end:  # b runs along a (one piece drawn mirrored)
+        return Side(piece=j1.b.piece, start=j1.b.start, end=j2.b.end, length_cm=length), j1.b.end
+    return None
+
+
+def _continue(j1: Join, j2: Join, keep: set[tuple[str, int]], folded: set[str]) -> Join | None:
+    """``j1`` followed by ``j2`` as one seam, when ``j2`` continues both of ``j1``'s sides.
+
+    Also when both sew the same range ``a`` of a half cut on the fold (``folded``:
+    its two copies are one piece) and ``b`` continues across the centre line: a
+    collar along both halves of a back neck is one seam.
+    """
+    b = _continued_b(j1, j2)
+    if b is None:
         return None
-    if j2.b.end == j1.b.start:  # b runs against a (both pieces seen from one side)
-        b = Side(piece=j1.b.piece, start=j2.b.start, end=j1.b.end, length_cm=j1.b.length_cm + j2.b.length_cm)
-    elif j1.b.end == j2.b.start:  # b runs along a (one piece drawn mirrored)
-        b = Side(piece=j1.b.piece, start=j1.b.start, end=j2.b.end, length_cm=j1.b.length_cm + j2.b.length_cm)
+    if j1.a.key == j2.a.key and j1.a.piece in folded:
+        a = j1.a
+    elif j1.a.end != j2.a.start or j1.a.start == j2.a.end or (j1.a.piece, j1.a.end) in keep:
+        return None
+    elif (j1.b.piece, b[1]) in keep:
+        return None
     else:
-        return None
+        a = Side(piece=j1.a.piece, start=j1.a.start, end=j2.a.end, length_cm=j1.a.length_cm + j2.a.length_cm)
     return Join(
         id=j1.id,
-        a=Side(piece=j1.a.piece, start=j1.a.start, end=j2.a.end, length_cm=j1.a.length_cm + j2.a.length_cm),
-        b=b,
-        kind="seam",
+        a=a,
+        b=b[0],
+        kind=j1.kind,
         confidence=min(j1.confidence, j2.confidence),
         ease_cm=round(j1.ease_cm + j2.ease_cm, 3),
         why=j1.why + "; continued past a notch",
     )
 
 
-def merge_continuing(joins: list[Join]) -> list[Join]:
-    """Join seams that continue each other on the same two pieces (a seam split at a notch)."""
+def merge_continuing(
+    joins: list[Join], keep: set[tuple[str, int]] = frozenset(), folded: set[str] = frozenset()
+) -> list[Join]:
+    """Join seams that continue each other on the same two pieces (a seam split at a notch).
+
+    Seams, centre seams and band entries merge with their own kind; folds stay as they are.
+    keep : (piece, vertex) marks no seam is merged across (:func:`centre_vertices`).
+    folded : pieces drawn as a half on the fold.
+    """
     out = list(joins)
     changed = True
     while changed:
         changed = False
         for i, j1 in enumerate(out):
             for k, j2 in enumerate(out):
-                if i == k or j1.kind != "seam" or j2.kind != "seam":
+                if i == k or j1.kind not in ("seam", "band", "centre") or j2.kind != j1.kind:
                     continue
                 merged = None
                 for second in (j2, replace(j2, a=j2.b, b=j2.a)):
                     if merged is None and (j1.a.piece, j1.b.piece) == (second.a.piece, second.b.piece):
-                        merged = _continue(j1, second)
+                        merged = _continue(j1, second, keep, folded)
                 if merged is not None:
                     out = [j for m, j in enumerate(out) if m not in (i, k)] + [merged]
                     changed = True

@@ -19,7 +19,7 @@ if __name__ == "__main__":
         png = review_png(
             pattern,
             label_inference(pattern, label, pairs),
-            px_per_cm=3.0,
+            px_per_cm=4.0,
             title=f"label: {label['file']} ({len(pairs)} seams and folds)",
         )
         path.with_suffix(".png").write_bytes(png)
