@@ -40,6 +40,7 @@ row by row (``v`` rows of ``u`` columns), ``x`` then ``y`` for each point.
 from __future__ import annotations
 
 import itertools
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -576,16 +577,18 @@ class PatternGrid:
             parts.append(ratio.reshape(len(X), -1))
         return np.concatenate(parts, axis=1)
 
-    def corner_ratios(self, X: np.ndarray, *, relative: bool = True) -> np.ndarray:
+    def corner_ratios(self, X: np.ndarray, *, relative: bool = True,
+                      pieces: Sequence[int] | None = None) -> np.ndarray:
         """Every cell corner cross product relative to the original, ``(n_pop, n_corners)``.
 
         With ``relative`` each piece's ratios are divided by their median, so
         a piece that grows or shrinks as a whole keeps ratios near 1 and only
-        cells squeezed against the rest of the piece fall below.
+        cells squeezed against the rest of the piece fall below. ``pieces``
+        restricts the result to those piece indices (in that order).
         """
         X = np.atleast_2d(np.asarray(X, dtype=np.float64))
-        parts = []
-        for k in range(len(self.pieces)):
+        parts = [np.zeros((len(X), 0))]
+        for k in range(len(self.pieces)) if pieces is None else pieces:
             c = self.control(X, k)
             c0 = self.control(self.x0[None, :], k)
             r = _corner_cross(c) / _corner_cross(c0)
@@ -595,14 +598,14 @@ class PatternGrid:
             parts.append(r)
         return np.concatenate(parts, axis=1)
 
-    def bending(self, X: np.ndarray) -> np.ndarray:
+    def bending(self, X: np.ndarray, *, pieces: Sequence[int] | None = None) -> np.ndarray:
         """Change of the displacement gradient between neighbouring cells, cm.
 
         For every row and column of every grid, the difference of the
         displacement slopes of consecutive intervals times their mean length;
         zero for any affine deformation of a piece. Used by the repair step to
         keep control points that few outline points see in line with their
-        neighbours.
+        neighbours. ``pieces`` restricts it to those piece indices.
 
         Returns
         -------
@@ -610,7 +613,8 @@ class PatternGrid:
         """
         X = np.atleast_2d(np.asarray(X, dtype=np.float64))
         parts = []
-        for k, g in enumerate(self.pieces):
+        for k in range(len(self.pieces)) if pieces is None else pieces:
+            g = self.pieces[k]
             c = self.control(X, k)
             c0 = self.control(self.x0[None, :], k)
             d = c - c0

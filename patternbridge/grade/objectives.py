@@ -63,6 +63,7 @@ __all__ = [
     "evaluate",
     "level_slip",
     "link_error",
+    "link_lengths",
     "link_shares",
     "measurement_error",
     "objective_data",
@@ -486,12 +487,23 @@ def measurement_error(data: ObjectiveData, points: np.ndarray) -> tuple[np.ndarr
         ``factor · |level_slip|`` of their legs taken across the grain
     """
     edges = _edge_lengths(data, points)
-    achieved = edges @ data.link_edges
+    achieved = link_lengths(data, points, edges)
     slip = 0.0
     if len(data.chord_a):
-        achieved = achieved + chord_lengths(data, points) @ data.link_chords
         slip = np.abs(level_slip(data, points)) @ np.abs(data.link_chords)
     return achieved, np.mean(np.abs(link_error(data, achieved)) + slip, axis=1)
+
+
+def link_lengths(data: ObjectiveData, points: np.ndarray, edges: np.ndarray) -> np.ndarray:
+    """Achieved distance of every measurement link, ``(n_pop, L)`` cm.
+
+    ``edges`` are the outline edge lengths ``(n_pop, N)`` of ``points``
+    (computed once by the caller when it needs them for other terms too).
+    """
+    achieved = edges @ data.link_edges
+    if len(data.chord_a):
+        achieved = achieved + chord_lengths(data, points) @ data.link_chords
+    return achieved
 
 
 def across_legs(data: ObjectiveData) -> np.ndarray:
@@ -540,7 +552,8 @@ def dart_lengths(data: ObjectiveData, points: np.ndarray) -> np.ndarray:
     return 0.5 * (la + lb)
 
 
-def link_shares(data: ObjectiveData, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def link_shares(data: ObjectiveData, points: np.ndarray,
+                edges: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Each piece's share of every measurement link.
 
     A girth measured over a front and a back, or an arm length over a sleeve
@@ -551,6 +564,8 @@ def link_shares(data: ObjectiveData, points: np.ndarray) -> tuple[np.ndarray, np
     Parameters
     ----------
     points : (n_pop, N, 2) float64, cm
+    edges : (n_pop, N) outline edge lengths of ``points`` when the caller
+        has them, else computed
 
     Returns
     -------
@@ -560,7 +575,7 @@ def link_shares(data: ObjectiveData, points: np.ndarray) -> tuple[np.ndarray, np
     """
     n_pop = points.shape[0]
     P, L = len(data.centre0), len(data.target_cm)
-    edges = _edge_lengths(data, points)
+    edges = _edge_lengths(data, points) if edges is None else edges
     part = np.zeros((n_pop, P, L))
     on_piece = np.zeros((P, L), dtype=bool)
     for p in range(P):

@@ -34,7 +34,7 @@ equality constraints on the genes).
 from __future__ import annotations
 
 import logging
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -43,17 +43,14 @@ from .grid import PatternGrid, map_weights
 from .objectives import (
     FOLD_MARGIN,
     ObjectiveData,
-    _edge_lengths,
-    _seam_terms,
     across_legs,
     angle_change,
     dart_lengths,
-    level_slip,
     link_error,
     link_shares,
     measurement_error,
-    residuals,
 )
+from .step_terms import StepTerms
 
 __all__ = [
     "RefineResult",
@@ -231,7 +228,8 @@ def grain_tilt(grid: PatternGrid, X: np.ndarray) -> np.ndarray:
     return np.stack(out, axis=1) if out else np.zeros((len(X), 0))
 
 
-def design_deviation(grid: PatternGrid, X: np.ndarray, x_ref: np.ndarray, *, slack: float = 0.0) -> np.ndarray:
+def design_deviation(grid: PatternGrid, X: np.ndarray, x_ref: np.ndarray, *, slack: float = 0.0,
+                     pieces: Sequence[int] | None = None) -> np.ndarray:
     """Log-ratio of every grid interval's length to the same interval of ``x_ref``.
 
     For every piece, the distance between each pair of neighbouring control
@@ -249,6 +247,8 @@ def design_deviation(grid: PatternGrid, X: np.ndarray, x_ref: np.ndarray, *, sla
     Parameters
     ----------
     X : (n_pop, n_var) genes ; x_ref : (n_var,) reference genes
+    pieces : piece indices to compute the terms of (in that order; the
+        normalisation stays the whole pattern's), None for all
 
     Returns
     -------
@@ -258,7 +258,8 @@ def design_deviation(grid: PatternGrid, X: np.ndarray, x_ref: np.ndarray, *, sla
     ref = np.asarray(x_ref, dtype=np.float64)[None, :]
     parts = []
     n_pieces = max(len(grid.pieces), 1)
-    for k, g in enumerate(grid.pieces):
+    for k in range(len(grid.pieces)) if pieces is None else pieces:
+        g = grid.pieces[k]
         c, c_ref = grid.control(X, k), grid.control(ref, k)
         eps2 = (1e-3 * g.extent_cm) ** 2
         lengths = []
@@ -444,47 +445,21 @@ def refine(
     wc0 = w_shape * np.sqrt(1.0 / (n_pieces * np.maximum(per_piece[crit_piece], 1.0)))
     wa0 = w_all * np.sqrt(1.0 / max(len(data.points0), 1))
     wm0 = np.sqrt(w_fit / max(len(data.target_cm), 1))
-    level = across_legs(data)
-    ext = float(np.mean(data.extent_cm))
     x_ref = np.asarray(x if x_design is None else x_design, dtype=np.float64)
-    dart_ref = dart_lengths(data, grid.outlines(x_ref[None, :]))[0] if keep_darts else None
+    share_ref = shared = None
     if x_design is not None:
         share_ref, shared = link_shares(data, grid.outlines(np.asarray(x_design, dtype=np.float64)[None, :]))
         share_ref = share_ref[:, :, shared]
-        w_sh = w_share / np.sqrt(max(int(shared.sum()), 1))
-
-    def parts(X, wc, wa, wm):
-        pts = grid.outlines(X)
-        d = angle_change(data, pts)
-        # the seam terms are computed once: their lengths and notch offsets are
-        # constraints, their stitch intervals and turning angles shape terms
-        s = residuals(data, pts, w_measure=0.0, w_seam=0.0, w_notch=0.0, w_interval=0.0,
-                      w_turn=0.0, w_critical=0.0, w_angle=0.0, w_rotation=w_rotation, w_shift=w_shift,
-                      w_proportion=w_proportion, w_direction=w_direction)
-        squeeze = np.maximum(0.0, min_cell_ratio - grid.corner_ratios(X))
-        terms = [wc * d[:, data.critical], wa * d, s, (w_bend / ext) * grid.bending(X), w_cell * squeeze]
-        if A_sym is not None:
-            terms.append(w_symmetry * (X @ A_sym.T))
-        c = [X @ A_st.T]  # straight edges: linear, cm
-        if level.any():  # girths across the grain stay at their levels
-            c.append(level_slip(data, pts)[:, level])
-        if dart_ref is not None and len(dart_ref):
-            c.append(dart_lengths(data, pts) - dart_ref)
-        if data.n_seams:
-            mismatch, edge_dev, ang_dev, notch, _ = _seam_terms(data, pts, _edge_lengths(data, pts))
-            terms += [w_interval * edge_dev, w_turn * ang_dev]
-            c = [mismatch, notch, *c]
-        if x_design is not None and w_design > 0:
-            terms.append(w_design * design_deviation(grid, X, x_design, slack=design_slack))
-        if x_design is not None and w_share > 0:
-            sh = link_shares(data, pts)[0][:, :, shared]
-            terms.append(w_sh * (sh - share_ref).reshape(len(X), -1))
-        achieved, _ = measurement_error(data, pts)
-        if w_fit > 0:
-            terms.append(wm * link_error(data, achieved))
-        s = np.concatenate(terms, axis=1)
-        c = np.concatenate(c, axis=1)
-        return s, c, achieved
+    terms = StepTerms.build(
+        grid, data, straight=A_st, symmetric=A_sym,
+        x_design=None if x_design is None else np.asarray(x_design, dtype=np.float64),
+        level=across_legs(data),
+        dart_ref=dart_lengths(data, grid.outlines(x_ref[None, :]))[0] if keep_darts else None,
+        share_ref=share_ref, shared=shared, w_rotation=w_rotation, w_shift=w_shift, w_bend=w_bend,
+        w_cell=w_cell, min_cell_ratio=min_cell_ratio, w_design=w_design, design_slack=design_slack,
+        w_share=w_share, w_fit=w_fit, w_interval=w_interval, w_turn=w_turn, w_symmetry=w_symmetry,
+        w_proportion=w_proportion, w_direction=w_direction)
+    parts = terms.evaluate
 
     def irls_weights(x):
         # iteratively reweighted least squares: w = 1/sqrt(|d| + eps) makes
@@ -528,11 +503,7 @@ def refine(
         if irls_eps > 0 and it > 1:
             wc, wa, wm = irls_weights(x)
             s = parts(x[None, :], wc, wa, wm)[0][0]
-        Xp = x[None, :] + np.diag(h)
-        sp, cp, mp = parts(Xp, wc, wa, wm)
-        Js = ((sp - s[None, :]) / h[:, None]).T
-        Jc = ((cp - c[None, :]) / h[:, None]).T
-        Jm = ((mp - m[None, :]) / h[:, None]).T
+        Js, Jc, Jm = terms.jacobian(x, s, c, m, h, wc, wa, wm)
         H = Js.T @ Js
         gvec = Js.T @ s
         A_eq = Jc

@@ -13,20 +13,17 @@ from patternbridge.grade.report import fit_report
 from patternbridge.grade.run import axis_scaling, fit_pattern
 from patternbridge.grade.symmetry import mirror_symmetries, symmetry_error
 
-SHIRT_BODY = {
-    "chest_girth": 101.3, "waist_girth": 81.1, "neck_girth": 39.0, "shoulder_width": 46.0,
-    "back_width": 41.0, "shoulder_length_right": 15.0, "front_length": 38.0,
-    "arm_length_right": 62.9, "upper_arm_girth_right": 31.0, "wrist_girth_right": 17.5,
-    "hip_girth": 98.2, "waist_to_hip": 18.2, "side_length": 22.0,
-}
 
-
-@pytest.fixture(scope="module")
-def shirt():
+@pytest.fixture(scope="module", params=["E_average_male", "variants/I_tall_apple_woman"])
+def shirt(request, characters_dir):
+    """The library shirt on a shared character (measured), proportionally scaled."""
     from patternbridge.library import load_garment
+    from patternbridge.measure.run import measure
+    from patternbridge.mesh.load import load_character
 
+    character, _ = load_character(characters_dir / f"{request.param}.obj")
     grid = build_grid(load_garment("shirt"), max_lines=6, max_cell_frac=0.2)
-    data = objective_data(grid, SHIRT_BODY)
+    data = objective_data(grid, measure(character, partial=True).values_cm())
     x = axis_scaling(grid, data)
     names = tuple(g.name for g in grid.pieces)
     return grid, data, x, names
@@ -36,12 +33,14 @@ def _codes(findings, where):
     return {f.code for f in findings if f.where == where}
 
 
+@pytest.mark.shared
 def test_proportional_scaling_passes_every_check(shirt):
     grid, data, x, names = shirt
     pts = grid.outlines(x[None])[0]
     assert design_checks(data, pts, pts, piece_names=names) == ()
 
 
+@pytest.mark.shared
 def test_a_collapsed_yoke_is_caught(shirt):
     grid, data, x, names = shirt
     k = names.index("yoke")
@@ -58,6 +57,7 @@ def test_a_collapsed_yoke_is_caught(shirt):
     assert all(f.where == "yoke" for f in found)
 
 
+@pytest.mark.shared
 def test_a_flat_neckline_is_caught(shirt):
     grid, data, x, names = shirt
     ref = grid.outlines(x[None])[0]
@@ -74,6 +74,7 @@ def test_a_flat_neckline_is_caught(shirt):
     assert "curve-flattened" in _codes(found, "yoke")
 
 
+@pytest.mark.shared
 def test_a_lost_symmetry_is_caught(shirt):
     grid, data, x, names = shirt
     sym = mirror_symmetries(grid)
