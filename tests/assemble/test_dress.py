@@ -291,9 +291,9 @@ def sewn_shirt(character_e):
     from patternbridge.assemble.pipeline import prepare, seam_gap_table, simulate
     from patternbridge.library import load_garment
 
-    sim = prepare(character_e, load_garment("shirt"), max_edge_cm=3.5)
+    sim = prepare(character_e, load_garment("shirt"), max_edge_cm=3.5, steps=120)
     placed = {r["seam"]: r["max_mm"] for r in seam_gap_table(sim)}
-    simulate(sim, steps=120)
+    simulate(sim)
     return sim, placed, {r["seam"]: r["max_mm"] for r in seam_gap_table(sim)}
 
 
