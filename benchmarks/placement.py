@@ -4,7 +4,10 @@ Plain script (no asv). For every character and library garment it runs
 ``patternbridge.assemble.pipeline.prepare`` (pose, segment, mesh, place) and
 prints one line: the CPU seconds of ``prepare``, the dressing strategy, the
 largest and the 95th-percentile gap between sewn vertex pairs as placed (mm),
-the worst seam, and the share of seams placed within 10 mm and 50 mm. The
+the share of seams placed within 10 mm and 50 mm, the 99th percentile of the
+placed edges' stretch (3D length / pattern length; the simulation must undo
+it; edges as the drape report measures them), the vertices left inside the body,
+and the worst seam. The
 garment is the library's sample size, or the graded pattern found in
 ``--graded-cache`` (as ``benchmarks/assemble.py`` writes it). A last line sums
 the table.
@@ -37,6 +40,7 @@ def main(argv: list[str] | None = None) -> int:
 
     import numpy as np
 
+    from patternbridge.assemble.defects import edge_stretch
     from patternbridge.assemble.drape import seam_gaps
     from patternbridge.assemble.pipeline import prepare, seam_gap_table, with_anchor_landmarks
     from patternbridge.errors import PatternBridgeError
@@ -50,7 +54,7 @@ def main(argv: list[str] | None = None) -> int:
     print(
         f"{'case':44s} {'cpu s':>6s} {'strategy':10s} {'max mm':>7s} {'p95 mm':>7s} {'<10mm':>6s} {'<50mm':>6s}  worst"
     )
-    maxima, within10, within50, n_seams = [], 0, 0, 0
+    maxima, stretches, within10, within50, n_seams = [], [], 0, 0, 0
     for cname in names:
         path = _character_path(cname)
         cname = path.stem
@@ -72,11 +76,16 @@ def main(argv: list[str] | None = None) -> int:
             table = seam_gap_table(sim)
             worst = max(table, key=lambda r: r["max_mm"]) if table else {"seam": "-", "max_mm": 0.0}
             per_seam = np.array([r["max_mm"] for r in table])
+            c = sim.cloth
+            stretch, _ = edge_stretch(c.x, c.edges, c.rest)
+            inside = int(np.count_nonzero(sim.collider.inside(c.x)))
+            stretches.append(float(np.percentile(stretch, 99)))
             strategy = getattr(getattr(sim, "strategy", None), "value", "-")
             print(
                 f"{case:44s} {secs:6.1f} {strategy:10s} {g.max(initial=0):7.1f} "
                 f"{np.percentile(g, 95) if len(g) else 0:7.1f} {np.mean(per_seam <= 10):6.0%} "
-                f"{np.mean(per_seam <= 50):6.0%}  {worst['seam']} {worst['max_mm']:.0f}",
+                f"{np.mean(per_seam <= 50):6.0%} {stretches[-1]:5.2f} {inside:4d}  "
+                f"{worst['seam']} {worst['max_mm']:.0f}",
                 flush=True,
             )
             maxima.append(float(g.max(initial=0)))
@@ -87,7 +96,8 @@ def main(argv: list[str] | None = None) -> int:
         print(
             f"# {len(maxima)} cases: median of the largest gaps {np.median(maxima):.0f} mm, "
             f"largest {max(maxima):.0f} mm; "
-            f"seams placed within 10 mm {within10}/{n_seams}, within 50 mm {within50}/{n_seams}"
+            f"seams placed within 10 mm {within10}/{n_seams}, within 50 mm {within50}/{n_seams}; "
+            f"median p99 stretch {np.median(stretches):.2f}, largest {max(stretches):.2f}"
         )
     return 0
 

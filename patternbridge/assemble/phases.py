@@ -8,8 +8,7 @@ A drape is a list of phases, each a frozen dataclass:
 - :class:`PoseKeyframe` carries the cloth with the skin from one share of the
   dressing pose to the next and drapes it there under reduced gravity,
   sewing the seams left open from ``sew_from`` to ``sew_to`` of the way.
-- :class:`Settle` drapes under gravity (ramped up over ``ramp_steps``),
-  holding what the strategy holds.
+- :class:`Settle` drapes under gravity, holding what the strategy holds.
 
 :func:`plan_phases` turns a :class:`~patternbridge.assemble.strategy.Strategy`
 into that list once; :func:`run_phases` runs it, calling
@@ -56,7 +55,6 @@ POSE_STEPS = 12  # cloth steps per keyframe
 POSE_GRAVITY = 0.3  # share of gravity while the arms come down
 POSE_SEW_STAGES = 3  # keyframes over which the seams left open in the dressing pose (cuffs) close
 SEW_ARM_INERTIA = 30.0  # the arm pieces' mass multiple while a top is sewn (see pipeline.sewing_inertia)
-RAMP_CHUNKS = 4  # gravity rises in this many equal stages over a Settle's ramp
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -94,14 +92,13 @@ class PoseKeyframe:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Settle:
-    """Drape ``steps`` steps under ``gravity_scale`` × gravity, ramped up over the first ``ramp_steps``.
+    """Drape ``steps`` steps under ``gravity_scale`` × gravity (ramped up when it follows a :class:`Sew`).
 
-    hold : keep what the strategy holds after sewing (bands, limb pieces)
+    hold : keep what the strategy holds after sewing (bands, limb pieces) where the sewing left it
     """
 
     steps: int
     gravity_scale: float = 1.0
-    ramp_steps: int = 20
     hold: bool = False
 
 
@@ -151,7 +148,7 @@ def plan_phases(strategy: Strategy, *, posed: bool, steps: int = 160) -> tuple[P
         )
         tail: tuple[Phase, ...] = ()
         if strategy.hold_after_sewing:
-            tail = (Settle(steps=POSE_STEPS, gravity_scale=1.0, ramp_steps=0, hold=True),)
+            tail = (Settle(steps=POSE_STEPS, gravity_scale=1.0, hold=True),)
         return (sew, *keys, *tail)
     return (
         Sew(steps=sew_steps, pin=strategy.pin_far_from_open_seams),
@@ -162,32 +159,25 @@ def plan_phases(strategy: Strategy, *, posed: bool, steps: int = 160) -> tuple[P
 def run_phases(
     sim: Simulation, phases: tuple[Phase, ...], progress: Callable[[str, int, int], None] | None = None
 ) -> None:
-    """Run ``phases`` on ``sim`` in order (the cloth moves in place; ``sim.solver`` and ``sim.collider`` follow)."""
-    from .drape import drape
+    """Run ``phases`` on ``sim`` in order (the cloth moves in place; ``sim.solver`` and the colliders follow).
 
-    pins = None
+    A :class:`Sew` followed by a :class:`Settle` runs as one
+    :func:`~patternbridge.assemble.drape.drape` call: its schedule ramps
+    gravity up over the 20 steps after sewing and pins what is held where
+    the sewing ended.
+    """
     n_keys = sum(isinstance(p, PoseKeyframe) for p in phases)
     done_keys = 0
-    for phase in phases:
+    k = 0
+    while k < len(phases):
+        phase = phases[k]
         if isinstance(phase, Sew):
-            from .pipeline import anchor_weights, hold_weights, limb_end_seams, sewing_inertia
-
-            pins = anchor_weights(sim) if phase.pin else np.zeros(len(sim.cloth.x))
-            sim.solver = drape(
-                sim.cloth,
-                sim.cloth_collider,
-                steps=phase.steps,
-                sew_steps=phase.steps,
-                settings=sim.settings,
-                progress=progress,
-                stage="sew",
-                solver=sim.solver,
-                anchors=(pins, sim.x_placed),
-                hold=hold_weights(sim, pins) if sim.strategy.hold_after_sewing else None,
-                loose=limb_end_seams(sim.pattern, sim.pmesh)[sim.seam_ids] if phase.open_arm_seams else None,
-                inertia=sewing_inertia(sim, phase.arm_inertia) if phase.arm_inertia != 1.0 else None,
-            )
-        elif isinstance(phase, PoseKeyframe):
+            after = phases[k + 1] if k + 1 < len(phases) else None
+            settle = after if isinstance(after, Settle) else None
+            _sew(sim, phase, settle, progress)
+            k += 2 if settle is not None else 1
+            continue
+        if isinstance(phase, PoseKeyframe):
             if done_keys == 0:
                 sim.solver.restart_seams()  # the seams left open close while the arms come down
             _keyframe(sim, phase)
@@ -195,7 +185,32 @@ def run_phases(
             if progress:
                 progress("pose", done_keys, n_keys)
         else:
-            _settle(sim, phase, pins, progress)
+            _settle(sim, phase, progress)
+        k += 1
+
+
+def _sew(sim: Simulation, phase: Sew, settle: Settle | None, progress: Callable[[str, int, int], None] | None) -> None:
+    """Sew (and settle, when ``settle`` follows) in one drape call."""
+    from .drape import drape
+    from .pipeline import anchor_weights, hold_weights, limb_end_seams, sewing_inertia
+
+    pins = anchor_weights(sim) if phase.pin else np.zeros(len(sim.cloth.x))
+    hold = hold_weights(sim, pins) if settle is not None and settle.hold else None
+    sim.solver = drape(
+        sim.cloth,
+        sim.cloth_collider,
+        steps=phase.steps + (settle.steps if settle is not None else 0),
+        sew_steps=phase.steps,
+        settings=sim.settings,
+        gravity_scale=settle.gravity_scale if settle is not None else 1.0,
+        progress=progress,
+        stage="drape",
+        solver=sim.solver,
+        anchors=(pins, sim.x_placed),
+        hold=hold,
+        loose=limb_end_seams(sim.pattern, sim.pmesh)[sim.seam_ids] if phase.open_arm_seams else None,
+        inertia=sewing_inertia(sim, phase.arm_inertia) if phase.arm_inertia != 1.0 else None,
+    )
 
 
 def _keyframe(sim: Simulation, phase: PoseKeyframe) -> None:
@@ -239,29 +254,20 @@ def _keyframe(sim: Simulation, phase: PoseKeyframe) -> None:
     )
 
 
-def _settle(
-    sim: Simulation, phase: Settle, pins: np.ndarray | None, progress: Callable[[str, int, int], None] | None
-) -> None:
-    """Drape under gravity, ramped up in :data:`RAMP_CHUNKS` stages, holding what the strategy holds."""
+def _settle(sim: Simulation, phase: Settle, progress: Callable[[str, int, int], None] | None) -> None:
+    """Drape under gravity, holding what the strategy holds where the cloth is now."""
     from .drape import drape
     from .pipeline import hold_weights
 
-    hold = hold_weights(sim, pins if pins is not None else np.zeros(len(sim.cloth.x))) if phase.hold else None
-    ramp = min(phase.ramp_steps, phase.steps)
-    chunks = [(max(1, ramp // RAMP_CHUNKS), (k + 1) / RAMP_CHUNKS) for k in range(RAMP_CHUNKS)] if ramp else []
-    chunks.append((phase.steps - sum(n for n, _ in chunks), 1.0))
-    for n, share in chunks:
-        if n <= 0:
-            continue
-        sim.solver = drape(
-            sim.cloth,
-            sim.cloth_collider,
-            steps=n,
-            sew_steps=0,
-            settings=sim.settings,
-            gravity_scale=phase.gravity_scale * share,
-            progress=progress,
-            stage="settle",
-            solver=sim.solver,
-            hold=hold,
-        )
+    sim.solver = drape(
+        sim.cloth,
+        sim.cloth_collider,
+        steps=phase.steps,
+        sew_steps=0,
+        settings=sim.settings,
+        gravity_scale=phase.gravity_scale,
+        progress=progress,
+        stage="settle",
+        solver=sim.solver,
+        hold=hold_weights(sim, np.zeros(len(sim.cloth.x))) if phase.hold else None,
+    )

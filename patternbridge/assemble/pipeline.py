@@ -1,7 +1,7 @@
 """The dressing pipeline: pose, place, sew, drape, return to the rest pose, weld, report, write.
 
 :func:`prepare` builds the simulation (body in the dressing pose, colliders,
-meshed pattern wrapped on the bounding cylinders), :func:`simulate` sews and
+meshed pattern placed from its seam graph), :func:`simulate` sews and
 drapes it and brings it back to the rest pose, :func:`finish` welds the seams,
 clears the skin and measures; :func:`assemble` chains the three and
 :func:`dress` also writes the files.
@@ -114,7 +114,7 @@ def prepare(
     from .drape import DrapeSettings, build_cloth
     from .mesh2d import mesh_pattern
     from .phases import plan_phases
-    from .placement import bounding_cylinders, place_instances
+    from .place import place_garment
 
     t0 = time.perf_counter()
     check_pattern(pattern)
@@ -136,7 +136,6 @@ def prepare(
     if progress:
         progress("mesh", 0, 1)
     pmesh = mesh_pattern(pattern, max_edge_cm=max_edge_cm)
-    cylinders = bounding_cylinders(body, parts)  # (place_instances widens them to carry the pieces)
     collider = BodyCollider(body, character.faces)
     proxies: tuple = ()
     hands: list = []
@@ -147,7 +146,7 @@ def prepare(
         hands = hand_masks(character, body, parts)
     helpers = proxies + hand_mitts(body, hands)
     cloth_collider = BodyCollider(body, character.faces, proxies=helpers) if helpers else collider
-    placed = place_instances(character, body, pattern, pmesh, cylinders, findings, scene=collider, parts=parts)
+    placed = place_garment(character, body, pattern, pmesh, parts, findings, scene=collider)
     keys = [inst.key for inst in pmesh.instances]
     index = {k: i for i, k in enumerate(keys)}
     positions = [placed[k] + rng.normal(scale=1e-3, size=placed[k].shape) for k in keys]
@@ -241,7 +240,7 @@ def sewing_inertia(sim: Simulation, arms: float) -> np.ndarray:
     down. Nothing falls while sewing (no gravity), so the mass only decides
     which side of a seam moves: with heavy sleeves the bodice comes to them.
     """
-    from .placement import instance_part
+    from .place import instance_part
 
     on_arm = [i for i, inst in enumerate(sim.pmesh.instances) if instance_part(sim.pattern, inst) in ARMS]
     return np.where(np.isin(sim.cloth.group, on_arm), float(arms), 1.0)
@@ -262,7 +261,7 @@ def limb_end_seams(pattern: Pattern, pmesh) -> np.ndarray:
     sleeve tore open above the cuff (E, in the T-pose). These seams are left
     open in the dressing pose and close while the arms come down.
     """
-    from .placement import instance_part
+    from .place import instance_part
 
     out = np.zeros(len(pmesh.seams), dtype=bool)
     for i, sp in enumerate(pmesh.seams):
@@ -348,7 +347,7 @@ def hold_weights(sim: Simulation, pins: np.ndarray) -> np.ndarray | None:
     stress left by closing the crotch turns the leg tubes round the legs
     and reopens the side seams across the shin.
     """
-    from .placement import instance_part
+    from .place import instance_part
 
     w = np.zeros(len(sim.cloth.x))
     for i, inst in enumerate(sim.pmesh.instances):

@@ -1,4 +1,4 @@
-"""Bounding cylinders per body part, and the pieces wrapped onto them.
+"""Wrap the pieces on body-part proxies: a bounding cylinder per part, and a ring round the hips above the crotch.
 
 Each body part gets a cylinder: the torso and the head stand on the vertical
 axis, the limbs on the principal axis of their vertices (PCA), pointing
@@ -13,7 +13,9 @@ legs, toward the shoulder for a sleeve), then it is wrapped. Points that
 would still fall inside the body are moved out along their radius. Pieces
 going round a limb and sewn to themselves (sleeves) are wrapped as tubes, one
 turn per pattern row; the fronts and backs of a trouser leg share one radius
-per height; a cuff is laid on the sleeve hem it is sewn to.
+per height, and their rows above the crotch go round the hips. The seams
+this leaves open (over the shoulders, to a cuff, a collar or a yoke) are
+closed by :mod:`.seam_graph`.
 
 Frame of a cylinder: ``axis`` (proximal direction), ``e0`` (angle 0, the
 front), ``e1 = axis x e0`` (angle +π/2, the right as seen from outside).
@@ -27,12 +29,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
-from ..pattern.model import BodyPart, Copy, Pattern, Side
-from ..report import Report
-from .bodyparts import HAND_SHARE, PARTS, BodyParts, crotch_height, limb_axis
-from .mesh2d import Instance, PatternMesh
-from .strategy import mirror_part
+from ...errors import InputError
+from ...pattern.model import BodyPart, Copy, Pattern, Side
+from ...report import Report
+from ..bodyparts import HAND_SHARE, PARTS, BodyParts, crotch_height, limb_axis
+from ..mesh2d import Instance, PatternMesh
+from ..strategy import mirror_part
 
 __all__ = ["Cylinder", "bounding_cylinders", "landmark_position", "mirror_name", "place_instances"]
 
@@ -299,60 +301,10 @@ def place_instances(
             seat.append((inst, p2, x_ref, part, float(a2[1]), p2[: pmesh.pieces[inst.piece].n_boundary]))
     if seat:
         _seat_on_hips(character, vertices, parts, cylinders[BodyPart.TORSO], seat, out, scene)
-    _bridge_seams(pattern, pmesh, out, scene)
-    _collar_on_neckline(pattern, pmesh, cylinders, out, scene)
-    _follow_seams(pattern, pmesh, cylinders, out, scene)
     return out
 
 
 SIDE_SEAM_CM = 10.0  # a seam to a front running farther than this down a piece is a side seam, not a shoulder
-BRIDGE_GAP_CM = 3.0  # median placed gap of a seam above which a small torso piece is laid across to its partners
-
-
-def _bridge_seams(pattern: Pattern, pmesh: PatternMesh, out: dict[str, np.ndarray], scene) -> None:
-    """Lay a small torso piece across the seams it shares with larger torso pieces (in place).
-
-    A shirt yoke hangs from the back neck point on the torso cylinder and
-    stands up behind the neck, while the fronts' shoulder edges it is sewn to
-    lie in front: a cylinder has no top, and the shoulder seams started
-    30-35 cm apart. When a piece on the front or back of the torso is sewn to
-    larger torso pieces of both the front and the back, and one of those
-    seams starts more than :data:`BRIDGE_GAP_CM` open,
-    its vertices sewn to larger torso pieces take their partners' positions
-    and the rest of the piece follows as a harmonic (graph-Laplacian) fill
-    between them, moved out of the body: the yoke lies over the shoulders
-    from the back's yoke seam to the fronts' shoulder edges.
-    """
-    size = {k: len(pmesh.pieces[k].points) for k in pmesh.pieces}
-    for inst in pmesh.instances:
-        if not _over_shoulders(pattern, pmesh, inst):  # only a yoke; a front sewn to a larger back stays
-            continue
-        n = size[inst.piece]
-        target = np.full((n, 3), np.nan)
-        far = False
-        neck = []  # edges sewn to larger pieces off the torso (collar, sleeve caps) go onto theirs
-        for me, va, other, vb in _seam_sides(pmesh):
-            if me.key != inst.key or other.key == inst.key:
-                continue
-            if instance_part(pattern, other) is not BodyPart.TORSO and size[other.piece] > n:
-                neck.append((va, out[other.key][vb]))
-                continue
-            if instance_part(pattern, other) is not BodyPart.TORSO or size[other.piece] <= n:
-                continue
-            theirs = out[other.key][vb]
-            target[va] = theirs
-            far |= float(np.median(np.linalg.norm(out[inst.key][va] - theirs, axis=1))) > BRIDGE_GAP_CM
-        for va, theirs in neck:  # corners shared with a shoulder seam stay on the front's
-            keep = ~np.isfinite(target[va, 0])
-            target[va[keep]] = theirs[keep]
-        fixed = np.isfinite(target[:, 0])
-        if not far or fixed.sum() < 3 or fixed.all():
-            continue
-        x = _harmonic_fill(pmesh.pieces[inst.piece].faces, fixed, target[fixed])
-        if scene is not None:
-            x, _ = scene.push_out(x, CLEARANCE_CM, robust=True)
-        log.debug("%s laid across its seams to larger pieces", inst.key)
-        out[inst.key] = x
 
 
 def _over_shoulders(pattern: Pattern, pmesh: PatternMesh, inst: Instance) -> bool:
@@ -379,54 +331,6 @@ def _over_shoulders(pattern: Pattern, pmesh: PatternMesh, inst: Instance) -> boo
         if size[other.piece] > size[inst.piece]:
             sides.add(side)
     return sides == {Side.FRONT, Side.BACK}
-
-
-def _collar_on_neckline(
-    pattern: Pattern, pmesh: PatternMesh, cylinders: dict[str, Cylinder], out: dict[str, np.ndarray], scene
-) -> None:
-    """Stand a neck piece (a collar) on the torso neckline it is sewn to (in place).
-
-    Wrapped on the head's bounding cylinder, a collar covers only part of
-    its round (the cylinder's radius is the head's): its ends started at the
-    sides of the head, 23 cm apart and 25 cm from the fronts' neck edges they
-    are sewn to, and sewing dragged them round the neck, in front of it or
-    behind it depending on small differences of the grading (one end stood up
-    behind D_cartoon_child's neck, a 10 cm gap). When a seam to a torso piece
-    starts more than :data:`BRIDGE_GAP_CM` open, the collar is rebuilt column
-    by column: its vertices sewn to torso pieces take their partners'
-    positions, every other vertex stands above the neckline point at its
-    pattern x (interpolated between the sewn vertices, the ends beyond them
-    take the end's) by its pattern height above the neck edge, along the
-    cylinder's axis. The closure edges then start side by side in front.
-    """
-    for inst in pmesh.instances:
-        part = instance_part(pattern, inst)
-        if part is not BodyPart.HEAD or part not in cylinders:
-            continue
-        n = len(pmesh.pieces[inst.piece].points)
-        target = np.full((n, 3), np.nan)
-        far = False
-        for me, va, other, vb in _seam_sides(pmesh):
-            if me.key != inst.key or instance_part(pattern, other) is not BodyPart.TORSO:
-                continue
-            theirs = out[other.key][vb]
-            target[va] = theirs
-            far |= float(np.median(np.linalg.norm(out[inst.key][va] - theirs, axis=1))) > BRIDGE_GAP_CM
-        fixed = np.flatnonzero(np.isfinite(target[:, 0]))
-        if not far or len(fixed) < 3 or len(fixed) == n:
-            continue
-        p2 = instance_points2d(pmesh, inst)
-        order = fixed[np.argsort(p2[fixed, 0], kind="stable")]
-        xs = p2[order, 0]
-        xq = np.clip(p2[:, 0], xs[0], xs[-1])
-        base = np.stack([np.interp(xq, xs, target[order, k]) for k in range(3)], axis=1)
-        height = p2[:, 1] - np.interp(xq, xs, p2[order, 1])
-        x = base + height[:, None] * cylinders[part].axis
-        x[fixed] = target[fixed]
-        if scene is not None:
-            x, _ = scene.push_out(x, CLEARANCE_CM, robust=True)
-        log.debug("%s stood on the neckline it is sewn to", inst.key)
-        out[inst.key] = x
 
 
 def _seam_sides(pmesh: PatternMesh) -> Iterator[tuple[Instance, np.ndarray, Instance, np.ndarray]]:
@@ -581,7 +485,7 @@ def _widen_for_rows(
     spans: dict[str, list] = {}
     for inst, _, part, _, p2, _, _, h_a, a2 in rows:
         if _over_shoulders(pattern, pmesh, inst):
-            continue  # a yoke: laid across the shoulders (see _bridge_seams), not round the cylinder
+            continue  # a yoke: the seam graph lays it across the shoulders, not round the cylinder
         b = p2[: pmesh.pieces[inst.piece].n_boundary]
         spans.setdefault(part, []).append((h_a - a2[1], b))
     wide: dict[str, float] = {}
@@ -750,86 +654,3 @@ def _row_radii(pmesh: PatternMesh, inst: Instance, part: BodyPart, side: Side, r
     width = np.maximum.accumulate(width)  # the cap keeps the widest row's radius
     w = np.interp(pts[:, 1], grid, width)
     return np.maximum(w / (2 * np.pi), 1.0)
-
-
-def _harmonic_fill(faces: np.ndarray, fixed: np.ndarray, values: np.ndarray) -> np.ndarray:
-    """(n, 3) positions equal to ``values`` on ``fixed`` (n,) bool and harmonic elsewhere.
-
-    The graph Laplacian of the piece's triangle mesh (uniform weights,
-    natural boundary): the free vertices span the fixed ones like a membrane.
-    """
-    from scipy.sparse import coo_matrix, diags
-    from scipy.sparse.linalg import spsolve
-
-    n = len(fixed)
-    e = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    adj = coo_matrix((np.ones(2 * len(e)), (e.ravel(), e[:, ::-1].ravel())), shape=(n, n)).tocsr()
-    adj.data[:] = 1.0
-    lap = (diags(np.asarray(adj.sum(axis=1)).ravel()) - adj).tocsr()
-    free = ~fixed
-    x = np.zeros((n, 3))
-    x[fixed] = values
-    if free.any():
-        # the three coordinates in one solve
-        x[free] = spsolve(lap[free][:, free].tocsc(), -(lap[free][:, fixed] @ values))
-    return x
-
-
-def _follow_seams(
-    pattern: Pattern,
-    pmesh: PatternMesh,
-    cylinders: dict[str, Cylinder],
-    out: dict[str, np.ndarray],
-    scene,
-) -> None:
-    """Place small pieces on their larger partner's seam (in place).
-
-    A piece sewn to a larger piece of the same body part (a cuff on the
-    sleeve hem) is laid on the cylinder where its seam meets the partner's
-    edge, as drawn or turned half round (pattern rotated by 180°, still
-    facing out), whichever lies nearer: its anchor landmark alone may put it
-    a hand's width away from the edge it is sewn to.
-    """
-    size = {k: len(pmesh.pieces[k].points) for k in pmesh.pieces}
-    for inst in pmesh.instances:
-        part = instance_part(pattern, inst)
-        pl = pattern.piece(inst.piece).placement
-        if pl.side is not Side.AROUND:
-            continue
-        cyl = cylinders[part]
-        p2 = instance_points2d(pmesh, inst)
-        mine, theirs, mine_ids = [], [], []
-        for me, va, other, vb in _seam_sides(pmesh):
-            if (
-                me.key == inst.key
-                and other.key != inst.key
-                and instance_part(pattern, other) == part
-                and size[other.piece] > size[inst.piece]
-            ):
-                mine.append(p2[va])
-                mine_ids.append(va)
-                theirs.append(out[other.key][vb])
-        if not mine:
-            continue
-        m2, target = np.concatenate(mine), np.concatenate(theirs)
-        th_t, h_t, _ = cyl.coordinates(target)
-        Rv = _row_radii(pmesh, inst, part, pl.side, cyl.radius_cm)
-        Rm = Rv[np.concatenate(mine_ids)]
-        best = None
-        for sign in (1.0, -1.0):  # as drawn, turned half round
-            d = th_t - sign * m2[:, 0] / Rm
-            th0 = float(np.angle(np.mean(np.exp(1j * d))))
-            h0 = float(np.mean(h_t - sign * m2[:, 1]))
-            th = th0 + sign * m2[:, 0] / Rm
-            h = h0 + sign * m2[:, 1]
-            cost = float(np.linalg.norm(cyl.points(th, h, Rm) - target, axis=1).sum())
-            if best is None or cost < best[0]:
-                best = (cost, sign, th0, h0)
-        _, sign, th0, h0 = best
-        theta = th0 + sign * p2[:, 0] / Rv
-        h = h0 + sign * p2[:, 1]
-        r = Rv.copy()
-        if scene is not None:
-            r = scene.radial_clearance(cyl, theta, h, r, CLEARANCE_CM)
-        log.debug("%s placed on its seam (%s)", inst.key, "turned" if sign < 0 else "as drawn")
-        out[inst.key] = cyl.points(theta, h, r)
