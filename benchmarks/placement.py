@@ -80,7 +80,7 @@ def main(argv: list[str] | None = None) -> int:
             stretch, _ = edge_stretch(c.x, c.edges, c.rest)
             inside = int(np.count_nonzero(sim.collider.inside(c.x)))
             stretches.append(float(np.percentile(stretch, 99)))
-            strategy = getattr(getattr(sim, "strategy", None), "value", "-")
+            strategy = str(sim.strategy.kind) if hasattr(sim, "strategy") else "-"
             print(
                 f"{case:44s} {secs:6.1f} {strategy:10s} {g.max(initial=0):7.1f} "
                 f"{np.percentile(g, 95) if len(g) else 0:7.1f} {np.mean(per_seam <= 10):6.0%} "
