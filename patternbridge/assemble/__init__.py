@@ -1,9 +1,11 @@
 """Assemble a garment on a character: place, sew, drape and write rigged-ready meshes.
 
 The pipeline follows the source method (thesis, section 4.3): the body is
-split into parts (:mod:`.bodyparts`), each part gets a bounding cylinder and
-the triangulated pieces (:mod:`.mesh2d`) are wrapped onto it by their
-placement hints (:mod:`.placement`); a cloth solver sews and drapes them
+split into parts (:mod:`.bodyparts`), the triangulated pieces (:mod:`.mesh2d`)
+are wrapped on body-part proxies by their placement hints and moved together
+along the seam graph (:mod:`.place`); a dressing strategy chosen from the
+pieces' body parts (:mod:`.strategy`) plans typed phases (:mod:`.phases`)
+in which a cloth solver sews and drapes them
 against the body (:mod:`.drape`, :mod:`.collision`). A rigged character is
 dressed for tops with its arms raised and straight (:mod:`.pose`) and the cloth is carried back to
 the rest pose by the skin weights of the nearest body points

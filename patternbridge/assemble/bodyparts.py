@@ -17,21 +17,22 @@ import numpy as np
 
 from ..errors import LandmarkError
 from ..mesh.character import Character
+from ..pattern.model import BodyPart
 
 __all__ = ["HAND_SHARE", "PARTS", "BodyParts", "crotch_height", "hand_masks", "limb_axis", "segment_body"]
 
 log = logging.getLogger(__name__)
 
-#: part names in label order; the names match :class:`~patternbridge.pattern.model.BodyPart`
-PARTS: tuple[str, ...] = (
-    "torso",
-    "head",
-    "left_arm",
-    "right_arm",
-    "left_leg",
-    "right_leg",
+#: the parts in label order (the neck is part of the head)
+PARTS: tuple[BodyPart, ...] = (
+    BodyPart.TORSO,
+    BodyPart.HEAD,
+    BodyPart.LEFT_ARM,
+    BodyPart.RIGHT_ARM,
+    BodyPart.LEFT_LEG,
+    BodyPart.RIGHT_LEG,
 )
-_INDEX = {name: i for i, name in enumerate(PARTS)}
+_INDEX = {part: i for i, part in enumerate(PARTS)}
 
 
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)
@@ -45,10 +46,10 @@ class BodyParts:
     labels: np.ndarray
     source: str
 
-    def mask(self, part: str) -> np.ndarray:
-        """(V,) bool: the vertices of ``part`` (``"neck"`` counts as ``"head"``)."""
-        part = "head" if part == "neck" else part
-        return self.labels == _INDEX[part]
+    def mask(self, part: BodyPart | str) -> np.ndarray:
+        """(V,) bool: the vertices of ``part`` (the enum or its value; the neck counts as the head)."""
+        part = BodyPart(part)
+        return self.labels == _INDEX[BodyPart.HEAD if part is BodyPart.NECK else part]
 
 
 def _bone_parts(character: Character) -> np.ndarray:
@@ -57,18 +58,18 @@ def _bone_parts(character: Character) -> np.ndarray:
     skel = character.skeleton
     roots: dict[int, int] = {}
     for role, side, part in (
-        ("upperarm", "left", "left_arm"),
-        ("upperarm", "right", "right_arm"),
-        ("upperleg", "left", "left_leg"),
-        ("upperleg", "right", "right_leg"),
-        ("neck", None, "head"),
+        ("upperarm", "left", BodyPart.LEFT_ARM),
+        ("upperarm", "right", BodyPart.RIGHT_ARM),
+        ("upperleg", "left", BodyPart.LEFT_LEG),
+        ("upperleg", "right", BodyPart.RIGHT_LEG),
+        ("neck", None, BodyPart.HEAD),
     ):
         try:
             roots[find_bone(skel, role, side)] = _INDEX[part]
         except Exception:  # a rig without that bone: the part falls back to the torso
             continue
     first = _first_ancestor(skel.parents, set(roots))
-    return np.array([roots.get(int(r), _INDEX["torso"]) for r in first], dtype=np.int64)
+    return np.array([roots.get(int(r), _INDEX[BodyPart.TORSO]) for r in first], dtype=np.int64)
 
 
 def _first_ancestor(parents: np.ndarray, roots: set[int]) -> np.ndarray:
@@ -119,19 +120,19 @@ def _from_landmarks(character: Character, vertices: np.ndarray) -> np.ndarray:
             "give these landmarks with --landmarks FILE or load a rigged character"
         )
     x, y = vertices[:, 0], vertices[:, 1]
-    labels = np.full(len(vertices), _INDEX["torso"], dtype=np.int64)
+    labels = np.full(len(vertices), _INDEX[BodyPart.TORSO], dtype=np.int64)
     crotch_y = lm["crotch_point"][1]
     legs = y < crotch_y
-    labels[legs & (x >= 0)] = _INDEX["left_leg"]
-    labels[legs & (x < 0)] = _INDEX["right_leg"]
+    labels[legs & (x >= 0)] = _INDEX[BodyPart.LEFT_LEG]
+    labels[legs & (x < 0)] = _INDEX[BodyPart.RIGHT_LEG]
     ax_l, ax_r = lm["armpit_point_left"], lm["armpit_point_right"]
     arms_l = (x > ax_l[0]) & ~legs
     arms_r = (x < ax_r[0]) & ~legs
-    labels[arms_l] = _INDEX["left_arm"]
-    labels[arms_r] = _INDEX["right_arm"]
+    labels[arms_l] = _INDEX[BodyPart.LEFT_ARM]
+    labels[arms_r] = _INDEX[BodyPart.RIGHT_ARM]
     neck_y = 0.5 * (lm["front_neck_point"][1] + lm["back_neck_point"][1])
     head = (y > neck_y) & ~arms_l & ~arms_r
-    labels[head] = _INDEX["head"]
+    labels[head] = _INDEX[BodyPart.HEAD]
     return labels
 
 
@@ -174,7 +175,7 @@ def crotch_height(character: Character, vertices: np.ndarray, parts: BodyParts) 
     lm = character.landmarks.get("crotch_point")
     if lm is not None and lm.vertex is not None:
         return float(vertices[lm.vertex][1])
-    legs = parts.mask("left_leg") | parts.mask("right_leg")
+    legs = parts.mask(BodyPart.LEFT_LEG) | parts.mask(BodyPart.RIGHT_LEG)
     return float(vertices[legs, 1].max()) if legs.any() else None
 
 
@@ -193,9 +194,9 @@ def hand_masks(character: Character, vertices: np.ndarray, parts: BodyParts) -> 
     v = np.asarray(vertices, dtype=np.float64)
     out = []
     skel, skin = character.skeleton, character.skin
-    torso_c = v[parts.mask("torso")].mean(axis=0) if parts.mask("torso").any() else v.mean(axis=0)
-    for side in ("left", "right"):
-        arm = parts.mask(f"{side}_arm")
+    torso_c = v[parts.mask(BodyPart.TORSO)].mean(axis=0) if parts.mask(BodyPart.TORSO).any() else v.mean(axis=0)
+    for side, part in (("left", BodyPart.LEFT_ARM), ("right", BodyPart.RIGHT_ARM)):
+        arm = parts.mask(part)
         if not arm.any():
             continue
         mask = None

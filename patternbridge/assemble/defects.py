@@ -10,7 +10,7 @@ import numpy as np
 
 from ..pattern.model import Pattern
 from .mesh2d import PatternMesh
-from .placement import landmark_position
+from .place.wrap import landmark_position
 
 __all__ = ["anchor_levels_cm", "edge_stretch", "faces_touching", "seam_excess_cm"]
 

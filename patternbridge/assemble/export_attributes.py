@@ -121,9 +121,7 @@ def texcoords_top_left(uv_cm: np.ndarray) -> np.ndarray:
     return np.stack([st[:, 0], 1.0 - st[:, 1]], axis=1)
 
 
-def skin_slots(
-    joints: np.ndarray, weights: np.ndarray, *, n_slots: int = SKIN_SLOTS
-) -> tuple[np.ndarray, np.ndarray]:
+def skin_slots(joints: np.ndarray, weights: np.ndarray, *, n_slots: int = SKIN_SLOTS) -> tuple[np.ndarray, np.ndarray]:
     """Skin weights as ``n_slots`` joint/weight pairs a vertex, unused slots on joint 0.
 
     Parameters

@@ -21,6 +21,7 @@ import numpy as np
 
 from ..errors import LandmarkError
 from ..mesh.character import Character, Skeleton, Skin
+from ..pattern.model import BodyPart
 
 __all__ = ["ARM_LANDMARKS", "landmark_rig"]
 
@@ -88,19 +89,24 @@ def landmark_rig(character: Character) -> Character | None:
         w[arm] = wa
     # the legs and the head hang from bones of their own that never move, so
     # the skin weights name the same body parts as the landmark cut planes
-    for part, name in (("left_leg", "thigh_L"), ("right_leg", "thigh_R"), ("head", "neck")):
+    for part, name, down in (
+        (BodyPart.LEFT_LEG, "thigh_L", True),
+        (BodyPart.RIGHT_LEG, "thigh_R", True),
+        (BodyPart.HEAD, "neck", False),
+    ):
         mask = parts.mask(part)
         pts = v[mask] if mask.any() else heads[0][None, :]
         bone_names.append(name)
         parents.append(0)
         heads.append(pts[np.argmax(pts[:, 1])])
-        tails.append(pts[np.argmin(pts[:, 1])] if part != "head" else pts[np.argmax(pts[:, 1])] + [0.0, 1.0, 0.0])
+        tails.append(pts[np.argmin(pts[:, 1])] if down else pts[np.argmax(pts[:, 1])] + [0.0, 1.0, 0.0])
         w[mask] = 0.0
         w[mask, len(bone_names) - 1] = 1.0
     # two bones per vertex: the largest two weights, renormalised
     order = np.argsort(-w, axis=1)[:, :2]
     top2 = np.take_along_axis(w, order, axis=1)
     top2 /= top2.sum(axis=1, keepdims=True)
-    skeleton = Skeleton(names=tuple(bone_names), parents=np.array(parents), heads=np.array(heads),
-                        tails=np.array(tails))
+    skeleton = Skeleton(
+        names=tuple(bone_names), parents=np.array(parents), heads=np.array(heads), tails=np.array(tails)
+    )
     return replace(character, skeleton=skeleton, skin=Skin(bone_indices=order, weights=top2))

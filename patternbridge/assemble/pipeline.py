@@ -1,7 +1,7 @@
 """The dressing pipeline: pose, place, sew, drape, return to the rest pose, weld, report, write.
 
 :func:`prepare` builds the simulation (body in the dressing pose, colliders,
-meshed pattern wrapped on the bounding cylinders), :func:`simulate` sews and
+meshed pattern placed from its seam graph), :func:`simulate` sews and
 drapes it and brings it back to the rest pose, :func:`finish` welds the seams,
 clears the skin and measures; :func:`assemble` chains the three and
 :func:`dress` also writes the files.
@@ -9,24 +9,32 @@ clears the skin and measures; :func:`assemble` chains the three and
 
 from __future__ import annotations
 
-import itertools
 import logging
 import os
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import InputError
 from ..mesh.character import Character
-from ..pattern.model import Copy, Pattern
+from ..pattern.model import BodyPart, Copy, Pattern, Side
 from ..report import Report
 from .drape_report import DrapeReport, SeamGap, Stretch
 from .garment import Garment
+from .phases import Phase
 from .pose import DRESS_ARM_DROP_DEG
+from .strategy import ARMS, LEGS, Strategy, choose_strategy
 from .verdict import Measured, VerdictLimits, judge
+
+if TYPE_CHECKING:
+    from .bodyparts import BodyParts
+    from .collision import BodyCollider
+    from .drape import Cloth, DrapeSettings, _Solver
+    from .mesh2d import PatternMesh
 
 __all__ = [
     "Simulation",
@@ -44,49 +52,56 @@ log = logging.getLogger(__name__)
 
 Progress = Callable[[str, int, int], None] | None
 
-POSE_STAGES = 5  # keyframes of the dressing pose -> rest pose return (the arms lowered step by step)
-POSE_STEPS = 12  # cloth steps per keyframe, with gravity
-POSE_GRAVITY = 0.3  # share of gravity while the arms come down
-POSE_SEW_STAGES = 3  # keyframes over which the seams left open in the dressing pose (cuffs) close
-SEW_ARM_INERTIA = 30.0  # the arm pieces' mass multiple while a top is sewn (see sewing_inertia)
-
 
 @dataclass(eq=False)
 class Simulation:
-    """Everything the sewing and draping work on (mutable: the cloth moves).
+    """Everything the sewing and draping work on (mutable: the cloth moves, the colliders follow the pose).
 
     body : (V, 3) float64, cm — the body in the dressing pose
-    rotvecs : bone -> rotation vector of the dressing pose (empty: rest pose)
+    rotvecs : bone -> rotation vector of the dressing pose (empty: dressed in the rest pose)
+    proxies : helper volumes that do not move with the arms (the space between the thighs)
+    hands : (V,) bool masks of the hands (their mitts follow the pose)
+    seam_ids : (S,) int64 index into ``pmesh.seams`` of every sewn pair
+    x_placed : (N, 3) float64, cm — the cloth as placed
     """
 
     character: Character
     pattern: Pattern
+    strategy: Strategy
+    phases: tuple[Phase, ...]
     body: np.ndarray
-    parts: object
-    rotvecs: dict
-    pmesh: object
-    cloth: object
-    collider: object
-    cloth_collider: object
-    proxies: tuple  # helper volumes that do not move with the arms (the space between the thighs)
-    hands: list  # (V,) bool masks of the hands: their mitts follow the pose
+    parts: BodyParts
+    rotvecs: dict[str, np.ndarray]
+    pmesh: PatternMesh
+    cloth: Cloth
+    collider: BodyCollider
+    cloth_collider: BodyCollider
+    proxies: tuple[tuple[np.ndarray, np.ndarray], ...]
+    hands: list[np.ndarray]
     names: tuple[str, ...]
-    seam_ids: np.ndarray  # (S,) index into pmesh.seams of every sewn pair
+    seam_ids: np.ndarray
     x_placed: np.ndarray
+    settings: DrapeSettings
     findings: Report = field(default_factory=Report)
-    solver: object = None
-    settings: object = None
+    solver: _Solver | None = None
     t0: float = 0.0
 
-
-def _on_legs(pattern: Pattern) -> bool:
-    return any("leg" in str(p.placement.body_part) for p in pattern.pieces)
+    @property
+    def posed(self) -> bool:
+        """Whether the body starts in the dressing pose (arms raised)."""
+        return bool(self.rotvecs)
 
 
 def prepare(
-    character: Character, pattern: Pattern, *, seed: int = 0, max_edge_cm: float = 2.5, progress: Progress = None
+    character: Character,
+    pattern: Pattern,
+    *,
+    seed: int = 0,
+    max_edge_cm: float = 2.5,
+    steps: int = 160,
+    progress: Progress = None,
 ) -> Simulation:
-    """Pose the body, mesh the pattern and wrap its pieces on the bounding cylinders.
+    """Choose the strategy, pose the body, mesh the pattern and place its pieces from the seam graph.
 
     Raises
     ------
@@ -98,25 +113,18 @@ def prepare(
     from .collision import BodyCollider, hand_mitts, thigh_fill
     from .drape import DrapeSettings, build_cloth
     from .mesh2d import mesh_pattern
-    from .placement import bounding_cylinders, place_instances
-    from .pose import dressing_rotvecs, rotations
+    from .phases import plan_phases
+    from .place import place_garment
 
     t0 = time.perf_counter()
     check_pattern(pattern)
     findings = Report()
     rng = np.random.default_rng(seed)
-    rigged = character.skeleton is not None and character.skin is not None
-    on_legs = _on_legs(pattern)
-    rotvecs: dict[str, np.ndarray] = {}
-    if rigged and not on_legs:
-        try:
-            rotvecs = dressing_rotvecs(character)
-        except InputError as exc:
-            findings.add("no-dressing-pose", f"dressed in the rest pose: {exc}", where=character.name)
-    elif not rigged and not on_legs:
-        findings.add("no-dressing-pose", "the character has no rig: dressed in its rest pose", where=character.name)
+    strategy = choose_strategy(pattern)
+    rotvecs = _dressing_pose(character, strategy, findings)
     if rotvecs:
         from ..mesh.skinning import pose_vertices
+        from .pose import rotations
 
         body = pose_vertices(character, rotations(rotvecs, 1.0))
     else:
@@ -128,17 +136,17 @@ def prepare(
     if progress:
         progress("mesh", 0, 1)
     pmesh = mesh_pattern(pattern, max_edge_cm=max_edge_cm)
-    cylinders = bounding_cylinders(body, parts)  # (place_instances widens them to carry the pieces)
     collider = BodyCollider(body, character.faces)
     proxies: tuple = ()
     hands: list = []
-    if not on_legs:
-        legs = parts.mask("left_leg") | parts.mask("right_leg")
+    if strategy.fill_between_thighs:
+        legs = parts.mask(BodyPart.LEFT_LEG) | parts.mask(BodyPart.RIGHT_LEG)
         proxies = thigh_fill(body, legs, crotch_height(character, body, parts))
+    if rotvecs:
         hands = hand_masks(character, body, parts)
     helpers = proxies + hand_mitts(body, hands)
     cloth_collider = BodyCollider(body, character.faces, proxies=helpers) if helpers else collider
-    placed = place_instances(character, body, pattern, pmesh, cylinders, findings, scene=collider, parts=parts)
+    placed = place_garment(character, body, pattern, pmesh, parts, findings, scene=collider)
     keys = [inst.key for inst in pmesh.instances]
     index = {k: i for i, k in enumerate(keys)}
     positions = [placed[k] + rng.normal(scale=1e-3, size=placed[k].shape) for k in keys]
@@ -162,6 +170,8 @@ def prepare(
     return Simulation(
         character=character,
         pattern=pattern,
+        strategy=strategy,
+        phases=plan_phases(strategy, posed=bool(rotvecs), steps=steps),
         body=body,
         parts=parts,
         rotvecs=rotvecs,
@@ -180,94 +190,44 @@ def prepare(
     )
 
 
-def simulate(sim: Simulation, *, steps: int = 160, progress: Progress = None) -> None:
-    """Sew and drape the cloth in the dressing pose, then bring it back to the rest pose (in place).
+def _dressing_pose(character: Character, strategy: Strategy, findings: Report) -> dict[str, np.ndarray]:
+    """Bone -> rotation vector of the dressing pose the strategy asks for (empty: the rest pose)."""
+    if not strategy.raise_arms:
+        return {}
+    if character.skeleton is None or character.skin is None:
+        findings.add("no-dressing-pose", "the character has no rig: dressed in its rest pose", where=character.name)
+        return {}
+    from .pose import dressing_rotvecs
 
-    Trousers (rest pose): ``steps`` steps, sewing without gravity for the
-    first 55 %, then draping. Tops (dressing pose, arms raised): those first
-    55 % only, the cuffs left unsewn (:func:`limb_end_seams`), then the
-    arms come down over :data:`POSE_STAGES` keyframes of :data:`POSE_STEPS`
-    steps at :data:`POSE_GRAVITY` × gravity, the cloth following the skin
-    from one keyframe to the next.
+    try:
+        return dressing_rotvecs(character)
+    except InputError as exc:
+        findings.add("no-dressing-pose", f"dressed in the rest pose: {exc}", where=character.name)
+        return {}
+
+
+def simulate(sim: Simulation, *, progress: Progress = None) -> None:
+    """Run the simulation's phases in order: sew, then settle or carry the cloth back to the rest pose (in place).
+
+    The phases were planned once from the strategy (:func:`~patternbridge.assemble.phases.plan_phases`):
+    trousers sew in the rest pose and settle; tops sew in the dressing pose
+    (arms raised, no gravity, the cuffs left open) and drape while the arms
+    come down over keyframes, the cloth following the skin from one to the
+    next, the way cloth tools put a garment on an A-posed body.
     """
-    from .collision import BodyCollider, hand_mitts
-    from .drape import drape, seam_gaps
-    from .pose import apply_transforms, blend_transforms, rotations, unapply_transforms
-    from .weights import transfer_weights
+    from .drape import seam_gaps
+    from .phases import run_phases
 
-    cloth, settings, character = sim.cloth, sim.settings, sim.character
-    pins = anchor_weights(sim)
-    sew_steps = int(0.55 * steps)
-    late = limb_end_seams(sim.pattern, sim.pmesh)[sim.seam_ids] if sim.rotvecs else None
-    sim.solver = drape(
-        cloth,
-        sim.cloth_collider,
-        # a top is only sewn in the dressing pose (no gravity): hanging on
-        # raised arms, the weight of the body of the shirt dragged the
-        # sleeves toward the shoulders (they bunched up at the elbow); it
-        # drapes while the arms come down
-        steps=sew_steps if sim.rotvecs else steps,
-        sew_steps=sew_steps,
-        settings=settings,
-        progress=progress,
-        stage="drape",
-        anchors=(pins, sim.x_placed),
-        hold=hold_weights(sim, pins),
-        loose=late,
-        inertia=sewing_inertia(sim) if sim.rotvecs else None,
-    )
+    run_phases(sim, sim.phases, progress)
     log.debug(
         "draped: cloth y %.1f..%.1f gap %.2f",
-        cloth.x[:, 1].min(),
-        cloth.x[:, 1].max(),
-        seam_gaps(cloth.x, cloth.seams).max(initial=0.0),
+        sim.cloth.x[:, 1].min(),
+        sim.cloth.x[:, 1].max(),
+        seam_gaps(sim.cloth.x, sim.cloth.seams).max(initial=0.0),
     )
-    if not sim.rotvecs:
-        return
-    from ..mesh.skinning import pose_vertices
-
-    # back to the rest pose, the way cloth tools put a garment on an A-posed
-    # body: the arms are lowered over a few keyframes; at each the cloth
-    # follows the skin (weights of the nearest body points) from the previous
-    # pose to the next, then drapes against the body in that pose under
-    # gravity. In one jump with a short settle the sides of the shirt, draped
-    # while the arms were up, stood off the body below the armpits
-    levels = np.linspace(1.0, 0.0, POSE_STAGES + 1)
-    collider = sim.collider
-    sim.solver.restart_seams()  # the cuffs are sewn on while the arms come down
-    for k, (s0, s1) in enumerate(itertools.pairwise(levels)):
-        joints, weights = transfer_weights(collider, character, cloth.x)
-        b0 = smooth_over_cloth(cloth, blend_transforms(character, rotations(sim.rotvecs, s0), joints, weights))
-        b1 = smooth_over_cloth(cloth, blend_transforms(character, rotations(sim.rotvecs, s1), joints, weights))
-        cloth.x = apply_transforms(b1, unapply_transforms(b0, cloth.x))
-        cloth.v[:] = 0.0
-        posed = (
-            np.array(character.vertices, dtype=np.float64)
-            if s1 == 0.0
-            else pose_vertices(character, rotations(sim.rotvecs, s1))
-        )
-        collider = BodyCollider(posed, character.faces)
-        helpers = sim.proxies + hand_mitts(posed, sim.hands)
-        drape(
-            cloth,
-            BodyCollider(posed, character.faces, proxies=helpers) if helpers else collider,
-            # (no longer settle in the rest pose: 24 more steps there let the
-            # sleeves ride up the forearms of the child and the heavy body)
-            steps=POSE_STEPS,
-            sew_steps=0,
-            sew_ramp=(min(1.0, k / POSE_SEW_STAGES), min(1.0, (k + 1) / POSE_SEW_STAGES)),
-            gravity_scale=POSE_GRAVITY,
-            settings=settings,
-            solver=sim.solver,
-            stage="pose",
-            guard_crossings=True,
-        )
-        if progress:
-            progress("pose", k + 1, POSE_STAGES)
-    sim.collider = collider
 
 
-def sewing_inertia(sim: Simulation, arms: float = SEW_ARM_INERTIA) -> np.ndarray:
+def sewing_inertia(sim: Simulation, arms: float) -> np.ndarray:
     """(N,) mass multiples while a top is sewn in the dressing pose: ``arms`` on the arm pieces, 1 elsewhere.
 
     The sleeve caps are placed at the shoulder points, the bodice on the
@@ -280,9 +240,9 @@ def sewing_inertia(sim: Simulation, arms: float = SEW_ARM_INERTIA) -> np.ndarray
     down. Nothing falls while sewing (no gravity), so the mass only decides
     which side of a seam moves: with heavy sleeves the bodice comes to them.
     """
-    from .placement import instance_part
+    from .place import instance_part
 
-    on_arm = [i for i, inst in enumerate(sim.pmesh.instances) if instance_part(sim.pattern, inst).endswith("_arm")]
+    on_arm = [i for i, inst in enumerate(sim.pmesh.instances) if instance_part(sim.pattern, inst) in ARMS]
     return np.where(np.isin(sim.cloth.group, on_arm), float(arms), 1.0)
 
 
@@ -301,12 +261,12 @@ def limb_end_seams(pattern: Pattern, pmesh) -> np.ndarray:
     sleeve tore open above the cuff (E, in the T-pose). These seams are left
     open in the dressing pose and close while the arms come down.
     """
-    from .placement import instance_part
+    from .place import instance_part
 
     out = np.zeros(len(pmesh.seams), dtype=bool)
     for i, sp in enumerate(pmesh.seams):
         part = instance_part(pattern, sp.a)
-        out[i] = sp.a.key != sp.b.key and part.endswith("_arm") and instance_part(pattern, sp.b) == part
+        out[i] = sp.a.key != sp.b.key and part in ARMS and instance_part(pattern, sp.b) == part
     return out
 
 
@@ -343,7 +303,7 @@ ANCHOR_FREE_CM = (6.0, 18.0)  # pattern distance from an open seam: free below, 
 def anchor_weights(sim: Simulation) -> np.ndarray:
     """(N,) soft-pin weights: vertices far (in the pattern) from seams that start open are held while sewing.
 
-    Only garments with pieces on the legs are pinned (tops get zeros).
+    Called for the strategies that pin (:attr:`Strategy.pin_far_from_open_seams`).
 
     Seams whose pairs start more than 1 cm apart must move cloth; the
     vertices near them are free, the others are held on their placed
@@ -356,11 +316,6 @@ def anchor_weights(sim: Simulation) -> np.ndarray:
 
     cloth = sim.cloth
     n = len(cloth.x)
-    if not _on_legs(sim.pattern):
-        # a top's pieces hang from the shoulders round the body: nothing turns
-        # round a limb, and pins would hold the corners of an armhole away from
-        # the sleeve cap they are sewn to
-        return np.zeros(n)
     gaps = seam_gaps(cloth.x, cloth.seams)
     open_pairs = cloth.seams[gaps > 1.0]
     open_v = np.zeros(n, dtype=bool)
@@ -382,7 +337,7 @@ HOLD_WEIGHT = 5.0  # how firmly a waistband stays where it was sewn, in units of
 
 
 def hold_weights(sim: Simulation, pins: np.ndarray) -> np.ndarray | None:
-    """(N,) weights holding trousers where the sewing left them while gravity acts, or None (tops).
+    """(N,) weights holding the cloth where the sewing left them while gravity acts, or None (nothing held).
 
     A band going round the torso of a garment with pieces on the legs is
     worn buttoned at the waist: with the ease the grading gives it, the
@@ -392,18 +347,16 @@ def hold_weights(sim: Simulation, pins: np.ndarray) -> np.ndarray | None:
     stress left by closing the crotch turns the leg tubes round the legs
     and reopens the side seams across the shin.
     """
-    if not _on_legs(sim.pattern):
-        return None
-    from .placement import instance_part
+    from .place import instance_part
 
     w = np.zeros(len(sim.cloth.x))
     for i, inst in enumerate(sim.pmesh.instances):
         pl = sim.pattern.piece(inst.piece).placement
         part = instance_part(sim.pattern, inst)
         mine = sim.cloth.group == i
-        if part == "torso" and str(pl.side) == "around":
+        if part is BodyPart.TORSO and pl.side is Side.AROUND:
             w[mine] = HOLD_WEIGHT
-        elif part.endswith("_leg"):
+        elif part in LEGS:
             w[mine] = HOLD_SHARE * pins[mine]
     return w if w.any() else None
 
@@ -575,7 +528,7 @@ def _measure(
         vertices=len(wx),
         triangles=len(cloth.faces),
         pieces=names,
-        pose=_pose_name() if sim.rotvecs else "rest",
+        pose=_pose_name() if sim.posed else "rest",
         max_placement_move_cm=float(np.linalg.norm(x - sim.x_placed, axis=1).max()),
         unchecked=tuple(
             f"level of {inst.key}: no landmark {sim.pattern.piece(inst.piece).placement.anchor!r} "
@@ -659,11 +612,11 @@ def assemble(
     """
     character, found = with_anchor_landmarks(character, pattern)
     posing = character
-    if (character.skeleton is None or character.skin is None) and not _on_legs(pattern):
+    if (character.skeleton is None or character.skin is None) and choose_strategy(pattern).raise_arms:
         from .landmark_rig import landmark_rig
 
         posing = landmark_rig(character) or character
-    sim = prepare(posing, pattern, seed=seed, max_edge_cm=max_edge_cm, progress=progress)
+    sim = prepare(posing, pattern, seed=seed, max_edge_cm=max_edge_cm, steps=steps, progress=progress)
     if posing is not character:
         sim.findings.add(
             "landmark-rig",
@@ -680,7 +633,7 @@ def assemble(
             where=character.name,
         )
         log.warning("%s", sim.findings.findings[-1])
-    simulate(sim, steps=steps, progress=progress)
+    simulate(sim, progress=progress)
     garment = finish(sim)
     if posing is not character:  # the rig was for posing only: nothing to bind the garment to
         n = len(garment.vertices)

@@ -37,7 +37,7 @@ def test_push_out_moves_inside_points_to_the_offset(sphere):
 
 
 def test_radial_clearance_grows_radii_inside_the_body(sphere):
-    from patternbridge.assemble.placement import Cylinder
+    from patternbridge.assemble.place.wrap import Cylinder
 
     cyl = Cylinder(
         part="torso",
@@ -313,6 +313,8 @@ def test_hand_mitts_hold_the_hands_and_their_gaps(character_e):
         between = 0.5 * (v[mask][:, None] + v[mask][None, :]).reshape(-1, 3)[::997]
         between = 0.98 * between + 0.02 * v[mask].mean(axis=0)  # off the hull's faces
         assert collider.inside(between).all()
-    assert not BodyCollider(v, character_e.faces).inside(
-        0.5 * (v[hands[0]][:, None] + v[hands[0]][None, :]).reshape(-1, 3)[::997]
-    ).all()
+    assert (
+        not BodyCollider(v, character_e.faces)
+        .inside(0.5 * (v[hands[0]][:, None] + v[hands[0]][None, :]).reshape(-1, 3)[::997])
+        .all()
+    )

@@ -113,24 +113,20 @@ def test_same_seed_same_garment(character_e, tshirt):
 
 @pytest.fixture(scope="module")
 def placed_library(character_e):
-    """The library shirt and trousers wrapped on E's cylinders (no draping)."""
+    """The library shirt and trousers placed on E (wrapped, then the seam graph closed; no draping)."""
     from patternbridge.assemble.bodyparts import segment_body
-    from patternbridge.assemble.placement import bounding_cylinders, place_instances
+    from patternbridge.assemble.place import place_garment
     from patternbridge.library import load_garment
     from patternbridge.report import Report
 
     body = np.asarray(character_e.vertices)
     parts = segment_body(character_e)
-    cylinders = bounding_cylinders(body, parts)
     scene = BodyCollider(body, character_e.faces)
     out = {}
     for name in ("shirt", "trousers"):
         pattern = load_garment(name)
         pm = mesh_pattern(pattern, max_edge_cm=3.0)
-        out[name] = (
-            pm,
-            place_instances(character_e, body, pattern, pm, cylinders, Report(), scene=scene, parts=parts),
-        )
+        out[name] = (pm, place_garment(character_e, body, pattern, pm, parts, Report(), scene=scene))
     out["waist_y"] = float(body[character_e.landmarks["waist_back"].vertex][1])
     return out
 
@@ -169,15 +165,20 @@ def test_yoke_lies_over_the_shoulders_between_the_back_and_the_fronts(placed_lib
     assert set(gaps) == {"shoulder_right", "shoulder_left", "yoke"}
     for seam, gap in gaps.items():
         # standing up behind the neck on the torso cylinder the yoke's shoulder
-        # edges started 30-35 cm from the fronts'
-        assert gap.max() < 0.5, (seam, gap.max())
+        # edges start 30-35 cm from the fronts'; the seam graph brings them
+        # within 1.5 cm (measured 1.44 cm at the worst pair)
+        assert gap.max() < 2.0, (seam, gap.max())
     yoke = placed["yoke"]
     scene = BodyCollider(np.asarray(character_e.vertices), character_e.faces)
     assert not scene.inside(yoke).any()
-    # it goes over the top of the shoulders: from the back to the front of the body
+    # it goes from the back up to the top of the shoulders (the line through
+    # the neck-shoulder points), not standing behind the neck
     body = np.asarray(character_e.vertices)
-    assert yoke[:, 2].max() > np.median(body[:, 2])
-    assert yoke[:, 2].min() < np.median(body[:, 2]) - 5.0
+    top = body[character_e.landmarks["neck_shoulder_point_right"].vertex]
+    back = body[character_e.landmarks["back_neck_point"].vertex]
+    assert yoke[:, 2].max() > top[2] - 1.0
+    assert yoke[:, 2].min() < back[2] - 3.0
+    assert yoke[:, 1].max() < top[1] + 3.0
 
 
 @pytest.mark.shared
@@ -186,9 +187,10 @@ def test_collar_stands_on_the_neckline_it_is_sewn_to(placed_library, character_e
     gaps = dict(_seam_gaps(pm, placed, "collar_"))
     assert set(gaps) == {"collar_back", "collar_front_right", "collar_front_left", "collar_closure"}
     for seam, gap in gaps.items():
-        # on the head's cylinder the collar's ends started at the sides of the
-        # head: 25 cm from the fronts' neck edges and 23 cm from each other
-        assert gap.max() < 1.0, (seam, gap.max())
+        # on the head's cylinder the collar's ends start at the sides of the
+        # head: 25 cm from the fronts' neck edges and 23 cm from each other;
+        # the seam graph brings every pair within 1.4 cm
+        assert gap.max() < 2.0, (seam, gap.max())
     collar = placed["collar"]
     scene = BodyCollider(np.asarray(character_e.vertices), character_e.faces)
     assert not scene.inside(collar).any()
@@ -263,7 +265,7 @@ def test_only_a_shirt_yoke_lies_over_the_shoulders():
     # the yoke is sewn to the fronts and to the back; counted round the
     # torso it widened E's cylinder from 18 to 26 cm
     from patternbridge.assemble.mesh2d import mesh_pattern
-    from patternbridge.assemble.placement import _over_shoulders
+    from patternbridge.assemble.place.wrap import _over_shoulders
     from patternbridge.library import load_garment
 
     shirt = load_garment("shirt")
@@ -279,7 +281,7 @@ def test_only_a_shirt_yoke_lies_over_the_shoulders():
 
 
 def test_widths_of_a_trapezoid():
-    from patternbridge.assemble.placement import _widths
+    from patternbridge.assemble.place.wrap import _widths
 
     trapezoid = np.array([[-10.0, 0.0], [10.0, 0.0], [5.0, 10.0], [-5.0, 10.0]])
     np.testing.assert_allclose(_widths(trapezoid, np.array([0.5, 5.0, 9.5, 12.0])), [19.5, 15.0, 10.5, 0.0])
@@ -291,9 +293,9 @@ def sewn_shirt(character_e):
     from patternbridge.assemble.pipeline import prepare, seam_gap_table, simulate
     from patternbridge.library import load_garment
 
-    sim = prepare(character_e, load_garment("shirt"), max_edge_cm=3.5)
+    sim = prepare(character_e, load_garment("shirt"), max_edge_cm=3.5, steps=120)
     placed = {r["seam"]: r["max_mm"] for r in seam_gap_table(sim)}
-    simulate(sim, steps=120)
+    simulate(sim)
     return sim, placed, {r["seam"]: r["max_mm"] for r in seam_gap_table(sim)}
 
 
@@ -301,9 +303,10 @@ def sewn_shirt(character_e):
 def test_the_simulation_sews_every_shirt_seam(sewn_shirt):
     sim, placed, sewn = sewn_shirt
     assert set(sewn) == set(placed) and len(sewn) == 22
-    # the armholes start 15-17 cm from the sleeve caps and the side seams
-    # 5-10 cm apart: sewing, not welding, closes them
-    assert max(placed.values()) > 120.0
+    # placed from the seam graph the widest seam starts 2-6 cm open (wrapped
+    # on the cylinders alone the armholes started 15-17 cm from the sleeve
+    # caps): sewing, not welding, closes the rest
+    assert 10.0 < max(placed.values()) < 80.0, placed
     # the torso's cylinder carries the fronts and the back side by side, the
     # yoke lying over the shoulders: counted as a fourth piece round the body
     # it widened the cylinder and the side seams started 26 cm open

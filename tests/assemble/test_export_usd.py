@@ -95,9 +95,7 @@ def test_units_axes_and_the_body(dressed_usda, character_e):
     assert mpu == 0.01
     root = stage.GetDefaultPrim()
     assert root.IsA(UsdSkel.Root)
-    box = UsdGeom.BBoxCache(Usd.TimeCode.Default(), [UsdGeom.Tokens.default_]).ComputeWorldBound(
-        root.GetChild("Body")
-    )
+    box = UsdGeom.BBoxCache(Usd.TimeCode.Default(), [UsdGeom.Tokens.default_]).ComputeWorldBound(root.GetChild("Body"))
     size = box.ComputeAlignedRange().GetSize()
     assert size[1] * mpu == pytest.approx(1.778, abs=0.005)  # E stands 177.8 cm tall
     body = UsdGeom.Mesh(root.GetChild("Body"))

@@ -85,11 +85,12 @@ def test_a_waistband_hanging_20_cm_below_the_waist_is_off_its_level(character_e)
     sim = prepare(character_e, _shorts(), max_edge_cm=3.5)
     body = np.asarray(character_e.vertices)
     placed = anchor_levels_cm(character_e, body, sim.pattern, sim.pmesh, sim.cloth.x, sim.cloth.group)
-    # placement puts every anchor mark on its landmark's height
-    assert max(placed.values()) < 1.0, placed
+    # the wrap puts every anchor mark on its landmark's height; closing the
+    # seam graph moves them by up to 1.2 cm (the waistband)
+    assert max(placed.values()) < 1.5, placed
     band = sim.names.index("waistband")
     x = sim.cloth.x.copy()
     x[sim.cloth.group == band, 1] -= 20.0
     moved = anchor_levels_cm(character_e, body, sim.pattern, sim.pmesh, x, sim.cloth.group)
-    assert moved["waistband"] == pytest.approx(20.0, abs=1.0)
+    assert moved["waistband"] == pytest.approx(20.0, abs=placed["waistband"] + 0.1)
     assert {k: v for k, v in moved.items() if k != "waistband"} == {k: v for k, v in placed.items() if k != "waistband"}

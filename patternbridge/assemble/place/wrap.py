@@ -1,4 +1,4 @@
-"""Bounding cylinders per body part, and the pieces wrapped onto them.
+"""Wrap the pieces on body-part proxies: a bounding cylinder per part, and a ring round the hips above the crotch.
 
 Each body part gets a cylinder: the torso and the head stand on the vertical
 axis, the limbs on the principal axis of their vertices (PCA), pointing
@@ -13,7 +13,9 @@ legs, toward the shoulder for a sleeve), then it is wrapped. Points that
 would still fall inside the body are moved out along their radius. Pieces
 going round a limb and sewn to themselves (sleeves) are wrapped as tubes, one
 turn per pattern row; the fronts and backs of a trouser leg share one radius
-per height; a cuff is laid on the sleeve hem it is sewn to.
+per height, and their rows above the crotch go round the hips. The seams
+this leaves open (over the shoulders, to a cuff, a collar or a yoke) are
+closed by :mod:`.seam_graph`.
 
 Frame of a cylinder: ``axis`` (proximal direction), ``e0`` (angle 0, the
 front), ``e1 = axis x e0`` (angle +π/2, the right as seen from outside).
@@ -27,11 +29,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
-from ..pattern.model import Copy, Pattern
-from ..report import Report
-from .bodyparts import HAND_SHARE, PARTS, BodyParts, crotch_height, limb_axis
-from .mesh2d import Instance, PatternMesh
+from ...errors import InputError
+from ...pattern.model import BodyPart, Copy, Pattern, Side
+from ...report import Report
+from ..bodyparts import HAND_SHARE, PARTS, BodyParts, crotch_height, limb_axis
+from ..mesh2d import Instance, PatternMesh
+from ..strategy import mirror_part
 
 __all__ = ["Cylinder", "bounding_cylinders", "landmark_position", "mirror_name", "place_instances"]
 
@@ -41,9 +44,12 @@ MARGIN_CM = 1.5  # cylinder radius above the part's typical radius
 CLEARANCE_CM = 1.0  # distance kept from the skin when a wrapped point is moved out
 TYPICAL_RADIUS_PERCENTILE = 90.0  # of the distances from the axis: a limb's or the torso's cylinder radius
 _DISTAL = {
-    "arm": HAND_SHARE,
-    "leg": 0.12,
+    BodyPart.LEFT_ARM: HAND_SHARE,
+    BodyPart.RIGHT_ARM: HAND_SHARE,
+    BodyPart.LEFT_LEG: 0.12,
+    BodyPart.RIGHT_LEG: 0.12,
 }  # share of a limb's length taken by the hand / the foot
+LIMBS = frozenset(_DISTAL)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)
@@ -55,7 +61,7 @@ class Cylinder:
     of the part along the axis: ``h_min``, ``h_max`` (cm from ``center``).
     """
 
-    part: str
+    part: BodyPart
     center: np.ndarray
     axis: np.ndarray
     e0: np.ndarray
@@ -124,21 +130,21 @@ def bounding_cylinders(
     """
     v = np.asarray(vertices, dtype=np.float64)
     widths_cm = widths_cm or {}
-    torso = v[parts.mask("torso")]
+    torso = v[parts.mask(BodyPart.TORSO)]
     torso_c = 0.5 * (torso.min(axis=0) + torso.max(axis=0))
     out = {}
     for part in PARTS:
         pv = v[parts.mask(part)]
         if len(pv) < 10:
             continue
-        if part in ("torso", "head"):
+        if part not in LIMBS:
             axis = np.array([0.0, 1.0, 0.0])
             c = 0.5 * (pv.min(axis=0) + pv.max(axis=0))
         else:
             c, axis = limb_axis(pv, torso_c)
             # leave the hand or the foot out (the distal share of the limb's length)
             h = (pv - c) @ axis
-            pv = pv[h > h.min() + _DISTAL[part.split("_")[1]] * np.ptp(h)]
+            pv = pv[h > h.min() + _DISTAL[part] * np.ptp(h)]
             c, axis = limb_axis(pv, torso_c)
         e0, e1 = _frame(axis)
         d = pv - c
@@ -149,7 +155,7 @@ def bounding_cylinders(
         # seams would start a hand's width open and pull the cloth across
         # the body: the typical radius is used and the thicker parts (a
         # shoulder, a belly) are cleared along the radius when wrapping
-        base = body_r if part == "head" else float(np.percentile(r, TYPICAL_RADIUS_PERCENTILE))
+        base = body_r if part is BodyPart.HEAD else float(np.percentile(r, TYPICAL_RADIUS_PERCENTILE))
         radius = max(base + MARGIN_CM, widths_cm.get(part, 0.0) / (2 * np.pi))
         out[part] = Cylinder(
             part=part,
@@ -165,11 +171,11 @@ def bounding_cylinders(
     return out
 
 
-def instance_part(pattern: Pattern, inst: Instance) -> str:
-    """Body part the instance wraps (the mirror copy goes on the mirrored part)."""
-    pl = pattern.piece(inst.piece).placement
-    part = "head" if str(pl.body_part) == "neck" else str(pl.body_part)
-    return mirror_name(part) if inst.copy is Copy.MIRROR else part
+def instance_part(pattern: Pattern, inst: Instance) -> BodyPart:
+    """Body part the instance wraps (the mirror copy goes on the mirrored part; a neck piece on the head's)."""
+    part = pattern.piece(inst.piece).placement.body_part
+    part = BodyPart.HEAD if part is BodyPart.NECK else part
+    return mirror_part(part) if inst.copy is Copy.MIRROR else part
 
 
 def instance_points2d(pmesh: PatternMesh, inst: Instance) -> np.ndarray:
@@ -240,7 +246,7 @@ def place_instances(
             )
         cyl = cylinders[part]
         mirrored = inst.copy is Copy.MIRROR
-        if part == "torso" and str(pl.side) == "around" and parts is not None:
+        if part is BodyPart.TORSO and pl.side is Side.AROUND and parts is not None:
             cyl = _band_cylinder(character, vertices, parts, cyl, pl.anchor, mirrored)
         p2 = instance_points2d(pmesh, inst)
         marks = pmesh.pieces[inst.piece].marks
@@ -256,7 +262,7 @@ def place_instances(
                 f"anchor {pl.anchor!r}/{pl.anchor_mark!r} not found; piece centred on the {pl.side} of the {part}",
                 where=inst.key,
             )
-            th_a = {"front": 0.0, "back": np.pi}.get(str(pl.side), np.pi / 2)
+            th_a = {Side.FRONT: 0.0, Side.BACK: np.pi}.get(pl.side, np.pi / 2)
             h_a = 0.5 * (cyl.h_min + cyl.h_max)
             a2 = 0.5 * (p2.min(axis=0) + p2.max(axis=0))
         rows.append((inst, pl, part, cyl, p2, R, th_a, h_a, a2))
@@ -269,7 +275,7 @@ def place_instances(
         sigma = 1.0
         Rv = shared.get(inst.key)
         if Rv is None:
-            Rv = _row_radii(pmesh, inst, part, str(pl.side), R)
+            Rv = _row_radii(pmesh, inst, part, pl.side, R)
         x_ref = a2[0]
         if inst.key in shared:
             # pieces side by side round a limb: the seam through the anchor
@@ -278,77 +284,27 @@ def place_instances(
             # closed even where the pattern's edges slant
             x_ref = _anchor_line(pmesh, inst, p2, pl.anchor_mark, {r[0].key for r in rows if r[2] == part})
         theta = th_a + sigma * (p2[:, 0] - x_ref) / Rv
-        if part == "torso" and str(pl.side) in ("front", "back"):
+        if part is BodyPart.TORSO and pl.side is not Side.AROUND:
             # torso fronts and backs are drawn with the body midline at x = 0
             # (docs/library.md): x = 0 goes on the centre front / back, the
             # anchor only fixes the height (a neck point lies too near the
             # axis to give a reliable angle). A piece sewn to its own mirror
             # copy (a centre front seam) puts that seam on the centre, row by
             # row: grading can move it off x = 0
-            theta = (0.0 if str(pl.side) == "front" else np.pi) + (p2[:, 0] - _centre_line(pmesh, inst, p2)) / Rv
+            theta = (0.0 if pl.side is Side.FRONT else np.pi) + (p2[:, 0] - _centre_line(pmesh, inst, p2)) / Rv
         h = h_a + (p2[:, 1] - a2[1])
         r = Rv.copy() if np.ndim(Rv) else np.full(len(p2), float(Rv))
         if scene is not None:
             r = scene.radial_clearance(cyl, theta, h, r, CLEARANCE_CM)
         out[inst.key] = cyl.points(theta, h, r)
-        if inst.key in shared and "torso" in cylinders and parts is not None:
+        if inst.key in shared and BodyPart.TORSO in cylinders and parts is not None:
             seat.append((inst, p2, x_ref, part, float(a2[1]), p2[: pmesh.pieces[inst.piece].n_boundary]))
     if seat:
-        _seat_on_hips(character, vertices, parts, cylinders["torso"], seat, out, scene)
-    _bridge_seams(pattern, pmesh, out, scene)
-    _collar_on_neckline(pattern, pmesh, cylinders, out, scene)
-    _follow_seams(pattern, pmesh, cylinders, out, scene)
+        _seat_on_hips(character, vertices, parts, cylinders[BodyPart.TORSO], seat, out, scene)
     return out
 
 
 SIDE_SEAM_CM = 10.0  # a seam to a front running farther than this down a piece is a side seam, not a shoulder
-BRIDGE_GAP_CM = 3.0  # median placed gap of a seam above which a small torso piece is laid across to its partners
-
-
-def _bridge_seams(pattern: Pattern, pmesh: PatternMesh, out: dict[str, np.ndarray], scene) -> None:
-    """Lay a small torso piece across the seams it shares with larger torso pieces (in place).
-
-    A shirt yoke hangs from the back neck point on the torso cylinder and
-    stands up behind the neck, while the fronts' shoulder edges it is sewn to
-    lie in front: a cylinder has no top, and the shoulder seams started
-    30-35 cm apart. When a piece on the front or back of the torso is sewn to
-    larger torso pieces of both the front and the back, and one of those
-    seams starts more than :data:`BRIDGE_GAP_CM` open,
-    its vertices sewn to larger torso pieces take their partners' positions
-    and the rest of the piece follows as a harmonic (graph-Laplacian) fill
-    between them, moved out of the body: the yoke lies over the shoulders
-    from the back's yoke seam to the fronts' shoulder edges.
-    """
-    size = {k: len(pmesh.pieces[k].points) for k in pmesh.pieces}
-    for inst in pmesh.instances:
-        if not _over_shoulders(pattern, pmesh, inst):  # only a yoke; a front sewn to a larger back stays
-            continue
-        n = size[inst.piece]
-        target = np.full((n, 3), np.nan)
-        far = False
-        neck = []  # edges sewn to larger pieces off the torso (collar, sleeve caps) go onto theirs
-        for me, va, other, vb in _seam_sides(pmesh):
-            if me.key != inst.key or other.key == inst.key:
-                continue
-            if instance_part(pattern, other) != "torso" and size[other.piece] > n:
-                neck.append((va, out[other.key][vb]))
-                continue
-            if instance_part(pattern, other) != "torso" or size[other.piece] <= n:
-                continue
-            theirs = out[other.key][vb]
-            target[va] = theirs
-            far |= float(np.median(np.linalg.norm(out[inst.key][va] - theirs, axis=1))) > BRIDGE_GAP_CM
-        for va, theirs in neck:  # corners shared with a shoulder seam stay on the front's
-            keep = ~np.isfinite(target[va, 0])
-            target[va[keep]] = theirs[keep]
-        fixed = np.isfinite(target[:, 0])
-        if not far or fixed.sum() < 3 or fixed.all():
-            continue
-        x = _harmonic_fill(pmesh.pieces[inst.piece].faces, fixed, target[fixed])
-        if scene is not None:
-            x, _ = scene.push_out(x, CLEARANCE_CM, robust=True)
-        log.debug("%s laid across its seams to larger pieces", inst.key)
-        out[inst.key] = x
 
 
 def _over_shoulders(pattern: Pattern, pmesh: PatternMesh, inst: Instance) -> bool:
@@ -360,69 +316,21 @@ def _over_shoulders(pattern: Pattern, pmesh: PatternMesh, inst: Instance) -> boo
     goes round the body, and laid over the shoulders its centre back started 21 cm from its mirror's. A
     skirt's waistband goes round the body (side ``around``).
     """
-    own_side = str(pattern.piece(inst.piece).placement.side)
-    if instance_part(pattern, inst) != "torso" or own_side not in ("front", "back"):
+    own_side = pattern.piece(inst.piece).placement.side
+    if instance_part(pattern, inst) is not BodyPart.TORSO or own_side is Side.AROUND:
         return False
     size = {k: len(pmesh.pieces[k].points) for k in pmesh.pieces}
     points = pmesh.pieces[inst.piece].points
     sides = set()
     for me, va, other, _ in _seam_sides(pmesh):
-        if me.key != inst.key or other.key == inst.key or instance_part(pattern, other) != "torso":
+        if me.key != inst.key or other.key == inst.key or instance_part(pattern, other) is not BodyPart.TORSO:
             continue
-        side = str(pattern.piece(other.piece).placement.side)
-        if side == "front" and float(np.ptp(points[va, 1])) > SIDE_SEAM_CM:
+        side = pattern.piece(other.piece).placement.side
+        if side is Side.FRONT and float(np.ptp(points[va, 1])) > SIDE_SEAM_CM:
             return False
         if size[other.piece] > size[inst.piece]:
             sides.add(side)
-    return sides == {"front", "back"}
-
-
-def _collar_on_neckline(
-    pattern: Pattern, pmesh: PatternMesh, cylinders: dict[str, Cylinder], out: dict[str, np.ndarray], scene
-) -> None:
-    """Stand a neck piece (a collar) on the torso neckline it is sewn to (in place).
-
-    Wrapped on the head's bounding cylinder, a collar covers only part of
-    its round (the cylinder's radius is the head's): its ends started at the
-    sides of the head, 23 cm apart and 25 cm from the fronts' neck edges they
-    are sewn to, and sewing dragged them round the neck, in front of it or
-    behind it depending on small differences of the grading (one end stood up
-    behind D_cartoon_child's neck, a 10 cm gap). When a seam to a torso piece
-    starts more than :data:`BRIDGE_GAP_CM` open, the collar is rebuilt column
-    by column: its vertices sewn to torso pieces take their partners'
-    positions, every other vertex stands above the neckline point at its
-    pattern x (interpolated between the sewn vertices, the ends beyond them
-    take the end's) by its pattern height above the neck edge, along the
-    cylinder's axis. The closure edges then start side by side in front.
-    """
-    for inst in pmesh.instances:
-        part = instance_part(pattern, inst)
-        if part != "head" or part not in cylinders:
-            continue
-        n = len(pmesh.pieces[inst.piece].points)
-        target = np.full((n, 3), np.nan)
-        far = False
-        for me, va, other, vb in _seam_sides(pmesh):
-            if me.key != inst.key or instance_part(pattern, other) != "torso":
-                continue
-            theirs = out[other.key][vb]
-            target[va] = theirs
-            far |= float(np.median(np.linalg.norm(out[inst.key][va] - theirs, axis=1))) > BRIDGE_GAP_CM
-        fixed = np.flatnonzero(np.isfinite(target[:, 0]))
-        if not far or len(fixed) < 3 or len(fixed) == n:
-            continue
-        p2 = instance_points2d(pmesh, inst)
-        order = fixed[np.argsort(p2[fixed, 0], kind="stable")]
-        xs = p2[order, 0]
-        xq = np.clip(p2[:, 0], xs[0], xs[-1])
-        base = np.stack([np.interp(xq, xs, target[order, k]) for k in range(3)], axis=1)
-        height = p2[:, 1] - np.interp(xq, xs, p2[order, 1])
-        x = base + height[:, None] * cylinders[part].axis
-        x[fixed] = target[fixed]
-        if scene is not None:
-            x, _ = scene.push_out(x, CLEARANCE_CM, robust=True)
-        log.debug("%s stood on the neckline it is sewn to", inst.key)
-        out[inst.key] = x
+    return sides == {Side.FRONT, Side.BACK}
 
 
 def _seam_sides(pmesh: PatternMesh) -> Iterator[tuple[Instance, np.ndarray, Instance, np.ndarray]]:
@@ -476,8 +384,8 @@ def _seat_on_hips(
     crotch_y = crotch_height(character, v, parts)
     if crotch_y is None:
         return
-    legs = parts.mask("left_leg") | parts.mask("right_leg")
-    trunk = v[parts.mask("torso") | legs]
+    legs = parts.mask(BodyPart.LEFT_LEG) | parts.mask(BodyPart.RIGHT_LEG)
+    trunk = v[parts.mask(BodyPart.TORSO) | legs]
     lo, hi = crotch_y + SEAT_BLEND_CM[0] - 2.0, crotch_y + 60.0
     grid = np.arange(lo, hi, 1.0)
     centres = np.full((len(grid), 3), np.nan)
@@ -495,8 +403,8 @@ def _seat_on_hips(
         w = t * t * (3.0 - 2.0 * t)
         if not (w > 0).any():
             continue
-        # the side seam on the side of the hips (torso e1 points to the character's left)
-        th_side = -0.5 * np.pi if part.startswith("right") else 0.5 * np.pi
+        # the side seam on the side of the hips the leg hangs from (torso e1 points to the character's left)
+        th_side = 0.5 * np.pi * float(np.sign((v[parts.mask(part)].mean(axis=0) - torso.center) @ torso.e1))
         # both legs' pieces together go once round the hips at each height
         # (the pieces of one leg are aligned on their anchor's height)
         rel = p2[:, 1] - a2y
@@ -533,14 +441,14 @@ def _level_backs(pmesh: PatternMesh, rows: list) -> list:
     each seam it shares with a front that runs more than 5 cm along the
     axis (a side seam, not a shoulder seam).
     """
-    side = {r[0].key: (i, str(r[1].side)) for i, r in enumerate(rows) if r[2] == "torso"}
+    side = {r[0].key: (i, r[1].side) for i, r in enumerate(rows) if r[2] is BodyPart.TORSO}
     out = list(rows)
     shifts: dict[int, list[float]] = {}
     for me, va, other, vb in _seam_sides(pmesh):
         if me.key not in side or other.key not in side:
             continue
         (i, s_me), (j, s_other) = side[me.key], side[other.key]
-        if s_me != "back" or s_other != "front":
+        if s_me is not Side.BACK or s_other is not Side.FRONT:
             continue
         _, _, _, _, p2b, _, _, hb, a2b = rows[i]
         _, _, _, _, p2f, _, _, hf, a2f = rows[j]
@@ -577,7 +485,7 @@ def _widen_for_rows(
     spans: dict[str, list] = {}
     for inst, _, part, _, p2, _, _, h_a, a2 in rows:
         if _over_shoulders(pattern, pmesh, inst):
-            continue  # a yoke: laid across the shoulders (see _bridge_seams), not round the cylinder
+            continue  # a yoke: the seam graph lays it across the shoulders, not round the cylinder
         b = p2[: pmesh.pieces[inst.piece].n_boundary]
         spans.setdefault(part, []).append((h_a - a2[1], b))
     wide: dict[str, float] = {}
@@ -693,10 +601,7 @@ def _shared_row_radii(pmesh: PatternMesh, rows: list) -> dict[str, np.ndarray]:
     groups: dict[str, list] = {}
     for row in rows:
         inst, pl, part = row[0], row[1], row[2]
-        if part in ("left_arm", "right_arm", "left_leg", "right_leg") and str(pl.side) in (
-            "front",
-            "back",
-        ):
+        if part in LIMBS and pl.side is not Side.AROUND:
             groups.setdefault(part, []).append(row)
     out: dict[str, np.ndarray] = {}
     for members in groups.values():
@@ -717,7 +622,7 @@ def _shared_row_radii(pmesh: PatternMesh, rows: list) -> dict[str, np.ndarray]:
     return out
 
 
-def _row_radii(pmesh: PatternMesh, inst: Instance, part: str, side: str, radius_cm: float) -> np.ndarray:
+def _row_radii(pmesh: PatternMesh, inst: Instance, part: BodyPart, side: Side, radius_cm: float) -> np.ndarray:
     """(n,) float64, cm: the wrapping radius of every vertex of ``inst``.
 
     A piece going round a limb (side ``around``) that is sewn to itself (a
@@ -731,15 +636,15 @@ def _row_radii(pmesh: PatternMesh, inst: Instance, part: str, side: str, radius_
     pts = pmesh.pieces[inst.piece].points
     n = len(pts)
     closes = any(sp.a.key == inst.key and sp.b.key == inst.key for sp in pmesh.seams)
-    if not (closes and side == "around"):
+    if not (closes and side is Side.AROUND):
         return np.full(n, float(radius_cm))
     b = pts[: pmesh.pieces[inst.piece].n_boundary]
-    if part == "torso":
+    if part is BodyPart.TORSO:
         # a band round the waist (a waistband): once round on its full
         # length, its closure edges side by side (a collar stays on the neck's
         # cylinder: its rows follow the neckline's curve, not the axis)
         return np.full(n, max(float(np.ptp(b[:, 0])) / (2 * np.pi), 1.0))
-    if part not in ("left_arm", "right_arm", "left_leg", "right_leg"):
+    if part not in LIMBS:
         return np.full(n, float(radius_cm))
     y0, y1 = float(b[:, 1].min()), float(b[:, 1].max())
     grid = np.linspace(y0, y1, 200)
@@ -749,86 +654,3 @@ def _row_radii(pmesh: PatternMesh, inst: Instance, part: str, side: str, radius_
     width = np.maximum.accumulate(width)  # the cap keeps the widest row's radius
     w = np.interp(pts[:, 1], grid, width)
     return np.maximum(w / (2 * np.pi), 1.0)
-
-
-def _harmonic_fill(faces: np.ndarray, fixed: np.ndarray, values: np.ndarray) -> np.ndarray:
-    """(n, 3) positions equal to ``values`` on ``fixed`` (n,) bool and harmonic elsewhere.
-
-    The graph Laplacian of the piece's triangle mesh (uniform weights,
-    natural boundary): the free vertices span the fixed ones like a membrane.
-    """
-    from scipy.sparse import coo_matrix, diags
-    from scipy.sparse.linalg import spsolve
-
-    n = len(fixed)
-    e = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    adj = coo_matrix((np.ones(2 * len(e)), (e.ravel(), e[:, ::-1].ravel())), shape=(n, n)).tocsr()
-    adj.data[:] = 1.0
-    lap = (diags(np.asarray(adj.sum(axis=1)).ravel()) - adj).tocsr()
-    free = ~fixed
-    x = np.zeros((n, 3))
-    x[fixed] = values
-    if free.any():
-        # the three coordinates in one solve
-        x[free] = spsolve(lap[free][:, free].tocsc(), -(lap[free][:, fixed] @ values))
-    return x
-
-
-def _follow_seams(
-    pattern: Pattern,
-    pmesh: PatternMesh,
-    cylinders: dict[str, Cylinder],
-    out: dict[str, np.ndarray],
-    scene,
-) -> None:
-    """Place small pieces on their larger partner's seam (in place).
-
-    A piece sewn to a larger piece of the same body part (a cuff on the
-    sleeve hem) is laid on the cylinder where its seam meets the partner's
-    edge, as drawn or turned half round (pattern rotated by 180°, still
-    facing out), whichever lies nearer: its anchor landmark alone may put it
-    a hand's width away from the edge it is sewn to.
-    """
-    size = {k: len(pmesh.pieces[k].points) for k in pmesh.pieces}
-    for inst in pmesh.instances:
-        part = instance_part(pattern, inst)
-        pl = pattern.piece(inst.piece).placement
-        if str(pl.side) != "around":
-            continue
-        cyl = cylinders[part]
-        p2 = instance_points2d(pmesh, inst)
-        mine, theirs, mine_ids = [], [], []
-        for me, va, other, vb in _seam_sides(pmesh):
-            if (
-                me.key == inst.key
-                and other.key != inst.key
-                and instance_part(pattern, other) == part
-                and size[other.piece] > size[inst.piece]
-            ):
-                mine.append(p2[va])
-                mine_ids.append(va)
-                theirs.append(out[other.key][vb])
-        if not mine:
-            continue
-        m2, target = np.concatenate(mine), np.concatenate(theirs)
-        th_t, h_t, _ = cyl.coordinates(target)
-        Rv = _row_radii(pmesh, inst, part, str(pl.side), cyl.radius_cm)
-        Rm = Rv[np.concatenate(mine_ids)]
-        best = None
-        for sign in (1.0, -1.0):  # as drawn, turned half round
-            d = th_t - sign * m2[:, 0] / Rm
-            th0 = float(np.angle(np.mean(np.exp(1j * d))))
-            h0 = float(np.mean(h_t - sign * m2[:, 1]))
-            th = th0 + sign * m2[:, 0] / Rm
-            h = h0 + sign * m2[:, 1]
-            cost = float(np.linalg.norm(cyl.points(th, h, Rm) - target, axis=1).sum())
-            if best is None or cost < best[0]:
-                best = (cost, sign, th0, h0)
-        _, sign, th0, h0 = best
-        theta = th0 + sign * p2[:, 0] / Rv
-        h = h0 + sign * p2[:, 1]
-        r = Rv.copy()
-        if scene is not None:
-            r = scene.radial_clearance(cyl, theta, h, r, CLEARANCE_CM)
-        log.debug("%s placed on its seam (%s)", inst.key, "turned" if sign < 0 else "as drawn")
-        out[inst.key] = cyl.points(theta, h, r)

@@ -1,0 +1,273 @@
+"""The typed phases of a drape (sew, pose keyframe, settle), planned from the strategy and run in order.
+
+A drape is a list of phases, each a frozen dataclass:
+
+- :class:`Sew` closes the seams from their placed gaps to zero without
+  gravity (optionally leaving the seams between two pieces of one arm open,
+  pinning the cloth far from open seams, and making the arm pieces heavy).
+- :class:`PoseKeyframe` carries the cloth with the skin from one share of the
+  dressing pose to the next and drapes it there under reduced gravity,
+  sewing the seams left open from ``sew_from`` to ``sew_to`` of the way.
+- :class:`Settle` drapes under gravity, holding what the strategy holds.
+
+:func:`plan_phases` turns a :class:`~patternbridge.assemble.strategy.Strategy`
+into that list once; :func:`run_phases` runs it, calling
+:func:`~patternbridge.assemble.drape.drape` with the arguments each phase
+states and nothing else, so the call order lives here and not in the
+solver's state.
+"""
+
+from __future__ import annotations
+
+import itertools
+import logging
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from .strategy import Strategy
+
+if TYPE_CHECKING:
+    from .pipeline import Simulation
+
+__all__ = [
+    "POSE_GRAVITY",
+    "POSE_SEW_STAGES",
+    "POSE_STAGES",
+    "POSE_STEPS",
+    "SEW_ARM_INERTIA",
+    "SEW_SHARE",
+    "Phase",
+    "PoseKeyframe",
+    "Settle",
+    "Sew",
+    "plan_phases",
+    "run_phases",
+]
+
+log = logging.getLogger(__name__)
+
+SEW_SHARE = 0.55  # share of the drape's steps spent sewing
+POSE_STAGES = 5  # keyframes of the dressing pose -> rest pose return (the arms lowered step by step)
+POSE_STEPS = 12  # cloth steps per keyframe
+POSE_GRAVITY = 0.3  # share of gravity while the arms come down
+POSE_SEW_STAGES = 3  # keyframes over which the seams left open in the dressing pose (cuffs) close
+SEW_ARM_INERTIA = 30.0  # the arm pieces' mass multiple while a top is sewn (see pipeline.sewing_inertia)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Sew:
+    """Close the seams from their placed gaps to zero over ``steps`` steps, without gravity.
+
+    open_arm_seams : leave the seams between two pieces of one arm (a cuff on
+        its sleeve) open; a later :class:`PoseKeyframe` sews them
+    pin : hold the cloth far from the seams that start open (see
+        :func:`~patternbridge.assemble.pipeline.anchor_weights`)
+    arm_inertia : mass multiple of the arm pieces (1: none)
+    """
+
+    steps: int
+    open_arm_seams: bool = False
+    pin: bool = False
+    arm_inertia: float = 1.0
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class PoseKeyframe:
+    """Carry the cloth from ``share_from`` to ``share_to`` of the dressing pose, then drape ``steps`` steps there.
+
+    The seams left open by :class:`Sew` close from ``sew_from`` to ``sew_to``
+    of the way between their gaps at the first keyframe and zero.
+    """
+
+    share_from: float
+    share_to: float
+    steps: int
+    gravity_scale: float
+    sew_from: float
+    sew_to: float
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Settle:
+    """Drape ``steps`` steps under ``gravity_scale`` × gravity (ramped up when it follows a :class:`Sew`).
+
+    hold : keep what the strategy holds after sewing (bands, limb pieces) where the sewing left it
+    """
+
+    steps: int
+    gravity_scale: float = 1.0
+    hold: bool = False
+
+
+Phase = Sew | PoseKeyframe | Settle
+
+
+def plan_phases(strategy: Strategy, *, posed: bool, steps: int = 160) -> tuple[Phase, ...]:
+    """The phases that dress a garment with ``strategy``; ``posed``: the body starts in the dressing pose.
+
+    Parameters
+    ----------
+    strategy : the dressing strategy
+    posed : whether the body was put into the dressing pose (arms raised)
+    steps : the drape's step budget without keyframes: :data:`SEW_SHARE` of it
+        sews, the rest settles (a posed body settles in its keyframes)
+
+    Examples
+    --------
+    >>> from patternbridge.assemble.strategy import Dressing, Strategy
+    >>> [type(p).__name__ for p in plan_phases(Strategy.of(Dressing.LEGS), posed=False)]
+    ['Sew', 'Settle']
+    >>> len(plan_phases(Strategy.of(Dressing.TOP), posed=True))
+    6
+    """
+    sew_steps = int(SEW_SHARE * steps)
+    if posed:
+        # a top is only sewn in the dressing pose (no gravity): hanging on
+        # raised arms, the weight of the body of the shirt dragged the
+        # sleeves toward the shoulders; it drapes while the arms come down
+        levels = np.linspace(1.0, 0.0, POSE_STAGES + 1)
+        keys = tuple(
+            PoseKeyframe(
+                share_from=float(s0),
+                share_to=float(s1),
+                steps=POSE_STEPS,
+                gravity_scale=POSE_GRAVITY,
+                sew_from=min(1.0, k / POSE_SEW_STAGES),
+                sew_to=min(1.0, (k + 1) / POSE_SEW_STAGES),
+            )
+            for k, (s0, s1) in enumerate(itertools.pairwise(levels))
+        )
+        sew = Sew(
+            steps=sew_steps,
+            open_arm_seams=True,
+            pin=strategy.pin_far_from_open_seams,
+            arm_inertia=SEW_ARM_INERTIA,
+        )
+        tail: tuple[Phase, ...] = ()
+        if strategy.hold_after_sewing:
+            tail = (Settle(steps=POSE_STEPS, gravity_scale=1.0, hold=True),)
+        return (sew, *keys, *tail)
+    return (
+        Sew(steps=sew_steps, pin=strategy.pin_far_from_open_seams),
+        Settle(steps=steps - sew_steps, hold=strategy.hold_after_sewing),
+    )
+
+
+def run_phases(
+    sim: Simulation, phases: tuple[Phase, ...], progress: Callable[[str, int, int], None] | None = None
+) -> None:
+    """Run ``phases`` on ``sim`` in order (the cloth moves in place; ``sim.solver`` and the colliders follow).
+
+    A :class:`Sew` followed by a :class:`Settle` runs as one
+    :func:`~patternbridge.assemble.drape.drape` call: its schedule ramps
+    gravity up over the 20 steps after sewing and pins what is held where
+    the sewing ended.
+    """
+    n_keys = sum(isinstance(p, PoseKeyframe) for p in phases)
+    done_keys = 0
+    k = 0
+    while k < len(phases):
+        phase = phases[k]
+        if isinstance(phase, Sew):
+            after = phases[k + 1] if k + 1 < len(phases) else None
+            settle = after if isinstance(after, Settle) else None
+            _sew(sim, phase, settle, progress)
+            k += 2 if settle is not None else 1
+            continue
+        if isinstance(phase, PoseKeyframe):
+            if done_keys == 0:
+                sim.solver.restart_seams()  # the seams left open close while the arms come down
+            _keyframe(sim, phase)
+            done_keys += 1
+            if progress:
+                progress("pose", done_keys, n_keys)
+        else:
+            _settle(sim, phase, progress)
+        k += 1
+
+
+def _sew(sim: Simulation, phase: Sew, settle: Settle | None, progress: Callable[[str, int, int], None] | None) -> None:
+    """Sew (and settle, when ``settle`` follows) in one drape call."""
+    from .drape import drape
+    from .pipeline import anchor_weights, hold_weights, limb_end_seams, sewing_inertia
+
+    pins = anchor_weights(sim) if phase.pin else np.zeros(len(sim.cloth.x))
+    hold = hold_weights(sim, pins) if settle is not None and settle.hold else None
+    sim.solver = drape(
+        sim.cloth,
+        sim.cloth_collider,
+        steps=phase.steps + (settle.steps if settle is not None else 0),
+        sew_steps=phase.steps,
+        settings=sim.settings,
+        gravity_scale=settle.gravity_scale if settle is not None else 1.0,
+        progress=progress,
+        stage="drape",
+        solver=sim.solver,
+        anchors=(pins, sim.x_placed),
+        hold=hold,
+        loose=limb_end_seams(sim.pattern, sim.pmesh)[sim.seam_ids] if phase.open_arm_seams else None,
+        inertia=sewing_inertia(sim, phase.arm_inertia) if phase.arm_inertia != 1.0 else None,
+    )
+
+
+def _keyframe(sim: Simulation, phase: PoseKeyframe) -> None:
+    """Carry the cloth with the skin from one share of the dressing pose to the next, then drape there."""
+    from ..mesh.skinning import pose_vertices
+    from .collision import BodyCollider, hand_mitts
+    from .drape import drape
+    from .pipeline import smooth_over_cloth
+    from .pose import apply_transforms, blend_transforms, rotations, unapply_transforms
+    from .weights import transfer_weights
+
+    character, cloth = sim.character, sim.cloth
+    # the cloth follows the skin (weights of the nearest body points, smoothed
+    # over the cloth) from the previous pose to the next
+    joints, weights = transfer_weights(sim.collider, character, cloth.x)
+    b0 = smooth_over_cloth(
+        cloth, blend_transforms(character, rotations(sim.rotvecs, phase.share_from), joints, weights)
+    )
+    b1 = smooth_over_cloth(cloth, blend_transforms(character, rotations(sim.rotvecs, phase.share_to), joints, weights))
+    cloth.x = apply_transforms(b1, unapply_transforms(b0, cloth.x))
+    cloth.v[:] = 0.0
+    posed = (
+        np.array(character.vertices, dtype=np.float64)
+        if phase.share_to == 0.0
+        else pose_vertices(character, rotations(sim.rotvecs, phase.share_to))
+    )
+    sim.collider = BodyCollider(posed, character.faces)
+    helpers = sim.proxies + hand_mitts(posed, sim.hands)
+    sim.cloth_collider = BodyCollider(posed, character.faces, proxies=helpers) if helpers else sim.collider
+    drape(
+        cloth,
+        sim.cloth_collider,
+        steps=phase.steps,
+        sew_steps=0,
+        sew_ramp=(phase.sew_from, phase.sew_to),
+        gravity_scale=phase.gravity_scale,
+        settings=sim.settings,
+        solver=sim.solver,
+        stage="pose",
+        guard_crossings=True,
+    )
+
+
+def _settle(sim: Simulation, phase: Settle, progress: Callable[[str, int, int], None] | None) -> None:
+    """Drape under gravity, holding what the strategy holds where the cloth is now."""
+    from .drape import drape
+    from .pipeline import hold_weights
+
+    sim.solver = drape(
+        sim.cloth,
+        sim.cloth_collider,
+        steps=phase.steps,
+        sew_steps=0,
+        settings=sim.settings,
+        gravity_scale=phase.gravity_scale,
+        progress=progress,
+        stage="settle",
+        solver=sim.solver,
+        hold=hold_weights(sim, np.zeros(len(sim.cloth.x))) if phase.hold else None,
+    )
