@@ -18,7 +18,10 @@ without a sidecar beside it (the bridge data are inferred), exactly what
   RUL, holds the character as one more size and graded to it gives the fitted
   outlines within 0.1 mm, in the designer's layout (``ok``);
 - ``design``: the grader's design checks (collapsed, flattened or flipped
-  pieces against proportional scaling), ``kept`` when silent;
+  pieces against proportional scaling) and this script's own
+  ``piece-turned`` (a piece's longest straight edge, its fold, centre line
+  or a band's long edge, turned by over 2°: grading does not turn a grain),
+  ``kept`` when silent;
 - ``drape``: the drape's verdict (``-`` with ``--no-drape``);
 - ``verdict``: ``pass`` when all of the above hold, else what failed;
 - ``CPU s``: process CPU seconds of the case (the machine is shared: wall time
@@ -88,6 +91,31 @@ def reimport_error_mm(out: Path, result) -> float:
     return worst if len(graded.pieces) == len(fitted) else float("inf")
 
 
+#: the longest straight edge of a piece (a fold, a centre line, a band's long edge) may turn this much, degrees
+MAX_TURN_DEG = 2.0
+
+
+def turned_pieces(original, graded) -> list[str]:
+    """Pieces whose longest edge turned by more than ``MAX_TURN_DEG`` in grading: grain lost, a band sheared.
+
+    Independent of the grader's own checks (which compare with proportional
+    scaling): grading scales a piece along and across its grain, it does not
+    turn its fold, its centre line or a band's long edge.
+    """
+    out = []
+    for piece in graded.pieces:
+        a, b = original.piece(piece.name).outline, piece.outline
+        if a.shape != b.shape:
+            out.append(piece.name)
+            continue
+        da, db = np.roll(a, -1, axis=0) - a, np.roll(b, -1, axis=0) - b
+        k = int(np.argmax(np.linalg.norm(da, axis=1)))
+        turn = np.degrees(abs(np.arctan2(np.cross(da[k], db[k]), da[k] @ db[k])))
+        if turn > MAX_TURN_DEG:
+            out.append(piece.name)
+    return out
+
+
 def _links(measurements: list[dict]) -> str:
     """Short names of the links: girths and lengths by name, band widths counted."""
     names = [m["id"].removesuffix("_girth") for m in measurements if not m["id"].endswith("_width")]
@@ -122,7 +150,8 @@ def run_case(subject, garment: Path, out: Path, options, seed: int) -> dict:
         mean=fig.mean_error_cm,
         seam=fig.max_seam_mm,
         links=_links(rep["measurements"]),
-        checks=[c["code"] for c in rep.get("checks", [])],
+        checks=[c["code"] for c in rep.get("checks", [])]
+        + ["piece-turned"] * bool(turned_pieces(result.grading.original, result.grading.pattern)),
         drape=fig.verdict.value if fig.verdict else "-",
     )
     try:

@@ -7,10 +7,10 @@
   cut on the fold or as a pair; underarm to underarm on a piece drawn whole;
 - *waist*, across the top of legs and skirt panels;
 - *neck*, along the neckline of the bodices (centre neck to side neck, twice
-  per half), and apart along the sewn edge of every neckband or neck binding
-  (the strips of a neckline bound in parts together): both follow the body's
-  neck with their own ease, so a band's length follows the neckline it is
-  sewn to even where no applied seam ties the two;
+  per half), when the neckline sits at the neck: at most ``NECK_AT_NECK``
+  times the reference neck (a crew or polo neckline is 2–10 cm over the neck;
+  a tank's scoop, 52–66 cm on the real files, is a style line that the neck
+  does not control, and it is scaled with the bodice);
 - *upper arm*, across a sleeve at its underarm;
 - *thigh*, across each leg role at its crotch point.
 
@@ -19,7 +19,12 @@ sample length × body / reference body), so a garment keeps its design's
 proportion to the body: the bodice's centre length to the back length
 (nape to waist), the sleeve's length to the arm, the leg's to the outside leg.
 A **band's width** (binding, neckband, cuff, collar, waistband) follows the
-body height in proportion, so a strip graded to a child stays a strip.
+body height in proportion, so a strip graded to a child stays a strip; a
+band sewn along an opening of several ranges (``band`` entries, not applied
+as seams) keeps its **length to the opening**: the link ``<band>_length``
+is its sewn edge minus the opening's ranges (each copy of a half at a centre
+line counted), a difference that follows the body height in proportion, so a
+binding 1 cm shorter than its armhole stays about that much shorter.
 
 The **ease** and the proportions are read against the **reference body**
 ``REFERENCE_BODY_CM``: the men's sample body of the library's size chart
@@ -52,6 +57,9 @@ REFERENCE_BODY_CM = {
     "outside_leg_right": 105.0,
     "stature": 176.0,
 }
+
+#: a neckline longer than this many reference necks is a style line (scoop, boat), not a neck fit
+NECK_AT_NECK = 1.3
 
 _LEGS = (Role.LEG, Role.LEG_FRONT, Role.LEG_BACK)
 
@@ -110,16 +118,42 @@ def _neckline_leg(piece: Piece, o: Orientation, found: PieceLandmarks) -> Leg | 
     return Leg(piece=piece.name, start=f"v{start}", end=f"v{end}", along="boundary", factor=factor)
 
 
-def _neck_legs(inference: BridgeInference) -> list[Leg]:
-    """The sewn long edge of every chosen neckband or neck binding, once per band, along its boundary."""
-    legs: dict[str, Leg] = {}
+def _opening_factor(pattern: Pattern, inference: BridgeInference, side) -> float:
+    """How often a band runs along an opening range: each copy at a centre line (neck, waist), else once.
+
+    An armhole range is bound once per binding (each armhole has its own copy
+    of the binding; a piece drawn whole has an armhole on each side, so each
+    of its two ranges counts half); a neckline or waist range of a half cut on
+    the fold or as a pair is bound on both halves by the one band.
+    """
+    piece, o = pattern.piece(side.piece), inference.orientations[side.piece]
+    up = o.apply(sew_line(piece)[0])
+    n = len(up)
+    idx = np.arange(side.start, side.end + 1) if side.end >= side.start else np.r_[side.start : n, 0 : side.end + 1]
+    at_centre = bool(np.abs(up[idx, 0]).min() < 0.5) or inference.roles[side.piece].role in _LEGS
+    if at_centre:
+        return _copies(piece, o)
+    return 0.5 if o.whole else 1.0
+
+
+def _band_length_legs(pattern: Pattern, inference: BridgeInference) -> dict[str, list[Leg]]:
+    """Per band along an opening: its sewn edge (+1) and the opening's ranges (-copies), so the band follows them."""
+    legs: dict[str, list[Leg]] = {}
+    sewn: set[tuple[str, int, int]] = set()
     for j in inference.joins:
         band = j.b.piece
-        if j.kind != "band" or band not in inference.chosen or band in legs:
+        if j.kind != "band" or band not in inference.chosen or j.a.piece not in inference.chosen:
             continue
-        if inference.roles[band].role in (Role.NECKBAND, Role.NECK_BINDING):
-            legs[band] = Leg(piece=band, start=f"v{j.b.start}", end=f"v{j.b.end}", along="boundary", factor=1.0)
-    return list(legs.values())
+        if (band, j.b.start, j.b.end) not in sewn:  # a band cut at its own marks sews several ranges
+            sewn.add((band, j.b.start, j.b.end))
+            legs.setdefault(band, []).append(
+                Leg(piece=band, start=f"v{j.b.start}", end=f"v{j.b.end}", along="boundary", factor=1.0)
+            )
+        factor = -_opening_factor(pattern, inference, j.a)
+        legs[band].append(
+            Leg(piece=j.a.piece, start=f"v{j.a.start}", end=f"v{j.a.end}", along="boundary", factor=factor)
+        )
+    return legs
 
 
 def _across_at(up: np.ndarray, at: int, far_side: bool = True) -> int:
@@ -166,20 +200,30 @@ def _leg_legs(piece: Piece, o: Orientation, found: PieceLandmarks) -> tuple[Leg 
     return thigh, Leg(piece=piece.name, start=f"v{side}", end=f"v{hem}", along="chord", factor=1.0)
 
 
-def _band_width_leg(piece: Piece, o: Orientation, found: PieceLandmarks) -> Leg | None:
-    """A band's width: from the middle of its sewn long edge straight across to its other long edge."""
-    mid = found.marks.get("band_middle")
-    if mid is None:
+def _band_width_leg(piece: Piece) -> Leg | None:
+    """A band's width: straight across its short axis, near the middle of its length.
+
+    The long axis is the principal axis of the sew line (a band may be drawn
+    or stood up either way); the leg joins the vertex of the long edge with
+    fewer vertices nearest the band's middle (a corner, on a plain edge) to
+    the vertex of the other long edge nearest it along the band.
+    """
+    pts = sew_line(piece)[0]
+    c = pts - pts.mean(axis=0)
+    _, _, vt = np.linalg.svd(c, full_matrices=False)
+    along, across = c @ vt[0], c @ vt[1]
+    tol = 0.1 * np.ptp(across)
+    low = np.nonzero(across <= across.min() + tol)[0]
+    high = np.nonzero(across >= across.max() - tol)[0]
+    if not len(low) or not len(high):
         return None
-    up = o.apply(sew_line(piece)[0])
-    x, y = up[:, 0], up[:, 1]
-    top = np.nonzero(y >= y.max() - 0.25 * np.ptp(y))[0]
-    if not len(top):
+    if len(high) < len(low):  # start on the edge with fewer vertices (a plain edge has only its corners)
+        low, high = high, low
+    i = int(low[np.argmin(np.abs(along[low]))])
+    j = int(high[np.argmin(np.abs(along[high] - along[i]))])
+    if i == j:
         return None
-    other = int(top[np.argmin(np.abs(x[top] - x[mid]))])
-    if other == mid:
-        return None
-    return Leg(piece=piece.name, start=f"v{mid}", end=f"v{other}", along="chord", factor=1.0)
+    return Leg(piece=piece.name, start=f"v{i}", end=f"v{j}", along="chord", factor=1.0)
 
 
 def _span(piece: Piece, leg: Leg) -> float:
@@ -230,9 +274,10 @@ def _collect(pattern: Pattern, inference: BridgeInference) -> dict[str, list[Leg
             add("upper_arm_girth|upper_arm_girth_right|girth", girth)
             add("sleeve_length|arm_length_right|length", length)
         elif is_band(role):
-            add(f"{name}_width|stature|length", _band_width_leg(piece, o, found[name]))
-    for leg in _neck_legs(inference):
-        add("neckband_girth|neck_girth|girth", leg)
+            add(f"{name}_width|stature|length", _band_width_leg(piece))
+    for band, band_legs in _band_length_legs(pattern, inference).items():
+        for leg in band_legs:
+            add(f"{band}_length|stature|length", leg)
     return legs
 
 
@@ -242,7 +287,9 @@ def measurement_links(pattern: Pattern, inference: BridgeInference) -> list[Meas
     for key, legs in _collect(pattern, inference).items():
         link_id, measurement, kind = key.split("|")
         sample = sum(_span(pattern.piece(g.piece), g) for g in legs)
-        if sample <= 1e-6:
+        if kind == "girth" and sample <= 1e-6:
+            continue
+        if link_id == "neck_girth" and sample > NECK_AT_NECK * REFERENCE_BODY_CM["neck_girth"]:
             continue
         ease = round(sample - REFERENCE_BODY_CM[measurement], 2)
         if kind == "length" and ease >= sample:
