@@ -10,7 +10,8 @@
   per half), when the neckline sits at the neck: at most ``NECK_AT_NECK``
   times the reference neck (a crew or polo neckline is 2–10 cm over the neck;
   a tank's scoop, 52–66 cm on the real files, is a style line that the neck
-  does not control, and it is scaled with the bodice);
+  does not control: its ``neckline`` link keeps its proportion to the chest
+  girth, as the bodice does);
 - *upper arm*, across a sleeve at its underarm;
 - *thigh*, across each leg role at its crotch point.
 
@@ -290,7 +291,8 @@ def measurement_links(pattern: Pattern, inference: BridgeInference) -> list[Meas
         if kind == "girth" and sample <= 1e-6:
             continue
         if link_id == "neck_girth" and sample > NECK_AT_NECK * REFERENCE_BODY_CM["neck_girth"]:
-            continue
+            # a style line: it keeps its proportion to the bodice's girth
+            link_id, measurement, kind = "neckline", "chest_girth", "length"
         ease = round(sample - REFERENCE_BODY_CM[measurement], 2)
         if kind == "length" and ease >= sample:
             continue

@@ -72,11 +72,12 @@ def test_trousers_leg_links_read_off_the_leg(tmp_path):
 
 @pytest.mark.shared
 def test_tank_scoop_neckline_is_a_style_line_and_bands_follow_their_openings(aama_dir):
-    """A tank's 52 cm scoop is not linked to the neck; each binding's length is tied to its opening's."""
+    """A tank's 52 cm scoop follows the chest in proportion, not the neck; each binding's length follows its opening."""
     pattern, _ = read_dxf(aama_dir / "GLX0926S16.DXF")
     inference = infer_bridge(pattern)
     links = {m.id: m for m in measurement_links(pattern, inference)}
     assert "neck_girth" not in links
+    assert links["neckline"].measurement == "chest_girth" and links["neckline"].proportional
     for band in ("GLX0926S16SBIN", "GLX0926S16SBIA"):
         legs = links[f"{band}_length"].legs
         assert legs[0].piece == band and legs[0].factor == 1.0
