@@ -20,7 +20,9 @@ without a sidecar beside it (the bridge data are inferred), exactly what
 - ``design``: the grader's design checks (collapsed, flattened or flipped
   pieces against proportional scaling) and this script's own
   ``piece-turned`` (a piece's longest straight edge, its fold, centre line
-  or a band's long edge, turned by over 2°: grading does not turn a grain),
+  or a band's long edge, turned by over 2°: grading does not turn a grain)
+  and ``share-moved`` (a girth over several pieces whose share between them
+  moved by over 3 %: a front narrowed while the back widened),
   ``kept`` when silent;
 - ``drape``: the drape's verdict (``-`` with ``--no-drape``);
 - ``verdict``: ``pass`` when all of the above hold, else what failed;
@@ -116,6 +118,35 @@ def turned_pieces(original, graded) -> list[str]:
     return out
 
 
+#: a girth taken over several pieces keeps each piece's share of it within this (3 cm of a 100 cm chest)
+MAX_SHARE_MOVE = 0.03
+
+
+def shares_moved(original, graded) -> list[str]:
+    """Girth links whose share between pieces (front against back) moved by more than ``MAX_SHARE_MOVE``.
+
+    The grader meets a girth taken over a front and a back as a sum; grading
+    keeps the balance of the pieces (a pattern maker grades front and back
+    alike), so a front narrowed while the back widened is a changed design
+    however well the sum is met.
+    """
+    from patternbridge.library.seams import leg_lengths, sew_line
+
+    out = []
+    for link in original.measurements:
+        pieces = {g.piece for g in link.legs}
+        if link.proportional or len(pieces) < 2 or any(g.factor <= 0 for g in link.legs):
+            continue
+        share = []
+        for pattern in (original, graded):
+            lines = {p.name: sew_line(p)[0][None] for p in pattern.pieces}
+            spans = np.array([float(leg_lengths(pattern, [g], lines)[0]) for g in link.legs])
+            share.append(spans / max(spans.sum(), 1e-9))
+        if np.abs(share[1] - share[0]).max() > MAX_SHARE_MOVE:
+            out.append(link.id)
+    return out
+
+
 def _links(measurements: list[dict]) -> str:
     """Short names of the links: girths and lengths by name, band widths counted."""
     names = [m["id"].removesuffix("_girth") for m in measurements if not m["id"].endswith("_width")]
@@ -151,7 +182,8 @@ def run_case(subject, garment: Path, out: Path, options, seed: int) -> dict:
         seam=fig.max_seam_mm,
         links=_links(rep["measurements"]),
         checks=[c["code"] for c in rep.get("checks", [])]
-        + ["piece-turned"] * bool(turned_pieces(result.grading.original, result.grading.pattern)),
+        + ["piece-turned"] * bool(turned_pieces(result.grading.original, result.grading.pattern))
+        + ["share-moved"] * bool(shares_moved(result.grading.original, result.grading.pattern)),
         drape=fig.verdict.value if fig.verdict else "-",
     )
     try:

@@ -18,7 +18,8 @@
 **Lengths** follow the body in proportion (``proportional`` links: target =
 sample length × body / reference body), so a garment keeps its design's
 proportion to the body: the bodice's centre length to the back length
-(nape to waist), the sleeve's length to the arm, the leg's to the outside leg.
+(nape to waist), the sleeve's underarm seam to the arm, the leg's length to
+the outside leg.
 A **band's width** (binding, neckband, cuff, collar, waistband) follows the
 body height in proportion, so a strip graded to a child stays a strip; a
 band sewn along an opening of several ranges (``band`` entries, not applied
@@ -167,8 +168,8 @@ def _across_at(up: np.ndarray, at: int, far_side: bool = True) -> int:
     return int(other[np.argmin(np.abs(y[other] - y[at]))])
 
 
-def _sleeve_legs(piece: Piece, o: Orientation, found: PieceLandmarks) -> tuple[Leg | None, Leg | None]:
-    """(upper arm across the underarm, cap top to hem along the sleeve) of a sleeve."""
+def _sleeve_legs(piece: Piece, o: Orientation) -> tuple[Leg | None, Leg | None]:
+    """(upper arm across the underarm, underarm seam from the underarm to the hem) of a sleeve."""
     up = o.apply(sew_line(piece)[0])
     x, y = up[:, 0], up[:, 1]
     if o.fold is not None:
@@ -179,12 +180,16 @@ def _sleeve_legs(piece: Piece, o: Orientation, found: PieceLandmarks) -> tuple[L
     else:
         lo, hi = int(np.argmin(x)), int(np.argmax(x))
         girth = Leg(piece=piece.name, start=f"v{lo}", end=f"v{hi}", along="across", factor=1.0)
-    cap = found.marks.get("cap_top")
-    if cap is None:
-        return girth, None
+    # the length along the underarm seam, underarm to hem corner: a seam edge, not one hem vertex the grader
+    # could move alone
+    under = int(np.argmin(x))
     bottom = np.nonzero(y <= y.min() + 0.03 * np.ptp(y))[0]
-    hem = int(bottom[np.argmin(np.abs(x[bottom] - x[cap]))])
-    return girth, Leg(piece=piece.name, start=f"v{cap}", end=f"v{hem}", along="chord", factor=1.0)
+    corner = int(bottom[np.argmin(x[bottom])])
+    if under == corner:
+        return girth, None
+    pts = sew_line(piece)[0]
+    start, end = (under, corner) if _arc(pts, under, corner) <= _arc(pts, corner, under) else (corner, under)
+    return girth, Leg(piece=piece.name, start=f"v{start}", end=f"v{end}", along="boundary", factor=1.0)
 
 
 def _leg_legs(piece: Piece, o: Orientation, found: PieceLandmarks) -> tuple[Leg | None, Leg | None]:
@@ -271,7 +276,7 @@ def _collect(pattern: Pattern, inference: BridgeInference) -> dict[str, list[Leg
                 if "leg_length|outside_leg_right|length" not in legs:
                     add("leg_length|outside_leg_right|length", length)
         elif role is Role.SLEEVE and first:
-            girth, length = _sleeve_legs(piece, o, found[name])
+            girth, length = _sleeve_legs(piece, o)
             add("upper_arm_girth|upper_arm_girth_right|girth", girth)
             add("sleeve_length|arm_length_right|length", length)
         elif is_band(role):
