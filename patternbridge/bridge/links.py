@@ -1,18 +1,38 @@
-"""Measurement links read off the pattern: the girths a garment controls, with their ease.
+"""Measurement links read off the pattern: the girths and lengths a garment controls, with their ease.
 
-A bodice controls the chest girth, taken across the grain at the underarm: on
-every chosen front and back (bodices, whose tops are scooped), from the
-underarm to the centre line — doubled for a half cut on the fold or as a pair —
-or, on a piece drawn whole, from one underarm to the other. Legs and skirt
-panels control the waist girth across their top. A neckband or neck binding
-controls the neck girth along its sewn edge (the strips of a neckline bound
-in parts together), so grading keeps the band as long as the neckline needs
-even when no applied seam ties it to the neckline. The **ease** is read off the
-pattern itself: its girth in the sample size minus the girth of the
-**reference body** ``REFERENCE_BODY_CM`` (the men's sample body of the library's
-size chart, EN 13402-3 intervals: chest 96, waist 84, neck 39 cm, `docs/library.md`),
-used because a file's own size label does not say which chart it follows.
-The marks the links need are added as ``v<vertex>``.
+**Girths** (target = body + ease, the ease read off the pattern):
+
+- *chest*, across the grain at the underarm of every chosen bodice (a front
+  or back whose top is scooped): underarm to centre line, doubled for a half
+  cut on the fold or as a pair; underarm to underarm on a piece drawn whole;
+- *waist*, across the top of legs and skirt panels;
+- *neck*, along the neckline of the bodices (centre neck to side neck, twice
+  per half), when the neckline sits at the neck: at most ``NECK_AT_NECK``
+  times the reference neck (a crew or polo neckline is 2–10 cm over the neck;
+  a tank's scoop, 52–66 cm on the real files, is a style line that the neck
+  does not control: its ``neckline`` link keeps its proportion to the chest
+  girth, as the bodice does);
+- *upper arm*, across a sleeve at its underarm;
+- *thigh*, across each leg role at its crotch point.
+
+**Lengths** follow the body in proportion (``proportional`` links: target =
+sample length × body / reference body), so a garment keeps its design's
+proportion to the body: the bodice's centre length to the back length
+(nape to waist), the sleeve's underarm seam to the arm, the leg's length to
+the outside leg.
+A **band's width** (binding, neckband, cuff, collar, waistband) follows the
+body height in proportion, so a strip graded to a child stays a strip; a
+band sewn along an opening of several ranges (``band`` entries, not applied
+as seams) keeps its **length to the opening**: the link ``<band>_length``
+is its sewn edge minus the opening's ranges (each copy of a half at a centre
+line counted), a difference that follows the body height in proportion, so a
+binding 1 cm shorter than its armhole stays about that much shorter.
+
+The **ease** and the proportions are read against the **reference body**
+``REFERENCE_BODY_CM``: the men's sample body of the library's size chart
+(EN 13402-3 intervals with Aldrich's secondary dimensions, `docs/library.md`),
+because a file's own size label does not say which chart it follows. The
+marks the links need are added as ``v<vertex>``.
 """
 
 from __future__ import annotations
@@ -21,13 +41,27 @@ import numpy as np
 
 from ..library.seams import sew_line
 from ..pattern.model import Leg, MeasurementLink, Pattern, Piece
-from .model import BridgeInference, Orientation, Role
+from .landmarks import PieceLandmarks, piece_landmarks
+from .model import BridgeInference, Orientation, Role, is_band
 from .openings import shapes_scooped
 
 __all__ = ["REFERENCE_BODY_CM", "measurement_links"]
 
-#: the body whose girths the ease is read against (library men's sample size)
-REFERENCE_BODY_CM = {"chest_girth": 96.0, "waist_girth": 84.0, "neck_girth": 39.0}
+#: the body whose girths the ease and whose lengths the proportions are read against (library men's sample size)
+REFERENCE_BODY_CM = {
+    "chest_girth": 96.0,
+    "waist_girth": 84.0,
+    "neck_girth": 39.0,
+    "upper_arm_girth_right": 31.8,
+    "thigh_girth_right": 57.0,
+    "back_length": 45.0,
+    "arm_length_right": 64.0,
+    "outside_leg_right": 105.0,
+    "stature": 176.0,
+}
+
+#: a neckline longer than this many reference necks is a style line (scoop, boat), not a neck fit
+NECK_AT_NECK = 1.3
 
 _LEGS = (Role.LEG, Role.LEG_FRONT, Role.LEG_BACK)
 
@@ -66,48 +100,210 @@ def _waist_leg(piece: Piece, o: Orientation) -> Leg | None:
     return Leg(piece=piece.name, start=f"v{lo}", end=f"v{hi}", along="across", factor=_copies(piece, o))
 
 
-def _neck_legs(inference: BridgeInference) -> list[Leg]:
-    """The sewn long edge of every chosen neckband or neck binding, once per band, along its boundary."""
-    legs: dict[str, Leg] = {}
+def _arc(points: np.ndarray, start: int, end: int) -> float:
+    """Length along a closed polyline from ``start`` to ``end`` in outline order."""
+    n, k, total = len(points), start, 0.0
+    while k != end:
+        total += float(np.linalg.norm(points[(k + 1) % n] - points[k]))
+        k = (k + 1) % n
+    return total
+
+
+def _neckline_leg(piece: Piece, o: Orientation, found: PieceLandmarks) -> Leg | None:
+    """A bodice's neckline from its centre neck to its side neck (the shorter way round), twice per half."""
+    a, b = found.marks.get("centre_neck"), found.marks.get("neck_side")
+    if a is None or b is None or a == b:
+        return None
+    pts = sew_line(piece)[0]
+    start, end = (a, b) if _arc(pts, a, b) <= _arc(pts, b, a) else (b, a)
+    factor = 2.0 if o.whole else _copies(piece, o)
+    return Leg(piece=piece.name, start=f"v{start}", end=f"v{end}", along="boundary", factor=factor)
+
+
+def _opening_factor(pattern: Pattern, inference: BridgeInference, side) -> float:
+    """How often a band runs along an opening range: each copy at a centre line (neck, waist), else once.
+
+    An armhole range is bound once per binding (each armhole has its own copy
+    of the binding; a piece drawn whole has an armhole on each side, so each
+    of its two ranges counts half); a neckline or waist range of a half cut on
+    the fold or as a pair is bound on both halves by the one band.
+    """
+    piece, o = pattern.piece(side.piece), inference.orientations[side.piece]
+    up = o.apply(sew_line(piece)[0])
+    n = len(up)
+    idx = np.arange(side.start, side.end + 1) if side.end >= side.start else np.r_[side.start : n, 0 : side.end + 1]
+    at_centre = bool(np.abs(up[idx, 0]).min() < 0.5) or inference.roles[side.piece].role in _LEGS
+    if at_centre:
+        return _copies(piece, o)
+    return 0.5 if o.whole else 1.0
+
+
+def _band_length_legs(pattern: Pattern, inference: BridgeInference) -> dict[str, list[Leg]]:
+    """Per band along an opening: its sewn edge (+1) and the opening's ranges (-copies), so the band follows them."""
+    legs: dict[str, list[Leg]] = {}
+    sewn: set[tuple[str, int, int]] = set()
     for j in inference.joins:
         band = j.b.piece
-        if j.kind != "band" or band not in inference.chosen or band in legs:
+        if j.kind != "band" or band not in inference.chosen or j.a.piece not in inference.chosen:
             continue
-        if inference.roles[band].role in (Role.NECKBAND, Role.NECK_BINDING):
-            legs[band] = Leg(piece=band, start=f"v{j.b.start}", end=f"v{j.b.end}", along="boundary", factor=1.0)
-    return list(legs.values())
+        if (band, j.b.start, j.b.end) not in sewn:  # a band cut at its own marks sews several ranges
+            sewn.add((band, j.b.start, j.b.end))
+            legs.setdefault(band, []).append(
+                Leg(piece=band, start=f"v{j.b.start}", end=f"v{j.b.end}", along="boundary", factor=1.0)
+            )
+        factor = -_opening_factor(pattern, inference, j.a)
+        legs[band].append(
+            Leg(piece=j.a.piece, start=f"v{j.a.start}", end=f"v{j.a.end}", along="boundary", factor=factor)
+        )
+    return legs
+
+
+def _across_at(up: np.ndarray, at: int, far_side: bool = True) -> int:
+    """The vertex on the other side of the piece from vertex ``at``, nearest its level."""
+    x, y = up[:, 0], up[:, 1]
+    mid = 0.5 * (x.min() + x.max())
+    other = np.nonzero((x - mid) * (x[at] - mid) < 0)[0] if far_side else np.arange(len(up))
+    if not len(other):
+        return at
+    return int(other[np.argmin(np.abs(y[other] - y[at]))])
+
+
+def _sleeve_legs(piece: Piece, o: Orientation) -> tuple[Leg | None, Leg | None]:
+    """(upper arm across the underarm, underarm seam from the underarm to the hem) of a sleeve."""
+    up = o.apply(sew_line(piece)[0])
+    x, y = up[:, 0], up[:, 1]
+    if o.fold is not None:
+        under = int(np.argmax(np.abs(x)))
+        centre = np.nonzero(np.abs(x) < 0.5)[0]
+        mid = int(centre[np.argmin(np.abs(y[centre] - y[under]))]) if len(centre) else under
+        girth = Leg(piece=piece.name, start=f"v{under}", end=f"v{mid}", along="across", factor=2.0)
+    else:
+        lo, hi = int(np.argmin(x)), int(np.argmax(x))
+        girth = Leg(piece=piece.name, start=f"v{lo}", end=f"v{hi}", along="across", factor=1.0)
+    # the length along the underarm seam, underarm to hem corner: a seam edge, not one hem vertex the grader
+    # could move alone
+    under = int(np.argmin(x))
+    bottom = np.nonzero(y <= y.min() + 0.03 * np.ptp(y))[0]
+    corner = int(bottom[np.argmin(x[bottom])])
+    if under == corner:
+        return girth, None
+    pts = sew_line(piece)[0]
+    start, end = (under, corner) if _arc(pts, under, corner) <= _arc(pts, corner, under) else (corner, under)
+    return girth, Leg(piece=piece.name, start=f"v{start}", end=f"v{end}", along="boundary", factor=1.0)
+
+
+def _leg_legs(piece: Piece, o: Orientation, found: PieceLandmarks) -> tuple[Leg | None, Leg | None]:
+    """(thigh across the crotch point, side waist to hem) of a leg piece."""
+    up = o.apply(sew_line(piece)[0])
+    crotch, side = found.marks.get("crotch_point"), found.marks.get("side_waist")
+    if crotch is None or side is None:
+        return None, None
+    other = _across_at(up, crotch)
+    thigh = Leg(piece=piece.name, start=f"v{crotch}", end=f"v{other}", along="across", factor=1.0)
+    y = up[:, 1]
+    bottom = np.nonzero(y <= y.min() + 0.03 * np.ptp(y))[0]
+    hem = int(bottom[np.argmin(np.abs(up[bottom, 0] - up[side, 0]))])
+    return thigh, Leg(piece=piece.name, start=f"v{side}", end=f"v{hem}", along="chord", factor=1.0)
+
+
+def _band_width_leg(piece: Piece) -> Leg | None:
+    """A band's width: straight across its short axis, near the middle of its length.
+
+    The long axis is the principal axis of the sew line (a band may be drawn
+    or stood up either way); the leg joins the vertex of the long edge with
+    fewer vertices nearest the band's middle (a corner, on a plain edge) to
+    the vertex of the other long edge nearest it along the band.
+    """
+    pts = sew_line(piece)[0]
+    c = pts - pts.mean(axis=0)
+    _, _, vt = np.linalg.svd(c, full_matrices=False)
+    along, across = c @ vt[0], c @ vt[1]
+    tol = 0.1 * np.ptp(across)
+    low = np.nonzero(across <= across.min() + tol)[0]
+    high = np.nonzero(across >= across.max() - tol)[0]
+    if not len(low) or not len(high):
+        return None
+    if len(high) < len(low):  # start on the edge with fewer vertices (a plain edge has only its corners)
+        low, high = high, low
+    i = int(low[np.argmin(np.abs(along[low]))])
+    j = int(high[np.argmin(np.abs(along[high] - along[i]))])
+    if i == j:
+        return None
+    return Leg(piece=piece.name, start=f"v{i}", end=f"v{j}", along="chord", factor=1.0)
 
 
 def _span(piece: Piece, leg: Leg) -> float:
-    if leg.along == "boundary":
-        lines = sew_line(piece)[0]
-        n, k, total = len(lines), int(leg.start[1:]), 0.0
-        while k != int(leg.end[1:]):
-            total += float(np.linalg.norm(lines[(k + 1) % n] - lines[k]))
-            k = (k + 1) % n
-        return total * leg.factor
     pts = sew_line(piece)[0]
-    d = pts[int(leg.end[1:])] - pts[int(leg.start[1:])]
+    i, j = int(leg.start[1:]), int(leg.end[1:])
+    if leg.along == "boundary":
+        return _arc(pts, i, j) * leg.factor
+    d = pts[j] - pts[i]
+    if leg.along == "chord":
+        return float(np.linalg.norm(d)) * leg.factor
     return float(abs(d @ piece.across_grain)) * leg.factor
 
 
-def measurement_links(pattern: Pattern, inference: BridgeInference) -> list[MeasurementLink]:
-    """The chest (bodices) and waist (legs, skirt panels) links of the chosen garment."""
-    chest, waist = [], []
+def _collect(pattern: Pattern, inference: BridgeInference) -> dict[str, list[Leg]]:
+    """Legs of every link, keyed ``link id|measurement|kind`` (kind ``girth`` or ``length``)."""
+    found = piece_landmarks(pattern, inference)
+    legs: dict[str, list[Leg]] = {}
+
+    def add(key: str, leg: Leg | None) -> None:
+        if leg is not None:
+            legs.setdefault(key, []).append(leg)
+
+    seen_roles: set[Role] = set()
     for name in inference.chosen:
         piece, o, role = pattern.piece(name), inference.orientations[name], inference.roles[name].role
         up = o.apply(sew_line(piece)[0])
+        first = role not in seen_roles  # lengths and limb girths: one piece of each role
+        seen_roles.add(role)
         if role in (Role.FRONT, Role.BACK) and (shapes_scooped(up) or o.fold is not None):
-            leg = _chest_leg(piece, o)
-            chest += [leg] if leg else []
+            add("chest_girth|chest_girth|girth", _chest_leg(piece, o))
+            add("neck_girth|neck_girth|girth", _neckline_leg(piece, o, found[name]))
+            if role is Role.BACK or Role.BACK not in {inference.roles[n].role for n in inference.chosen}:
+                if first and "centre_neck" in found[name].marks and "centre_hem" in found[name].marks:
+                    m = found[name].marks
+                    add(
+                        "body_length|back_length|length",
+                        Leg(piece=name, start=f"v{m['centre_neck']}", end=f"v{m['centre_hem']}", along="chord"),
+                    )
         elif role in _LEGS or role in (Role.FRONT, Role.BACK):
-            leg = _waist_leg(piece, o)
-            waist += [leg] if leg else []
+            add("waist_girth|waist_girth|girth", _waist_leg(piece, o))
+            if role in _LEGS and first:
+                thigh, length = _leg_legs(piece, o, found[name])
+                add("thigh_girth|thigh_girth_right|girth", thigh)
+                if "leg_length|outside_leg_right|length" not in legs:
+                    add("leg_length|outside_leg_right|length", length)
+        elif role is Role.SLEEVE and first:
+            girth, length = _sleeve_legs(piece, o)
+            add("upper_arm_girth|upper_arm_girth_right|girth", girth)
+            add("sleeve_length|arm_length_right|length", length)
+        elif is_band(role):
+            add(f"{name}_width|stature|length", _band_width_leg(piece))
+    for band, band_legs in _band_length_legs(pattern, inference).items():
+        for leg in band_legs:
+            add(f"{band}_length|stature|length", leg)
+    return legs
+
+
+def measurement_links(pattern: Pattern, inference: BridgeInference) -> list[MeasurementLink]:
+    """The girth and length links of the chosen garment, with ease and proportions read off the pattern."""
     links = []
-    for measurement, legs in (("chest_girth", chest), ("waist_girth", waist), ("neck_girth", _neck_legs(inference))):
-        if not legs:
+    for key, legs in _collect(pattern, inference).items():
+        link_id, measurement, kind = key.split("|")
+        sample = sum(_span(pattern.piece(g.piece), g) for g in legs)
+        if kind == "girth" and sample <= 1e-6:
             continue
-        girth = sum(_span(pattern.piece(g.piece), g) for g in legs)
-        ease = round(girth - REFERENCE_BODY_CM[measurement], 2)
-        links.append(MeasurementLink(id=measurement, measurement=measurement, legs=tuple(legs), ease_cm=ease))
+        if link_id == "neck_girth" and sample > NECK_AT_NECK * REFERENCE_BODY_CM["neck_girth"]:
+            # a style line: it keeps its proportion to the bodice's girth
+            link_id, measurement, kind = "neckline", "chest_girth", "length"
+        ease = round(sample - REFERENCE_BODY_CM[measurement], 2)
+        if kind == "length" and ease >= sample:
+            continue
+        links.append(
+            MeasurementLink(
+                id=link_id, measurement=measurement, legs=tuple(legs), ease_cm=ease, proportional=kind == "length"
+            )
+        )
     return links

@@ -201,9 +201,16 @@ def _valid(sol: Solution) -> bool:
     return sol.scores.fold_margin > 0 and sol.scores.is_simple
 
 
+#: a link shorter than this in the sample size (a difference of lengths, e.g. a band minus the edge it is
+#: sewn to) says nothing about how much a piece grows: it gives no ratio to the proportional seeds
+MIN_RATIO_LINK_CM = 0.5
+
+
 def _link_ratios(data: ObjectiveData, grid: PatternGrid) -> np.ndarray:
+    """(L,) target / sample length of every link; NaN where the sample length or the target is not positive."""
     achieved0 = _achieved(data, grid, grid.x0[None, :])[0][0]
-    return data.target_cm / np.where(achieved0 > 0, achieved0, 1.0)
+    ok = (achieved0 > MIN_RATIO_LINK_CM) & (data.target_cm > 0)
+    return np.where(ok, data.target_cm / np.where(ok, achieved0, 1.0), np.nan)
 
 
 def _achieved(data: ObjectiveData, grid: PatternGrid, X: np.ndarray):
@@ -257,8 +264,8 @@ def uniform_scaling(grid: PatternGrid, data: ObjectiveData) -> np.ndarray:
     """
     ratios = _link_ratios(data, grid)
     length, _ = _piece_link_shares(data, grid)
-    touched = length > 0
-    fallback = float(np.median(ratios)) if len(ratios) else 1.0
+    touched = (length > 0) & np.isfinite(ratios)[None, :]
+    fallback = float(np.nanmedian(ratios)) if np.isfinite(ratios).any() else 1.0
     s = np.array([ratios[t].max() if t.any() else fallback for t in touched])
     return _scaled(grid, np.stack([s, s], axis=1))
 
@@ -273,7 +280,9 @@ def axis_scaling(grid: PatternGrid, data: ObjectiveData) -> np.ndarray:
     """
     ratios = _link_ratios(data, grid)
     length, frac_h = _piece_link_shares(data, grid)
-    fallback = float(np.median(ratios)) if len(ratios) else 1.0
+    fallback = float(np.nanmedian(ratios)) if np.isfinite(ratios).any() else 1.0
+    length = np.where(np.isfinite(ratios)[None, :], length, 0.0)
+    ratios = np.nan_to_num(ratios, nan=0.0)
     factors = np.ones((len(grid.pieces), 2))
     for k in range(len(grid.pieces)):
         wh = length[k] * frac_h[k]

@@ -1,0 +1,107 @@
+"""Measurement links read off a pattern: girths, proportional lengths, band widths and band lengths.
+
+Checked against what the library drafts say (a DXF read without its
+sidecar): the T-shirt's chest and neck links are the drafted chest and neck
+plus ease, its rib neckband is 1 cm shorter than the neckline per quarter,
+the shirt's cuff takes 4 cm of pleats, and every band's width is the drafted
+width.
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from patternbridge.bridge import infer_bridge
+from patternbridge.bridge.links import REFERENCE_BODY_CM, measurement_links
+from patternbridge.bridge.sidecar import inference_sidecar
+from patternbridge.io.dxf_aama import read_dxf
+from patternbridge.library.catalogue import LIBRARY_DIR
+from patternbridge.library.seams import link_lengths
+from patternbridge.library.sidecar import apply_sidecar
+
+
+def _inferred(path, tmp_path):
+    pattern, _ = read_dxf(path)
+    sidecar = tmp_path / f"{path.stem}.seams.json"
+    sidecar.write_text(json.dumps(inference_sidecar(pattern, infer_bridge(pattern))))
+    applied = apply_sidecar(pattern, sidecar)
+    k = list(applied.sizes).index(applied.sample_size) if applied.sizes else 0
+    lengths = {key: float(v[k]) for key, v in link_lengths(applied).items()}
+    return applied, {m.id: m for m in applied.measurements}, lengths
+
+
+def test_tshirt_links_are_the_drafted_girths_band_and_lengths(tmp_path):
+    _, links, lengths = _inferred(LIBRARY_DIR / "tshirt" / "tshirt_aama.dxf", tmp_path)
+    # docs/library.md: chest 96 + 8 ease; neck 39 + 3.7; rib neckband 1 cm shorter per quarter, 2 cm wide
+    assert lengths["chest_girth"] == pytest.approx(104.0, abs=0.3)
+    assert lengths["neck_girth"] == pytest.approx(42.7, abs=0.3)
+    assert links["neck_girth"].ease_cm == pytest.approx(
+        lengths["neck_girth"] - REFERENCE_BODY_CM["neck_girth"], abs=0.01
+    )
+    assert lengths["neckband_length"] == pytest.approx(-4.0, abs=0.1)
+    assert lengths["neckband_width"] == pytest.approx(2.0, abs=0.05)
+    for lengthwise in ("body_length", "sleeve_length", "neckband_length", "neckband_width"):
+        assert links[lengthwise].proportional
+    for girth in ("chest_girth", "neck_girth", "upper_arm_girth"):
+        assert not links[girth].proportional
+
+
+def test_shirt_cuff_takes_its_pleats_and_keeps_its_width(tmp_path):
+    _, links, lengths = _inferred(LIBRARY_DIR / "shirt" / "shirt_aama.dxf", tmp_path)
+    assert lengths["cuff_length"] == pytest.approx(-4.0, abs=0.1)  # 4 cm of pleats at the sleeve hem
+    assert lengths["cuff_width"] == pytest.approx(6.0, abs=0.05)
+    # a proportional link's ease keeps the sample length: target = L0 * body / (L0 - ease) = L0 at the reference
+    cuff = links["cuff_length"]
+    assert lengths["cuff_length"] - cuff.ease_cm == pytest.approx(REFERENCE_BODY_CM["stature"], abs=0.01)
+
+
+def test_trousers_leg_links_read_off_the_leg(tmp_path):
+    _, links, lengths = _inferred(LIBRARY_DIR / "trousers" / "trousers_aama.dxf", tmp_path)
+    assert lengths["waistband_width"] == pytest.approx(4.0, abs=0.05)
+    # the leg's length runs from the side waist to the hem: within 1 cm of the drafted outside leg link
+    from patternbridge.library import load_garment
+
+    drafted = load_garment("trousers")
+    k = list(drafted.sizes).index(drafted.sample_size)
+    assert lengths["leg_length"] == pytest.approx(float(link_lengths(drafted)["outside_leg_right"][k]), abs=1.0)
+    assert links["thigh_girth"].measurement == "thigh_girth_right"
+
+
+@pytest.mark.shared
+def test_tank_scoop_neckline_is_a_style_line_and_bands_follow_their_openings(aama_dir):
+    """A tank's 52 cm scoop follows the chest in proportion, not the neck; each binding's length follows its opening."""
+    pattern, _ = read_dxf(aama_dir / "GLX0926S16.DXF")
+    inference = infer_bridge(pattern)
+    links = {m.id: m for m in measurement_links(pattern, inference)}
+    assert "neck_girth" not in links
+    assert links["neckline"].measurement == "chest_girth" and links["neckline"].proportional
+    for band in ("GLX0926S16SBIN", "GLX0926S16SBIA"):
+        legs = links[f"{band}_length"].legs
+        assert legs[0].piece == band and legs[0].factor == 1.0
+        assert all(leg.factor < 0 and leg.piece != band for leg in legs[1:])
+    # the neck binding goes round both halves of each bodice cut on the fold; the armhole binding round one armhole
+    assert {leg.factor for leg in links["GLX0926S16SBIN_length"].legs[1:]} == {-2.0}
+    assert {leg.factor for leg in links["GLX0926S16SBIA_length"].legs[1:]} == {-1.0}
+
+
+@pytest.mark.shared
+@pytest.mark.slow
+def test_neckband_stays_a_band_when_graded_to_a_child(aama_dir, shared_dir, tmp_path):
+    """MEN CLASSIC TEE on D_cartoon_child: the neckband keeps a band's width (it collapsed to 0.07 cm)."""
+    from patternbridge.workflow import FitOptions, fit
+
+    result = fit(
+        shared_dir / "characters" / "D_cartoon_child.obj",
+        aama_dir / "MEN CLASSIC TEE.DXF",
+        seed=0,
+        options=FitOptions(pop_size=8, n_gen=2, drape=False),
+        out_dir=tmp_path / "out",
+    )
+    band = result.grading.pattern.piece("REGULAR TEESFCO").outline
+    c = band - band.mean(axis=0)
+    width = np.ptp(c @ np.linalg.svd(c, full_matrices=False)[2][1])
+    assert 1.5 < width < 4.5  # 4 cm in the sample size; its width follows the body height
+    assert result.figures.mean_error_cm <= 0.5 and result.figures.max_seam_mm <= 1.0
