@@ -20,39 +20,43 @@ __all__ = ["garment_work", "pattern_work", "run_order"]
 log = logging.getLogger(__name__)
 
 
-def pattern_work(n_vertices: int) -> float:
-    """Relative grading work of a pattern with ``n_vertices`` outline vertices over all pieces.
+def pattern_work(n_unknowns: int, n_points: int) -> float:
+    """Relative grading work of a pattern whose grid has ``n_unknowns`` controls and ``n_points`` outline points.
 
     The grader's final least-change step solves least-squares problems with
-    one residual per vertex and one unknown per grid control point, whose
-    count grows with the vertices too: its work grows about as the square.
-    Measured (pop 16, 10 generations, no drape; docs/batch.md): CPU seconds
-    of the six library garments follow ``n_vertices**2`` closer than
-    ``n_vertices``.
+    a residual per outline point (and per seam and measurement) in the grid's
+    control unknowns; a dense solve costs about ``n_points * n_unknowns**2``.
+    Measured on E_average_male (pop 16, 10 generations, no drape), the CPU
+    seconds of the library garments rank as this estimate does but for two
+    neighbours (docs/batch.md).
 
     Examples
     --------
-    >>> pattern_work(200) / pattern_work(100)
+    >>> pattern_work(200, 100) / pattern_work(100, 100)
     4.0
     """
-    return float(n_vertices) ** 2
+    return float(n_unknowns) ** 2 * float(n_points)
 
 
-def garment_work(spec: str) -> float:
+def garment_work(spec: str, *, deformation: str = "bilinear") -> float:
     """:func:`pattern_work` of a library garment or pattern file (0 when it cannot be loaded).
 
+    The grid is the one the grader builds (:func:`patternbridge.grade.grid.build_grid`,
+    ``deformation`` as in :class:`~patternbridge.workflow.model.FitOptions`).
     A garment that does not load still runs (and fails on its worker with its
     error recorded); here it only sorts last.
     """
     from ..errors import PatternBridgeError
+    from ..grade.grid import build_grid
     from ..io.load import load_pattern
 
     try:
         pattern, _ = load_pattern(spec)
+        grid = build_grid(pattern, deformation=deformation)
     except (PatternBridgeError, OSError, ValueError) as exc:
         log.info("%s: no work estimate (%s); it starts last", spec, exc)
         return 0.0
-    return pattern_work(sum(piece.n_vertices for piece in pattern.pieces))
+    return pattern_work(grid.x0.size, int(grid.point_offsets[-1]))
 
 
 def run_order(cases: Sequence[Case], work: Mapping[str, float]) -> list[Case]:

@@ -164,7 +164,10 @@ def run_batch(
         if case_progress is not None:
             case_progress(outcome, n, len(cases))
     save()
-    work = {spec: garment_work(spec) for spec in dict.fromkeys(c.garment_spec for c in todo)}
+    work = {
+        spec: garment_work(spec, deformation=options.deformation)
+        for spec in dict.fromkeys(c.garment_spec for c in todo)
+    }
     unsubscribe = _subscribe(client, stage_progress)
     try:
         for outcome in dispatch(client, todo, out, seed=seed, options=options, work=work):
