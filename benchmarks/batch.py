@@ -187,6 +187,12 @@ def main() -> int:
         f"{split['start']:.1f}, in tasks {split['tasks']:.1f}, between tasks {split['gaps']:.1f}, "
         f"after the last (tail) {split['tail']:.1f}"
     )
+    busy = split["tasks"] / max(args.workers * t_batch, 1e-9)
+    print(
+        f"# the speed-up these imply on an otherwise idle machine (workers busy {100 * busy:.0f} % of the time, "
+        f"at the CPU cost of their tasks): {args.workers} × {busy:.2f} × {cpu_serial:.1f} / {cpu_batch:.1f} = "
+        f"{args.workers * busy * cpu_serial / cpu_batch:.2f}"
+    )
     done = result.count(CaseStatus.DONE)
     print(
         f"# {done}/{n} batch cases done; same results as the serial loop: {'yes' if same else 'NO'}; "
