@@ -114,7 +114,9 @@ def run_batch(
     """Fit every garment to every character on the Dask cluster of ``client``.
 
     Each character is measured once, on one worker; its cases use that
-    result. Each case writes ``OUT/<character>/<garment>/`` atomically; a
+    result. Tasks go to the cluster one free worker thread at a time,
+    characters first, then cases with the most estimated work first
+    (:mod:`.dispatch`, :mod:`.order`). Each case writes ``OUT/<character>/<garment>/`` atomically; a
     case that raises is recorded as failed (``<garment>.failed.json`` and the
     manifest), one whose worker dies as lost, and neither stops the others.
     ``OUT/batch.json`` and ``OUT/index.html`` are rewritten after every case.
