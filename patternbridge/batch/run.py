@@ -7,7 +7,6 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 from ..workflow.model import FitOptions
 from .cases import (
@@ -20,10 +19,11 @@ from .cases import (
     remove_partial,
     write_failure,
 )
+from .dispatch import dispatch
 from .manifest import BatchInputs, manifest_dict, write_manifest
+from .order import garment_work
 
 __all__ = ["BatchResult", "StageEvent", "plan", "run_batch"]
-
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -75,32 +75,6 @@ def plan(cases: Sequence[Case], out_dir: Path, *, retry_failed: bool = False) ->
     return kept, todo
 
 
-def _error_outcome(case: Case, exc: BaseException, worker: str) -> CaseOutcome:
-    from distributed import KilledWorker
-    from distributed.client import FutureCancelledError
-
-    lost = isinstance(exc, (KilledWorker, FutureCancelledError))
-    text = f"{type(exc).__name__}: {exc}".strip().splitlines()[0]
-    return CaseOutcome(case=case, status=CaseStatus.LOST if lost else CaseStatus.FAILED, error=text, worker=worker)
-
-
-def _submit(client, todo: list[Case], out_dir: Path, seed: int, options: FitOptions) -> dict[Any, Case]:
-    """One measuring task per character, one fit task per case depending on it."""
-    from .tasks import fit_case, measure_character
-
-    subjects = {}
-    for case in todo:
-        if case.character not in subjects:
-            subjects[case.character] = client.submit(
-                measure_character, case.character_path, key=f"measure-{case.character}-{time.time_ns()}", pure=False
-            )
-    return {
-        client.submit(fit_case, subjects[case.character], case, str(out_dir), seed, options,
-                      key=f"fit-{case.key}-{time.time_ns()}", pure=False): case
-        for case in todo
-    }
-
-
 def _subscribe(client, stage_progress: StageProgress) -> Callable[[], None]:
     from .tasks import PROGRESS_TOPIC
 
@@ -111,8 +85,15 @@ def _subscribe(client, stage_progress: StageProgress) -> Callable[[], None]:
     def handler(event) -> None:
         msg = event[1]
         with lock:
-            stage_progress(StageEvent(case=msg["case"], stage=msg["stage"], done=msg["done"], total=msg["total"],
-                                      worker=msg.get("worker", "")))
+            stage_progress(
+                StageEvent(
+                    case=msg["case"],
+                    stage=msg["stage"],
+                    done=msg["done"],
+                    total=msg["total"],
+                    worker=msg.get("worker", ""),
+                )
+            )
 
     client.subscribe_topic(PROGRESS_TOPIC, handler)
     return lambda: client.unsubscribe_topic(PROGRESS_TOPIC)
@@ -133,7 +114,9 @@ def run_batch(
     """Fit every garment to every character on the Dask cluster of ``client``.
 
     Each character is measured once, on one worker; its cases use that
-    result. Each case writes ``OUT/<character>/<garment>/`` atomically; a
+    result. Tasks go to the cluster one free worker thread at a time,
+    characters first, then cases with the most estimated work first
+    (:mod:`.dispatch`, :mod:`.order`). Each case writes ``OUT/<character>/<garment>/`` atomically; a
     case that raises is recorded as failed (``<garment>.failed.json`` and the
     manifest), one whose worker dies as lost, and neither stops the others.
     ``OUT/batch.json`` and ``OUT/index.html`` are rewritten after every case.
@@ -154,8 +137,6 @@ def run_batch(
     -------
     BatchResult
     """
-    from distributed import as_completed
-
     from .html import write_index
 
     t0 = time.perf_counter()
@@ -167,8 +148,11 @@ def run_batch(
     inputs = BatchInputs(
         characters={c.character: c.character_path for c in cases},
         garments={c.garment: c.garment_spec for c in cases},
-        seed=seed, options=options, scheduler=str(client.scheduler.address),
-        dashboard=str(client.dashboard_link or ""), n_workers=len(client.scheduler_info().get("workers", {})),
+        seed=seed,
+        options=options,
+        scheduler=str(client.scheduler.address),
+        dashboard=str(client.dashboard_link or ""),
+        n_workers=len(client.scheduler_info().get("workers", {})),
     )
     results: dict[str, CaseOutcome] = {o.case.key: o for o in kept}
 
@@ -182,24 +166,18 @@ def run_batch(
         if case_progress is not None:
             case_progress(outcome, n, len(cases))
     save()
+    work = {
+        spec: garment_work(spec, deformation=options.deformation)
+        for spec in dict.fromkeys(c.garment_spec for c in todo)
+    }
     unsubscribe = _subscribe(client, stage_progress)
     try:
-        futures = _submit(client, todo, out, seed, options)
-        for future in as_completed(list(futures)):
-            case = futures[future]
-            if future.status == "finished":
-                outcome = future.result()
-                clear_failure(case, out)
-            else:
-                try:
-                    exc = future.exception()
-                except Exception as cancelled:  # a cancelled future raises instead of returning its error
-                    exc = cancelled
-                outcome = _error_outcome(case, exc, worker="")
-                if outcome.status is CaseStatus.FAILED:
-                    write_failure(outcome, out)
-            future.release()
-            results[case.key] = outcome
+        for outcome in dispatch(client, todo, out, seed=seed, options=options, work=work):
+            if outcome.status is CaseStatus.DONE:
+                clear_failure(outcome.case, out)
+            elif outcome.status is CaseStatus.FAILED:
+                write_failure(outcome, out)
+            results[outcome.case.key] = outcome
             if case_progress is not None:
                 case_progress(outcome, len(results), len(cases))
             save()

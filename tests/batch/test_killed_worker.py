@@ -30,6 +30,9 @@ def test_a_killed_worker_loses_only_its_cases_and_a_rerun_completes_them(batch_i
         # workers keep glibc's sliding mmap threshold (see batch/cluster.py) and one BLAS thread
         environ = client.run(lambda: (os.environ.get("MALLOC_TRIM_THRESHOLD_"), os.environ.get("OMP_NUM_THREADS")))
         assert set(environ.values()) == {(None, "1")}
+        # and without the profiler thread sampling every task's stack
+        assert set(client.run(lambda: dask.config.get("distributed.worker.profile.enabled")).values()) == {False}
+        assert set(client.run(lambda: dask.config.get("distributed.admin.tick.interval")).values()) == {"1s"}
         pids = client.run(os.getpid)
         killed: dict[str, str] = {}
         lock = threading.Lock()
