@@ -53,8 +53,8 @@ def slide_budgets(
 
     ``x`` (k, 3) is the step's unconstrained solution, ``x0`` the start and
     ``y`` the inertial prediction. The skin pushes the vertex out by
-    ``push`` (its offset-surface point against the prediction, along the
-    normal); friction takes ``friction * push`` off the tangential move
+    ``push`` (its offset-surface point against the deeper of the two, along
+    the normal); friction takes ``friction * push`` off the tangential move
     the vertex would make without it. Cloth pressed hard sticks; cloth on a
     slope steeper than ``atan(friction)`` slides with the kinetic remainder.
     """
@@ -62,8 +62,15 @@ def slide_budgets(
     p = q + offset_cm * out
     dx = x - x0
     slide = np.linalg.norm(dx - np.einsum("ij,ij->i", dx, out)[:, None] * out, axis=1)
-    push = np.maximum(np.einsum("ij,ij->i", p - y, out), 0.0)
+    # the skin's push: against the free solution (the cloth's tension presses it in) or the inertial
+    # prediction (its weight), whichever is deeper
+    push = np.maximum(np.einsum("ij,ij->i", p - np.where(_deeper(x, y, out), x, y), out), 0.0)
     return np.maximum(slide - friction * push, 0.0)
+
+
+def _deeper(x: np.ndarray, y: np.ndarray, out: np.ndarray) -> np.ndarray:
+    """(k, 1) bool: ``x`` lies deeper than ``y`` along the outward directions ``out``."""
+    return (np.einsum("ij,ij->i", x - y, out) < 0)[:, None]
 
 
 def contact_targets(

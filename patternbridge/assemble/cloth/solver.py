@@ -43,7 +43,7 @@ class DrapeSettings:
     bend_weight: float = 0.8
     seam_weight: float = 5000.0
     contact_weight: float = 5000.0  # body contact
-    self_weight: float = 500.0  # vertex-triangle self-contact
+    self_weight: float = 2000.0  # vertex-triangle self-contact
     damping: float = 0.985  # velocity kept per step
     friction: float = 0.6  # Coulomb coefficient of the skin against the cloth
     offset_cm: float = 0.6  # distance kept from the skin
@@ -194,7 +194,10 @@ class ClothSolver:
         x[hit] = at[hit]
         _, _, sd = signed_distances(collider, x)
         body = (sd < s.offset_cm + s.contact_margin_cm) | hit
-        pairs = find_pairs(x0, c.faces, self.near, s.thickness_cm + 2 * s.contact_margin_cm)
+        # pairs within reach of the step's motion: a layer moving fast toward another is caught before it passes
+        motion = float(np.percentile(np.linalg.norm(x - x0, axis=1), 99)) if len(x) else 0.0
+        reach = s.thickness_cm + 2 * s.contact_margin_cm + min(motion, s.max_speed_cm_s * h)
+        pairs = find_pairs(x0, c.faces, self.near, reach)
         selfv = np.zeros(len(x), dtype=bool)
         selfv[resolve_pairs(x, c.faces, pairs, s.thickness_cm)[0]] = True
         self.stats["self_pairs"] += len(pairs)
