@@ -101,12 +101,21 @@ def test_a_loose_seam_waits_and_then_closes_from_where_it_is():
     solver = drape(cloth, _NoBody(), steps=40, sew_steps=30, gravity_scale=0.0, layer_every=10**6, loose=loose)
     np.testing.assert_allclose(seam_gaps(cloth.x, cloth.seams), start, atol=1e-6)
     solver.restart_seams()
-    half = drape(cloth, _NoBody(), steps=20, sew_steps=0, gravity_scale=0.0, layer_every=10**6, solver=solver,
-                 sew_ramp=(0.0, 0.5))
+    half = drape(
+        cloth,
+        _NoBody(),
+        steps=20,
+        sew_steps=0,
+        gravity_scale=0.0,
+        layer_every=10**6,
+        solver=solver,
+        sew_ramp=(0.0, 0.5),
+    )
     gap_half = seam_gaps(cloth.x, cloth.seams)
     assert np.all((gap_half > 0.3 * start) & (gap_half < 0.7 * start))  # half way: the ramp, not a jump
-    drape(cloth, _NoBody(), steps=30, sew_steps=0, gravity_scale=0.0, layer_every=10**6, solver=half,
-          sew_ramp=(0.5, 1.0))
+    drape(
+        cloth, _NoBody(), steps=30, sew_steps=0, gravity_scale=0.0, layer_every=10**6, solver=half, sew_ramp=(0.5, 1.0)
+    )
     assert seam_gaps(cloth.x, cloth.seams).max() < 0.01
 
 
@@ -178,8 +187,7 @@ def _patch_on_slope(slope_deg: float, friction: float) -> float:
     x = flat @ tilt[:3, :3].T + (10.0 + 0.6) * normal  # on the top face, at the skin offset
     cloth = build_cloth([x], [pts], [f], [])
     settings = DrapeSettings(friction=friction)
-    drape(cloth, BodyCollider(block.vertices, block.faces), steps=60, sew_steps=0, settings=settings,
-          layer_every=10**6)
+    drape(cloth, BodyCollider(block.vertices, block.faces), steps=60, sew_steps=0, settings=settings, layer_every=10**6)
     down = tilt[:3, :3] @ [-1.0, 0.0, 0.0]  # the slope's downhill direction
     return float(np.mean((cloth.x - x) @ down))
 

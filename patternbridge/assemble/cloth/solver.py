@@ -26,7 +26,7 @@ import numpy as np
 
 from .constraints import SpringKind, Springs, difference_operator, project_springs
 from .contact import contact_targets, signed_distances, slide_budgets, swept_hits
-from .selfcontact import find_pairs, near_keys, resolve_pairs
+from .selfcontact import find_edge_pairs, find_pairs, near_keys, resolve_pairs
 
 __all__ = ["ClothSolver", "DrapeSettings", "seam_gaps", "weld_groups"]
 
@@ -43,7 +43,8 @@ class DrapeSettings:
     bend_weight: float = 0.8
     seam_weight: float = 5000.0
     contact_weight: float = 5000.0  # body contact
-    self_weight: float = 2000.0  # vertex-triangle self-contact
+    self_weight: float = 2000.0  # self-contact
+    edge_edge: bool = True  # self-contact also between edges (else vertex-triangle only)
     damping: float = 0.985  # velocity kept per step
     friction: float = 0.6  # Coulomb coefficient of the skin against the cloth
     offset_cm: float = 0.6  # distance kept from the skin
@@ -198,9 +199,10 @@ class ClothSolver:
         motion = float(np.percentile(np.linalg.norm(x - x0, axis=1), 99)) if len(x) else 0.0
         reach = s.thickness_cm + 2 * s.contact_margin_cm + min(motion, s.max_speed_cm_s * h)
         pairs = find_pairs(x0, c.faces, self.near, reach)
+        epairs = find_edge_pairs(x0, c.edges, self.near, reach) if s.edge_edge else None
         selfv = np.zeros(len(x), dtype=bool)
-        selfv[resolve_pairs(x, c.faces, pairs, s.thickness_cm)[0]] = True
-        self.stats["self_pairs"] += len(pairs)
+        selfv[resolve_pairs(x, c.faces, pairs, s.thickness_cm, epairs)[0]] = True
+        self.stats["self_pairs"] += len(pairs) + (len(epairs) if epairs is not None else 0)
         normals = np.zeros_like(x)
         budget = np.zeros(len(x))
         bi = np.flatnonzero(body)
@@ -216,7 +218,7 @@ class ClothSolver:
                     rhs[bi] += (s.contact_weight * self.unit) * p
                 si = np.flatnonzero(selfv)
                 if len(si):
-                    ids, q = resolve_pairs(x, c.faces, pairs, s.thickness_cm)
+                    ids, q = resolve_pairs(x, c.faces, pairs, s.thickness_cm, epairs)
                     st = x.copy()
                     st[ids] = q
                     rhs[si] += (s.self_weight * self.unit) * st[si]
@@ -225,7 +227,7 @@ class ClothSolver:
             _, _, sd = signed_distances(collider, x)
             hit, at = swept_hits(collider, x0, x, s.offset_cm)
             new_body = ((sd < 0.5 * s.offset_cm) | hit) & ~body
-            ids, _ = resolve_pairs(x, c.faces, pairs, 0.5 * s.thickness_cm)
+            ids, _ = resolve_pairs(x, c.faces, pairs, 0.5 * s.thickness_cm, epairs)
             new_self = np.zeros(len(x), dtype=bool)
             new_self[ids] = True
             new_self &= ~selfv
