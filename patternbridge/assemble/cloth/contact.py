@@ -90,14 +90,17 @@ def contact_targets(
     -------
     targets : (k, 3) float64, cm ; normals : (k, 3) float64 unit outward directions
     """
-    q, out, _ = signed_distances(collider, x)
+    q, out, sd = signed_distances(collider, x)
     p = q + offset_cm * out
     dx = p - x0
     dn = np.einsum("ij,ij->i", dx, out)[:, None] * out
     dt = dx - dn
     slide = np.linalg.norm(dt, axis=1)
     keep = np.minimum(1.0, budget / np.maximum(slide, 1e-12))
-    return x0 + dn + keep[:, None] * dt, out
+    # a unilateral constraint: a vertex farther out than the offset (an outer layer lying on an inner one)
+    # is where it is, not drawn onto the skin
+    free = (sd >= offset_cm)[:, None]
+    return np.where(free, x, x0 + dn + keep[:, None] * dt), out
 
 
 def swept_hits(collider, x0: np.ndarray, x: np.ndarray, offset_cm: float) -> tuple[np.ndarray, np.ndarray]:
