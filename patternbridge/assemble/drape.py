@@ -27,6 +27,8 @@ __all__ = ["Cloth", "DrapeSettings", "build_cloth", "drape", "gathered_lengths",
 
 log = logging.getLogger(__name__)
 
+_Solver = ClothSolver  # the name pipeline.py annotates ``Simulation.solver`` with
+
 
 @dataclass(eq=False)
 class Cloth:
