@@ -1,12 +1,10 @@
-"""Collisions of the cloth with the body (Open3D) and between garment layers.
+"""The body as a collider (Open3D): closest points, inside tests, rays, and helper volumes.
 
-The body is held in an Open3D ``RaycastingScene``. Cloth vertices near the
-skin are kept at least ``offset_cm`` outside it: the closest skin point and
-its face normal define a half-space the vertex is projected back into.
-Between garment layers a vertex-vertex repulsion keeps vertices of different
-pieces (or far-apart vertices of one piece) ``thickness_cm`` apart, which is
-what stops the front passing through the back at the side seams and under
-the arms.
+The body is held in an Open3D ``RaycastingScene``. The cloth solver's body
+contact (:mod:`patternbridge.assemble.cloth.contact`) asks it for closest
+skin points and inside tests; the finishing step and the report use its
+ray casts (edges and triangles through the skin, the skin through the cloth)
+and its clean-up of welded cloth.
 """
 
 from __future__ import annotations
@@ -15,7 +13,7 @@ from functools import cached_property
 
 import numpy as np
 
-__all__ = ["BodyCollider", "hand_mitts", "separate_layers", "thigh_fill", "triangle_scene"]
+__all__ = ["BodyCollider", "hand_mitts", "thigh_fill", "triangle_scene"]
 
 
 def triangle_scene(vertices: np.ndarray, faces: np.ndarray):
@@ -160,33 +158,6 @@ class BodyCollider:
         t = self.scene.cast_rays(self._t(rays))["t_hit"].numpy().astype(np.float64)
         out[ok] = np.isfinite(t) & (t < ln[ok])
         return out
-
-    def keep_edges_out(
-        self, x: np.ndarray, x0: np.ndarray, edges: np.ndarray, crossed0: np.ndarray, *, rounds: int = 4
-    ) -> tuple[np.ndarray, np.ndarray]:
-        """Send back to ``x0`` the ends of the edges (E, 2) that cross the skin at ``x`` but did not at ``x0``.
-
-        The solver keeps vertices out of the skin; an edge between two
-        vertices outside can still cut a thin limb (a sleeve's hem drawn over
-        the wrist), and once across it the cloth is hooked round the limb
-        where no push on single vertices frees it. The skin does not move
-        during a step, so an edge that was clear at its start crossed it in
-        the step: its ends return to where they were (``x0``, outside), and
-        again for the edges that return makes cross, up to ``rounds`` times.
-        ``crossed0`` (E,) bool marks the edges across at ``x0`` (left to the
-        clean-up). Returns the corrected ``x`` and the edges across now.
-        """
-        x = np.array(x, dtype=np.float64)
-        crossed = self.crossing_edges(x[edges[:, 0]], x[edges[:, 1]])
-        for _ in range(rounds):
-            new = crossed & ~crossed0
-            if not new.any():
-                break
-            back = np.unique(edges[new])
-            x[back] = x0[back]
-            near = np.isin(edges, back).any(axis=1)
-            crossed[near] = self.crossing_edges(x[edges[near, 0]], x[edges[near, 1]])
-        return x, crossed
 
     def crossing_triangles(self, vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
         """(F,) bool: a triangle of the mesh ``vertices`` (V, 3) / ``faces`` (F, 3) crosses the skin.
@@ -500,53 +471,6 @@ class BodyCollider:
         out = np.array(points, dtype=np.float64)
         out[moved] = q[moved] + offset_cm * n[moved]
         return out, moved
-
-
-def separate_layers(
-    x: np.ndarray,
-    group: np.ndarray,
-    rest: np.ndarray,
-    thickness_cm: float,
-    *,
-    weld: np.ndarray | None = None,
-) -> np.ndarray:
-    """Push apart cloth vertices of different layers closer than ``thickness_cm``.
-
-    Parameters
-    ----------
-    x : (N, 3) float64, cm — cloth positions
-    group : (N,) int64 — piece instance of each vertex
-    rest : (N, 2) float64, cm — pattern coordinates (vertices of one piece
-        farther apart than 3 thicknesses in the pattern also repel: a fold)
-    thickness_cm : minimum distance
-    weld : (N,) int64 weld-group id; vertices of one group (sewn together) never repel
-
-    Returns
-    -------
-    (N, 3) float64, the corrected positions (a copy)
-    """
-    from scipy.spatial import cKDTree
-
-    out = np.array(x, dtype=np.float64)
-    pairs = cKDTree(out).query_pairs(thickness_cm, output_type="ndarray")
-    if len(pairs) == 0:
-        return out
-    i, j = pairs[:, 0], pairs[:, 1]
-    keep = group[i] != group[j]
-    keep |= np.linalg.norm(rest[i] - rest[j], axis=1) > 3 * thickness_cm
-    if weld is not None:
-        keep &= weld[i] != weld[j]
-    i, j = i[keep], j[keep]
-    if len(i) == 0:
-        return out
-    d = out[i] - out[j]
-    dist = np.linalg.norm(d, axis=1)
-    corr = np.where(dist > 1e-9, (thickness_cm - dist) / np.maximum(dist, 1e-9), 0.0)[:, None] * d * 0.5
-    delta = np.zeros_like(out)
-    np.add.at(delta, i, corr)
-    np.add.at(delta, j, -corr)
-    count = np.bincount(np.concatenate([i, j]), minlength=len(out))[:, None]
-    return out + delta / np.maximum(count, 1)
 
 
 def thigh_fill(body: np.ndarray, legs: np.ndarray, crotch_y: float | None) -> tuple[tuple[np.ndarray, np.ndarray], ...]:

@@ -9,7 +9,7 @@ import pytest
 import trimesh
 
 from patternbridge.assemble.bodyparts import PARTS, BodyParts, crotch_height, hand_masks, segment_body
-from patternbridge.assemble.collision import BodyCollider, hand_mitts, separate_layers
+from patternbridge.assemble.collision import BodyCollider, hand_mitts
 from patternbridge.errors import LandmarkError
 
 
@@ -58,16 +58,6 @@ def test_radial_clearance_grows_radii_inside_the_body(sphere):
     np.testing.assert_allclose(r, 5.0)
     return
     np.testing.assert_allclose(r, 11.0, atol=0.1)
-
-
-def test_separate_layers_keeps_different_pieces_apart():
-    x = np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 0.1], [5.0, 0.0, 0.0]])
-    group = np.array([0, 1, 0])
-    out = separate_layers(x, group, np.zeros((3, 2)), 0.4)
-    assert np.linalg.norm(out[0] - out[1]) == pytest.approx(0.4)
-    # sewn vertices (same weld group) are left alone
-    out2 = separate_layers(x, group, np.zeros((3, 2)), 0.4, weld=np.array([7, 7, 8]))
-    np.testing.assert_array_equal(out2, x)
 
 
 @pytest.mark.shared
@@ -132,29 +122,6 @@ def test_crossing_triangles_finds_a_triangle_through_a_limb(limb):
     assert not limb.inside(v).any()  # the vertex test alone sees nothing
     np.testing.assert_array_equal(limb.crossing_triangles(v, f), [True, False])
     np.testing.assert_array_equal(limb.crossing_edges(v[[0, 3]], v[[1, 4]]), [True, False])
-
-
-def test_an_edge_swept_across_a_limb_goes_back_and_one_already_across_is_left(limb):
-    # the limb lies along x with radius 3. Edge 0-1 starts above it (y = 4);
-    # its end 1 moves down past the limb's side to y = -4: both ends stay
-    # outside, the edge now cuts the limb (hooked round it). Edge 2-3 moves
-    # the same way far from the limb (x = 30). Edge 4-5 is across the limb
-    # from the start (left as it is).
-    x0 = np.array(
-        [[0, 4, -4], [0, 4, 4], [30, 4, -4], [30, 4, 4], [2, 5, -5], [2, -5, 5]],
-        dtype=float,
-    )
-    x = x0.copy()
-    x[[1, 3], 1] = -4.0
-    x[4:, 2] += 1.0  # the edge already across moves along the limb's side
-    edges = np.array([[0, 1], [2, 3], [4, 5]])
-    crossed0 = limb.crossing_edges(x0[edges[:, 0]], x0[edges[:, 1]])
-    np.testing.assert_array_equal(crossed0, [False, False, True])
-    assert not limb.inside(x).any()
-    out, crossed = limb.keep_edges_out(x, x0, edges, crossed0)
-    np.testing.assert_array_equal(out[:2], x0[:2])  # sent back
-    np.testing.assert_array_equal(out[2:], x[2:])  # free to move
-    np.testing.assert_array_equal(crossed, [False, False, True])
 
 
 def test_clear_triangles_lifts_a_strip_off_a_limb(limb):

@@ -62,6 +62,9 @@ class _NoBody:
     def inside(self, points):
         return np.zeros(len(points), dtype=bool)
 
+    def sweep(self, start, end, offset_cm, *, min_move_cm=0.0):
+        return np.array(end, dtype=np.float64), np.zeros(len(end), dtype=bool)
+
 
 def test_simulation_closes_a_gathered_seam():
     # two strips 6 cm apart, one 12 cm and one 9 cm long: sewn by the

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from patternbridge.assemble.selfcross import keep_uncrossed, self_crossing
+from patternbridge.assemble.selfcross import self_crossing
 
 
 def _grid(nx: int, ny: int, size: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
@@ -55,42 +55,6 @@ def test_triangles_sharing_a_vertex_never_count():
     assert not self_crossing(v, f, np.zeros(len(f), int)).any()
 
 
-def _one_triangle_and_a_vertex(start, end):
-    tri = np.array([[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 2.0, 0.0]])
-    x0 = np.concatenate([tri, [start]])
-    x = np.concatenate([tri, [end]])
-    return x0, x, np.array([[0, 1, 2]])
-
-
-def test_a_vertex_through_a_triangle_goes_back_to_its_side_at_the_thickness():
-    from patternbridge.assemble.selfcross import keep_sides
-
-    x0, x, f = _one_triangle_and_a_vertex([0.5, 0.5, 0.5], [0.5, 0.5, -0.4])
-    out = keep_sides(x, x0, f, np.arange(4), 0.35)
-    # the vertex and the triangle share the move: the vertex rises, the corners sink
-    assert out[3, 2] > 0 and np.all(out[:3, 2] <= 0) and out[:3, 2].min() < 0
-    # at the vertex's foot the cloth now lies the thickness below it
-    foot = out[0] + (out[1] - out[0]) * 0.25 + (out[2] - out[0]) * 0.25  # barycentric (0.5, 0.25, 0.25)
-    assert abs((out[3] - foot)[2] - 0.35) < 1e-9
-    # the same move from below is held below
-    x0, x, f = _one_triangle_and_a_vertex([0.5, 0.5, -0.5], [0.5, 0.5, 0.4])
-    assert keep_sides(x, x0, f, np.arange(4), 0.35)[3, 2] < 0
-
-
-def test_keep_sides_leaves_far_vertices_sewn_vertices_and_free_edges_alone():
-    from patternbridge.assemble.selfcross import keep_sides
-
-    # farther than the thickness, on its side: nothing moves
-    x0, x, f = _one_triangle_and_a_vertex([0.5, 0.5, 0.8], [0.5, 0.5, 0.5])
-    np.testing.assert_array_equal(keep_sides(x, x0, f, np.arange(4), 0.35), x)
-    # sewn to a corner (one weld group): a seam closing is not a layer passing through
-    x0, x, f = _one_triangle_and_a_vertex([0.5, 0.5, 0.5], [0.5, 0.5, -0.4])
-    np.testing.assert_array_equal(keep_sides(x, x0, f, np.array([0, 1, 2, 0]), 0.35), x)
-    # coming round the triangle's free edge (outside it at the start): a fold turning over, not a crossing
-    x0, x, f = _one_triangle_and_a_vertex([2.5, 0.5, 0.3], [0.5, 0.5, -0.3])
-    np.testing.assert_array_equal(keep_sides(x, x0, f, np.arange(4), 0.35), x)
-
-
 def _sheet_and_spike(dz: float = 0.0):
     """A triangle in the xy plane (vertices 0-2) and a spike (3-5) standing over its middle, ``dz`` lower."""
     v = np.array(
@@ -110,34 +74,3 @@ def test_vertices_sewn_together_count_as_one():
     np.testing.assert_array_equal(self_crossing(v, f, one_piece), [True, True])
     same = np.array([0, 1, 2, 3, 4, 0])
     assert not self_crossing(v, f, one_piece, same).any()
-
-
-def test_a_triangle_pushed_through_its_piece_goes_back_and_other_pieces_and_old_crossings_are_left():
-    # piece 0: the spike is pushed down through the sheet in the step (sent
-    # back); piece 1: the same motion far away, across already at the start
-    # (left to move); piece 2: one triangle of its own moves through piece
-    # 0's sheet (not this guard's business)
-    a0, f = _sheet_and_spike(0.0)
-    b0, _ = _sheet_and_spike(2.0)
-    b0[:, 0] += 50.0
-    c0 = np.array([[-1, -1, 0.5], [1, -1, 0.5], [0, -0.5, 2.0]])
-    x0 = np.concatenate([a0, b0, c0])
-    faces = np.concatenate([f, f + 6, [[12, 13, 14]]])
-    group = np.array([0, 0, 1, 1, 2])
-    same = np.arange(len(x0))
-    crossed0 = self_crossing(x0, faces, group, same)
-    np.testing.assert_array_equal(crossed0, [False, False, True, True, False])
-    x = x0.copy()
-    x[3:6, 2] -= 2.0
-    x[9:12, 2] -= 0.5
-    x[12:15, 2] -= 1.0
-    out, crossed = keep_uncrossed(x, x0, faces, group, same, crossed0)
-    np.testing.assert_array_equal(out[:6], x0[:6])
-    np.testing.assert_array_equal(out[6:], x[6:])
-    np.testing.assert_array_equal(crossed, [False, False, True, True, False])
-    # the spike's top sewn to piece 2 (one label): the seam moves it, the
-    # rest of the spike goes back
-    same[5] = 14
-    out, _ = keep_uncrossed(x, x0, faces, group, same, crossed0)
-    np.testing.assert_array_equal(out[[3, 4]], x0[[3, 4]])
-    np.testing.assert_array_equal(out[5], x[5])
