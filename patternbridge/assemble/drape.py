@@ -27,8 +27,6 @@ __all__ = ["Cloth", "DrapeSettings", "build_cloth", "drape", "gathered_lengths",
 
 log = logging.getLogger(__name__)
 
-_Solver = ClothSolver  # the name pipeline.py annotates ``Simulation.solver`` with
-
 
 @dataclass(eq=False)
 class Cloth:
@@ -120,13 +118,11 @@ def drape(
     progress: Callable[[str, int, int], None] | None = None,
     stage: str = "drape",
     solver: ClothSolver | None = None,
-    layer_every: int | None = None,
     anchors: tuple[np.ndarray, np.ndarray] | None = None,
     hold: np.ndarray | None = None,
     loose: np.ndarray | None = None,
     sew_ramp: tuple[float, float] | None = None,
     inertia: np.ndarray | None = None,
-    guard_crossings: bool | None = None,
 ) -> ClothSolver:
     """Run the cloth for ``steps`` time steps against ``collider`` (in place).
 
@@ -143,9 +139,6 @@ def drape(
     call: the gaps shrink from ``from`` to ``to`` of the way between their
     lengths at the solver's last ``restart_seams`` and zero. ``inertia`` (N,)
     scales the vertices' masses in the solver for this call.
-    ``layer_every`` and ``guard_crossings`` are accepted and ignored: layers
-    and crossings are the solver's self-contact and body contact, at every
-    step.
     """
     settings = settings or DrapeSettings()
     solver = solver or ClothSolver(cloth, settings)

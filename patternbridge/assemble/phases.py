@@ -250,7 +250,6 @@ def _keyframe(sim: Simulation, phase: PoseKeyframe) -> None:
         settings=sim.settings,
         solver=sim.solver,
         stage="pose",
-        guard_crossings=True,
     )
 
 

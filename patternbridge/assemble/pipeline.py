@@ -32,8 +32,9 @@ from .verdict import Measured, VerdictLimits, judge
 
 if TYPE_CHECKING:
     from .bodyparts import BodyParts
+    from .cloth import ClothSolver
     from .collision import BodyCollider
-    from .drape import Cloth, DrapeSettings, _Solver
+    from .drape import Cloth, DrapeSettings
     from .mesh2d import PatternMesh
 
 __all__ = [
@@ -83,7 +84,7 @@ class Simulation:
     x_placed: np.ndarray
     settings: DrapeSettings
     findings: Report = field(default_factory=Report)
-    solver: _Solver | None = None
+    solver: ClothSolver | None = None
     t0: float = 0.0
 
     @property

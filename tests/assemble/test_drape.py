@@ -77,7 +77,7 @@ def test_simulation_closes_a_gathered_seam():
         [x_long, x_short], [long_pts, short_pts], [long_f, short_f], [(0, 1, np.arange(7), np.arange(7) + 7)]
     )
     assert seam_gaps(cloth.x, cloth.seams).max() > 5.0
-    drape(cloth, _NoBody(), steps=60, sew_steps=40, gravity_scale=0.0, layer_every=10**6)
+    drape(cloth, _NoBody(), steps=60, sew_steps=40, gravity_scale=0.0)
     # (with both sides at their pattern lengths the seam springs fight the
     # stretch springs and the pairs stay three times farther apart)
     assert seam_gaps(cloth.x, cloth.seams).max() < 0.01
@@ -98,7 +98,7 @@ def test_a_loose_seam_waits_and_then_closes_from_where_it_is():
     cloth = _two_strips(8.0)
     start = seam_gaps(cloth.x, cloth.seams)
     loose = np.ones(len(cloth.seams), dtype=bool)
-    solver = drape(cloth, _NoBody(), steps=40, sew_steps=30, gravity_scale=0.0, layer_every=10**6, loose=loose)
+    solver = drape(cloth, _NoBody(), steps=40, sew_steps=30, gravity_scale=0.0, loose=loose)
     np.testing.assert_allclose(seam_gaps(cloth.x, cloth.seams), start, atol=1e-6)
     solver.restart_seams()
     half = drape(
@@ -107,15 +107,12 @@ def test_a_loose_seam_waits_and_then_closes_from_where_it_is():
         steps=20,
         sew_steps=0,
         gravity_scale=0.0,
-        layer_every=10**6,
         solver=solver,
         sew_ramp=(0.0, 0.5),
     )
     gap_half = seam_gaps(cloth.x, cloth.seams)
     assert np.all((gap_half > 0.3 * start) & (gap_half < 0.7 * start))  # half way: the ramp, not a jump
-    drape(
-        cloth, _NoBody(), steps=30, sew_steps=0, gravity_scale=0.0, layer_every=10**6, solver=half, sew_ramp=(0.5, 1.0)
-    )
+    drape(cloth, _NoBody(), steps=30, sew_steps=0, gravity_scale=0.0, solver=half, sew_ramp=(0.5, 1.0))
     assert seam_gaps(cloth.x, cloth.seams).max() < 0.01
 
 
@@ -135,7 +132,6 @@ def test_a_loose_seam_keeps_its_two_sides_together_without_closing():
             steps=40,
             sew_steps=30,
             gravity_scale=0.0,
-            layer_every=10**6,
             loose=np.ones(len(cloth.seams), dtype=bool),
             settings=DrapeSettings(loose_share=share),
         )
@@ -157,7 +153,7 @@ def test_the_heavier_side_of_a_seam_stays_and_the_lighter_comes_to_it():
     def sew(inertia):
         cloth = _two_strips(8.0)
         before = cloth.x.copy()
-        solver = drape(cloth, _NoBody(), steps=40, sew_steps=30, gravity_scale=0.0, layer_every=10**6, inertia=inertia)
+        solver = drape(cloth, _NoBody(), steps=40, sew_steps=30, gravity_scale=0.0, inertia=inertia)
         assert seam_gaps(cloth.x, cloth.seams).max() < 0.05
         moved = np.linalg.norm(cloth.x - before, axis=1)
         return moved[:14].mean(), moved[14:].mean(), solver
@@ -187,7 +183,7 @@ def _patch_on_slope(slope_deg: float, friction: float) -> float:
     x = flat @ tilt[:3, :3].T + (10.0 + 0.6) * normal  # on the top face, at the skin offset
     cloth = build_cloth([x], [pts], [f], [])
     settings = DrapeSettings(friction=friction)
-    drape(cloth, BodyCollider(block.vertices, block.faces), steps=60, sew_steps=0, settings=settings, layer_every=10**6)
+    drape(cloth, BodyCollider(block.vertices, block.faces), steps=60, sew_steps=0, settings=settings)
     down = tilt[:3, :3] @ [-1.0, 0.0, 0.0]  # the slope's downhill direction
     return float(np.mean((cloth.x - x) @ down))
 
