@@ -19,14 +19,18 @@ from __future__ import annotations
 import numpy as np
 
 from ..report import Finding
-from .objectives import ObjectiveData
+from .objectives import ObjectiveData, balanced_links, link_shares
 
 __all__ = [
+    "MAX_SHARE_MOVE",
     "MAX_SYMMETRY_CM",
+    "MAX_TURN_DEG",
     "MIN_CURVE_RATIO",
     "MIN_EXTENT_RATIO",
     "design_checks",
     "piece_extents",
+    "piece_turn",
+    "share_move",
     "span_sagitta",
 ]
 
@@ -42,6 +46,50 @@ MIN_CURVE_DEPTH = 0.04
 
 MAX_SYMMETRY_CM = 0.2
 """A symmetric piece further than this from its mirror image has lost its symmetry."""
+
+
+MAX_TURN_DEG = 2.0
+"""A piece whose longest edge (a fold, a centre line, a band's long edge) turned by more than this, in
+degrees, has lost its grain: grading scales along and across the grain, it does not turn a piece."""
+
+MAX_SHARE_MOVE = 0.03
+"""A girth over several pieces whose share on one piece moved by more than this (3 cm of a 100 cm chest)
+has changed the balance of the design: a front narrowed while the back widened."""
+
+
+def piece_turn(data: ObjectiveData, points: np.ndarray) -> np.ndarray:
+    """Turn of every piece's longest reference-line edge against the design, ``(n_pop, P)`` rad (signed).
+
+    The longest edge is taken in the design (``data.points0``): on a piece
+    cut on the fold it is the fold, on a bodice its centre line or side, on
+    a band its long edge. Per-axis scaling keeps an axis-parallel edge's
+    direction and turns a slanted one only as much as the piece's aspect
+    ratio changes, so :func:`design_checks` compares with proportional
+    scaling's turn.
+    """
+    points = np.asarray(points, dtype=np.float64)
+    P = len(data.centre0)
+    d0 = data.points0[data.nxt] - data.points0
+    length0 = np.linalg.norm(d0, axis=1)
+    longest = np.array([np.flatnonzero(data.piece_of_point == p)[np.argmax(length0[data.piece_of_point == p])]
+                        for p in range(P)], dtype=np.int64)
+    a0 = d0[longest]
+    d = points[:, data.nxt[longest], :] - points[:, longest, :]
+    return np.arctan2(a0[None, :, 0] * d[..., 1] - a0[None, :, 1] * d[..., 0],
+                      a0[None, :, 0] * d[..., 0] + a0[None, :, 1] * d[..., 1])
+
+
+def share_move(data: ObjectiveData, points: np.ndarray) -> np.ndarray:
+    """Largest change of any piece's share of every link against the design, ``(n_pop, L)``.
+
+    0 for links on a single piece and for links with a negative leg (a band
+    length taken as a difference of edges: its parts are no shares).
+    """
+    points = np.asarray(points, dtype=np.float64)
+    shares, _ = link_shares(data, points)
+    shares0, _ = link_shares(data, data.points0[None])
+    move = np.abs(shares - shares0).max(axis=1)
+    return np.where(balanced_links(data)[None, :], move, 0.0)
 
 
 def piece_extents(data: ObjectiveData, points: np.ndarray) -> np.ndarray:
@@ -96,7 +144,8 @@ def design_checks(
     Returns
     -------
     tuple of Finding with codes ``piece-collapsed``, ``piece-stretched``,
-    ``curve-flattened`` and ``symmetry-lost`` (all warnings)
+    ``piece-turned``, ``curve-flattened``, ``share-moved`` and
+    ``symmetry-lost`` (all warnings)
     """
     pts = np.asarray(points, dtype=np.float64)[None]
     ref = np.asarray(reference, dtype=np.float64)[None]
@@ -111,6 +160,11 @@ def design_checks(
             elif r > 1.0 / MIN_EXTENT_RATIO:
                 out.append(Finding(code="piece-stretched", where=name, message=(
                     f"{what} is {r:.2f} of its proportional {what} (limit {1.0 / MIN_EXTENT_RATIO:.2f})")))
+    turn = np.degrees(np.abs(piece_turn(data, pts)[0] - piece_turn(data, ref)[0]))
+    for p in np.flatnonzero(turn > MAX_TURN_DEG):
+        out.append(Finding(code="piece-turned", where=piece_names[p], message=(
+            f"its longest edge turned {turn[p]:.1f}° against proportional scaling (limit {MAX_TURN_DEG:.0f}°): "
+            "the grain is lost")))
     depth0 = span_sagitta(data, data.points0[None])[0]
     depth = span_sagitta(data, pts)[0]
     curved = depth0 >= MIN_CURVE_DEPTH
@@ -120,6 +174,11 @@ def design_checks(
         out.append(Finding(code="curve-flattened", where=piece_names[p], message=(
             f"the curve between outline points {int(data.span_a[s]) - first} and {int(data.span_b[s]) - first} is "
             f"{depth[s] / depth0[s]:.2f} as deep as in the design (limit {MIN_CURVE_RATIO})")))
+    move = share_move(data, pts)[0]
+    for k in np.flatnonzero(move > MAX_SHARE_MOVE):
+        out.append(Finding(code="share-moved", where=data.link_ids[k], message=(
+            f"a piece's share of it moved by {move[k]:.3f} (limit {MAX_SHARE_MOVE}): the pieces it spans "
+            "no longer keep the design's balance")))
     for name, err in (symmetry_cm or {}).items():
         if err > MAX_SYMMETRY_CM:
             out.append(Finding(code="symmetry-lost", where=name, message=(

@@ -57,6 +57,7 @@ __all__ = [
     "ObjectiveData",
     "across_legs",
     "angle_change",
+    "balanced_links",
     "chord_lengths",
     "curve_kink",
     "dart_lengths",
@@ -550,6 +551,20 @@ def dart_lengths(data: ObjectiveData, points: np.ndarray) -> np.ndarray:
     la = np.linalg.norm(points[:, x, :] - points[:, a, :], axis=-1)
     lb = np.linalg.norm(points[:, b, :] - points[:, x, :], axis=-1)
     return 0.5 * (la + lb)
+
+
+def balanced_links(data: ObjectiveData) -> np.ndarray:
+    """(L,) bool: links over two or more pieces whose legs all add (a girth over a front and a back).
+
+    A link with a negative leg (a band's length taken as its edge minus the
+    opening it runs along) is a difference, not a sum: its parts are no
+    shares of it.
+    """
+    _, shared = link_shares(data, data.points0[None])
+    positive = ~np.any(data.link_edges < 0, axis=0)
+    if len(data.chord_a):
+        positive &= ~np.any(data.link_chords < 0, axis=0)
+    return shared & positive
 
 
 def link_shares(data: ObjectiveData, points: np.ndarray,

@@ -41,7 +41,17 @@ from ..errors import SolverError
 from ..pattern.model import Pattern
 from ..report import Finding
 from .grid import PatternGrid, build_grid, deform_pattern
-from .objectives import FOLD_MARGIN, ObjectiveData, chord_lengths, evaluate, link_error, objective_data, residuals
+from .objectives import (
+    FOLD_MARGIN,
+    ObjectiveData,
+    balanced_links,
+    chord_lengths,
+    evaluate,
+    link_error,
+    link_shares,
+    objective_data,
+    residuals,
+)
 
 __all__ = [
     "FitResult",
@@ -417,6 +427,9 @@ def repair(
     w_bend: float = 0.1,
     w_fold: float = 50.0,
     shape_scale: float = 1.0,
+    linear: np.ndarray | None = None,
+    w_linear: float = 100.0,
+    w_share: float = 30.0,
     progress: Progress | None = None,
 ) -> tuple[np.ndarray, float]:
     """Least-squares correction of one individual (deterministic).
@@ -430,6 +443,12 @@ def repair(
     individuals form a population.
 
     ``shape_scale`` multiplies the weights of the inner-angle terms.
+    ``linear`` (``(n_c, n_var)``, the final step's straight-edge and grain
+    rows, :func:`~.refine.straight_constraints`) are held by a strong cost,
+    ``w_linear`` per cm, and every piece's share of a link over several
+    pieces stays the design's (``w_share`` per unit of share): without them
+    the repair met the fit by turning whole pieces off their folds and
+    shearing bands into triangles, or by narrowing a front to widen a back.
 
     Returns
     -------
@@ -441,13 +460,19 @@ def repair(
     x_start = np.asarray(x, dtype=np.float64).copy()
     scale = np.concatenate([np.full(2 * g.n_control, g.extent_cm) for g in grid.pieces])
     h = 1e-6 * scale
+    A = np.zeros((0, len(x_start))) if linear is None else np.asarray(linear, dtype=np.float64)
+    shared = balanced_links(data)
+    share0 = link_shares(data, data.points0[None])[0][:, :, shared]
 
     def resid_batch(X: np.ndarray) -> np.ndarray:
-        r = residuals(data, grid.outlines(X), w_critical=10.0 * shape_scale, w_angle=4.0 * shape_scale)
+        pts = grid.outlines(X)
+        r = residuals(data, pts, w_critical=10.0 * shape_scale, w_angle=4.0 * shape_scale)
         reg = w_reg * (X - x_start) / scale
         fold = w_fold * np.maximum(0.0, 2 * FOLD_MARGIN - grid.fold_margin(X))[:, None]
         bend = w_bend * grid.bending(X)
-        return np.concatenate([r, reg, bend, fold], axis=1)
+        lin = w_linear * (X @ A.T)
+        share = w_share * (link_shares(data, pts)[0][:, :, shared] - share0).reshape(len(X), -1)
+        return np.concatenate([r, reg, bend, fold, lin, share], axis=1)
 
     calls = {"n": 0}
 
@@ -909,7 +934,7 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
     if do_repair and not within[idx]:
         # nothing on the front meets the fit: the penalty repair of the NSGA-II
         # choice, when it gets closer
-        x_rep, _ = repair(grid, data, ga_X[ga_idx], progress=progress)
+        x_rep, _ = repair(grid, data, ga_X[ga_idx], linear=straight, progress=progress)
         rep = _solution(grid, data, "nsga2+repair", x_rep, size, "least-squares repair of the NSGA-II choice")
         if _valid(rep) and rep.scores.measurement_error < chosen.scores.measurement_error:
             chosen = rep
