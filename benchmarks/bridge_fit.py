@@ -93,11 +93,19 @@ def reimport_error_mm(out: Path, result) -> float:
     return worst if len(graded.pieces) == len(fitted) else float("inf")
 
 
+#: length links of the body (in proportion to a body length); any other ``*_length`` is a band's
+BODY_LENGTHS = ("body_length", "sleeve_length", "leg_length")
+
+
 def _links(measurements: list[dict]) -> str:
-    """Short names of the links: girths and lengths by name, band widths counted."""
-    names = [m["id"].removesuffix("_girth") for m in measurements if not m["id"].endswith("_width")]
-    widths = sum(m["id"].endswith("_width") for m in measurements)
-    return ",".join(names + ([f"{widths} widths"] if widths else []))
+    """Short names of the links: girths and body lengths by name, band widths and band lengths counted."""
+    ids = [m["id"] for m in measurements]
+    widths = sum(i.endswith("_width") for i in ids)
+    bands = sum(i.endswith("_length") and i not in BODY_LENGTHS for i in ids)
+    names = [i.removesuffix("_girth") for i in ids if not i.endswith(("_width", "_length")) or i in BODY_LENGTHS]
+    counted = [f"{widths} width{'s' * (widths != 1)}"] * bool(widths)
+    counted += [f"{bands} band length{'s' * (bands != 1)}"] * bool(bands)
+    return ", ".join(names + counted)
 
 
 def _cpu() -> float:

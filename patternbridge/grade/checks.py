@@ -19,14 +19,17 @@ from __future__ import annotations
 import numpy as np
 
 from ..report import Finding
-from .objectives import ObjectiveData, balanced_links, link_shares
+from .objectives import ObjectiveData, balanced_links, link_shares, piece_axes_turn
 
 __all__ = [
+    "AXIS_TOL_DEG",
     "MAX_SHARE_MOVE",
+    "MAX_SHEAR_DEG",
     "MAX_SYMMETRY_CM",
     "MAX_TURN_DEG",
     "MIN_CURVE_RATIO",
     "MIN_EXTENT_RATIO",
+    "cut_line_turns",
     "design_checks",
     "piece_extents",
     "piece_turn",
@@ -52,31 +55,81 @@ MAX_TURN_DEG = 2.0
 """A piece whose longest edge (a fold, a centre line, a band's long edge) turned by more than this, in
 degrees, has lost its grain: grading scales along and across the grain, it does not turn a piece."""
 
+AXIS_TOL_DEG = 2.0
+"""An edge within this of a drawing axis (the grain frame) is one whose direction grading keeps."""
+
+MAX_SHEAR_DEG = 5.0
+"""A piece whose best-fit linear map turns one drawing axis against the other by more than this, in
+degrees, beyond proportional scaling's, has been sheared: a band slanted into a parallelogram."""
+
 MAX_SHARE_MOVE = 0.03
 """A girth over several pieces whose share on one piece moved by more than this (3 cm of a 100 cm chest)
 has changed the balance of the design: a front narrowed while the back widened."""
 
 
 def piece_turn(data: ObjectiveData, points: np.ndarray) -> np.ndarray:
-    """Turn of every piece's longest reference-line edge against the design, ``(n_pop, P)`` rad (signed).
+    """Turn of every piece's grain against the design, ``(n_pop, P)`` rad (signed).
 
-    The longest edge is taken in the design (``data.points0``): on a piece
-    cut on the fold it is the fold, on a bodice its centre line or side, on
-    a band its long edge. Per-axis scaling keeps an axis-parallel edge's
-    direction and turns a slanted one only as much as the piece's aspect
-    ratio changes, so :func:`design_checks` compares with proportional
-    scaling's turn.
+    Measured on the piece's longest edge within :data:`AXIS_TOL_DEG` of a
+    drawing axis in the design (``data.points0``): a fold, a centre line, a
+    straight hem, a band's long edge; the longest edge of any direction on a
+    piece with none. Per-axis scaling keeps an axis-parallel edge's
+    direction; a slanted edge turns as much as the piece's aspect ratio
+    changes, so :func:`design_checks` compares with proportional scaling's
+    turn.
     """
     points = np.asarray(points, dtype=np.float64)
     P = len(data.centre0)
     d0 = data.points0[data.nxt] - data.points0
     length0 = np.linalg.norm(d0, axis=1)
-    longest = np.array([np.flatnonzero(data.piece_of_point == p)[np.argmax(length0[data.piece_of_point == p])]
+    slant = np.degrees(np.arctan2(np.abs(d0).min(axis=1), np.abs(d0).max(axis=1)))
+    key = length0 + np.where(slant <= AXIS_TOL_DEG, length0.max() + 1.0, 0.0)  # axis-parallel edges first
+    longest = np.array([np.flatnonzero(data.piece_of_point == p)[np.argmax(key[data.piece_of_point == p])]
                         for p in range(P)], dtype=np.int64)
     a0 = d0[longest]
     d = points[:, data.nxt[longest], :] - points[:, longest, :]
     return np.arctan2(a0[None, :, 0] * d[..., 1] - a0[None, :, 1] * d[..., 0],
                       a0[None, :, 0] * d[..., 0] + a0[None, :, 1] * d[..., 1])
+
+
+def _edge_turn(d0: np.ndarray, d: np.ndarray) -> np.ndarray:
+    return np.arctan2(d0[..., 0] * d[..., 1] - d0[..., 1] * d[..., 0], np.sum(d0 * d, axis=-1))
+
+
+def _shear(a: np.ndarray, b: np.ndarray) -> float:
+    """Angle (rad) between the images of the two drawing axes under the best-fit linear map ``a -> b``, minus 90°."""
+    q0, q = a - a.mean(axis=0), b - b.mean(axis=0)
+    m = (q.T @ q0) @ np.linalg.inv(q0.T @ q0 + 1e-12 * np.eye(2))
+    return float(np.arctan2(m[1, 0], m[0, 0]) - np.arctan2(-m[0, 1], m[1, 1]))
+
+
+def cut_line_turns(design, graded, reference) -> dict[str, tuple[float, float]]:
+    """Turn and shear (rad) of every piece's **cut line** against proportional scaling.
+
+    The turn of its longest axis-parallel edge, and its shear (the two
+    drawing axes turned against each other under the best-fit linear map,
+    as :func:`~.objectives.piece_axes_turn` measures the reference line).
+
+    :func:`piece_turn` watches the reference line the grader moves; the cut
+    line is rebuilt around it (the allowance carried, :func:`~.grid.deform_pattern`)
+    and is what the cutter gets, so it is checked on its own. ``design``,
+    ``graded``, ``reference``: the original pattern, the graded one and
+    proportional scaling's (same pieces, same vertex counts). Pieces whose
+    outline changed its vertex count are reported with ``(inf, inf)``.
+    """
+    out = {}
+    for piece in design.pieces:
+        a, b, r = piece.outline, graded.piece(piece.name).outline, reference.piece(piece.name).outline
+        if not (a.shape == b.shape == r.shape):
+            out[piece.name] = (float("inf"), float("inf"))
+            continue
+        d0 = np.roll(a, -1, axis=0) - a
+        length = np.linalg.norm(d0, axis=1)
+        slant = np.degrees(np.arctan2(np.abs(d0).min(axis=1), np.abs(d0).max(axis=1)))
+        k = int(np.argmax(length + np.where(slant <= AXIS_TOL_DEG, length.max() + 1.0, 0.0)))
+        db, dr = np.roll(b, -1, axis=0)[k] - b[k], np.roll(r, -1, axis=0)[k] - r[k]
+        out[piece.name] = (float(_edge_turn(d0[k], db) - _edge_turn(d0[k], dr)), _shear(a, b) - _shear(a, r))
+    return out
 
 
 def share_move(data: ObjectiveData, points: np.ndarray) -> np.ndarray:
@@ -129,6 +182,7 @@ def design_checks(
     *,
     piece_names: tuple[str, ...],
     symmetry_cm: dict[str, float] | None = None,
+    cut_turn: dict[str, tuple[float, float]] | None = None,
 ) -> tuple[Finding, ...]:
     """Findings for one graded solution against its proportional reference.
 
@@ -140,11 +194,13 @@ def design_checks(
     piece_names : (P,) names in piece order
     symmetry_cm : symmetric piece name -> distance from its mirror image, cm
         (:func:`~.symmetry.symmetry_error`)
+    cut_turn : piece name -> turn and shear of its cut line against
+        proportional scaling's, rad (:func:`cut_line_turns`), or None
 
     Returns
     -------
     tuple of Finding with codes ``piece-collapsed``, ``piece-stretched``,
-    ``piece-turned``, ``curve-flattened``, ``share-moved`` and
+    ``piece-turned``, ``piece-sheared``, ``curve-flattened``, ``share-moved`` and
     ``symmetry-lost`` (all warnings)
     """
     pts = np.asarray(points, dtype=np.float64)[None]
@@ -165,6 +221,19 @@ def design_checks(
         out.append(Finding(code="piece-turned", where=piece_names[p], message=(
             f"its longest edge turned {turn[p]:.1f}° against proportional scaling (limit {MAX_TURN_DEG:.0f}°): "
             "the grain is lost")))
+    for name, (edge, skew) in (cut_turn or {}).items():
+        edge, skew = float(np.degrees(abs(edge))), float(np.degrees(abs(skew)))
+        if name in piece_names and turn[piece_names.index(name)] <= MAX_TURN_DEG and (
+                edge > MAX_TURN_DEG or skew > MAX_SHEAR_DEG):
+            out.append(Finding(code="piece-turned", where=name, message=(
+                f"its cut line turned {edge:.1f}° and sheared {skew:.1f}° against proportional scaling "
+                f"(limits {MAX_TURN_DEG:.0f}° and {MAX_SHEAR_DEG:.0f}°): the cut line left its piece")))
+    axes = piece_axes_turn(data, pts)[0] - piece_axes_turn(data, ref)[0]
+    shear = np.degrees(np.abs(axes[:, 0] - axes[:, 1]))
+    for p in np.flatnonzero(shear > MAX_SHEAR_DEG):
+        out.append(Finding(code="piece-sheared", where=piece_names[p], message=(
+            f"its drawing axes turned {shear[p]:.1f}° against each other beyond proportional scaling "
+            f"(limit {MAX_SHEAR_DEG:.0f}°): slanted out of its design")))
     depth0 = span_sagitta(data, data.points0[None])[0]
     depth = span_sagitta(data, pts)[0]
     curved = depth0 >= MIN_CURVE_DEPTH

@@ -50,6 +50,7 @@ from .objectives import (
     link_error,
     link_shares,
     measurement_error,
+    piece_axes_turn,
 )
 from .step_terms import StepTerms
 
@@ -385,6 +386,7 @@ def refine(
     w_direction: float = 0.0,
     w_proportion: float = 0.0,
     w_rotation: float = 0.05,
+    w_axes: float = 1.0,
     w_shift: float = 0.01,
     w_bend: float = 0.02,
     irls_eps: float = 1e-3,
@@ -425,6 +427,12 @@ def refine(
         dimensions no measurement or seam fixes (a cuff's height, the split
         of a girth between front and back) follow the proportional solution
         instead of drifting where the angle terms cannot see them
+    w_axes : weight (per rad) of the turn of every piece's drawing axes
+        under its best-fit linear map against ``x_design``'s
+        (:func:`~.objectives.piece_axes_turn`): rotation and shear, which
+        straight edges along one axis and the angle terms at a few corners
+        let through (a loose tank's back slanted 10°, bindings sheared into
+        parallelograms)
     w_share : weight of each piece's share of the links with legs on
         several pieces that add up (:func:`~.objectives.balanced_links`),
         against the design's share
@@ -470,19 +478,21 @@ def refine(
     wa0 = w_all * np.sqrt(1.0 / max(len(data.points0), 1))
     wm0 = np.sqrt(w_fit / max(len(data.target_cm), 1))
     x_ref = np.asarray(x if x_design is None else x_design, dtype=np.float64)
-    share_ref = shared = None
+    share_ref = shared = axes_ref = None
     if x_design is not None:
         # the design's own split of every girth over several pieces (a sum of
         # positive legs), not proportional scaling's: per-axis factors per
         # piece move it by themselves
         shared = balanced_links(data)
         share_ref = link_shares(data, data.points0[None])[0][:, :, shared]
+        axes_ref = piece_axes_turn(data, grid.outlines(np.asarray(x_design, dtype=np.float64)[None, :]))[0]
     terms = StepTerms.build(
         grid, data, straight=A_st, symmetric=A_sym,
         x_design=None if x_design is None else np.asarray(x_design, dtype=np.float64),
         level=across_legs(data),
         dart_ref=dart_lengths(data, grid.outlines(x_ref[None, :]))[0] if keep_darts else None,
-        share_ref=share_ref, shared=shared, w_rotation=w_rotation, w_shift=w_shift, w_bend=w_bend,
+        share_ref=share_ref, shared=shared, axes_ref=axes_ref, w_axes=w_axes, w_rotation=w_rotation,
+        w_shift=w_shift, w_bend=w_bend,
         w_cell=w_cell, min_cell_ratio=min_cell_ratio, w_design=w_design, design_slack=design_slack,
         w_share=w_share, w_fit=w_fit, w_interval=w_interval, w_turn=w_turn, w_symmetry=w_symmetry,
         w_proportion=w_proportion, w_direction=w_direction)

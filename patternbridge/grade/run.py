@@ -50,6 +50,7 @@ from .objectives import (
     link_error,
     link_shares,
     objective_data,
+    piece_axes_turn,
     residuals,
 )
 
@@ -430,6 +431,8 @@ def repair(
     linear: np.ndarray | None = None,
     w_linear: float = 100.0,
     w_share: float = 30.0,
+    w_axes: float = 30.0,
+    x_design: np.ndarray | None = None,
     progress: Progress | None = None,
 ) -> tuple[np.ndarray, float]:
     """Least-squares correction of one individual (deterministic).
@@ -449,6 +452,10 @@ def repair(
     pieces stays the design's (``w_share`` per unit of share): without them
     the repair met the fit by turning whole pieces off their folds and
     shearing bands into triangles, or by narrowing a front to widen a back.
+    ``w_axes`` (per rad) holds the turn of every piece's drawing axes
+    (:func:`~.objectives.piece_axes_turn`: its rotation and shear, which a
+    straight edge along one axis does not see) at that of ``x_design``
+    (proportional scaling), or at zero.
 
     Returns
     -------
@@ -463,6 +470,7 @@ def repair(
     A = np.zeros((0, len(x_start))) if linear is None else np.asarray(linear, dtype=np.float64)
     shared = balanced_links(data)
     share0 = link_shares(data, data.points0[None])[0][:, :, shared]
+    axes0 = 0.0 if x_design is None else piece_axes_turn(data, grid.outlines(np.asarray(x_design)[None, :]))
 
     def resid_batch(X: np.ndarray) -> np.ndarray:
         pts = grid.outlines(X)
@@ -472,7 +480,8 @@ def repair(
         bend = w_bend * grid.bending(X)
         lin = w_linear * (X @ A.T)
         share = w_share * (link_shares(data, pts)[0][:, :, shared] - share0).reshape(len(X), -1)
-        return np.concatenate([r, reg, bend, fold, lin, share], axis=1)
+        axes = w_axes * (piece_axes_turn(data, pts) - axes0).reshape(len(X), -1)
+        return np.concatenate([r, reg, bend, fold, lin, share, axes], axis=1)
 
     calls = {"n": 0}
 
@@ -618,7 +627,7 @@ def fit_pattern(
 
 def _checks(grid: PatternGrid, data: ObjectiveData, sol: Solution, reference: Solution) -> tuple[Finding, ...]:
     """:func:`~.checks.design_checks` of ``sol`` against proportional scaling."""
-    from .checks import design_checks
+    from .checks import cut_line_turns, design_checks
     from .symmetry import mirror_symmetries, symmetry_error
 
     if sol.x is None or reference.x is None:
@@ -627,7 +636,8 @@ def _checks(grid: PatternGrid, data: ObjectiveData, sol: Solution, reference: So
     err = symmetry_error(grid, sym, sol.x[None])[0]
     return design_checks(data, grid.outlines(sol.x[None])[0], grid.outlines(reference.x[None])[0],
                          piece_names=tuple(g.name for g in grid.pieces),
-                         symmetry_cm={s.piece: float(e) for s, e in zip(sym, err, strict=True)})
+                         symmetry_cm={s.piece: float(e) for s, e in zip(sym, err, strict=True)},
+                         cut_turn=cut_line_turns(grid.pattern, sol.pattern, reference.pattern))
 
 
 TRADE_LEVELS = ((0.45, 0.0), (0.05, 0.2), (0.3, 0.005), (0.02, 1.0))
@@ -934,7 +944,7 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
     if do_repair and not within[idx]:
         # nothing on the front meets the fit: the penalty repair of the NSGA-II
         # choice, when it gets closer
-        x_rep, _ = repair(grid, data, ga_X[ga_idx], linear=straight, progress=progress)
+        x_rep, _ = repair(grid, data, ga_X[ga_idx], linear=straight, x_design=x_axis, progress=progress)
         rep = _solution(grid, data, "nsga2+repair", x_rep, size, "least-squares repair of the NSGA-II choice")
         if _valid(rep) and rep.scores.measurement_error < chosen.scores.measurement_error:
             chosen = rep

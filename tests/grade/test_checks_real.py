@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 from patternbridge.grade.checks import MAX_SHARE_MOVE, MAX_TURN_DEG, design_checks, piece_turn, share_move
-from patternbridge.grade.grid import build_grid
-from patternbridge.grade.objectives import balanced_links, objective_data
+from patternbridge.grade.grid import build_grid, pairs_with_outline, reference_line
+from patternbridge.grade.objectives import balanced_links, objective_data, piece_axes_turn
 from patternbridge.grade.refine import straight_edges
 from patternbridge.grade.run import axis_scaling, fit_pattern
 
@@ -127,3 +127,31 @@ def test_the_grader_keeps_folds_and_shares_on_real_files(name, aama_dir, child, 
     assert turn.max() <= MAX_TURN_DEG
     assert share_move(data, pts)[0].max() <= MAX_SHARE_MOVE
     assert not {f.code for f in result.findings} & {"piece-turned", "share-moved"}
+
+
+def test_the_axes_turn_sees_rotation_and_shear_not_scaling(tank):
+    grid, data, _ = tank
+    x = grid.x0
+    c = x.reshape(-1, 2)
+    turned = _turned(grid, x, 0, 3.0)
+    sheared = c.copy()
+    sheared[:, 1] += 0.1 * (c[:, 0] - c[:, 0].mean())  # every piece: y += 0.1 x
+    scaled = c * np.array([0.7, 1.3])
+    np.testing.assert_allclose(np.degrees(piece_axes_turn(data, grid.outlines(turned[None]))[0, 0]), [3.0, 3.0])
+    np.testing.assert_allclose(np.degrees(piece_axes_turn(data, grid.outlines(sheared.ravel()[None]))[0, :, 0]),
+                               np.degrees(np.arctan(0.1)), rtol=1e-9)
+    np.testing.assert_allclose(piece_axes_turn(data, grid.outlines(sheared.ravel()[None]))[0, :, 1], 0.0, atol=1e-12)
+    np.testing.assert_allclose(piece_axes_turn(data, grid.outlines(scaled.ravel()[None]))[0], 0.0, atol=1e-12)
+
+
+def test_a_sew_line_drawn_the_other_way_round_does_not_carry_the_allowance(aama_dir, tmp_path_factory):
+    from patternbridge.library import load_garment
+
+    # GLX0926S16's bindings: the sew line has the outline's four corners, clockwise against a
+    # counter-clockwise cut line, so vertex 1 of one is the far end of the band on the other
+    bindings = [p for p in _pattern(aama_dir, "GLX0926S16.DXF", tmp_path_factory).pieces if len(p.outline) == 4]
+    assert bindings
+    for piece in bindings:
+        assert not pairs_with_outline(reference_line(piece), piece.outline)
+    for piece in load_garment("shirt").pieces:
+        assert pairs_with_outline(reference_line(piece), piece.outline)
