@@ -221,15 +221,16 @@ def design_checks(
         out.append(Finding(code="piece-turned", where=piece_names[p], message=(
             f"its longest edge turned {turn[p]:.1f}° against proportional scaling (limit {MAX_TURN_DEG:.0f}°): "
             "the grain is lost")))
+    axes = piece_axes_turn(data, pts)[0] - piece_axes_turn(data, ref)[0]
+    shear = np.degrees(np.abs(axes[:, 0] - axes[:, 1]))
+    seen = (turn > MAX_TURN_DEG) | (shear > MAX_SHEAR_DEG)  # the reference line already tells
     for name, (edge, skew) in (cut_turn or {}).items():
         edge, skew = float(np.degrees(abs(edge))), float(np.degrees(abs(skew)))
-        if name in piece_names and turn[piece_names.index(name)] <= MAX_TURN_DEG and (
+        if name in piece_names and not seen[piece_names.index(name)] and (
                 edge > MAX_TURN_DEG or skew > MAX_SHEAR_DEG):
             out.append(Finding(code="piece-turned", where=name, message=(
                 f"its cut line turned {edge:.1f}° and sheared {skew:.1f}° against proportional scaling "
                 f"(limits {MAX_TURN_DEG:.0f}° and {MAX_SHEAR_DEG:.0f}°): the cut line left its piece")))
-    axes = piece_axes_turn(data, pts)[0] - piece_axes_turn(data, ref)[0]
-    shear = np.degrees(np.abs(axes[:, 0] - axes[:, 1]))
     for p in np.flatnonzero(shear > MAX_SHEAR_DEG):
         out.append(Finding(code="piece-sheared", where=piece_names[p], message=(
             f"its drawing axes turned {shear[p]:.1f}° against each other beyond proportional scaling "

@@ -386,7 +386,7 @@ def refine(
     w_direction: float = 0.0,
     w_proportion: float = 0.0,
     w_rotation: float = 0.05,
-    w_axes: float = 1.0,
+    w_axes: float = 5.0,
     w_shift: float = 0.01,
     w_bend: float = 0.02,
     irls_eps: float = 1e-3,
