@@ -386,7 +386,7 @@ def refine(
     w_direction: float = 0.0,
     w_proportion: float = 0.0,
     w_rotation: float = 0.05,
-    w_axes: float = 5.0,
+    w_axes: float = 2.0,
     w_shift: float = 0.01,
     w_bend: float = 0.02,
     irls_eps: float = 1e-3,
@@ -427,12 +427,11 @@ def refine(
         dimensions no measurement or seam fixes (a cuff's height, the split
         of a girth between front and back) follow the proportional solution
         instead of drifting where the angle terms cannot see them
-    w_axes : weight (per rad) of the turn of every piece's drawing axes
-        under its best-fit linear map against ``x_design``'s
-        (:func:`~.objectives.piece_axes_turn`): rotation and shear, which
-        straight edges along one axis and the angle terms at a few corners
-        let through (a loose tank's back slanted 10°, bindings sheared into
-        parallelograms)
+    w_axes : weight (per rad, beyond a free 2°, :data:`~.step_terms.SHEAR_SLACK`)
+        of the shear of every piece under its best-fit linear map against
+        ``x_design``'s (:func:`~.objectives.piece_axes_turn`), which straight
+        edges along one axis and the angle terms at a few corners let
+        through (a loose tank's back slanted 10° off its fold)
     w_share : weight of each piece's share of the links with legs on
         several pieces that add up (:func:`~.objectives.balanced_links`),
         against the design's share

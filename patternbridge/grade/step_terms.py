@@ -107,6 +107,10 @@ def _seam_blocks(grid: PatternGrid, data: ObjectiveData) -> tuple[_SeamBlock, ..
     return tuple(blocks)
 
 
+SHEAR_SLACK = np.radians(2.0)
+"""Shear (rad, the angle between a piece's drawing axes against ``x_design``'s) the final step leaves free."""
+
+
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)
 class StepTerms:
     """Residuals ``s``, constraints ``c`` and measurements ``m`` of the final step.
@@ -172,10 +176,12 @@ class StepTerms:
         ds = (q0[:, 0] * q[..., 0] + q0[:, 1] * q[..., 1]).sum(axis=1)
         terms.append(self.w_rotation * np.arctan2(cs, ds)[:, None])
         if self.axes_ref is not None and self.w_axes > 0:
-            # the piece's best-fit linear map keeps the axes' turn of x_design: no shear
+            # the piece's best-fit linear map keeps the angle between its axes of x_design: no shear
             m = np.einsum("pni,nj->pij", q, q0) @ np.linalg.inv(q0.T @ q0 + 1e-12 * np.eye(2))
             axes = np.stack([np.arctan2(m[:, 1, 0], m[:, 0, 0]), np.arctan2(-m[:, 0, 1], m[:, 1, 1])], axis=1)
-            terms.append(self.w_axes * _wrap(axes - self.axes_ref[k]))
+            d = _wrap(axes - self.axes_ref[k])
+            shear = d[:, 1:] - d[:, :1]
+            terms.append(self.w_axes * np.sign(shear) * np.maximum(np.abs(shear) - SHEAR_SLACK, 0.0))
         terms.append(self.w_shift * (centre - data.centre0[k]) / data.extent_cm[k])
         ext = float(np.mean(data.extent_cm))
         terms.append((self.w_bend / ext) * grid.bending(X, pieces=[k]))
