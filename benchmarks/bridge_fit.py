@@ -17,12 +17,12 @@ without a sidecar beside it (the bridge data are inferred), exactly what
 - ``reimport``: the graded DXF-AAMA + RUL written back, read again with its
   RUL, holds the character as one more size and graded to it gives the fitted
   outlines within 0.1 mm, in the designer's layout (``ok``);
-- ``design``: the grader's design checks (collapsed, flattened or flipped
-  pieces against proportional scaling) and this script's own
-  ``piece-turned`` (a piece's longest straight edge, its fold, centre line
-  or a band's long edge, turned by over 2°: grading does not turn a grain)
-  and ``share-moved`` (a girth over several pieces whose share between them
-  moved by over 3 %: a front narrowed while the back widened),
+- ``design``: the grader's design checks (``fit_report.json`` ``checks``,
+  :mod:`patternbridge.grade.checks`): pieces collapsed, stretched or
+  ``piece-turned`` (the longest edge, a fold, centre line or band's long
+  edge, turned by over 2° against proportional scaling), curves flattened,
+  symmetry lost, ``share-moved`` (a girth over several pieces whose share
+  on one moved by over 3 %: a front narrowed while the back widened);
   ``kept`` when silent;
 - ``drape``: the drape's verdict (``-`` with ``--no-drape``);
 - ``verdict``: ``pass`` when all of the above hold, else what failed;
@@ -93,65 +93,19 @@ def reimport_error_mm(out: Path, result) -> float:
     return worst if len(graded.pieces) == len(fitted) else float("inf")
 
 
-#: the longest straight edge of a piece (a fold, a centre line, a band's long edge) may turn this much, degrees
-MAX_TURN_DEG = 2.0
-
-
-def turned_pieces(original, graded) -> list[str]:
-    """Pieces whose longest edge turned by more than ``MAX_TURN_DEG`` in grading: grain lost, a band sheared.
-
-    Independent of the grader's own checks (which compare with proportional
-    scaling): grading scales a piece along and across its grain, it does not
-    turn its fold, its centre line or a band's long edge.
-    """
-    out = []
-    for piece in graded.pieces:
-        a, b = original.piece(piece.name).outline, piece.outline
-        if a.shape != b.shape:
-            out.append(piece.name)
-            continue
-        da, db = np.roll(a, -1, axis=0) - a, np.roll(b, -1, axis=0) - b
-        k = int(np.argmax(np.linalg.norm(da, axis=1)))
-        turn = np.degrees(abs(np.arctan2(np.cross(da[k], db[k]), da[k] @ db[k])))
-        if turn > MAX_TURN_DEG:
-            out.append(piece.name)
-    return out
-
-
-#: a girth taken over several pieces keeps each piece's share of it within this (3 cm of a 100 cm chest)
-MAX_SHARE_MOVE = 0.03
-
-
-def shares_moved(original, graded) -> list[str]:
-    """Girth links whose share between pieces (front against back) moved by more than ``MAX_SHARE_MOVE``.
-
-    The grader meets a girth taken over a front and a back as a sum; grading
-    keeps the balance of the pieces (a pattern maker grades front and back
-    alike), so a front narrowed while the back widened is a changed design
-    however well the sum is met.
-    """
-    from patternbridge.library.seams import leg_lengths, sew_line
-
-    out = []
-    for link in original.measurements:
-        pieces = {g.piece for g in link.legs}
-        if link.proportional or len(pieces) < 2 or any(g.factor <= 0 for g in link.legs):
-            continue
-        share = []
-        for pattern in (original, graded):
-            lines = {p.name: sew_line(p)[0][None] for p in pattern.pieces}
-            spans = np.array([float(leg_lengths(pattern, [g], lines)[0]) for g in link.legs])
-            share.append(spans / max(spans.sum(), 1e-9))
-        if np.abs(share[1] - share[0]).max() > MAX_SHARE_MOVE:
-            out.append(link.id)
-    return out
+#: length links of the body (in proportion to a body length); any other ``*_length`` is a band's
+BODY_LENGTHS = ("body_length", "sleeve_length", "leg_length")
 
 
 def _links(measurements: list[dict]) -> str:
-    """Short names of the links: girths and lengths by name, band widths counted."""
-    names = [m["id"].removesuffix("_girth") for m in measurements if not m["id"].endswith("_width")]
-    widths = sum(m["id"].endswith("_width") for m in measurements)
-    return ",".join(names + ([f"{widths} widths"] if widths else []))
+    """Short names of the links: girths and body lengths by name, band widths and band lengths counted."""
+    ids = [m["id"] for m in measurements]
+    widths = sum(i.endswith("_width") for i in ids)
+    bands = sum(i.endswith("_length") and i not in BODY_LENGTHS for i in ids)
+    names = [i.removesuffix("_girth") for i in ids if not i.endswith(("_width", "_length")) or i in BODY_LENGTHS]
+    counted = [f"{widths} width{'s' * (widths != 1)}"] * bool(widths)
+    counted += [f"{bands} band length{'s' * (bands != 1)}"] * bool(bands)
+    return ", ".join(names + counted)
 
 
 def _cpu() -> float:
@@ -181,9 +135,7 @@ def run_case(subject, garment: Path, out: Path, options, seed: int) -> dict:
         mean=fig.mean_error_cm,
         seam=fig.max_seam_mm,
         links=_links(rep["measurements"]),
-        checks=[c["code"] for c in rep.get("checks", [])]
-        + ["piece-turned"] * bool(turned_pieces(result.grading.original, result.grading.pattern))
-        + ["share-moved"] * bool(shares_moved(result.grading.original, result.grading.pattern)),
+        checks=[c["code"] for c in rep.get("checks", [])],
         drape=fig.verdict.value if fig.verdict else "-",
     )
     try:

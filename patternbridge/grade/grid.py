@@ -60,6 +60,7 @@ __all__ = [
     "fold_samples",
     "grid_lines",
     "map_weights",
+    "pairs_with_outline",
     "pattern_darts",
     "piece_grid",
     "reference_line",
@@ -349,6 +350,33 @@ def reference_line(piece: Piece) -> np.ndarray:
         if line.closed and len(line.points) == piece.n_vertices:
             return np.asarray(line.points, dtype=np.float64)
     return piece.outline
+
+
+MAX_PAIR_FRAC = 0.25
+"""A sew vertex further than this share of the piece's extent from its cut vertex is not its partner."""
+
+
+def pairs_with_outline(sew: np.ndarray, outline: np.ndarray) -> bool:
+    """True when sew vertex ``i`` is cut vertex ``i``'s partner, so the allowance can be carried on it.
+
+    The sew line must run the outline's way round and no sew vertex may lie
+    further than :data:`MAX_PAIR_FRAC` of the piece's extent from its cut
+    vertex. A sew line drawn the other way round (the bindings of a real
+    AccuMark tank) has as many vertices but pairs a cut corner with the far
+    end of the band: the allowance carried on it turned the bindings into
+    triangles.
+    """
+    sew, outline = np.asarray(sew, dtype=np.float64), np.asarray(outline, dtype=np.float64)
+    if sew.shape != outline.shape:
+        return False
+    extent = float(np.ptp(outline, axis=0).max())
+    return bool(np.sign(_signed_area(sew)) == np.sign(_signed_area(outline))
+                and np.linalg.norm(sew - outline, axis=1).max() <= MAX_PAIR_FRAC * extent)
+
+
+def _signed_area(pts: np.ndarray) -> float:
+    x, y = pts[:, 0], pts[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
 
 
 def _piece_extra_points(piece: Piece) -> np.ndarray:
@@ -759,7 +787,9 @@ def deform_pattern(grid: PatternGrid, x: np.ndarray, *, size: str | None = None)
         else:  # the allowance is added to the graded sew line, as CAD systems do, not stretched with it
             mapped = g.cut_weights @ control
             outline = carry_allowance(reference, piece.outline, g.outline_weights @ control, mapped)
-            if not is_simple(outline):  # a squeezed short curve turned its frames across each other
+            if not is_simple(outline) or not pairs_with_outline(reference, piece.outline):
+                # a squeezed short curve turned its frames across each other, or the sew line's
+                # vertices are not its cut vertices' partners: the cut line moves with the grid
                 outline = mapped
 
         def move(points, _g=g, _c=control):

@@ -57,6 +57,7 @@ __all__ = [
     "ObjectiveData",
     "across_legs",
     "angle_change",
+    "balanced_links",
     "chord_lengths",
     "curve_kink",
     "dart_lengths",
@@ -67,6 +68,7 @@ __all__ = [
     "link_shares",
     "measurement_error",
     "objective_data",
+    "piece_axes_turn",
     "piece_pose",
     "residuals",
     "seam_error",
@@ -552,6 +554,20 @@ def dart_lengths(data: ObjectiveData, points: np.ndarray) -> np.ndarray:
     return 0.5 * (la + lb)
 
 
+def balanced_links(data: ObjectiveData) -> np.ndarray:
+    """(L,) bool: links over two or more pieces whose legs all add (a girth over a front and a back).
+
+    A link with a negative leg (a band's length taken as its edge minus the
+    opening it runs along) is a difference, not a sum: its parts are no
+    shares of it.
+    """
+    _, shared = link_shares(data, data.points0[None])
+    positive = ~np.any(data.link_edges < 0, axis=0)
+    if len(data.chord_a):
+        positive &= ~np.any(data.link_chords < 0, axis=0)
+    return shared & positive
+
+
 def link_shares(data: ObjectiveData, points: np.ndarray,
                 edges: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Each piece's share of every measurement link.
@@ -726,6 +742,35 @@ def piece_pose(data: ObjectiveData, points: np.ndarray) -> tuple[np.ndarray, np.
     np.add.at(cs.T, data.piece_of_point, cross.T)
     np.add.at(ds.T, data.piece_of_point, dot.T)
     return np.arctan2(cs, ds), centre - data.centre0[None]
+
+
+def piece_axes_turn(data: ObjectiveData, points: np.ndarray) -> np.ndarray:
+    """Turn of every piece's drawing axes under its best-fit linear map, ``(n_pop, P, 2)`` rad.
+
+    The least-squares 2×2 map ``M`` taking the centred original vertices of a
+    piece to its centred current ones; ``[..., 0]`` is the turn of the x axis
+    (``atan2(M10, M00)``), ``[..., 1]`` that of the y axis
+    (``atan2(-M01, M11)``). Per-axis scaling, what grading does along and
+    across the grain, turns neither; a rotation turns both alike; a shear (a
+    band slanted into a parallelogram, its ends running down its length)
+    turns one. Linear in the points for a fixed piece, vectorised over the
+    population.
+    """
+    points = np.asarray(points, dtype=np.float64)
+    P = len(data.centre0)
+    counts = np.bincount(data.piece_of_point, minlength=P).astype(np.float64)
+    sums = np.zeros((points.shape[0], P, 2))
+    np.add.at(sums.transpose(1, 0, 2), data.piece_of_point, points.transpose(1, 0, 2))
+    q = points - (sums / counts[None, :, None])[:, data.piece_of_point, :]
+    q0 = data.points0 - data.centre0[data.piece_of_point]
+    # M = (Σ q q0ᵀ)(Σ q0 q0ᵀ)⁻¹ per piece
+    qq0 = np.zeros((points.shape[0], P, 2, 2))
+    outer = q[..., :, None] * q0[None, :, None, :]  # (n_pop, N, 2, 2)
+    np.add.at(qq0.transpose(1, 0, 2, 3), data.piece_of_point, outer.transpose(1, 0, 2, 3))
+    g = np.zeros((P, 2, 2))
+    np.add.at(g, data.piece_of_point, q0[:, :, None] * q0[:, None, :])
+    m = qq0 @ np.linalg.inv(g + 1e-12 * np.eye(2))[None]
+    return np.stack([np.arctan2(m[..., 1, 0], m[..., 0, 0]), np.arctan2(-m[..., 0, 1], m[..., 1, 1])], axis=-1)
 
 
 def _slack(r: np.ndarray, slack: float) -> np.ndarray:

@@ -45,10 +45,12 @@ from .objectives import (
     ObjectiveData,
     across_legs,
     angle_change,
+    balanced_links,
     dart_lengths,
     link_error,
     link_shares,
     measurement_error,
+    piece_axes_turn,
 )
 from .step_terms import StepTerms
 
@@ -78,7 +80,10 @@ class StraightEdge:
     along the grain), 1 when parallel to x (constant y, e.g. a straight hem) ;
     length_cm : its length in the original pattern ;
     cut : the run is on the cut outline (else on the reference line, the
-    sew line when the piece has one)
+    sew line when the piece has one) ;
+    direction : (2,) unit direction of the run's chord in the original
+    (within ``tol_deg`` of its axis: a fold drawn 0.06° off the axis is a
+    straight edge all the same); default the axis direction
     """
 
     piece: str
@@ -86,6 +91,14 @@ class StraightEdge:
     axis: int
     length_cm: float
     cut: bool = False
+    direction: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        d = np.zeros(2) if self.direction is None else np.array(self.direction, dtype=np.float64)
+        if self.direction is None:
+            d[1 - self.axis] = 1.0
+        d.flags.writeable = False
+        object.__setattr__(self, "direction", d)
 
 
 def straight_edges(
@@ -99,7 +112,9 @@ def straight_edges(
 
     A run is a maximal sequence of consecutive outline edges, each within
     ``tol_deg`` of the same drawing axis, whose vertices all lie within
-    ``max_offset_cm`` of one line parallel to that axis, and which is at least
+    ``max_offset_cm`` of the chord joining its ends (a long fold drawn a
+    hair off the axis counts: measured from an axis-parallel line its 65 cm
+    would leave 0.7 mm), and which is at least
     ``min_length_frac`` of the piece's extent long. Both the reference line
     and (when it differs) the cut outline are searched, so a straight centre
     front stays straight on the stitching line and on the cutting line.
@@ -132,18 +147,24 @@ def straight_edges(
                 runs.append(cur)
             for run in runs:
                 idx = np.array([*run, (run[-1] + 1) % n], dtype=np.int64)
-                c = pts[idx, axis]
+                chord = pts[idx[-1]] - pts[idx[0]]
+                u = chord / max(float(np.hypot(*chord)), 1e-12)
+                rel = pts[idx] - pts[idx[0]]
+                offset = rel[:, 1] * u[0] - rel[:, 0] * u[1]  # distance from the chord
                 length = float(np.abs(along[run]).sum())
-                if np.ptp(c) <= max_offset_cm and length >= min_length_frac * g.extent_cm:
-                    out.append(StraightEdge(piece=g.name, points=idx, axis=axis, length_cm=length, cut=cut))
+                if np.ptp(offset) <= max_offset_cm and length >= min_length_frac * g.extent_cm:
+                    out.append(StraightEdge(piece=g.name, points=idx, axis=axis, length_cm=length, cut=cut,
+                                            direction=u))
     return tuple(out)
 
 
 def straight_constraints(grid: PatternGrid, edges: tuple[StraightEdge, ...]) -> np.ndarray:
-    """Linear constraints ``A x = 0`` keeping ``edges`` straight and axis-parallel.
+    """Linear constraints ``A x = 0`` keeping ``edges`` straight and in their original direction.
 
-    For every edge, the constant coordinate of each vertex minus that of its
-    first vertex; redundant rows are removed (orthonormal row basis).
+    For every edge, each vertex's offset from the line through its first
+    vertex along the edge's original direction ``u`` (``u × (p_i − p_0)``;
+    for an axis-parallel edge the constant coordinate minus that of the
+    first vertex); redundant rows are removed (orthonormal row basis).
 
     Returns
     -------
@@ -156,7 +177,10 @@ def straight_constraints(grid: PatternGrid, edges: tuple[StraightEdge, ...]) -> 
         weights = g.cut_weights if e.cut else g.outline_weights
         w = weights[e.points[1:]] - weights[e.points[0]][None, :]
         r = np.zeros((len(w), grid.n_var))
-        r[:, grid.var_offsets[k] + 2 * np.arange(g.n_control) + e.axis] = w
+        base = grid.var_offsets[k] + 2 * np.arange(g.n_control)
+        # the offset of every vertex from the line through the first along the original direction
+        r[:, base] = -e.direction[1] * w
+        r[:, base + 1] = e.direction[0] * w
         rows.append(r)
     if not rows:
         return np.zeros((0, grid.n_var))
@@ -362,6 +386,7 @@ def refine(
     w_direction: float = 0.0,
     w_proportion: float = 0.0,
     w_rotation: float = 0.05,
+    w_axes: float = 2.0,
     w_shift: float = 0.01,
     w_bend: float = 0.02,
     irls_eps: float = 1e-3,
@@ -402,8 +427,14 @@ def refine(
         dimensions no measurement or seam fixes (a cuff's height, the split
         of a girth between front and back) follow the proportional solution
         instead of drifting where the angle terms cannot see them
+    w_axes : weight (per rad, beyond a free 2°, :data:`~.step_terms.SHEAR_SLACK`)
+        of the shear of every piece under its best-fit linear map against
+        ``x_design``'s (:func:`~.objectives.piece_axes_turn`), which straight
+        edges along one axis and the angle terms at a few corners let
+        through (a loose tank's back slanted 10° off its fold)
     w_share : weight of each piece's share of the links with legs on
-        several pieces (:func:`~.objectives.link_shares`), against ``x_design``
+        several pieces that add up (:func:`~.objectives.balanced_links`),
+        against the design's share
     keep_darts : every dart keeps the length it has in ``x_design`` (or in
         ``x``): an equality constraint; its intake stays free. The grid gives
         a dart lines of its own (:func:`~.grid.pattern_darts`), and without
@@ -446,16 +477,21 @@ def refine(
     wa0 = w_all * np.sqrt(1.0 / max(len(data.points0), 1))
     wm0 = np.sqrt(w_fit / max(len(data.target_cm), 1))
     x_ref = np.asarray(x if x_design is None else x_design, dtype=np.float64)
-    share_ref = shared = None
+    share_ref = shared = axes_ref = None
     if x_design is not None:
-        share_ref, shared = link_shares(data, grid.outlines(np.asarray(x_design, dtype=np.float64)[None, :]))
-        share_ref = share_ref[:, :, shared]
+        # the design's own split of every girth over several pieces (a sum of
+        # positive legs), not proportional scaling's: per-axis factors per
+        # piece move it by themselves
+        shared = balanced_links(data)
+        share_ref = link_shares(data, data.points0[None])[0][:, :, shared]
+        axes_ref = piece_axes_turn(data, grid.outlines(np.asarray(x_design, dtype=np.float64)[None, :]))[0]
     terms = StepTerms.build(
         grid, data, straight=A_st, symmetric=A_sym,
         x_design=None if x_design is None else np.asarray(x_design, dtype=np.float64),
         level=across_legs(data),
         dart_ref=dart_lengths(data, grid.outlines(x_ref[None, :]))[0] if keep_darts else None,
-        share_ref=share_ref, shared=shared, w_rotation=w_rotation, w_shift=w_shift, w_bend=w_bend,
+        share_ref=share_ref, shared=shared, axes_ref=axes_ref, w_axes=w_axes, w_rotation=w_rotation,
+        w_shift=w_shift, w_bend=w_bend,
         w_cell=w_cell, min_cell_ratio=min_cell_ratio, w_design=w_design, design_slack=design_slack,
         w_share=w_share, w_fit=w_fit, w_interval=w_interval, w_turn=w_turn, w_symmetry=w_symmetry,
         w_proportion=w_proportion, w_direction=w_direction)

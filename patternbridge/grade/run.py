@@ -41,7 +41,18 @@ from ..errors import SolverError
 from ..pattern.model import Pattern
 from ..report import Finding
 from .grid import PatternGrid, build_grid, deform_pattern
-from .objectives import FOLD_MARGIN, ObjectiveData, chord_lengths, evaluate, link_error, objective_data, residuals
+from .objectives import (
+    FOLD_MARGIN,
+    ObjectiveData,
+    balanced_links,
+    chord_lengths,
+    evaluate,
+    link_error,
+    link_shares,
+    objective_data,
+    piece_axes_turn,
+    residuals,
+)
 
 __all__ = [
     "FitResult",
@@ -417,6 +428,11 @@ def repair(
     w_bend: float = 0.1,
     w_fold: float = 50.0,
     shape_scale: float = 1.0,
+    linear: np.ndarray | None = None,
+    w_linear: float = 100.0,
+    w_share: float = 30.0,
+    w_axes: float = 30.0,
+    x_design: np.ndarray | None = None,
     progress: Progress | None = None,
 ) -> tuple[np.ndarray, float]:
     """Least-squares correction of one individual (deterministic).
@@ -430,6 +446,16 @@ def repair(
     individuals form a population.
 
     ``shape_scale`` multiplies the weights of the inner-angle terms.
+    ``linear`` (``(n_c, n_var)``, the final step's straight-edge and grain
+    rows, :func:`~.refine.straight_constraints`) are held by a strong cost,
+    ``w_linear`` per cm, and every piece's share of a link over several
+    pieces stays the design's (``w_share`` per unit of share): without them
+    the repair met the fit by turning whole pieces off their folds and
+    shearing bands into triangles, or by narrowing a front to widen a back.
+    ``w_axes`` (per rad) holds the turn of every piece's drawing axes
+    (:func:`~.objectives.piece_axes_turn`: its rotation and shear, which a
+    straight edge along one axis does not see) at that of ``x_design``
+    (proportional scaling), or at zero.
 
     Returns
     -------
@@ -441,13 +467,21 @@ def repair(
     x_start = np.asarray(x, dtype=np.float64).copy()
     scale = np.concatenate([np.full(2 * g.n_control, g.extent_cm) for g in grid.pieces])
     h = 1e-6 * scale
+    A = np.zeros((0, len(x_start))) if linear is None else np.asarray(linear, dtype=np.float64)
+    shared = balanced_links(data)
+    share0 = link_shares(data, data.points0[None])[0][:, :, shared]
+    axes0 = 0.0 if x_design is None else piece_axes_turn(data, grid.outlines(np.asarray(x_design)[None, :]))
 
     def resid_batch(X: np.ndarray) -> np.ndarray:
-        r = residuals(data, grid.outlines(X), w_critical=10.0 * shape_scale, w_angle=4.0 * shape_scale)
+        pts = grid.outlines(X)
+        r = residuals(data, pts, w_critical=10.0 * shape_scale, w_angle=4.0 * shape_scale)
         reg = w_reg * (X - x_start) / scale
         fold = w_fold * np.maximum(0.0, 2 * FOLD_MARGIN - grid.fold_margin(X))[:, None]
         bend = w_bend * grid.bending(X)
-        return np.concatenate([r, reg, bend, fold], axis=1)
+        lin = w_linear * (X @ A.T)
+        share = w_share * (link_shares(data, pts)[0][:, :, shared] - share0).reshape(len(X), -1)
+        axes = w_axes * (piece_axes_turn(data, pts) - axes0).reshape(len(X), -1)
+        return np.concatenate([r, reg, bend, fold, lin, share, axes], axis=1)
 
     calls = {"n": 0}
 
@@ -593,7 +627,7 @@ def fit_pattern(
 
 def _checks(grid: PatternGrid, data: ObjectiveData, sol: Solution, reference: Solution) -> tuple[Finding, ...]:
     """:func:`~.checks.design_checks` of ``sol`` against proportional scaling."""
-    from .checks import design_checks
+    from .checks import cut_line_turns, design_checks
     from .symmetry import mirror_symmetries, symmetry_error
 
     if sol.x is None or reference.x is None:
@@ -602,7 +636,8 @@ def _checks(grid: PatternGrid, data: ObjectiveData, sol: Solution, reference: So
     err = symmetry_error(grid, sym, sol.x[None])[0]
     return design_checks(data, grid.outlines(sol.x[None])[0], grid.outlines(reference.x[None])[0],
                          piece_names=tuple(g.name for g in grid.pieces),
-                         symmetry_cm={s.piece: float(e) for s, e in zip(sym, err, strict=True)})
+                         symmetry_cm={s.piece: float(e) for s, e in zip(sym, err, strict=True)},
+                         cut_turn=cut_line_turns(grid.pattern, sol.pattern, reference.pattern))
 
 
 TRADE_LEVELS = ((0.45, 0.0), (0.05, 0.2), (0.3, 0.005), (0.02, 1.0))
@@ -909,7 +944,7 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
     if do_repair and not within[idx]:
         # nothing on the front meets the fit: the penalty repair of the NSGA-II
         # choice, when it gets closer
-        x_rep, _ = repair(grid, data, ga_X[ga_idx], progress=progress)
+        x_rep, _ = repair(grid, data, ga_X[ga_idx], linear=straight, x_design=x_axis, progress=progress)
         rep = _solution(grid, data, "nsga2+repair", x_rep, size, "least-squares repair of the NSGA-II choice")
         if _valid(rep) and rep.scores.measurement_error < chosen.scores.measurement_error:
             chosen = rep

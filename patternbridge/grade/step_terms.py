@@ -107,6 +107,10 @@ def _seam_blocks(grid: PatternGrid, data: ObjectiveData) -> tuple[_SeamBlock, ..
     return tuple(blocks)
 
 
+SHEAR_SLACK = np.radians(2.0)
+"""Shear (rad, the angle between a piece's drawing axes against ``x_design``'s) the final step leaves free."""
+
+
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)
 class StepTerms:
     """Residuals ``s``, constraints ``c`` and measurements ``m`` of the final step.
@@ -115,8 +119,10 @@ class StepTerms:
     equality rows ; symmetric : (n_s, n_var) symmetry rows or None ;
     x_design : (n_var,) design reference or None ; level : (C,) bool, chord
     legs taken across the grain ; dart_ref : (D,) dart lengths to keep or
-    None ; share_ref, shared : link shares of ``x_design`` and the links
-    with legs on several pieces ; w_* : weights (see :func:`~.refine.refine`)
+    None ; share_ref, shared : the design's link shares and the links
+    over several pieces that add up ; axes_ref : (P, 2) turn of every
+    piece's drawing axes in ``x_design`` (:func:`~.objectives.piece_axes_turn`)
+    or None ; w_* : weights (see :func:`~.refine.refine`)
     """
 
     grid: PatternGrid
@@ -128,7 +134,9 @@ class StepTerms:
     dart_ref: np.ndarray | None
     share_ref: np.ndarray | None
     shared: np.ndarray | None
+    axes_ref: np.ndarray | None
     w_rotation: float
+    w_axes: float
     w_shift: float
     w_bend: float
     w_cell: float
@@ -167,6 +175,13 @@ class StepTerms:
         cs = (q0[:, 0] * q[..., 1] - q0[:, 1] * q[..., 0]).sum(axis=1)
         ds = (q0[:, 0] * q[..., 0] + q0[:, 1] * q[..., 1]).sum(axis=1)
         terms.append(self.w_rotation * np.arctan2(cs, ds)[:, None])
+        if self.axes_ref is not None and self.w_axes > 0:
+            # the piece's best-fit linear map keeps the angle between its axes of x_design: no shear
+            m = np.einsum("pni,nj->pij", q, q0) @ np.linalg.inv(q0.T @ q0 + 1e-12 * np.eye(2))
+            axes = np.stack([np.arctan2(m[:, 1, 0], m[:, 0, 0]), np.arctan2(-m[:, 0, 1], m[:, 1, 1])], axis=1)
+            d = _wrap(axes - self.axes_ref[k])
+            shear = d[:, 1:] - d[:, :1]
+            terms.append(self.w_axes * np.sign(shear) * np.maximum(np.abs(shear) - SHEAR_SLACK, 0.0))
         terms.append(self.w_shift * (centre - data.centre0[k]) / data.extent_cm[k])
         ext = float(np.mean(data.extent_cm))
         terms.append((self.w_bend / ext) * grid.bending(X, pieces=[k]))

@@ -7,7 +7,7 @@ import pytest
 from grade_fixtures import BODY, skirt_pattern
 
 from patternbridge.grade.grid import build_grid
-from patternbridge.grade.objectives import across_legs, link_shares, objective_data
+from patternbridge.grade.objectives import across_legs, link_shares, objective_data, piece_axes_turn
 from patternbridge.grade.refine import grain_constraints, row_basis, straight_constraints, straight_edges
 from patternbridge.grade.run import axis_scaling
 from patternbridge.grade.step_terms import StepTerms
@@ -30,6 +30,8 @@ def _terms(pattern, body):
         dart_ref=None,
         share_ref=share_ref[:, :, shared],
         shared=shared,
+        axes_ref=piece_axes_turn(data, grid.outlines(x[None]))[0] + 0.01,
+        w_axes=1.0,
         w_rotation=0.05,
         w_shift=0.01,
         w_bend=0.02,
