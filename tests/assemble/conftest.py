@@ -233,3 +233,23 @@ def draped_tshirt(character_e):
         weights=d["weights"],
         skeleton=character_e.skeleton,
     )
+
+
+class NoBody:
+    """A collider with nothing to collide with (far away): the cloth tests' free space."""
+
+    def closest(self, points):
+        n = len(points)
+        q = np.tile([0.0, -1e4, 0.0], (n, 1))
+        return q, np.tile([0.0, 1.0, 0.0], (n, 1)), np.full(n, 1e4), np.zeros(n, np.int64), np.zeros((n, 2))
+
+    def inside(self, points):
+        return np.zeros(len(points), dtype=bool)
+
+    def sweep(self, start, end, offset_cm, *, min_move_cm=0.0):
+        return np.array(end, dtype=np.float64), np.zeros(len(end), dtype=bool)
+
+
+@pytest.fixture
+def no_body() -> NoBody:
+    return NoBody()

@@ -51,22 +51,7 @@ def test_gathered_lengths_leave_equal_seams_and_unknown_edges_alone():
     np.testing.assert_array_equal(out, [2.0, 2.0, 1.0, 1.0])
 
 
-class _NoBody:
-    """A collider with nothing to collide with (far away)."""
-
-    def closest(self, points):
-        n = len(points)
-        q = np.tile([0.0, -1e4, 0.0], (n, 1))
-        return q, np.tile([0.0, 1.0, 0.0], (n, 1)), np.full(n, 1e4), np.zeros(n, np.int64), np.zeros((n, 2))
-
-    def inside(self, points):
-        return np.zeros(len(points), dtype=bool)
-
-    def sweep(self, start, end, offset_cm, *, min_move_cm=0.0):
-        return np.array(end, dtype=np.float64), np.zeros(len(end), dtype=bool)
-
-
-def test_simulation_closes_a_gathered_seam():
+def test_simulation_closes_a_gathered_seam(no_body):
     # two strips 6 cm apart, one 12 cm and one 9 cm long: sewn by the
     # solver alone (no welding) the pairs meet within a tenth of a millimetre
     long_pts, long_f = _strip(12.0, 6)
@@ -77,7 +62,7 @@ def test_simulation_closes_a_gathered_seam():
         [x_long, x_short], [long_pts, short_pts], [long_f, short_f], [(0, 1, np.arange(7), np.arange(7) + 7)]
     )
     assert seam_gaps(cloth.x, cloth.seams).max() > 5.0
-    drape(cloth, _NoBody(), steps=60, sew_steps=40, gravity_scale=0.0)
+    drape(cloth, no_body, steps=60, sew_steps=40, gravity_scale=0.0)
     # (with both sides at their pattern lengths the seam springs fight the
     # stretch springs and the pairs stay three times farther apart)
     assert seam_gaps(cloth.x, cloth.seams).max() < 0.01
@@ -91,19 +76,19 @@ def _two_strips(gap_cm: float):
     return build_cloth([x_a, x_b], [pts, pts], [f, f], [(0, 1, np.arange(7), np.arange(7) + 7)])
 
 
-def test_a_loose_seam_waits_and_then_closes_from_where_it_is():
+def test_a_loose_seam_waits_and_then_closes_from_where_it_is(no_body):
     # two strips sewn along one edge, the second one 6 cm off: left loose,
     # the seam pulls nothing while the other cloth is sewn; released with a
     # ramp it closes from the gap it had then, without welding
     cloth = _two_strips(8.0)
     start = seam_gaps(cloth.x, cloth.seams)
     loose = np.ones(len(cloth.seams), dtype=bool)
-    solver = drape(cloth, _NoBody(), steps=40, sew_steps=30, gravity_scale=0.0, loose=loose)
+    solver = drape(cloth, no_body, steps=40, sew_steps=30, gravity_scale=0.0, loose=loose)
     np.testing.assert_allclose(seam_gaps(cloth.x, cloth.seams), start, atol=1e-6)
     solver.restart_seams()
     half = drape(
         cloth,
-        _NoBody(),
+        no_body,
         steps=20,
         sew_steps=0,
         gravity_scale=0.0,
@@ -112,11 +97,11 @@ def test_a_loose_seam_waits_and_then_closes_from_where_it_is():
     )
     gap_half = seam_gaps(cloth.x, cloth.seams)
     assert np.all((gap_half > 0.3 * start) & (gap_half < 0.7 * start))  # half way: the ramp, not a jump
-    drape(cloth, _NoBody(), steps=30, sew_steps=0, gravity_scale=0.0, solver=half, sew_ramp=(0.5, 1.0))
+    drape(cloth, no_body, steps=30, sew_steps=0, gravity_scale=0.0, solver=half, sew_ramp=(0.5, 1.0))
     assert seam_gaps(cloth.x, cloth.seams).max() < 0.01
 
 
-def test_a_loose_seam_keeps_its_two_sides_together_without_closing():
+def test_a_loose_seam_keeps_its_two_sides_together_without_closing(no_body):
     # a cuff left unsewn on a raised arm: when its sleeve slides, it follows
     # at the same gap (with no spring at all it stayed behind and turned
     # round the wrist)
@@ -128,7 +113,7 @@ def test_a_loose_seam_keeps_its_two_sides_together_without_closing():
         cloth.v[:14] = [60.0, 0.0, 0.0]  # the sleeve side slides along x
         drape(
             cloth,
-            _NoBody(),
+            no_body,
             steps=40,
             sew_steps=30,
             gravity_scale=0.0,
@@ -145,7 +130,7 @@ def test_a_loose_seam_keeps_its_two_sides_together_without_closing():
     assert a > 5.0 and abs(b) < 1e-6  # no spring: left behind
 
 
-def test_the_heavier_side_of_a_seam_stays_and_the_lighter_comes_to_it():
+def test_the_heavier_side_of_a_seam_stays_and_the_lighter_comes_to_it(no_body):
     # two strips 6 cm apart sewn along one edge, without gravity: with equal
     # masses they meet half way; with the second one 30 times as heavy the
     # first one does nearly all of the moving; the next call is back to the
@@ -153,7 +138,7 @@ def test_the_heavier_side_of_a_seam_stays_and_the_lighter_comes_to_it():
     def sew(inertia):
         cloth = _two_strips(8.0)
         before = cloth.x.copy()
-        solver = drape(cloth, _NoBody(), steps=40, sew_steps=30, gravity_scale=0.0, inertia=inertia)
+        solver = drape(cloth, no_body, steps=40, sew_steps=30, gravity_scale=0.0, inertia=inertia)
         assert seam_gaps(cloth.x, cloth.seams).max() < 0.05
         moved = np.linalg.norm(cloth.x - before, axis=1)
         return moved[:14].mean(), moved[14:].mean(), solver
