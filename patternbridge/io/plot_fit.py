@@ -65,7 +65,7 @@ def plot_pareto(
     if members:
         fig = plt.figure(figsize=(13.5, 8.4))
         rows = fig.add_gridspec(3, 1, height_ratios=(5.0, 0.9, 2.4))
-        top = rows[0].subgridspec(1, 3, wspace=0.3)
+        top = rows[0].subgridspec(1, 3, wspace=0.38)
         bottom = rows[2].subgridspec(1, len(members), wspace=0.15)
         axes = [fig.add_subplot(top[0, c]) for c in range(3)]
         thumbs = [fig.add_subplot(bottom[0, c]) for c in range(len(members))]
@@ -94,8 +94,8 @@ def plot_pareto(
                         xytext=(3, 3), textcoords="offset points")
         ax.set_xlabel(_NAMES[i])
         ax.set_ylabel(_NAMES[j])
-        ax.set_xscale("symlog", linthresh=1e-2)
-        ax.set_yscale("symlog", linthresh=1e-2)
+        ax.set_xscale("symlog", linthresh=_linear_below(F[:, i]))
+        ax.set_yscale("symlog", linthresh=_linear_below(F[:, j]))
         ax.grid(True, alpha=0.3)
     for ax, (row, pieces) in zip(thumbs, members, strict=True):
         _thumbnail(ax, pieces)
@@ -119,6 +119,17 @@ def plot_pareto(
         fig.savefig(tmp, dpi=110, format=path.suffix.lstrip(".") or "png")
     plt.close(fig)
     return path
+
+
+def _linear_below(values: np.ndarray) -> float:
+    """The symlog axis's linear range for one objective: up to its smallest positive value.
+
+    Objectives differ by orders of magnitude (measurement error in cm, shape
+    error in thousandths of a radian); a fixed range put a whole objective in
+    the linear part, where the axis labels only its ends.
+    """
+    positive = values[np.isfinite(values) & (values > 0)]
+    return float(positive.min()) if positive.size else 1e-2
 
 
 def _thumbnail(ax, pieces: Sequence[Piece]) -> None:
