@@ -87,13 +87,14 @@ class VerdictLimits:
         (failed): cloth stretched by a third is a tear or a hole in the
         picture.
     girth_flawed, girth_failed : strain of the garment's tightest girth,
-        a horizontal cut round the body: its length on the drape over its
-        length in the pattern (:func:`.defects.girth_strain`). A girth runs
-        along the cross grain, where a woven fabric gives far less than
-        across the bias: stretched 3 % all the way round it shows drag lines
-        (a garment a size too small); at 6 % the garment does not close round
-        the body it was cut for (two sizes too small), however evenly the
-        solver spreads the strain over the edges.
+        a horizontal cut closing round the body: its length on the drape over
+        its length in the pattern (:func:`.defects.girth_strain`). A size
+        step adds 4 cm to a waist or hip girth, 4-6 % of it: stretched 3 %
+        all the way round a girth shows as drag lines (about a size too
+        small, and a girth runs along the cross grain, which gives far less
+        than the bias); beyond 8 % the garment is two sizes too small for the
+        body and does not close round it as designed, however evenly the
+        solver spreads the strain over single edges.
     level_flawed_cm, level_failed_cm : vertical distance between a piece's
         anchor mark and the body landmark it hangs from (a waistband off the
         waist, a cuff off the wrist, a neck point off the neck).
@@ -113,7 +114,7 @@ class VerdictLimits:
     stretch_flawed_share: float = 0.01
     stretch_failed_share: float = 0.01
     girth_flawed: float = 1.03
-    girth_failed: float = 1.06
+    girth_failed: float = 1.08
     level_flawed_cm: float = 3.0
     level_failed_cm: float = 8.0
 
@@ -286,7 +287,7 @@ def _stretch_reason(m: Measured, lim: VerdictLimits) -> Reason | None:
 
 
 def _girth_reason(m: Measured, lim: VerdictLimits) -> Reason | None:
-    """A girth stretched all the way round beyond the fabric's cross grain, or None."""
+    """A girth stretched all the way round beyond what a size's ease allows, or None."""
     v = _grade(m.girth_strain, lim.girth_flawed, lim.girth_failed)
     if v is Verdict.OK:
         return None
