@@ -558,6 +558,8 @@ def _measure(
         | faces_touching(cloth.faces, open_pairs, len(cloth.x))
         | faces_touching(cloth.faces, torn, len(cloth.x))
     )
+    if measured_defects.girth_strain > limits.girth_failed:
+        flagged |= girth_faces[tight]  # the girth the garment does not close round
     return report, flagged
 
 
