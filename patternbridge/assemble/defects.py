@@ -12,8 +12,9 @@ from ..pattern.model import Pattern
 from .mesh2d import PatternMesh
 from .place.wrap import landmark_position
 
-__all__ = ["anchor_levels_cm", "edge_stretch", "faces_touching", "seam_excess_cm"]
+__all__ = ["anchor_levels_cm", "edge_stretch", "faces_touching", "girth_strain", "seam_excess_cm"]
 
+GIRTH_STEP_CM = 1.0  # the garment's girths are measured on horizontal cuts this far apart
 SHORT_EDGE_CM = 0.1  # pattern edges shorter than this (a corner collapsed by grading) are not measured
 
 
@@ -82,3 +83,99 @@ def faces_touching(faces: np.ndarray, vertices: np.ndarray, n: int) -> np.ndarra
     mark = np.zeros(n, dtype=bool)
     mark[np.asarray(vertices, dtype=np.int64).ravel()] = True
     return mark[faces].any(axis=1)
+
+
+def _cut(
+    x: np.ndarray, uv: np.ndarray, faces: np.ndarray, edge_ids: np.ndarray, h: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The cut of each face by the plane ``y = h``.
+
+    Returns
+    -------
+    drape, pattern : (F,) lengths of the cut in the drape and in the pattern (0 for faces not cut) ;
+    ends : (F, 2) int64, the ids of the two edges the cut crosses (-1 for faces not cut)
+    """
+    y = x[faces, 1]  # (F, 3)
+    above = y >= h
+    seg_x = np.zeros((len(faces), 2, 3))
+    seg_uv = np.zeros((len(faces), 2, 2))
+    ends = np.full((len(faces), 2), -1, dtype=np.int64)
+    count = np.zeros(len(faces), dtype=np.int64)
+    for k, (a, b) in enumerate(((0, 1), (1, 2), (2, 0))):
+        hit = above[:, a] != above[:, b]
+        ya, yb = y[hit, a], y[hit, b]
+        t = ((h - ya) / (yb - ya))[:, None]
+        fa, fb = faces[hit, a], faces[hit, b]
+        slot = np.minimum(count[hit], 1)
+        seg_x[hit, slot] = x[fa] + t * (x[fb] - x[fa])
+        seg_uv[hit, slot] = uv[fa] + t * (uv[fb] - uv[fa])
+        ends[hit, slot] = edge_ids[hit, k]
+        count[hit] += 1
+    cut = count == 2  # a plane crosses a triangle's boundary at two points or none
+    drape = np.where(cut, np.linalg.norm(seg_x[:, 1] - seg_x[:, 0], axis=1), 0.0)
+    pattern = np.where(cut, np.linalg.norm(seg_uv[:, 1] - seg_uv[:, 0], axis=1), 0.0)
+    return drape, pattern, np.where(cut[:, None], ends, -1)
+
+
+def _closed(ends: np.ndarray, n_edges: int) -> np.ndarray:
+    """(F,) bool: faces whose cut belongs to a closed curve (no end of the curve on an edge of one face only)."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    cut = ends[:, 0] >= 0
+    if not cut.any():
+        return cut
+    e = ends[cut]
+    g = coo_matrix((np.ones(len(e)), (e[:, 0], e[:, 1])), shape=(n_edges, n_edges))
+    _, label = connected_components(g, directed=False)
+    degree = np.bincount(e.ravel(), minlength=n_edges)
+    # a curve ending on an edge crossed by one face only runs off the cloth (a hem, an opening)
+    open_curve = np.zeros(label.max() + 1, dtype=bool)
+    open_curve[label[degree == 1]] = True
+    out = np.zeros(len(ends), dtype=bool)
+    out[np.flatnonzero(cut)] = ~open_curve[label[e[:, 0]]]
+    return out
+
+
+def girth_strain(
+    x: np.ndarray, uv: np.ndarray, faces: np.ndarray, weld: np.ndarray, step_cm: float = GIRTH_STEP_CM
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The strain of the garment's girths: its closed horizontal cuts, length in the drape / in the pattern.
+
+    The garment is cut by horizontal planes every ``step_cm`` between its
+    lowest and highest point. The curves of a cut that close round (across
+    the seams, on the welded garment) are girths round the body parts the
+    garment dresses; curves that run off the cloth (at a hem, an opening)
+    are left out. The length of the girths over the length of the same
+    curves in the pattern is the strain of the cut. Folds do not shorten it
+    (the curve follows the cloth), so a strain above 1 is a garment that only
+    closes round the body there by stretching all the way round.
+
+    Parameters
+    ----------
+    x : (N, 3) float64, cm — the draped garment (y up)
+    uv : (N, 2) float64, cm — the pattern coordinates of each vertex
+    faces : (F, 3) int64
+    weld : (N,) int64 — vertices sewn together share an id
+
+    Returns
+    -------
+    heights : (L,) float64, cm, the cuts with a closed curve ; strain : (L,) float64,
+    drape / pattern length of their closed curves ; face_cut : (L, F) bool, the faces those curves cross
+    """
+    w = weld[faces]
+    pairs = np.sort(np.stack([w[:, [0, 1]], w[:, [1, 2]], w[:, [2, 0]]], axis=1), axis=2)  # (F, 3, 2)
+    _, edge_ids = np.unique(pairs.reshape(-1, 2), axis=0, return_inverse=True)
+    edge_ids = edge_ids.reshape(-1, 3)
+    n_edges = int(edge_ids.max()) + 1 if len(faces) else 0
+    y = x[:, 1]
+    heights, strain, face_cut = [], [], []
+    for h in np.arange(y.min() + step_cm, y.max(), step_cm):
+        drape, pattern, ends = _cut(x, uv, faces, edge_ids, float(h))
+        closed = _closed(ends, n_edges)
+        total = pattern[closed].sum()
+        if total > 0:
+            heights.append(h)
+            strain.append(drape[closed].sum() / total)
+            face_cut.append(closed)
+    return np.array(heights), np.array(strain), np.array(face_cut, dtype=bool).reshape(len(heights), len(faces))

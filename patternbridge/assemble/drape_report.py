@@ -67,6 +67,8 @@ class DrapeReport:
         worst_seam_before_weld, seam_gaps_before_weld : before it, per seam
         widest first ; seams_open_before_weld : those wider than 5 mm
     levels_cm : piece -> vertical distance of its anchor mark from its landmark
+    girth_strain, girth_height_cm : the tightest girth of the garment (a
+        horizontal cut, drape length / pattern length) and its height
     unchecked : checks that could not run, with why (a character without
         the landmarks the pieces hang from cannot have its levels checked)
     """
@@ -93,6 +95,8 @@ class DrapeReport:
     pieces: tuple[str, ...]
     pose: str
     max_placement_move_cm: float
+    girth_strain: float = 1.0
+    girth_height_cm: float = 0.0
     unchecked: tuple[str, ...] = ()
     warnings: tuple[str, ...] = ()
     files: tuple[str, ...] = field(default=())
@@ -117,6 +121,7 @@ class DrapeReport:
             "seams_open_before_weld": [g.to_dict() for g in self.seams_open_before_weld],
             "levels_cm": {k: round(v, 2) for k, v in self.levels_cm.items()},
             "stretch": self.stretch.to_dict(),
+            "girth": {"strain": round(self.girth_strain, 4), "height_cm": round(self.girth_height_cm, 1)},
             "seconds": self.seconds,
             "vertices": self.vertices,
             "triangles": self.triangles,

@@ -468,8 +468,8 @@ def _measure(
     limits: VerdictLimits,
 ) -> tuple[DrapeReport, np.ndarray]:
     """The drape report of the finished garment and the (F,) faces to mark red in the pictures."""
-    from .defects import anchor_levels_cm, edge_stretch, faces_touching, seam_excess_cm
-    from .drape import seam_gaps
+    from .defects import anchor_levels_cm, edge_stretch, faces_touching, girth_strain, seam_excess_cm
+    from .drape import seam_gaps, weld_groups
     from .selfcross import self_crossing
     from .skin_check import skin_check
 
@@ -488,6 +488,8 @@ def _measure(
     over = {names[g]: int(c) for g, c in zip(*np.unique(egroup[beyond], return_counts=True), strict=True)}
     gaps = {r["seam"]: r["max_mm"] for r in table}
     levels = anchor_levels_cm(sim.character, body, sim.pattern, sim.pmesh, x, cloth.group)
+    heights, girths, girth_faces = girth_strain(x, cloth.uv, cloth.faces, weld_groups(len(x), cloth.seams))
+    tight = int(np.argmax(girths)) if len(girths) else -1
     measured_defects = Measured(
         seam_gaps_mm=gaps,
         seam_excess_cm=seam_excess_cm(sim.pattern, sim.pmesh),
@@ -499,6 +501,9 @@ def _measure(
         torn_share=float(np.mean(ratio > limits.stretch_torn)) if len(ratio) else 0.0,
         stretch_pieces=tuple(sorted(over, key=lambda k: -over[k])),
         levels_cm=levels,
+        girth_strain=float(girths[tight]) if tight >= 0 else 1.0,
+        girth_height_cm=float(heights[tight]) if tight >= 0 else 0.0,
+        girth_pieces=tuple(sorted({names[g] for g in face_piece[girth_faces[tight]]})) if tight >= 0 else (),
     )
     verdict, reasons = judge(measured_defects, limits)
     by_gap = sorted((SeamGap(seam=s, max_mm=g) for s, g in gaps.items()), key=lambda g: -g.max_mm)
@@ -518,6 +523,8 @@ def _measure(
         seam_gaps_before_weld=tuple(by_gap),
         seams_open_before_weld=tuple(g for g in by_gap if g.max_mm > WELDED_OPEN_MM),
         levels_cm=levels,
+        girth_strain=measured_defects.girth_strain,
+        girth_height_cm=measured_defects.girth_height_cm,
         stretch=Stretch(
             percentiles={f"p{q}": float(np.percentile(ratio, q)) for q in (1, 5, 50, 95, 99)},
             max=float(ratio.max()),
@@ -551,6 +558,8 @@ def _measure(
         | faces_touching(cloth.faces, open_pairs, len(cloth.x))
         | faces_touching(cloth.faces, torn, len(cloth.x))
     )
+    if measured_defects.girth_strain > limits.girth_failed:
+        flagged |= girth_faces[tight]  # the girth the garment does not close round
     return report, flagged
 
 

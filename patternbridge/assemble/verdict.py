@@ -51,6 +51,7 @@ class Check(str, enum.Enum):
     SELF_CROSSING = "self_crossing"  # triangles of the cloth passing through the cloth
     SKIN = "skin"  # cloth inside the body (independent signed distance)
     STRETCH = "stretch"  # cloth stretched beyond what the fabric takes
+    GIRTH = "girth"  # a girth the garment closes round the body only by stretching all the way round
     LEVEL = "level"  # a piece's anchor (a waist, a neck point, a cuff hem) off its landmark
 
     def __str__(self) -> str:
@@ -85,6 +86,15 @@ class VerdictLimits:
         beyond ``stretch_limit`` (flawed), and beyond ``stretch_torn``
         (failed): cloth stretched by a third is a tear or a hole in the
         picture.
+    girth_flawed, girth_failed : strain of the garment's tightest girth,
+        a horizontal cut closing round the body: its length on the drape over
+        its length in the pattern (:func:`.defects.girth_strain`). A size
+        step adds 4 cm to a waist or hip girth, 4-6 % of it: stretched 3 %
+        all the way round a girth shows as drag lines (about a size too
+        small, and a girth runs along the cross grain, which gives far less
+        than the bias); beyond 8 % the garment is two sizes too small for the
+        body and does not close round it as designed, however evenly the
+        solver spreads the strain over single edges.
     level_flawed_cm, level_failed_cm : vertical distance between a piece's
         anchor mark and the body landmark it hangs from (a waistband off the
         waist, a cuff off the wrist, a neck point off the neck).
@@ -103,6 +113,8 @@ class VerdictLimits:
     stretch_torn: float = 1.33
     stretch_flawed_share: float = 0.01
     stretch_failed_share: float = 0.01
+    girth_flawed: float = 1.03
+    girth_failed: float = 1.08
     level_flawed_cm: float = 3.0
     level_failed_cm: float = 8.0
 
@@ -151,6 +163,8 @@ class Measured:
     torn_share : share beyond ``stretch_torn``
     stretch_pieces : pieces with edges beyond ``stretch_limit``, most first
     levels_cm : piece instance -> |height of its anchor mark - height of its landmark|
+    girth_strain : the strain of the tightest girth (drape length / pattern length of a horizontal cut)
+    girth_height_cm : the height of that cut ; girth_pieces : the pieces it crosses
     """
 
     seam_gaps_mm: dict[str, float]
@@ -163,6 +177,9 @@ class Measured:
     torn_share: float
     stretch_pieces: tuple[str, ...]
     levels_cm: dict[str, float]
+    girth_strain: float = 1.0
+    girth_height_cm: float = 0.0
+    girth_pieces: tuple[str, ...] = ()
 
 
 def _grade(value: float, flawed: float, failed: float) -> Verdict:
@@ -269,6 +286,25 @@ def _stretch_reason(m: Measured, lim: VerdictLimits) -> Reason | None:
     return None
 
 
+def _girth_reason(m: Measured, lim: VerdictLimits) -> Reason | None:
+    """A girth stretched all the way round beyond what a size's ease allows, or None."""
+    v = _grade(m.girth_strain, lim.girth_flawed, lim.girth_failed)
+    if v is Verdict.OK:
+        return None
+    limit = lim.girth_failed if v is Verdict.FAILED else lim.girth_flawed
+    return Reason(
+        check=Check.GIRTH,
+        verdict=v,
+        value=100 * (m.girth_strain - 1.0),
+        limit=round(100 * (limit - 1.0), 6),
+        unit="% strain",
+        where=m.girth_pieces,
+        message=f"the girth at {m.girth_height_cm:.0f} cm is stretched {100 * (m.girth_strain - 1.0):.1f} % all "
+        f"the way round (limit {100 * (limit - 1.0):g} %): the garment is too small there; "
+        + ", ".join(m.girth_pieces[:3]),
+    )
+
+
 def judge(m: Measured, limits: VerdictLimits | None = None) -> tuple[Verdict, tuple[Reason, ...]]:
     """The verdict on a drape and the reasons for it, worst first.
 
@@ -307,6 +343,6 @@ def judge(m: Measured, limits: VerdictLimits | None = None) -> tuple[Verdict, tu
             "pieces hang off their landmark by up to",
         ),
     ]
-    reasons += [_self_crossing_reason(m, lim), _skin_reason(m, lim), _stretch_reason(m, lim)]
+    reasons += [_self_crossing_reason(m, lim), _skin_reason(m, lim), _stretch_reason(m, lim), _girth_reason(m, lim)]
     found = sorted((r for r in reasons if r is not None), key=lambda r: -r.verdict.rank)
     return worst(r.verdict for r in found), tuple(found)

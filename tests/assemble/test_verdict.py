@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from patternbridge.assemble.defects import seam_excess_cm
+from patternbridge.assemble.defects import girth_strain, seam_excess_cm
 from patternbridge.assemble.mesh2d import mesh_pattern
 from patternbridge.assemble.skin_check import skin_check
 from patternbridge.assemble.verdict import Check, Measured, Verdict, VerdictLimits, judge, worst
@@ -50,6 +50,8 @@ def test_a_clean_drape_is_ok_with_no_reason():
         ({"stretch_share": 0.04, "stretch_pieces": ("sleeve",)}, Check.STRETCH, Verdict.FLAWED),
         ({"stretch_share": 0.2, "torn_share": 0.05}, Check.STRETCH, Verdict.FAILED),
         ({"levels_cm": {"waistband": 12.0}}, Check.LEVEL, Verdict.FAILED),
+        ({"girth_strain": 1.04, "girth_pieces": ("back",)}, Check.GIRTH, Verdict.FLAWED),
+        ({"girth_strain": 1.09, "girth_pieces": ("back",)}, Check.GIRTH, Verdict.FAILED),
     ],
 )
 def test_each_check_beyond_its_limit_gives_its_reason(change, check, expected):
@@ -74,6 +76,76 @@ def test_limits_are_the_documented_ones_and_can_be_changed():
     assert judge(_measured(), strict)[0] is Verdict.FLAWED
     assert VerdictLimits().seam_gap_flawed_mm == 2.0
     assert str(Verdict.FAILED) == "failed"
+
+
+def _tube(girth_cm: float, height_cm: float, radius_at, n: int = 24, rows: int = 9):
+    """A tube of cloth cut from a ``girth_cm`` x ``height_cm`` rectangle, wrapped round a y-axis cylinder.
+
+    ``radius_at(v)`` is the radius at pattern height ``v`` (cm). The seam is
+    left unwelded (the last column repeats the first), as in a draped garment.
+    """
+    u, v = np.meshgrid(np.linspace(0.0, girth_cm, n + 1), np.linspace(0.0, height_cm, rows))
+    uv = np.column_stack([u.ravel(), v.ravel()])
+    angle = 2 * np.pi * uv[:, 0] / girth_cm
+    r = radius_at(uv[:, 1])
+    x = np.column_stack([r * np.cos(angle), uv[:, 1], r * np.sin(angle)])
+    k = np.arange(rows - 1)[:, None] * (n + 1) + np.arange(n)[None, :]
+    k = k.ravel()
+    faces = np.concatenate([np.column_stack([k, k + 1, k + n + 2]), np.column_stack([k, k + n + 2, k + n + 1])])
+    return x, uv, faces
+
+
+def _seam_welded(uv: np.ndarray) -> np.ndarray:
+    """Weld ids of the tube: the last column sewn to the first."""
+    girth = uv[:, 0].max()
+    column = np.where(np.isclose(uv[:, 0], girth), 0.0, uv[:, 0])
+    return np.unique(np.column_stack([column, uv[:, 1]]), axis=0, return_inverse=True)[1].ravel()
+
+
+def _radius_for(girth_cm: float, strain, n: int = 24):
+    """The radius whose n-gon has a perimeter ``strain`` x ``girth_cm``."""
+    return strain * girth_cm / (2 * n * np.sin(np.pi / n))
+
+
+def test_girth_strain_of_a_tube_round_a_cylinder_is_its_stretch_all_the_way_round():
+    girth = 90.0
+    for strain in (1.0, 1.05, 0.97):
+        x, uv, faces = _tube(girth, 40.0, lambda v, s=strain: np.full_like(v, _radius_for(girth, s)))
+        heights, measured, face_cut = girth_strain(x, uv, faces, _seam_welded(uv))
+        # cuts every cm from a cm above the hem; the top edge (at 40 cm) is cut along the cloth's edge: an open curve
+        assert heights[0] == pytest.approx(1.0) and heights[-1] == pytest.approx(39.0)
+        assert measured == pytest.approx(strain, abs=1e-9)
+        # each cut goes once round the tube, through the 2 x 24 triangles of a row (at a row's height, the row
+        # below: its vertices count as above the plane)
+        assert set(face_cut.sum(axis=1)) == {48}
+
+
+def test_girth_strain_ignores_stretch_along_the_tube_and_finds_the_tight_level():
+    girth = 90.0
+    # stretched 20 % down its length: no girth is stretched
+    x, uv, faces = _tube(girth, 40.0, lambda v: np.full_like(v, _radius_for(girth, 1.0)))
+    x[:, 1] *= 1.2
+    assert girth_strain(x, uv, faces, _seam_welded(uv))[1] == pytest.approx(1.0, abs=1e-9)
+    # a tube tight at the top: 1.0 at the hem rising to 1.08 at 40 cm, linear in height between the rows
+    x, uv, faces = _tube(girth, 40.0, lambda v: _radius_for(girth, 1.0 + 0.002 * v))
+    heights, measured, _ = girth_strain(x, uv, faces, _seam_welded(uv))
+    # the n-gon's perimeter is linear in the radius, so the cut at height h measures 1 + 0.002 h exactly
+    assert measured == pytest.approx(1.0 + 0.002 * heights, abs=1e-9)
+    assert heights[np.argmax(measured)] == pytest.approx(39.0)
+
+
+def test_girth_strain_leaves_out_curves_that_do_not_close():
+    girth = 90.0
+    x, uv, faces = _tube(girth, 40.0, lambda v: np.full_like(v, _radius_for(girth, 1.0)))
+    # unsewn, the tube is a sheet: no cut closes round, and no girth is measured
+    heights, measured, face_cut = girth_strain(x, uv, faces, np.arange(len(x)))
+    assert len(heights) == len(measured) == len(face_cut) == 0
+    # a slit up the tube from the hem to 20 cm (the seam sewn only above it) opens the cuts below
+    sewn_above = np.where(np.isclose(uv[:, 0], girth) & (uv[:, 1] < 20.0), len(x), 0) + _seam_welded(uv)
+    heights, _, _ = girth_strain(x, uv, faces, sewn_above)
+    # (the cut at 20 cm still crosses the last unsewn edge, from 15 to 20 cm)
+    assert heights.min() == pytest.approx(21.0)
+    assert np.all(np.diff(heights) == pytest.approx(1.0))
 
 
 def test_skin_check_finds_a_triangle_through_a_sphere_by_its_middle():

@@ -9,7 +9,7 @@ import pytest
 
 from patternbridge.assemble import assemble
 from patternbridge.assemble.skin_check import signed_distance
-from patternbridge.assemble.verdict import Check, Verdict
+from patternbridge.assemble.verdict import Check, Verdict, VerdictLimits
 
 pytestmark = [pytest.mark.shared, pytest.mark.slow]
 
@@ -68,19 +68,17 @@ def test_a_seam_ten_cm_too_long_fails(character_e):
     assert seam[0].value == pytest.approx(10.0, abs=1.0)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="with contact inside the solve the shorts two sizes too small stretch evenly (3.0 % of the edges beyond "
-    "1.1 x, none torn, no self-crossing) and the verdict says flawed; the stretch check counts single torn edges, "
-    "not a girth the garment cannot close round",
-)
 def test_shorts_two_sizes_too_small_fail(character_e, sample_shorts):
     small = assemble(character_e, _shorts("76"), **COARSE).report
-    # measured: 6.9 % of the edges beyond 1.33 x, 151 triangles through the cloth at the seat, seams 3.7 mm open
+    # measured: the solver spreads the strain evenly (3.2 % of the edges beyond 1.1 x, none torn, no
+    # self-crossing), but the waist is stretched 9.4 % all the way round and the seat 4.8 %
     assert small.verdict is Verdict.FAILED, [r.message for r in small.reasons]
-    assert {Check.STRETCH, Check.SELF_CROSSING} <= {r.check for r in small.reasons if r.verdict is Verdict.FAILED}
-    # the sample size (two sizes larger) is judged better
-    assert sample_shorts.report.verdict.rank <= small.verdict.rank
+    girth = [r for r in small.reasons if r.check is Check.GIRTH]
+    assert girth and girth[0].verdict is Verdict.FAILED
+    assert girth[0].where == ("waistband",)  # the tightest girth is the waist
+    # the sample size (two sizes larger) is judged better, and its girths are within the cross grain's give
+    assert sample_shorts.report.verdict.rank < small.verdict.rank
+    assert sample_shorts.report.girth_strain < VerdictLimits().girth_flawed < small.girth_strain
     assert small.stretch.beyond_limit_share > sample_shorts.report.stretch.beyond_limit_share
 
 
