@@ -43,6 +43,7 @@ def test_a_one_piece_leg_rise_goes_round_the_hips(character_e, tmp_path):
     from patternbridge.assemble.mesh2d import mesh_pattern
     from patternbridge.assemble.place import place_instances
     from patternbridge.assemble.place.wrap import bounding_cylinders
+    from patternbridge.pattern.model import BodyPart
     from patternbridge.report import Report
     from patternbridge.workflow import load_garment_spec
 
@@ -62,11 +63,23 @@ def test_a_one_piece_leg_rise_goes_round_the_hips(character_e, tmp_path):
         character_e, body, pattern, pm, bounding_cylinders(body, parts), Report(), scene=scene, parts=parts
     )
     crotch_y = crotch_height(character_e, body, parts)
-    torso = body[np.abs(body[:, 1] - (crotch_y + 10.0)) < 2.0]
+    hips = parts.mask(BodyPart.TORSO) | parts.mask(BodyPart.LEFT_LEG) | parts.mask(BodyPart.RIGHT_LEG)
+    torso = body[hips & (np.abs(body[:, 1] - (crotch_y + 10.0)) < 2.0)]
     mid_x = 0.5 * (torso[:, 0].min() + torso[:, 0].max())
     half_hips = 0.5 * np.ptp(torso[:, 0])
     rises = [sp for sp in pm.seams if sp.a.piece == sp.b.piece and sp.a.copy is not sp.b.copy]
     assert len(rises) == 2
+    # one rise on the front of the hips, the other on the back (on the leg's
+    # tube, the legs of A and E turned half round: the front rise went behind);
+    # the shorter rise is the front's
+    z_lo, z_hi = torso[:, 2].min(), torso[:, 2].max()
+    depth = {}
+    for sp in rises:
+        a = placed[sp.a.key][sp.a_vertices]
+        depth[len(sp.a_vertices)] = np.median((a[a[:, 1] > crotch_y + 8.0, 2] - z_lo) / (z_hi - z_lo))
+    short, long_ = min(depth), max(depth)
+    assert short != long_
+    assert depth[short] > 0.8 and depth[long_] < 0.2, depth
     for sp in rises:
         a, b = placed[sp.a.key][sp.a_vertices], placed[sp.b.key][sp.b_vertices]
         high = (a[:, 1] > crotch_y + 8.0) & (b[:, 1] > crotch_y + 8.0)

@@ -13,7 +13,9 @@ legs, toward the shoulder for a sleeve), then it is wrapped. Points that
 would still fall inside the body are moved out along their radius. Pieces
 going round a limb and sewn to themselves (sleeves) are wrapped as tubes, one
 turn per pattern row; the fronts and backs of a trouser leg share one radius
-per height, and their rows above the crotch go round the hips. The seams
+per height, and the rows of any leg piece above the crotch go round the
+hips (a one-piece leg, sewn to its mirror copy at both rises, from centre
+front to centre back). The seams
 this leaves open (over the shoulders, to a cuff, a collar or a yoke) are
 closed by :mod:`.seam_graph`.
 
