@@ -13,7 +13,9 @@ legs, toward the shoulder for a sleeve), then it is wrapped. Points that
 would still fall inside the body are moved out along their radius. Pieces
 going round a limb and sewn to themselves (sleeves) are wrapped as tubes, one
 turn per pattern row; the fronts and backs of a trouser leg share one radius
-per height, and their rows above the crotch go round the hips. The seams
+per height, and the rows of any leg piece above the crotch go round the
+hips (a one-piece leg, sewn to its mirror copy at both rises, from centre
+front to centre back). The seams
 this leaves open (over the shoulders, to a cuff, a collar or a yoke) are
 closed by :mod:`.seam_graph`.
 
@@ -34,7 +36,7 @@ from ...pattern.model import BodyPart, Copy, Pattern, Side
 from ...report import Report
 from ..bodyparts import HAND_SHARE, PARTS, BodyParts, crotch_height, limb_axis
 from ..mesh2d import Instance, PatternMesh
-from ..strategy import mirror_part
+from ..strategy import LEGS, mirror_part
 
 __all__ = ["Cylinder", "bounding_cylinders", "landmark_position", "mirror_name", "place_instances"]
 
@@ -297,8 +299,11 @@ def place_instances(
         if scene is not None:
             r = scene.radial_clearance(cyl, theta, h, r, CLEARANCE_CM)
         out[inst.key] = cyl.points(theta, h, r)
-        if inst.key in shared and BodyPart.TORSO in cylinders and parts is not None:
-            seat.append((inst, p2, x_ref, part, float(a2[1]), p2[: pmesh.pieces[inst.piece].n_boundary]))
+        if part in LEGS and BodyPart.TORSO in cylinders and parts is not None:
+            # any leg piece: the rows that rise above the crotch go round the hips (see _seat_on_hips)
+            x_ref = np.broadcast_to(np.asarray(x_ref, dtype=np.float64), (len(p2),))
+            both = _mirror_seam_count(pmesh, inst, p2) >= 2
+            seat.append((inst, p2, x_ref, part, float(a2[1]), p2[: pmesh.pieces[inst.piece].n_boundary], both))
     if seat:
         _seat_on_hips(character, vertices, parts, cylinders[BodyPart.TORSO], seat, out, scene)
     return out
@@ -396,7 +401,7 @@ def _seat_on_hips(
     ok = np.isfinite(centres[:, 0])
     if ok.sum() < 2:
         return
-    for inst, p2, x_ref, part, a2y, b_own in seat:
+    for inst, p2, x_ref, part, a2y, b_own, both in seat:
         pos = out[inst.key]
         y = pos[:, 1]
         t = np.clip((y - crotch_y - SEAT_BLEND_CM[0]) / (SEAT_BLEND_CM[1] - SEAT_BLEND_CM[0]), 0.0, 1.0)
@@ -408,14 +413,13 @@ def _seat_on_hips(
         # both legs' pieces together go once round the hips at each height
         # (the pieces of one leg are aligned on their anchor's height)
         rel = p2[:, 1] - a2y
-        total = sum(_held_widths(b, rel + oy) for _, _, _, opart, oy, b in seat if opart == part)
+        total = sum(_held_widths(b, rel + oy) for _, _, _, opart, oy, b, _ in seat if opart == part)
         r_t = np.maximum(total / np.pi, 1.0)
         # each piece covers its quarter of the hips, from the side to the
         # centre front or back, whatever its share of the row's width: a
         # grading can give the back twice the front's waist, and with one
         # scale for both the centre seams started 14 cm apart
-        own = np.maximum(_held_widths(b_own, p2[:, 1]), 1.0)
-        theta = th_side + 0.5 * np.pi * np.clip((p2[:, 0] - x_ref) / own, -1.0, 1.0)
+        theta = th_side + 0.5 * np.pi * _ring_share(b_own, p2, x_ref, both_centres=both)
         c = np.stack([np.interp(y, grid[ok], centres[ok, j]) for j in range(3)], axis=1)
         ring = (
             c * np.array([1.0, 0.0, 1.0])
@@ -513,6 +517,52 @@ def _widen_for_rows(
     return fixed, out
 
 
+SIDE_INSIDE_SHARE = 0.25  # a side line this far inside a row on both hands is kept; else the row's middle
+
+
+def _ring_share(boundary: np.ndarray, p2: np.ndarray, x_ref: np.ndarray, *, both_centres: bool) -> np.ndarray:
+    """(n,) float64 in [-1, 1]: each vertex's share of a quarter of the hips, signed, from the side line ``x_ref``.
+
+    A piece sewn to its mirror copy along one end of its rows (a trouser
+    front or back: the side seam on the other end) spans one quarter, side
+    to centre: the share is the distance from the side line over the row's
+    width. A piece sewn to its mirror copy along both ends
+    (``both_centres``: a one-piece leg, front and back rises in one) spans
+    two quarters, centre front to centre back: the side line is ``x_ref``
+    when it lies at least :data:`SIDE_INSIDE_SHARE` of the row inside it on
+    both hands, else the row's middle, and each hand of the row is scaled
+    to its own quarter, so both rises start on the midline.
+    """
+    xl, xr = _held_ends(boundary, p2[:, 1])
+    width = np.maximum(xr - xl, 1.0)
+    if not both_centres:
+        return np.clip((p2[:, 0] - x_ref) / width, -1.0, 1.0)
+    inside = np.minimum(x_ref - xl, xr - x_ref) > SIDE_INSIDE_SHARE * width
+    side = np.where(inside, x_ref, 0.5 * (xl + xr))
+    d = p2[:, 0] - side
+    return np.clip(d / np.maximum(np.where(d >= 0, xr - side, side - xl), 1.0), -1.0, 1.0)
+
+
+def _mirror_seam_count(pmesh: PatternMesh, inst: Instance, p2: np.ndarray) -> int:
+    """Seams of ``inst`` to its own mirror copy that run at least 1 cm along y (centre front / back seams)."""
+    count = 0
+    for sp in pmesh.seams:
+        if sp.a.piece == sp.b.piece == inst.piece and sp.a.copy is not sp.b.copy:
+            va = sp.a_vertices if sp.a.key == inst.key else sp.b_vertices
+            count += int(np.ptp(p2[va, 1]) >= 1.0)
+    return count
+
+
+def _held_ends(boundary: np.ndarray, ys: np.ndarray, hold_cm: float = 4.0) -> tuple[np.ndarray, np.ndarray]:
+    """(k,) x of the left and right ends of the rows ``ys`` of ``boundary``, held as in :func:`_held_widths`."""
+    top = float(boundary[:, 1].max())
+    y = np.asarray(ys, dtype=np.float64)
+    xl, xr = _ends(boundary, y)
+    rl, rr = _ends(boundary, np.array([top - hold_cm]))
+    high = y > top - hold_cm
+    return np.where(high, np.minimum(xl, rl[0]), xl), np.where(high, np.maximum(xr, rr[0]), xr)
+
+
 def _held_widths(boundary: np.ndarray, ys: np.ndarray, hold_cm: float = 4.0) -> np.ndarray:
     """Row widths of ``boundary`` at ``ys`` (see :func:`_widths`), never below the width ``hold_cm`` under its top.
 
@@ -575,19 +625,26 @@ def _anchor_line(pmesh: PatternMesh, inst: Instance, p2: np.ndarray, mark: str, 
     return np.full(len(p2), p2[mv, 0] if mv is not None else float(p2[:, 0].mean()))
 
 
-def _widths(boundary: np.ndarray, ys: np.ndarray) -> np.ndarray:
-    """(k,) float64, cm: width of the closed outline ``boundary`` (n, 2) along the rows ``ys`` (0 outside)."""
+def _ends(boundary: np.ndarray, ys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(k,) float64, cm: x of the leftmost and rightmost crossings of the closed outline ``boundary`` (n, 2) with
+    the rows ``ys`` (both 0 for a row outside it)."""
     a, c = boundary, np.roll(boundary, -1, axis=0)
     ya, yc = a[:, 1][None, :], c[:, 1][None, :]
     g = np.asarray(ys, dtype=np.float64)[:, None]
     cross = ((ya - g) * (yc - g) <= 0) & (ya != yc)
     t = np.where(cross, (g - ya) / np.where(ya != yc, yc - ya, 1.0), 0.0)
     xs = a[:, 0][None, :] + t * (c[:, 0] - a[:, 0])[None, :]
-    return np.where(
-        cross.any(axis=1),
-        np.where(cross, xs, -np.inf).max(axis=1) - np.where(cross, xs, np.inf).min(axis=1),
-        0.0,
+    hit = cross.any(axis=1)
+    return (
+        np.where(hit, np.where(cross, xs, np.inf).min(axis=1), 0.0),
+        np.where(hit, np.where(cross, xs, -np.inf).max(axis=1), 0.0),
     )
+
+
+def _widths(boundary: np.ndarray, ys: np.ndarray) -> np.ndarray:
+    """(k,) float64, cm: width of the closed outline ``boundary`` (n, 2) along the rows ``ys`` (0 outside)."""
+    xl, xr = _ends(boundary, ys)
+    return xr - xl
 
 
 def _shared_row_radii(pmesh: PatternMesh, rows: list) -> dict[str, np.ndarray]:
