@@ -468,6 +468,12 @@ def _head_girth(body: BodyFrame) -> Measurement:
     return _girth("head_girth", cut, ("top_of_head", "front_neck_point"), level_y_cm=y)
 
 
+#: the wrist girth's search window along the forearm axis, fractions of the stature
+#: above (toward the elbow) and below (toward the hand) the wrist point
+WRIST_ABOVE = 0.025
+WRIST_BELOW = 0.005
+
+
 def _straight_elbow_cut(body: BodyFrame, straight: StraightElbow, cands: np.ndarray) -> _Cut:
     """The elbow girth square to the straightened arm, its ring carried back onto the given skin."""
     from scipy.spatial import cKDTree
@@ -523,9 +529,17 @@ def _arm_girths(body: BodyFrame, side: str) -> dict[str, Measurement]:
         (f"shoulder_point_{side}", f"elbow_point_{side}", f"wrist_point_{side}"),
         straightened_deg=0.0 if straight is None else straight.flexion_deg,
     )
-    ref = c_lo + ((wr - c_lo) @ u_lo) * u_lo
-    cut = body.part_cut(wr, u_lo, ref, cands)
-    out[f"wrist_girth_{side}"] = _girth(f"wrist_girth_{side}", cut, (f"elbow_point_{side}", f"wrist_point_{side}"))
+    # the snug tape at the narrowest wrist, just above the styloid: the section
+    # through the wrist point itself grows 3 cm per cm into the hand
+    w0 = c_lo + ((wr - c_lo) @ u_lo) * u_lo
+    cuts = []
+    for d in np.linspace(-WRIST_ABOVE * body.stature, WRIST_BELOW * body.stature, 7):
+        q = w0 + d * u_lo
+        cuts.append((float(d), body.part_cut(q, u_lo, q, cands)))
+    d, cut = _best(cuts, min)
+    out[f"wrist_girth_{side}"] = _girth(
+        f"wrist_girth_{side}", cut, (f"elbow_point_{side}", f"wrist_point_{side}"), from_wrist_point_cm=d
+    )
     for mid, m in out.items():
         if m.value_cm <= 0:
             raise GirthError(f"{mid}: no arm section found")
