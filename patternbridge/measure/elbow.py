@@ -3,8 +3,8 @@
 A tailor takes the elbow girth on a standing body with the arms hanging
 straight. A bent elbow (the A-pose's 35-45°, a posed character's 75°) has its
 outside skin stretched over the olecranon, and its girth square to the bend
-bisector is 4-14 % larger than the same elbow straight (B 22.5 / 21.5 cm, C 32.2
-/ 29.8, E 28.0 / 26.1 with their own rigs). :func:`straighten_elbow` unbends it
+bisector is 5-8 % larger than the same elbow straightened by its own rig (B 22.5
+/ 21.5 cm, C 32.2 / 29.8, E 28.0 / 26.1); A's 75° elbow 18 % larger than its 45°. :func:`straighten_elbow` unbends it
 from the surface alone, so a rigged and a rigless file measure alike:
 
 * the axes of the upper arm and the forearm are the lines through the centres

@@ -11,8 +11,9 @@ cut, only those of the body part are kept:
 * a limb, the neck or the head: the loop that contains the part's axis point,
   or the loop nearest to it.
 
-Chest and hip are the largest girths over a search band, the waist and the
-ankle the smallest. ``formats/measurements.md`` gives the bands.
+Chest and hip are the largest girths over a search band, the waist, the wrist
+and the ankle the smallest; the elbow is cut with the elbow straightened
+(:mod:`patternbridge.measure.elbow`). ``formats/measurements.md`` gives the bands.
 """
 
 from __future__ import annotations
