@@ -88,7 +88,7 @@ def straighten_elbow(
     Parameters
     ----------
     vertices : (V, 3) float64, cm
-    faces : (F, 3) int64
+    faces : (F, 3) int64; the arm's faces are enough (only vertices of these move)
     upper, lower : (point, unit direction) of the upper-arm and forearm axes,
         pointing from the shoulder toward the hand
     elbow, wrist : (3,) the elbow point and the wrist point, cm
@@ -106,13 +106,17 @@ def straighten_elbow(
     bisector = (u_up + u_lo) / np.linalg.norm(u_up + u_lo)
     radius = max(float(np.linalg.norm(elbow - joint)), 1e-3)
     v = np.asarray(vertices, dtype=np.float64)
-    height = (v - joint) @ bisector
-    seed = int(np.argmin(np.sum((v - wrist) ** 2, axis=1)))
+    used = np.unique(faces)
+    height = np.full(len(v), -np.inf)
+    height[used] = (v[used] - joint) @ bisector
+    seed = int(used[np.argmin(np.sum((v[used] - wrist) ** 2, axis=1))])
     region = _forearm(v, faces, height > -radius, seed)
-    w = np.clip((height + radius) / (2.0 * radius), 0.0, 1.0)
-    w = np.where(region, w * w * (3.0 - 2.0 * w), 0.0)
+    ids = np.flatnonzero(region)
+    w = np.clip((height[ids] + radius) / (2.0 * radius), 0.0, 1.0)
+    w = w * w * (3.0 - 2.0 * w)
     turn = rotation_about_axis(np.cross(u_lo, u_up), flex)  # takes u_lo onto u_up
-    moved = v + w[:, None] * ((v - joint) @ turn.T + joint - v)
+    moved = v.copy()
+    moved[ids] += w[:, None] * ((v[ids] - joint) @ turn.T + joint - v[ids])
     h_el = float((elbow - joint) @ bisector)
     w_el = float(np.clip((h_el + radius) / (2.0 * radius), 0.0, 1.0))
     w_el = w_el * w_el * (3.0 - 2.0 * w_el)

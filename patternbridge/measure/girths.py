@@ -517,7 +517,8 @@ def _arm_girths(body: BodyFrame, side: str) -> dict[str, Measurement]:
         axis_fraction=t,
     )
     # taken with the arm hanging straight (a bent elbow unbent from the surface)
-    straight = straighten_elbow(body.v, body.f, upper=(c_up, u_up), lower=(c_lo, u_lo), elbow=el, wrist=wr)
+    # the arm's faces only: the forearm near the elbow lies among them, and the rest of the body stays put
+    straight = straighten_elbow(body.v, body.f[cands], upper=(c_up, u_up), lower=(c_lo, u_lo), elbow=el, wrist=wr)
     if straight is None:
         bis = u_up + u_lo
         bis /= np.linalg.norm(bis)
