@@ -26,9 +26,7 @@ class Definition:
     text: str
 
 
-def _side(
-    base: str, kind: str, landmarks: tuple[str, ...], text: str
-) -> list[Definition]:
+def _side(base: str, kind: str, landmarks: tuple[str, ...], text: str) -> list[Definition]:
     kind, method = {
         "girth": ("girth", "hull"),
         "length": ("length", "geodesic"),
@@ -130,13 +128,13 @@ DEFINITIONS: dict[str, Definition] = {
             "elbow_girth",
             "girth",
             ("shoulder_point_{s}", "elbow_point_{s}", "wrist_point_{s}"),
-            "girth through the elbow point, perpendicular to the bisector of upper arm and forearm",
+            "girth through the elbow point square to the arm, the elbow straightened",
         ),
         *_side(
             "wrist_girth",
             "girth",
             ("elbow_point_{s}", "wrist_point_{s}"),
-            "girth through the wrist point perpendicular to the forearm",
+            "smallest girth perpendicular to the forearm from 2.5 % of stature above the wrist point to 0.5 % below",
         ),
         *_side(
             "thigh_girth",

@@ -11,8 +11,9 @@ cut, only those of the body part are kept:
 * a limb, the neck or the head: the loop that contains the part's axis point,
   or the loop nearest to it.
 
-Chest and hip are the largest girths over a search band, the waist and the
-ankle the smallest. ``formats/measurements.md`` gives the bands.
+Chest and hip are the largest girths over a search band, the waist, the wrist
+and the ankle the smallest; the elbow is cut with the elbow straightened
+(:mod:`patternbridge.measure.elbow`). ``formats/measurements.md`` gives the bands.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import LandmarkError
+from .elbow import StraightElbow, straighten_elbow
 from .model import Measurement
 from .section import Section, SlabIndex, hull_girth, plane_loops
 
@@ -57,15 +59,13 @@ def _hull_centroid_uv(uv: np.ndarray) -> np.ndarray:
     return np.array([((x + xn) * cross).sum(), ((y + yn) * cross).sum()]) / (6 * a)
 
 
-
 def _hull_cut(sec, loops) -> _Cut:
     """Convex-hull girth of ``loops`` of a section; an empty cut when there are none."""
     if not loops:
-        return _Cut(
-            value_cm=0.0, polyline=np.zeros((0, 3)), origin=sec.origin, normal=sec.normal
-        )
+        return _Cut(value_cm=0.0, polyline=np.zeros((0, 3)), origin=sec.origin, normal=sec.normal)
     g, ring = hull_girth(sec, loops)
     return _Cut(value_cm=g, polyline=ring, origin=sec.origin, normal=sec.normal)
+
 
 class BodyFrame:
     """The mesh, its datum points and the search helpers shared by all girths.
@@ -77,9 +77,7 @@ class BodyFrame:
     marks : landmark name -> (3,) position, cm
     """
 
-    def __init__(
-        self, vertices: np.ndarray, faces: np.ndarray, marks: Mapping[str, np.ndarray]
-    ) -> None:
+    def __init__(self, vertices: np.ndarray, faces: np.ndarray, marks: Mapping[str, np.ndarray]) -> None:
         self.v = vertices
         self.f = faces
         self.marks = marks
@@ -87,9 +85,7 @@ class BodyFrame:
         top = self.mark("top_of_head")
         self.stature = float(top[1] - self.floor)
         self.step = max(self.stature / 400.0, 0.05)
-        self.slabs = SlabIndex(
-            vertices, faces, axis=1, slab_cm=max(self.stature / 200.0, 0.1)
-        )
+        self.slabs = SlabIndex(vertices, faces, axis=1, slab_cm=max(self.stature / 200.0, 0.1))
         self._extent: dict = {}
 
     def mark(self, name: str) -> np.ndarray:
@@ -124,9 +120,7 @@ class BodyFrame:
         ab = b - a
         t = np.clip((p - a) @ ab / max(float(ab @ ab), 1e-12), 0.0, 1.0)
         near = np.zeros(len(self.v), dtype=bool)
-        near[
-            cand[np.sum((p - (a + t[:, None] * ab)) ** 2, axis=1) <= radius * radius]
-        ] = True
+        near[cand[np.sum((p - (a + t[:, None] * ab)) ** 2, axis=1) <= radius * radius]] = True
         return box[near[fv].any(axis=1)]
 
     @staticmethod
@@ -150,19 +144,13 @@ class BodyFrame:
         left, right = self.mark("armpit_point_left"), self.mark("armpit_point_right")
         mid = 0.5 * (left[0] + right[0])
         half = 0.5 * abs(left[0] - right[0])
-        return tuple(
-            lp
-            for lp in section.loops
-            if abs(section.to_xyz(lp.centroid_uv)[0] - mid) < half
-        )
+        return tuple(lp for lp in section.loops if abs(section.to_xyz(lp.centroid_uv)[0] - mid) < half)
 
     def torso_cut(self, y: float) -> _Cut:
         sec = self.horizontal(y)
         return _hull_cut(sec, self.torso_loops(sec))
 
-    def crossing(
-        self, candidates: np.ndarray, origin: np.ndarray, normal: np.ndarray
-    ) -> np.ndarray:
+    def crossing(self, candidates: np.ndarray, origin: np.ndarray, normal: np.ndarray) -> np.ndarray:
         """The candidate faces that straddle the plane (cached per normal)."""
         key = (id(candidates), tuple(np.round(normal, 12)))
         if key not in self._extent:
@@ -201,15 +189,11 @@ class BodyFrame:
         centres = []
         for t in fractions:
             q = p0 + t * d
-            sec = plane_loops(
-                self.v, self.f, q, d, candidates=self.crossing(candidates, q, d)
-            )
+            sec = plane_loops(self.v, self.f, q, d, candidates=self.crossing(candidates, q, d))
             loops = self.part_loops(sec, q)
             if not loops:
                 raise GirthError("no limb section found between the datum points")
-            if not all(
-                lp.closed for lp in loops
-            ):  # merged with the torso: keep the datum axis
+            if not all(lp.closed for lp in loops):  # merged with the torso: keep the datum axis
                 return p0 + fractions[0] * d, d / np.linalg.norm(d)
             centres.append(self.loop_centre(sec, loops))
         c0, c1 = centres
@@ -258,9 +242,7 @@ def torso_levels(body: BodyFrame) -> dict[str, tuple[float, _Cut]]:
     name -> (level y in cm, the cut at that level)
     """
     y_crotch = float(body.mark("crotch_point")[1])
-    y_arm = float(
-        min(body.mark("armpit_point_left")[1], body.mark("armpit_point_right")[1])
-    )
+    y_arm = float(min(body.mark("armpit_point_left")[1], body.mark("armpit_point_right")[1]))
     if y_arm <= y_crotch:
         raise GirthError("the armpit points lie below the crotch point")
     h = y_arm - y_crotch
@@ -301,14 +283,8 @@ def torso_levels(body: BodyFrame) -> dict[str, tuple[float, _Cut]]:
         front = []
         for y in ys:
             sec = body.horizontal(y)
-            pts = np.concatenate(
-                [lp.points for lp in body.torso_loops(sec)] or [np.zeros((0, 3))]
-            )
-            strip = (
-                pts[np.abs(np.abs(pts[:, 0]) - bx) < max(1.5, 0.01 * body.stature)]
-                if len(pts)
-                else pts
-            )
+            pts = np.concatenate([lp.points for lp in body.torso_loops(sec)] or [np.zeros((0, 3))])
+            strip = pts[np.abs(np.abs(pts[:, 0]) - bx) < max(1.5, 0.01 * body.stature)] if len(pts) else pts
             front.append(strip[:, 2].max() if len(strip) else np.nan)
         front = np.asarray(front)
         if np.isfinite(front).all() and len(front) > 2:
@@ -486,13 +462,36 @@ def _head_girth(body: BodyFrame) -> Measurement:
             cuts.append(
                 (
                     y,
-                    _Cut(
-                        value_cm=g, polyline=ring, origin=sec.origin, normal=sec.normal
-                    ),
+                    _Cut(value_cm=g, polyline=ring, origin=sec.origin, normal=sec.normal),
                 )
             )
     y, cut = _best(cuts, max)
     return _girth("head_girth", cut, ("top_of_head", "front_neck_point"), level_y_cm=y)
+
+
+#: the wrist girth's search window along the forearm axis, fractions of the stature
+#: above (toward the elbow) and below (toward the hand) the wrist point
+WRIST_ABOVE = 0.025
+WRIST_BELOW = 0.005
+
+
+def _straight_elbow_cut(body: BodyFrame, straight: StraightElbow, cands: np.ndarray) -> _Cut:
+    """The elbow girth square to the straightened arm, its ring carried back onto the given skin."""
+    from scipy.spatial import cKDTree
+
+    v, n = straight.vertices, straight.axis
+    h = v[body.f[cands]] @ n
+    level = float(straight.elbow @ n)
+    crossing = cands[(h.min(axis=1) <= level) & (h.max(axis=1) >= level)]
+    sec = plane_loops(v, body.f, straight.elbow, n, candidates=crossing)
+    ref = straight.centre + ((straight.elbow - straight.centre) @ n) * n
+    cut = _hull_cut(sec, body.part_loops(sec, ref))
+    if len(cut.polyline):
+        ids = np.unique(body.f[crossing])
+        _, near = cKDTree(v[ids]).query(cut.polyline)
+        ring = cut.polyline + (body.v[ids[near]] - v[ids[near]])
+        cut = _Cut(value_cm=cut.value_cm, polyline=ring, origin=cut.origin, normal=cut.normal)
+    return cut
 
 
 def _arm_girths(body: BodyFrame, side: str) -> dict[str, Measurement]:
@@ -517,19 +516,31 @@ def _arm_girths(body: BodyFrame, side: str) -> dict[str, Measurement]:
         (f"shoulder_point_{side}", f"elbow_point_{side}"),
         axis_fraction=t,
     )
-    bis = u_up + u_lo
-    bis /= np.linalg.norm(bis)
-    ref = c_up + ((el - c_up) @ u_up) * u_up
-    cut = body.part_cut(el, bis, ref, cands)
+    # taken with the arm hanging straight (a bent elbow unbent from the surface)
+    # the arm's faces only: the forearm near the elbow lies among them, and the rest of the body stays put
+    straight = straighten_elbow(body.v, body.f[cands], upper=(c_up, u_up), lower=(c_lo, u_lo), elbow=el, wrist=wr)
+    if straight is None:
+        bis = u_up + u_lo
+        bis /= np.linalg.norm(bis)
+        cut = body.part_cut(el, bis, c_up + ((el - c_up) @ u_up) * u_up, cands)
+    else:
+        cut = _straight_elbow_cut(body, straight, cands)
     out[f"elbow_girth_{side}"] = _girth(
         f"elbow_girth_{side}",
         cut,
         (f"shoulder_point_{side}", f"elbow_point_{side}", f"wrist_point_{side}"),
+        straightened_deg=0.0 if straight is None else straight.flexion_deg,
     )
-    ref = c_lo + ((wr - c_lo) @ u_lo) * u_lo
-    cut = body.part_cut(wr, u_lo, ref, cands)
+    # the snug tape at the narrowest wrist, just above the styloid: the section
+    # through the wrist point itself grows 3 cm per cm into the hand
+    w0 = c_lo + ((wr - c_lo) @ u_lo) * u_lo
+    cuts = []
+    for d in np.linspace(-WRIST_ABOVE * body.stature, WRIST_BELOW * body.stature, 7):
+        q = w0 + d * u_lo
+        cuts.append((float(d), body.part_cut(q, u_lo, q, cands)))
+    d, cut = _best(cuts, min)
     out[f"wrist_girth_{side}"] = _girth(
-        f"wrist_girth_{side}", cut, (f"elbow_point_{side}", f"wrist_point_{side}")
+        f"wrist_girth_{side}", cut, (f"elbow_point_{side}", f"wrist_point_{side}"), from_wrist_point_cm=d
     )
     for mid, m in out.items():
         if m.value_cm <= 0:
@@ -559,9 +570,7 @@ def _leg_girths(body: BodyFrame, side: str) -> dict[str, Measurement]:
     knee_c = body.loop_centre(sec, (loop,))
     u_th = (knee_c - hip_c) / np.linalg.norm(knee_c - hip_c)
     u_sh = (ankle - knee_c) / np.linalg.norm(ankle - knee_c)
-    cands = body.near_segment(
-        hip_c + u_th * (crotch[1] - hip_c[1]) / max(-u_th[1], 1e-6), ankle, 0.12 * s
-    )
+    cands = body.near_segment(hip_c + u_th * (crotch[1] - hip_c[1]) / max(-u_th[1], 1e-6), ankle, 0.12 * s)
     out = {}
 
     def at_height(y: float) -> np.ndarray:  # point of the thigh axis at height y
@@ -605,9 +614,7 @@ def _leg_girths(body: BodyFrame, side: str) -> dict[str, Measurement]:
         q = knee_c + t * length * u_sh
         cuts.append((float(t), body.part_cut(q, u_sh, q, cands)))
     t, cut = _best(cuts, min)
-    out[f"ankle_girth_{side}"] = _girth(
-        f"ankle_girth_{side}", cut, used, axis_fraction=t
-    )
+    out[f"ankle_girth_{side}"] = _girth(f"ankle_girth_{side}", cut, used, axis_fraction=t)
     for mid, m in out.items():
         if m.value_cm <= 0:
             raise GirthError(f"{mid}: no leg section found")
@@ -615,9 +622,7 @@ def _leg_girths(body: BodyFrame, side: str) -> dict[str, Measurement]:
 
 
 #: girth groups: the ids each computes, and the function
-GROUPS: dict[
-    str, tuple[tuple[str, ...], Callable[[BodyFrame], dict[str, Measurement]]]
-] = {
+GROUPS: dict[str, tuple[tuple[str, ...], Callable[[BodyFrame], dict[str, Measurement]]]] = {
     "torso": (
         (
             "chest_girth",
@@ -651,9 +656,7 @@ GROUPS: dict[
 }
 
 
-def measure_girths(
-    body: BodyFrame, *, progress=None, errors: dict[str, str] | None = None
-) -> dict[str, Measurement]:
+def measure_girths(body: BodyFrame, *, progress=None, errors: dict[str, str] | None = None) -> dict[str, Measurement]:
     """Every girth; failures go to ``errors`` (id -> reason) when it is given, else raise."""
     out: dict[str, Measurement] = {}
     for i, (_, (ids, fn)) in enumerate(GROUPS.items()):
