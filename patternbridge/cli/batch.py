@@ -48,11 +48,11 @@ def _quiet_dask() -> None:
             logging.getLogger(name).setLevel(logging.WARNING)
 
 
-def _client(args: argparse.Namespace):
+def _client(args: argparse.Namespace, *, drape: bool):
     """``(client, cluster)``: connected to ``--scheduler`` (cluster None) or to a new LocalCluster."""
     from distributed import Client
 
-    from ..batch.cluster import local_cluster
+    from ..batch.cluster import DRAPE_MODULES, FIT_MODULES, local_cluster
     from ..errors import InputError
 
     if args.scheduler:
@@ -66,7 +66,8 @@ def _client(args: argparse.Namespace):
         raise InputError(f"--workers {n}: give at least 1 worker")
     # the workers' own log lines repeat what the batch records per case
     cluster = local_cluster(n, memory_limit=args.memory_limit,
-                            silence_logs=logging.CRITICAL if args.verbose < 2 else logging.INFO)
+                            silence_logs=logging.CRITICAL if args.verbose < 2 else logging.INFO,
+                            modules=FIT_MODULES + (DRAPE_MODULES if drape else ()))
     return Client(cluster), cluster
 
 
@@ -95,8 +96,11 @@ class _Printer:
             detail = (f"measurement {fig.mean_error_cm:.2f} cm, shape {fig.shape_error:.4f} "
                       f"(proportional {fig.baseline_shape_error:.4f})"
                       + (f", verdict {outcome.verdict.value}" if outcome.verdict else ""))
-        print(f"[batch] [{bar:<20}] {n_finished}/{n_cases} {outcome.case.key}: {what}, {outcome.seconds:.0f} s; "
-              f"{detail}", file=sys.stderr, flush=True)
+        cost = f"{outcome.seconds:.0f} s"
+        if outcome.cpu_seconds:
+            cost += f" (CPU {outcome.cpu_seconds:.0f} s, worker peak {outcome.peak_rss_mb:.0f} MB)"
+        print(f"[batch] [{bar:<20}] {n_finished}/{n_cases} {outcome.case.key}: {what}, {cost}; {detail}",
+              file=sys.stderr, flush=True)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -115,7 +119,7 @@ def run(args: argparse.Namespace) -> int:
     if args.verbose < 2:
         _quiet_dask()
     printer = _Printer(quiet=args.quiet > 0, verbose=args.verbose > 0)
-    client, cluster = _client(args)
+    client, cluster = _client(args, drape=options.drape)
     try:
         if not printer.quiet:
             print(f"[batch] scheduler {client.scheduler.address}, "

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 
 import pytest
 from batch_fixtures import BUDGET, timeless, without_stamps
@@ -26,6 +27,12 @@ def test_batch_equals_separate_fits_records_failures_and_resumes(batch_inputs, t
     assert status == {"hero/skirt": "done", "hero/bare": "failed", "big/skirt": "done", "big/bare": "failed"}
     assert manifest["seed"] == 4 and manifest["options"]["pop_size"] == 20
     assert manifest["cluster"]["workers"] == 2 and "dask" in manifest["versions"]
+    # each case's worker CPU time (no more than the cores can give in its wall time) and the worker's peak memory
+    # (a process with numpy and the grader loaded holds tens of MB)
+    done = [c for c in manifest["cases"] if c["status"] == "done"]
+    assert len(done) == 2
+    assert all(0 < c["cpu_seconds"] <= (os.cpu_count() or 1) * c["seconds"] + 0.05 for c in done)
+    assert all(c["peak_rss_mb"] > 30 for c in done)
     failed = json.loads((out / "hero" / "bare.failed.json").read_text())
     assert "no measurement links" in failed["error"] and not (out / "hero" / "bare").exists()
     assert (out / "index.html").is_file()
