@@ -25,9 +25,10 @@ The workers are forked from the client process after it has imported what a
 fit uses (:data:`FIT_MODULES`, and :data:`DRAPE_MODULES` when the batch
 drapes), instead of spawned as new interpreters that each import
 ``distributed``, numpy, pymoo, matplotlib… again before their first task.
-Measured (two workers; the client's import is counted): 0.3 CPU s in all
-instead of 1.5, and on the machine at load 25, both workers ready with the
-fit's modules 3.8 s after the cluster began to start instead of 15 s. A
+Measured (two workers, the client's CPU from before its imports counted):
+0.4 CPU s in all instead of 1.6, and on the machine at load 25, both
+workers ready with the fit's modules 3.8 s after the cluster began to
+start instead of 15 s. A
 forked worker inherits the client's BLAS thread pools, so every worker
 limits them to one thread at start (:mod:`.worker_setup`). A worker the
 nanny restarts later (memory limit, crash) is spawned as Dask does by
