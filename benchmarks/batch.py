@@ -124,6 +124,7 @@ def batch(characters: list[Path], garments: list[str], out: Path, seed: int, opt
     modules = FIT_MODULES + (DRAPE_MODULES if options.drape else ())
     with local_cluster(n_workers, dashboard_address=None, modules=modules) as cluster, Client(cluster) as client:
         started = sum(client.run(cpu_seconds).values())  # the workers' CPU before any task: starting up
+        client_start = cpu_seconds() - cpu0  # the client's imports and the cluster's start
         with get_task_stream(client) as stream:
             result = run_batch([str(c) for c in characters], garments, out, client=client, seed=seed, options=options)
         seconds, wall1 = time.perf_counter() - t0, time.time()
@@ -135,7 +136,9 @@ def batch(characters: list[Path], garments: list[str], out: Path, seed: int, opt
         seconds=seconds,
         rss_mb=sorted(rss.values()),
         cpu=sum(cpu.values()),
+        worker_cpu=sorted(cpu.values()),
         start_cpu=started,
+        client_start_cpu=client_start,
         client_cpu=client_cpu,
         split=timeline(stream.data, wall0, wall1),
         starts=case_starts(stream.data, wall0),
@@ -150,7 +153,9 @@ class BatchRun:
     seconds: float
     rss_mb: list[float]
     cpu: float
+    worker_cpu: list[float]
     start_cpu: float
+    client_start_cpu: float
     client_cpu: float
     split: dict[str, float]
     starts: dict[str, float]
@@ -290,11 +295,12 @@ def print_table(serial_run: SerialRun, run: BatchRun, n: int, n_workers: int, lo
         f"{split['start']:.1f}, in tasks {split['tasks']:.1f}, between tasks {split['gaps']:.1f}, "
         f"after the last (tail) {split['tail']:.1f}"
     )
-    busy = split["tasks"] / max(n_workers * run.seconds, 1e-9)
+    idle = run.client_start_cpu + max(run.worker_cpu)
     print(
-        f"# the speed-up these imply on an otherwise idle machine (workers busy {100 * busy:.0f} % of the time, "
-        f"at the CPU cost of their tasks): {n_workers} × {busy:.2f} × {serial_run.cpu:.1f} / {run.cpu:.1f} = "
-        f"{n_workers * busy * serial_run.cpu / run.cpu:.2f}"
+        f"# on an otherwise idle machine (estimate from CPU times: the client starts the cluster, then the busiest "
+        f"worker runs without waiting): serial CPU {serial_run.cpu:.1f} / (client start {run.client_start_cpu:.1f} "
+        f"+ busiest worker {max(run.worker_cpu):.1f}; workers {', '.join(f'{c:.1f}' for c in run.worker_cpu)}) "
+        f"= {serial_run.cpu / idle:.2f}"
     )
 
 
