@@ -32,8 +32,11 @@ def test_a_killed_worker_loses_only_its_cases_and_a_rerun_completes_them(batch_i
     options = FitOptions(pop_size=20, n_gen=30)
     out = tmp_path / "out"
     # no retries: a case whose worker dies is reported lost at once (by default Dask retries it elsewhere)
-    with dask.config.set({"distributed.scheduler.allowed-failures": 0}), \
-            local_cluster(2, dashboard_address=None) as cluster, Client(cluster) as client:
+    with (
+        dask.config.set({"distributed.scheduler.allowed-failures": 0}),
+        local_cluster(2, dashboard_address=None) as cluster,
+        Client(cluster) as client,
+    ):
         # workers keep glibc's sliding mmap threshold (see batch/cluster.py) and one BLAS thread
         environ = client.run(lambda: (os.environ.get("MALLOC_TRIM_THRESHOLD_"), os.environ.get("OMP_NUM_THREADS")))
         assert set(environ.values()) == {(None, "1")}
@@ -54,8 +57,9 @@ def test_a_killed_worker_loses_only_its_cases_and_a_rerun_completes_them(batch_i
                     killed[event.case] = event.worker
                     os.kill(pids[event.worker], signal.SIGKILL)
 
-        first = run_batch(characters, garments, out, client=client, seed=5, options=options,
-                          stage_progress=kill_on_grade)
+        first = run_batch(
+            characters, garments, out, client=client, seed=5, options=options, stage_progress=kill_on_grade
+        )
         assert killed, "no case reached the grader"
         lost = {o.case.key for o in first.outcomes if o.status is CaseStatus.LOST}
         assert lost and set(killed) <= lost
@@ -70,4 +74,3 @@ def test_a_killed_worker_loses_only_its_cases_and_a_rerun_completes_them(batch_i
     for key in lost:
         assert (out / key / "fit_report.json").is_file()
     assert not [q for q in out.rglob(".part-*")]
-
