@@ -70,6 +70,9 @@ class CaseOutcome:
 
     status : how it ended
     seconds : wall time of the fit (0 when not run)
+    cpu_seconds : CPU time of the worker process while it ran the case (all its threads: the fit and
+        the worker's own housekeeping; 0 when not run in this batch)
+    peak_rss_mb : the worker process's peak resident memory when the case ended (0 when not run in this batch)
     figures : the key figures of its report (done cases)
     error : one line naming the error (failed and lost cases)
     worker : address of the worker that ran it ("" when not run in this batch)
@@ -80,6 +83,8 @@ class CaseOutcome:
     case: Case
     status: CaseStatus
     seconds: float = 0.0
+    cpu_seconds: float = 0.0
+    peak_rss_mb: float = 0.0
     figures: FitFigures | None = None
     error: str = ""
     worker: str = ""
@@ -110,13 +115,18 @@ def make_cases(characters: list[str], garments: list[str]) -> list[Case]:
         for spec in specs:
             name = _stem(spec)
             if name in seen and seen[name] != spec:
-                raise InputError(f"{spec}: the {kind} {seen[name]} has the same name {name!r}; "
-                                 f"rename one so each {kind} gets its own folder")
+                raise InputError(
+                    f"{spec}: the {kind} {seen[name]} has the same name {name!r}; "
+                    f"rename one so each {kind} gets its own folder"
+                )
             seen[name] = spec
     characters = list(dict.fromkeys(characters))
     garments = list(dict.fromkeys(garments))
-    return [Case(character=_stem(c), character_path=str(c), garment=_stem(g), garment_spec=str(g))
-            for c in characters for g in garments]
+    return [
+        Case(character=_stem(c), character_path=str(c), garment=_stem(g), garment_spec=str(g))
+        for c in characters
+        for g in garments
+    ]
 
 
 def check_inputs(characters: list[str], garments: list[str]) -> list[Case]:
@@ -154,15 +164,25 @@ def earlier_outcome(case: Case, out_dir: Path) -> CaseOutcome | None:
     if report_path.is_file():
         report = json.loads(report_path.read_text(encoding="utf-8"))
         seconds = _report_seconds(report)
-        return CaseOutcome(case=case, status=CaseStatus.DONE, figures=figures_from_report(report),
-                           seconds=seconds, reused=True,
-                           files=tuple(sorted(p.name for p in folder.iterdir() if not p.name.startswith("."))))
+        return CaseOutcome(
+            case=case,
+            status=CaseStatus.DONE,
+            figures=figures_from_report(report),
+            seconds=seconds,
+            reused=True,
+            files=tuple(sorted(p.name for p in folder.iterdir() if not p.name.startswith("."))),
+        )
     record = case.failure_record(out_dir)
     if record.is_file():
         data = json.loads(record.read_text(encoding="utf-8"))
-        return CaseOutcome(case=case, status=CaseStatus.FAILED, error=str(data.get("error", "")),
-                           seconds=float(data.get("seconds", 0.0)), worker=str(data.get("worker", "")),
-                           reused=True)
+        return CaseOutcome(
+            case=case,
+            status=CaseStatus.FAILED,
+            error=str(data.get("error", "")),
+            seconds=float(data.get("seconds", 0.0)),
+            worker=str(data.get("worker", "")),
+            reused=True,
+        )
     return None
 
 
@@ -170,8 +190,13 @@ def write_failure(outcome: CaseOutcome, out_dir: Path) -> None:
     """Record a failed case beside where its folder would be (``<garment>.failed.json``)."""
     from ..atomic import write_text
 
-    data = {"case": outcome.case.key, "status": outcome.status.value, "error": outcome.error,
-            "seconds": round(outcome.seconds, 2), "worker": outcome.worker}
+    data = {
+        "case": outcome.case.key,
+        "status": outcome.status.value,
+        "error": outcome.error,
+        "seconds": round(outcome.seconds, 2),
+        "worker": outcome.worker,
+    }
     write_text(outcome.case.failure_record(out_dir), json.dumps(data, indent=1) + "\n")
 
 

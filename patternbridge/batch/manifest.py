@@ -68,6 +68,8 @@ def outcome_dict(outcome: CaseOutcome, seed: int) -> dict[str, Any]:
         "status": outcome.status.value,
         "reused": outcome.reused,
         "seconds": round(outcome.seconds, 2),
+        "cpu_seconds": round(outcome.cpu_seconds, 2),
+        "peak_rss_mb": round(outcome.peak_rss_mb, 1),
         "worker": outcome.worker,
         "error": outcome.error,
         "verdict": _clean(outcome.verdict),

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import resource
 import shutil
 import tempfile
 import time
@@ -11,7 +12,7 @@ from ..workflow.model import FitOptions
 from ..workflow.subject import Subject
 from .cases import PARTIAL_PREFIX, Case, CaseOutcome, CaseStatus
 
-__all__ = ["PROGRESS_TOPIC", "fit_case", "measure_character"]
+__all__ = ["PROGRESS_TOPIC", "fit_case", "measure_character", "peak_rss_mb", "process_cpu_seconds"]
 
 PROGRESS_TOPIC = "patternbridge-progress"
 
@@ -35,8 +36,10 @@ def _reporter(key: str):
         if last.get(stage) == step and done < total:
             return
         last[stage] = step
-        worker.log_event(PROGRESS_TOPIC, {"case": key, "stage": stage, "done": int(done), "total": int(total),
-                                          "worker": str(worker.address)})
+        worker.log_event(
+            PROGRESS_TOPIC,
+            {"case": key, "stage": stage, "done": int(done), "total": int(total), "worker": str(worker.address)},
+        )
 
     return progress
 
@@ -48,6 +51,17 @@ def _worker_address() -> str:
         return str(get_worker().address)
     except (ImportError, ValueError):
         return ""
+
+
+def process_cpu_seconds() -> float:
+    """User + system CPU time of this process so far (all its threads)."""
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    return usage.ru_utime + usage.ru_stime
+
+
+def peak_rss_mb() -> float:
+    """Peak resident memory of this process so far, MB (Linux reports ``ru_maxrss`` in KiB)."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 
 
 def measure_character(path: str) -> Subject:
@@ -67,17 +81,24 @@ def fit_case(subject: Subject, case: Case, out_dir: str, seed: int, options: Fit
     """
     from ..workflow.run import fit
 
-    t0 = time.perf_counter()
+    t0, cpu0 = time.perf_counter(), process_cpu_seconds()
     final = case.folder(Path(out_dir))
     final.parent.mkdir(parents=True, exist_ok=True)
     part = Path(tempfile.mkdtemp(prefix=f"{PARTIAL_PREFIX}{case.garment}-", dir=final.parent))
     try:
-        result = fit(subject, case.garment_spec, seed=seed, options=options, out_dir=part,
-                     progress=_reporter(case.key))
+        result = fit(subject, case.garment_spec, seed=seed, options=options, out_dir=part, progress=_reporter(case.key))
         if final.exists():
             shutil.rmtree(final)
         part.replace(final)
     finally:
         shutil.rmtree(part, ignore_errors=True)
-    return CaseOutcome(case=case, status=CaseStatus.DONE, seconds=time.perf_counter() - t0,
-                       figures=result.figures, worker=_worker_address(), files=tuple(result.files))
+    return CaseOutcome(
+        case=case,
+        status=CaseStatus.DONE,
+        seconds=time.perf_counter() - t0,
+        cpu_seconds=process_cpu_seconds() - cpu0,
+        peak_rss_mb=peak_rss_mb(),
+        figures=result.figures,
+        worker=_worker_address(),
+        files=tuple(result.files),
+    )

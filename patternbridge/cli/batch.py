@@ -23,19 +23,41 @@ __all__ = ["HELP", "add_arguments", "run"]
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("characters", nargs="+", metavar="CHARACTER",
-                        help="character meshes (with their .json sidecars) or measurements JSONs")
-    parser.add_argument("--garments", nargs="+", required=True, metavar="NAME|FILE",
-                        help="library garment names or pattern files (JSON, DXF with bridge data)")
+    parser.add_argument(
+        "characters",
+        nargs="+",
+        metavar="CHARACTER",
+        help="character meshes (with their .json sidecars) or measurements JSONs",
+    )
+    parser.add_argument(
+        "--garments",
+        nargs="+",
+        required=True,
+        metavar="NAME|FILE",
+        help="library garment names or pattern files (JSON, DXF with bridge data)",
+    )
     parser.add_argument("-o", "--output", required=True, metavar="OUT/", help="output folder")
-    parser.add_argument("--scheduler", metavar="ADDRESS",
-                        help="address of a running Dask scheduler (tcp://host:8786); default: a local cluster")
-    parser.add_argument("--workers", type=int, default=None, metavar="N",
-                        help="workers of the local cluster (default: the number of cores)")
-    parser.add_argument("--memory-limit", default="auto", metavar="SIZE",
-                        help="memory limit per local worker, e.g. 4GB (default: the machine's memory / N)")
-    parser.add_argument("--retry-failed", action="store_true",
-                        help="run again the cases an earlier run recorded as failed")
+    parser.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="address of a running Dask scheduler (tcp://host:8786); default: a local cluster",
+    )
+    parser.add_argument(
+        "--workers",
+        type=int,
+        default=None,
+        metavar="N",
+        help="workers of the local cluster (default: the number of cores)",
+    )
+    parser.add_argument(
+        "--memory-limit",
+        default="auto",
+        metavar="SIZE",
+        help="memory limit per local worker, e.g. 4GB (default: the machine's memory / N)",
+    )
+    parser.add_argument(
+        "--retry-failed", action="store_true", help="run again the cases an earlier run recorded as failed"
+    )
     add_fit_options(parser)
 
 
@@ -48,25 +70,31 @@ def _quiet_dask() -> None:
             logging.getLogger(name).setLevel(logging.WARNING)
 
 
-def _client(args: argparse.Namespace):
+def _client(args: argparse.Namespace, *, drape: bool):
     """``(client, cluster)``: connected to ``--scheduler`` (cluster None) or to a new LocalCluster."""
     from distributed import Client
 
-    from ..batch.cluster import local_cluster
+    from ..batch.cluster import DRAPE_MODULES, FIT_MODULES, local_cluster
     from ..errors import InputError
 
     if args.scheduler:
         try:
             return Client(args.scheduler, timeout="20s"), None
         except (OSError, TimeoutError) as exc:
-            raise InputError(f"{args.scheduler}: cannot reach a Dask scheduler ({exc}); start one with "
-                             "`dask scheduler` and workers with `dask worker ADDRESS` (docs/batch.md)") from None
+            raise InputError(
+                f"{args.scheduler}: cannot reach a Dask scheduler ({exc}); start one with "
+                "`dask scheduler` and workers with `dask worker ADDRESS` (docs/batch.md)"
+            ) from None
     n = args.workers or os.cpu_count() or 1
     if n < 1:
         raise InputError(f"--workers {n}: give at least 1 worker")
     # the workers' own log lines repeat what the batch records per case
-    cluster = local_cluster(n, memory_limit=args.memory_limit,
-                            silence_logs=logging.CRITICAL if args.verbose < 2 else logging.INFO)
+    cluster = local_cluster(
+        n,
+        memory_limit=args.memory_limit,
+        silence_logs=logging.CRITICAL if args.verbose < 2 else logging.INFO,
+        modules=FIT_MODULES + (DRAPE_MODULES if drape else ()),
+    )
     return Client(cluster), cluster
 
 
@@ -92,11 +120,19 @@ class _Printer:
         fig = outcome.figures
         detail = outcome.error
         if fig is not None:
-            detail = (f"measurement {fig.mean_error_cm:.2f} cm, shape {fig.shape_error:.4f} "
-                      f"(proportional {fig.baseline_shape_error:.4f})"
-                      + (f", verdict {outcome.verdict.value}" if outcome.verdict else ""))
-        print(f"[batch] [{bar:<20}] {n_finished}/{n_cases} {outcome.case.key}: {what}, {outcome.seconds:.0f} s; "
-              f"{detail}", file=sys.stderr, flush=True)
+            detail = (
+                f"measurement {fig.mean_error_cm:.2f} cm, shape {fig.shape_error:.4f} "
+                f"(proportional {fig.baseline_shape_error:.4f})"
+                + (f", verdict {outcome.verdict.value}" if outcome.verdict else "")
+            )
+        cost = f"{outcome.seconds:.0f} s"
+        if outcome.cpu_seconds:
+            cost += f" (CPU {outcome.cpu_seconds:.0f} s, worker peak {outcome.peak_rss_mb:.0f} MB)"
+        print(
+            f"[batch] [{bar:<20}] {n_finished}/{n_cases} {outcome.case.key}: {what}, {cost}; {detail}",
+            file=sys.stderr,
+            flush=True,
+        )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -115,25 +151,42 @@ def run(args: argparse.Namespace) -> int:
     if args.verbose < 2:
         _quiet_dask()
     printer = _Printer(quiet=args.quiet > 0, verbose=args.verbose > 0)
-    client, cluster = _client(args)
+    client, cluster = _client(args, drape=options.drape)
     try:
         if not printer.quiet:
-            print(f"[batch] scheduler {client.scheduler.address}, "
-                  f"{len(client.scheduler_info().get('workers', {}))} workers; "
-                  f"dashboard {client.dashboard_link}", file=sys.stderr, flush=True)
-        result = run_batch(characters, garments, out, client=client, seed=args.seed, options=options,
-                           retry_failed=args.retry_failed, stage_progress=printer.stage, case_progress=printer.case)
+            print(
+                f"[batch] scheduler {client.scheduler.address}, "
+                f"{len(client.scheduler_info().get('workers', {}))} workers; "
+                f"dashboard {client.dashboard_link}",
+                file=sys.stderr,
+                flush=True,
+            )
+        result = run_batch(
+            characters,
+            garments,
+            out,
+            client=client,
+            seed=args.seed,
+            options=options,
+            retry_failed=args.retry_failed,
+            stage_progress=printer.stage,
+            case_progress=printer.case,
+        )
     finally:
         client.close()
         if cluster is not None:
             cluster.close()
     n_failed, n_lost = result.count(CaseStatus.FAILED), result.count(CaseStatus.LOST)
-    print(f"{result.count(CaseStatus.DONE)} of {len(result.outcomes)} cases done, {n_failed} failed, {n_lost} lost "
-          f"in {result.seconds:.0f} s; open {os.path.join(out, 'index.html')}")
+    print(
+        f"{result.count(CaseStatus.DONE)} of {len(result.outcomes)} cases done, {n_failed} failed, {n_lost} lost "
+        f"in {result.seconds:.0f} s; open {os.path.join(out, 'index.html')}"
+    )
     if n_failed or n_lost:
         todo = (["run the same command again to complete the lost cases"] if n_lost else []) + (
             ["add --retry-failed to redo the failed ones (OUT/<character>/<garment>.failed.json says why)"]
-            if n_failed else [])
+            if n_failed
+            else []
+        )
         print("patternbridge: " + "; ".join(todo), file=sys.stderr)
         return 1
     return 3 if any(o.verdict is Verdict.FAILED for o in result.outcomes) else 0

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 
 import pytest
 from batch_fixtures import BUDGET, timeless, without_stamps
@@ -15,8 +16,21 @@ from patternbridge.io.pattern_json import save_pattern_json
 def test_batch_equals_separate_fits_records_failures_and_resumes(batch_inputs, tmp_path, capsys):
     p = batch_inputs
     out = tmp_path / "out"
-    argv = ["batch", str(p["hero"]), str(p["big"]), "--garments", str(p["skirt"]), str(p["bare"]),
-            "-o", str(out), "--workers", "2", "--seed", "4", *BUDGET]
+    argv = [
+        "batch",
+        str(p["hero"]),
+        str(p["big"]),
+        "--garments",
+        str(p["skirt"]),
+        str(p["bare"]),
+        "-o",
+        str(out),
+        "--workers",
+        "2",
+        "--seed",
+        "4",
+        *BUDGET,
+    ]
     assert main(argv) == 1  # the bare skirt fails on both characters
     err = capsys.readouterr().err
     assert "dashboard" in err and "--retry-failed" in err
@@ -26,6 +40,12 @@ def test_batch_equals_separate_fits_records_failures_and_resumes(batch_inputs, t
     assert status == {"hero/skirt": "done", "hero/bare": "failed", "big/skirt": "done", "big/bare": "failed"}
     assert manifest["seed"] == 4 and manifest["options"]["pop_size"] == 20
     assert manifest["cluster"]["workers"] == 2 and "dask" in manifest["versions"]
+    # each case's worker CPU time (no more than the cores can give in its wall time) and the worker's peak memory
+    # (a process with numpy and the grader loaded holds tens of MB)
+    done = [c for c in manifest["cases"] if c["status"] == "done"]
+    assert len(done) == 2
+    assert all(0 < c["cpu_seconds"] <= (os.cpu_count() or 1) * c["seconds"] + 0.05 for c in done)
+    assert all(c["peak_rss_mb"] > 30 for c in done)
     failed = json.loads((out / "hero" / "bare.failed.json").read_text())
     assert "no measurement links" in failed["error"] and not (out / "hero" / "bare").exists()
     assert (out / "index.html").is_file()
@@ -34,8 +54,12 @@ def test_batch_equals_separate_fits_records_failures_and_resumes(batch_inputs, t
     # every finished case is what a separate `fit` with the same seed writes
     for character in ("hero", "big"):
         alone = tmp_path / f"alone_{character}"
-        assert main(["fit", str(p[character]), "--garment", str(p["skirt"]), "-o", str(alone), "-q",
-                     "--seed", "4", *BUDGET]) == 0
+        assert (
+            main(
+                ["fit", str(p[character]), "--garment", str(p["skirt"]), "-o", str(alone), "-q", "--seed", "4", *BUDGET]
+            )
+            == 0
+        )
         case = out / character / "skirt"
         assert sorted(q.name for q in case.iterdir()) == sorted(q.name for q in alone.iterdir())
         for f in alone.iterdir():
@@ -56,8 +80,11 @@ def test_batch_equals_separate_fits_records_failures_and_resumes(batch_inputs, t
     assert main([*argv, "--retry-failed"]) == 0
     final = json.loads((out / "batch.json").read_text())
     assert {c["folder"]: (c["status"], c["reused"]) for c in final["cases"]} == {
-        "hero/skirt": ("done", True), "hero/bare": ("done", False),
-        "big/skirt": ("done", True), "big/bare": ("done", False)}
+        "hero/skirt": ("done", True),
+        "hero/bare": ("done", False),
+        "big/skirt": ("done", True),
+        "big/bare": ("done", False),
+    }
     assert not (out / "hero" / "bare.failed.json").exists()
 
 
@@ -118,8 +145,20 @@ def test_batch_on_a_running_scheduler(batch_inputs, tmp_path):
     p = batch_inputs
     out = tmp_path / "out"
     with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as cluster:
-        code = main(["batch", str(p["hero"]), "--garments", str(p["skirt"]), "-o", str(out), "-q",
-                     "--scheduler", cluster.scheduler_address, *BUDGET])
+        code = main(
+            [
+                "batch",
+                str(p["hero"]),
+                "--garments",
+                str(p["skirt"]),
+                "-o",
+                str(out),
+                "-q",
+                "--scheduler",
+                cluster.scheduler_address,
+                *BUDGET,
+            ]
+        )
         assert code == 0
         assert len(cluster.scheduler.workers) == 1  # the batch leaves a cluster it did not start running
     manifest = json.loads((out / "batch.json").read_text())
