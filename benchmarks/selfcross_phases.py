@@ -11,7 +11,7 @@ cleared). It prints one line per case with the counts, the widest seam gap
 before welding (mm) and the CPU seconds of the simulation (``time.process_time``,
 the measuring left out), and ``--json`` writes the rows.
 
-    .venv/bin/python benchmarks/selfcross_phases.py --garments all --graded-cache G [--shard 0/2] [--seeds 0 1]
+    .venv/bin/python benchmarks/selfcross_phases.py --graded-cache G [--shard 0/2] [--seeds 0 1] [--untangle]
 
 ``--shard K/N`` runs every N-th case from the K-th, so N processes share a
 grid.
@@ -46,8 +46,14 @@ def _welded_count(sim) -> int:
     return int(np.count_nonzero(self_crossing(wx, inv[cloth.faces], cloth.group[cloth.faces[:, 0]])))
 
 
-def run_case(character, pattern, seed: int) -> dict:
-    """Counts after each phase, CPU seconds of the simulation and the report of the finished garment."""
+def run_case(character, pattern, seed: int, *, untangle: bool = False, out: Path | None = None) -> dict:
+    """Counts after each phase, CPU seconds of the simulation and the report of the finished garment.
+
+    ``untangle`` runs the solver with ``DrapeSettings(untangle=True)``;
+    ``out`` receives the pictures of the finished garment.
+    """
+    from dataclasses import replace
+
     from patternbridge.assemble.phases import PoseKeyframe, Sew, run_phases
     from patternbridge.assemble.pipeline import finish, prepare, with_anchor_landmarks
     from patternbridge.assemble.strategy import choose_strategy
@@ -63,6 +69,7 @@ def run_case(character, pattern, seed: int) -> dict:
     keys = 0
     t0 = time.process_time()
     sim = prepare(posing, pattern, seed=seed)
+    sim.settings = replace(sim.settings, untangle=untangle)
 
     def observe(phase) -> None:
         nonlocal measured, keys
@@ -80,7 +87,13 @@ def run_case(character, pattern, seed: int) -> dict:
     measured += time.process_time() - observe_place
     run_phases(sim, sim.phases, None, observe)
     cpu = time.process_time() - t0 - measured
-    report = finish(sim).report
+    garment = finish(sim)
+    report = garment.report
+    if out is not None:
+        from patternbridge.assemble.pictures import write_pictures
+
+        out.mkdir(parents=True, exist_ok=True)
+        write_pictures(out, garment, character)
     return {
         "counts": counts,
         "final": report.self_crossing_triangles,
@@ -102,6 +115,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seeds", nargs="*", type=int, default=[0])
     ap.add_argument("--shard", default="0/1", help="K/N: run every N-th case from the K-th")
     ap.add_argument("--json", help="write the rows to this JSON file")
+    ap.add_argument("--untangle", action="store_true", help="solve with DrapeSettings(untangle=True)")
+    ap.add_argument("--out", help="write the fit_*.png pictures of every case to OUT/<garment>_<character>_s<seed>")
     args = ap.parse_args(argv)
 
     from patternbridge.library import garment_names, load_garment
@@ -119,7 +134,14 @@ def main(argv: list[str] | None = None) -> int:
             loaded[path] = load_character(path)[0]
         character = loaded[path]
         pattern = _graded(load_garment(gname), character, path.stem, gname, args.graded_cache, args.grade_budget)
-        row = {"character": path.stem, "garment": gname, "seed": seed, **run_case(character, pattern, seed)}
+        out = Path(args.out) / f"{gname}_{path.stem}_s{seed}" if args.out else None
+        row = {
+            "character": path.stem,
+            "garment": gname,
+            "seed": seed,
+            "untangle": args.untangle,
+            **run_case(character, pattern, seed, untangle=args.untangle, out=out),
+        }
         rows.append(row)
         phases = " ".join(f"{key}={v}" for key, v in row["counts"].items())
         print(

@@ -84,7 +84,7 @@ def test_a_sheet_pressed_through_another_is_pulled_back_out(no_body, depth):
     cloth = _pressed_through(depth)
     before = _crossing_pairs(cloth.x, cloth.faces)
     assert before > 0
-    drape(cloth, no_body, steps=60, sew_steps=0, gravity_scale=0.0, settings=DrapeSettings())
+    drape(cloth, no_body, steps=60, sew_steps=0, gravity_scale=0.0, settings=DrapeSettings(untangle=True))
     assert _crossing_pairs(cloth.x, cloth.faces) == 0
     half = len(cloth.x) // 2
     # pulled back up over the lower sheet, not the lower sheet wrapped round it
@@ -93,3 +93,18 @@ def test_a_sheet_pressed_through_another_is_pulled_back_out(no_body, depth):
     cloth = _pressed_through(depth)
     drape(cloth, no_body, steps=60, sew_steps=0, gravity_scale=0.0, settings=DrapeSettings(untangle=False))
     assert _crossing_pairs(cloth.x, cloth.faces) > 0
+
+
+def test_self_contact_is_off_only_between_the_two_sides_of_a_crossing():
+    from patternbridge.assemble.cloth.selfcontact import EdgePairs, SelfPairs
+    from patternbridge.assemble.cloth.solver import _without
+
+    faces = np.array([[0, 1, 2], [4, 5, 6]])
+    tangled = np.array([0, 1, 2, 3])
+    pairs = SelfPairs(vertex=np.array([3, 6, 3]), triangle=np.array([0, 0, 1]), side=np.ones(3))
+    edges = EdgePairs(edges=np.array([[[0, 1], [2, 3]], [[0, 1], [5, 6]]]), direction=np.ones((2, 3)))
+    kept, kept_edges = _without(pairs, edges, faces, tangled, 7)
+    # a tangled vertex over a tangled triangle is let through; a third layer on either side still holds
+    np.testing.assert_array_equal(kept.vertex, [6, 3])
+    np.testing.assert_array_equal(kept.triangle, [0, 1])
+    np.testing.assert_array_equal(kept_edges.edges, [[[0, 1], [5, 6]]])

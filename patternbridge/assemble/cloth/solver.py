@@ -46,7 +46,9 @@ class DrapeSettings:
     contact_weight: float = 5000.0  # body contact
     self_weight: float = 2000.0  # self-contact
     edge_edge: bool = True  # self-contact also between edges (else vertex-triangle only)
-    untangle: bool = True  # shrink the intersection contours of crossings that exist (:mod:`.untangle`)
+    # shrink the intersection contours of crossings that exist (:mod:`.untangle`); off by default: on the
+    # library grid it undoes most crossings of garments on the legs but adds to those of the tops (docs/assembly.md)
+    untangle: bool = False
     untangle_weight: float = 8000.0
     untangle_step_cm: float = 0.5  # relative motion of a crossing edge against its triangle per step
     untangle_rings: int = 2  # self-contact is off this many edges round a crossing (the layers must pass)
@@ -179,13 +181,28 @@ class ClothSolver:
             self._base = None
 
     # -- one time step ------------------------------------------------------------------------------
-    def _untangle(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Vertices of the crossings at ``x`` and their moves this step (:func:`.untangle.untangle_targets`)."""
+    def _untangle(self, x0: np.ndarray, x: np.ndarray, pairs: SelfPairs, epairs: EdgePairs | None):
+        """The untangling of one step: crossing vertices, their targets, and the self-contact pairs left on.
+
+        The crossings are found at the step's start ``x0``; their moves
+        (:func:`.untangle.untangle_targets`) are added to the free solution
+        ``x``. Self-contact pairs whose two sides lie round a crossing are
+        left out (a crossed layer is not held on the side it is on: the
+        contour's shrinking decides).
+        """
+        none = np.zeros(0, np.int64)
         if not self.s.untangle:
-            return np.zeros(0, np.int64), np.zeros((0, 3))
-        ids, moves, n = untangle_targets(x, self.c.faces, self.c.edges, self.beside, self.weld, self.s.untangle_step_cm)
+            return none, np.zeros((0, 3)), pairs, epairs
+        c, s = self.c, self.s
+        ids, moves, n = untangle_targets(x0, c.faces, c.edges, self.beside, self.weld, s.untangle_step_cm)
         self.stats["crossings"] += n
-        return ids, moves
+        if len(ids):
+            around = np.zeros(len(x), dtype=bool)
+            around[ids] = True
+            for _ in range(s.untangle_rings):
+                around |= self.adjacency @ around
+            pairs, epairs = _without(pairs, epairs, c.faces, np.flatnonzero(around), len(x))
+        return ids, x[ids] + moves, pairs, epairs
 
     def _springs_rhs(self, x: np.ndarray, targets: np.ndarray) -> np.ndarray:
         return self.St @ (self.w_now[:, None] * project_springs(self.S @ x, targets))
@@ -215,17 +232,9 @@ class ClothSolver:
         reach = s.thickness_cm + 2 * s.contact_margin_cm + min(motion, s.max_speed_cm_s * h)
         pairs = find_pairs(x0, c.faces, self.near, reach)
         epairs = find_edge_pairs(x0, c.edges, self.near, reach) if s.edge_edge else None
-        tangled, moves = self._untangle(x0)
-        if len(tangled):
-            # a crossed layer is not held on the side it is on: the contour's shrinking decides
-            around = np.zeros(len(x), dtype=bool)
-            around[tangled] = True
-            for _ in range(s.untangle_rings):
-                around |= self.adjacency @ around
-            pairs, epairs = _without(pairs, epairs, c.faces, np.flatnonzero(around), len(x))
+        tangled, tangle_x, pairs, epairs = self._untangle(x0, x, pairs, epairs)
         tangle_w = np.zeros(len(x))
         tangle_w[tangled] = s.untangle_weight * self.unit
-        tangle_x = x[tangled] + moves
         selfv = np.zeros(len(x), dtype=bool)
         selfv[resolve_pairs(x, c.faces, pairs, s.thickness_cm, epairs)[0]] = True
         self.stats["self_pairs"] += len(pairs) + (len(epairs) if epairs is not None else 0)
@@ -279,13 +288,19 @@ class ClothSolver:
 def _without(
     pairs: SelfPairs, epairs: EdgePairs | None, faces: np.ndarray, vertices: np.ndarray, n: int
 ) -> tuple[SelfPairs, EdgePairs | None]:
-    """The self-contact pairs that touch none of ``vertices``."""
+    """The self-contact pairs that do not join two parts of the cloth round a crossing (``vertices``).
+
+    A pair is left out when both its sides touch ``vertices``: the layers that
+    cross may pass back through each other, while a third layer still holds
+    them off.
+    """
     out = np.zeros(n, dtype=bool)
     out[vertices] = True
-    keep = ~(out[pairs.vertex] | out[faces[pairs.triangle]].any(axis=1))
+    keep = ~(out[pairs.vertex] & out[faces[pairs.triangle]].any(axis=1))
     pairs = SelfPairs(vertex=pairs.vertex[keep], triangle=pairs.triangle[keep], side=pairs.side[keep])
     if epairs is not None:
-        keep = ~out[epairs.edges.reshape(len(epairs), 4)].any(axis=1)
+        ends = out[epairs.edges.reshape(len(epairs), 4)]
+        keep = ~(ends[:, :2].any(axis=1) & ends[:, 2:].any(axis=1))
         epairs = EdgePairs(edges=epairs.edges[keep], direction=epairs.direction[keep])
     return pairs, epairs
 
