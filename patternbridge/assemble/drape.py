@@ -123,6 +123,7 @@ def drape(
     loose: np.ndarray | None = None,
     sew_ramp: tuple[float, float] | None = None,
     inertia: np.ndarray | None = None,
+    on_step: Callable[[int], None] | None = None,
 ) -> ClothSolver:
     """Run the cloth for ``steps`` time steps against ``collider`` (in place).
 
@@ -138,7 +139,8 @@ def drape(
     With ``sew_steps`` 0, ``sew_ramp`` = (from, to) keeps sewing during the
     call: the gaps shrink from ``from`` to ``to`` of the way between their
     lengths at the solver's last ``restart_seams`` and zero. ``inertia`` (N,)
-    scales the vertices' masses in the solver for this call.
+    scales the vertices' masses in the solver for this call. ``on_step(k)``
+    is called after step ``k`` (1-based), for measuring between phases.
     """
     settings = settings or DrapeSettings()
     solver = solver or ClothSolver(cloth, settings)
@@ -164,6 +166,8 @@ def drape(
         solver.step(collider, g, min(sew, 1.0))
         if k + 1 == sew_steps:
             solver.pin(hold, cloth.x)
+        if on_step is not None:
+            on_step(k + 1)
         if progress is not None and (k % 10 == 0 or k == steps - 1):
             progress(stage, k + 1, steps)
     return solver

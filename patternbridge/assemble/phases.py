@@ -157,14 +157,18 @@ def plan_phases(strategy: Strategy, *, posed: bool, steps: int = 160) -> tuple[P
 
 
 def run_phases(
-    sim: Simulation, phases: tuple[Phase, ...], progress: Callable[[str, int, int], None] | None = None
+    sim: Simulation,
+    phases: tuple[Phase, ...],
+    progress: Callable[[str, int, int], None] | None = None,
+    observe: Callable[[Phase], None] | None = None,
 ) -> None:
     """Run ``phases`` on ``sim`` in order (the cloth moves in place; ``sim.solver`` and the colliders follow).
 
     A :class:`Sew` followed by a :class:`Settle` runs as one
     :func:`~patternbridge.assemble.drape.drape` call: its schedule ramps
     gravity up over the 20 steps after sewing and pins what is held where
-    the sewing ended.
+    the sewing ended. ``observe(phase)`` is called when each phase has run
+    (a merged Sew at its last sewing step), for measuring between phases.
     """
     n_keys = sum(isinstance(p, PoseKeyframe) for p in phases)
     done_keys = 0
@@ -174,23 +178,35 @@ def run_phases(
         if isinstance(phase, Sew):
             after = phases[k + 1] if k + 1 < len(phases) else None
             settle = after if isinstance(after, Settle) else None
-            _sew(sim, phase, settle, progress)
+            _sew(sim, phase, settle, progress, observe)
+            if observe is not None:
+                observe(settle if settle is not None else phase)
             k += 2 if settle is not None else 1
             continue
         if isinstance(phase, PoseKeyframe):
             if done_keys == 0:
                 sim.solver.restart_seams()  # the seams left open close while the arms come down
             _keyframe(sim, phase)
+            if observe is not None:
+                observe(phase)
             done_keys += 1
             if progress:
                 progress("pose", done_keys, n_keys)
         else:
             _settle(sim, phase, progress)
+            if observe is not None:
+                observe(phase)
         k += 1
 
 
-def _sew(sim: Simulation, phase: Sew, settle: Settle | None, progress: Callable[[str, int, int], None] | None) -> None:
-    """Sew (and settle, when ``settle`` follows) in one drape call."""
+def _sew(
+    sim: Simulation,
+    phase: Sew,
+    settle: Settle | None,
+    progress: Callable[[str, int, int], None] | None,
+    observe: Callable[[Phase], None] | None = None,
+) -> None:
+    """Sew (and settle, when ``settle`` follows) in one drape call; ``observe(phase)`` when the sewing ends."""
     from .drape import drape
     from .pipeline import anchor_weights, hold_weights, limb_end_seams, sewing_inertia
 
@@ -210,6 +226,7 @@ def _sew(sim: Simulation, phase: Sew, settle: Settle | None, progress: Callable[
         hold=hold,
         loose=limb_end_seams(sim.pattern, sim.pmesh)[sim.seam_ids] if phase.open_arm_seams else None,
         inertia=sewing_inertia(sim, phase.arm_inertia) if phase.arm_inertia != 1.0 else None,
+        on_step=None if observe is None or settle is None else (lambda k: observe(phase) if k == phase.steps else None),
     )
 
 

@@ -26,7 +26,8 @@ import numpy as np
 
 from .constraints import SpringKind, Springs, difference_operator, project_springs
 from .contact import contact_targets, signed_distances, slide_budgets, swept_hits
-from .selfcontact import find_edge_pairs, find_pairs, near_keys, resolve_pairs
+from .selfcontact import EdgePairs, SelfPairs, find_edge_pairs, find_pairs, near_keys, resolve_pairs
+from .untangle import edge_faces, untangle_targets
 
 __all__ = ["ClothSolver", "DrapeSettings", "seam_gaps", "weld_groups"]
 
@@ -45,6 +46,12 @@ class DrapeSettings:
     contact_weight: float = 5000.0  # body contact
     self_weight: float = 2000.0  # self-contact
     edge_edge: bool = True  # self-contact also between edges (else vertex-triangle only)
+    # shrink the intersection contours of crossings that exist (:mod:`.untangle`); off by default: on the
+    # library grid it undoes most crossings of garments on the legs but adds to those of the tops (docs/assembly.md)
+    untangle: bool = False
+    untangle_weight: float = 8000.0
+    untangle_step_cm: float = 0.5  # relative motion of a crossing edge against its triangle per step
+    untangle_rings: int = 2  # self-contact is off this many edges round a crossing (the layers must pass)
     damping: float = 0.985  # velocity kept per step
     friction: float = 0.6  # Coulomb coefficient of the skin against the cloth
     offset_cm: float = 0.6  # distance kept from the skin
@@ -104,9 +111,11 @@ class ClothSolver:
         self.seam_start = seam_gaps(cloth.x, cloth.seams)
         self.weld = weld_groups(n, cloth.seams)
         self.near = near_keys(n, np.concatenate([cloth.edges, cloth.seams]).reshape(-1, 2))
+        self.beside = edge_faces(cloth.faces, cloth.edges)
+        self.adjacency = _adjacency(n, cloth.edges)
         self._base = None  # the constant part of the global matrix
         self._free = None  # its factorisation
-        self.stats = {"factorisations": 0, "contacts": 0, "self_pairs": 0}
+        self.stats = {"factorisations": 0, "contacts": 0, "self_pairs": 0, "crossings": 0}
 
     # -- the constant part of the system ---------------------------------------------------------
     def _weights(self) -> np.ndarray:
@@ -172,6 +181,29 @@ class ClothSolver:
             self._base = None
 
     # -- one time step ------------------------------------------------------------------------------
+    def _untangle(self, x0: np.ndarray, x: np.ndarray, pairs: SelfPairs, epairs: EdgePairs | None):
+        """The untangling of one step: crossing vertices, their targets, and the self-contact pairs left on.
+
+        The crossings are found at the step's start ``x0``; their moves
+        (:func:`.untangle.untangle_targets`) are added to the free solution
+        ``x``. Self-contact pairs whose two sides lie round a crossing are
+        left out (a crossed layer is not held on the side it is on: the
+        contour's shrinking decides).
+        """
+        none = np.zeros(0, np.int64)
+        if not self.s.untangle:
+            return none, np.zeros((0, 3)), pairs, epairs
+        c, s = self.c, self.s
+        ids, moves, n = untangle_targets(x0, c.faces, c.edges, self.beside, self.weld, s.untangle_step_cm)
+        self.stats["crossings"] += n
+        if len(ids):
+            around = np.zeros(len(x), dtype=bool)
+            around[ids] = True
+            for _ in range(s.untangle_rings):
+                around |= self.adjacency @ around
+            pairs, epairs = _without(pairs, epairs, c.faces, np.flatnonzero(around), len(x))
+        return ids, x[ids] + moves, pairs, epairs
+
     def _springs_rhs(self, x: np.ndarray, targets: np.ndarray) -> np.ndarray:
         return self.St @ (self.w_now[:, None] * project_springs(self.S @ x, targets))
 
@@ -200,6 +232,9 @@ class ClothSolver:
         reach = s.thickness_cm + 2 * s.contact_margin_cm + min(motion, s.max_speed_cm_s * h)
         pairs = find_pairs(x0, c.faces, self.near, reach)
         epairs = find_edge_pairs(x0, c.edges, self.near, reach) if s.edge_edge else None
+        tangled, tangle_x, pairs, epairs = self._untangle(x0, x, pairs, epairs)
+        tangle_w = np.zeros(len(x))
+        tangle_w[tangled] = s.untangle_weight * self.unit
         selfv = np.zeros(len(x), dtype=bool)
         selfv[resolve_pairs(x, c.faces, pairs, s.thickness_cm, epairs)[0]] = True
         self.stats["self_pairs"] += len(pairs) + (len(epairs) if epairs is not None else 0)
@@ -208,10 +243,12 @@ class ClothSolver:
         bi = np.flatnonzero(body)
         budget[bi] = slide_budgets(collider, x[bi], x0[bi], y[bi], s.offset_cm, s.friction)
         for rnd in range(2):
-            extra = self.unit * (s.contact_weight * body + s.self_weight * selfv)
+            extra = self.unit * (s.contact_weight * body + s.self_weight * selfv) + tangle_w
             lu = self._factor(extra)
             for _ in range(s.iterations if rnd == 0 else max(2, s.iterations // 2)):
                 rhs = rhs0 + self._springs_rhs(x, targets)
+                if len(tangled):
+                    rhs[tangled] += tangle_w[tangled, None] * tangle_x
                 bi = np.flatnonzero(body)
                 if len(bi):
                     p, normals[bi] = contact_targets(collider, x[bi], x0[bi], budget[bi], s.offset_cm)
@@ -246,3 +283,31 @@ class ClothSolver:
             v[bi] -= np.maximum(vn, 0.0)[:, None] * normals[bi]
         c.v = v * s.damping
         c.x = x
+
+
+def _without(
+    pairs: SelfPairs, epairs: EdgePairs | None, faces: np.ndarray, vertices: np.ndarray, n: int
+) -> tuple[SelfPairs, EdgePairs | None]:
+    """The self-contact pairs that do not join two parts of the cloth round a crossing (``vertices``).
+
+    A pair is left out when both its sides touch ``vertices``: the layers that
+    cross may pass back through each other, while a third layer still holds
+    them off.
+    """
+    out = np.zeros(n, dtype=bool)
+    out[vertices] = True
+    keep = ~(out[pairs.vertex] & out[faces[pairs.triangle]].any(axis=1))
+    pairs = SelfPairs(vertex=pairs.vertex[keep], triangle=pairs.triangle[keep], side=pairs.side[keep])
+    if epairs is not None:
+        ends = out[epairs.edges.reshape(len(epairs), 4)]
+        keep = ~(ends[:, :2].any(axis=1) & ends[:, 2:].any(axis=1))
+        epairs = EdgePairs(edges=epairs.edges[keep], direction=epairs.direction[keep])
+    return pairs, epairs
+
+
+def _adjacency(n: int, edges: np.ndarray):
+    """(n, n) boolean sparse matrix of the cloth's edges."""
+    from scipy.sparse import coo_matrix
+
+    e = np.asarray(edges, dtype=np.int64)
+    return coo_matrix((np.ones(2 * len(e), dtype=bool), (e.ravel(), e[:, ::-1].ravel())), shape=(n, n)).tocsr()
