@@ -30,8 +30,10 @@ offset surface of the skin, ``clearance_cm + layer * layer_cm`` out, where
 collar over its neckline, a cuff over its sleeve, a sleeve cap over the
 bodice); the sewn vertices stay free to meet between the layers. The solve
 repeats (``layer_rounds``) and the round with the fewest crossing triangles
-is kept. Last, triangles through the skin between their corners (a long edge
-over a thin limb) are cleared by the collider.
+is kept. Every round ends with the body's clean-up: vertices inside pushed
+out and triangles through the skin between their corners (a long edge over a
+thin limb) cleared by the collider; what it moved is held there in the next
+solve, and the crossings are counted after it.
 
 Nothing here knows a piece, a garment or a body part: the seams, the wrap and
 the body decide.
@@ -54,6 +56,7 @@ class SeamGraphSettings:
     """Weights of the seam-graph solve (relative; see the module docstring).
 
     clearance_cm : distance from the skin a vertex pushed out of the body keeps
+    clear_move_cm : the farthest the skin clean-up may move a vertex
     layer_cm : distance between two layers of cloth held apart (see :func:`layer_ranks`)
     contact_rounds : solve / push out / add contacts rounds
     layer_rounds : rounds that hold crossing cloth on its layer and solve again
@@ -64,6 +67,7 @@ class SeamGraphSettings:
     stay: float = 2e-3
     contact: float = 10.0
     clearance_cm: float = 1.0
+    clear_move_cm: float = 2.0
     layer_cm: float = 0.6
     contact_rounds: int = 4
     layer_rounds: int = 6
@@ -119,10 +123,11 @@ def close_seam_graph(
     faces = np.asarray(faces, dtype=np.int64)
     solve = _Solve(x0, faces, pairs, s)
     x = solve.contacts(scene)
-    if scene is not None and layers is not None and s.layer_rounds > 0:
+    if scene is None:
+        return x
+    x = solve.clear_skin(scene, x, faces)
+    if layers is not None and s.layer_rounds > 0:
         x = _separate_layers(solve, scene, x, faces, pairs, np.asarray(layers, dtype=np.int64))
-    if scene is not None:  # no triangle through the skin between its corners (a long edge over a thin limb)
-        x = scene.clear_triangles(x, faces, s.clearance_cm)
     return x
 
 
@@ -177,6 +182,19 @@ class _Solve:
             log.debug("seam graph: %d vertices held outside the body", int(np.count_nonzero(self.w_contact)))
         return scene.push_out(x, s.clearance_cm, robust=True)[0]
 
+    def clear_skin(self, scene, x: np.ndarray, faces: np.ndarray) -> np.ndarray:
+        """``x`` pushed out of the body and with no triangle through the skin; what moved is held there."""
+        s = self.settings
+        pushed, moved = scene.push_out(x, s.clearance_cm, robust=True)
+        cleared = scene.clear_triangles(pushed, faces, s.clearance_cm)
+        # a corner the clean-up carries far (out between two body parts that
+        # touch) opens its seams and folds the cloth: it stays
+        far = np.linalg.norm(cleared - pushed, axis=1) > s.clear_move_cm
+        cleared[far] = pushed[far]
+        moved |= np.any(cleared != x, axis=1)
+        self.hold(np.flatnonzero(moved), cleared[moved])
+        return cleared
+
 
 def _separate_layers(
     solve: _Solve, scene, x: np.ndarray, faces: np.ndarray, pairs: np.ndarray, layers: np.ndarray
@@ -216,11 +234,7 @@ def _separate_layers(
         ids[sewn] = False  # the two sides of a seam stay free to meet between their layers
         ids = np.flatnonzero(ids)
         solve.hold(ids, _offset_points(scene, x[ids], s.clearance_cm + s.layer_cm * layers[ids]))
-        x = solve()
-        pushed, moved = scene.push_out(x, s.clearance_cm, robust=True)
-        if moved.any():
-            solve.hold(np.flatnonzero(moved), pushed[moved])
-            x = pushed
+        x = solve.clear_skin(scene, solve(), faces)
         log.debug("seam graph: %d triangles through the cloth, %d vertices layered", n_cross, len(ids))
     return best
 
