@@ -189,8 +189,10 @@ def test_collar_stands_on_the_neckline_it_is_sewn_to(placed_library, character_e
     for seam, gap in gaps.items():
         # on the head's cylinder the collar's ends start at the sides of the
         # head: 25 cm from the fronts' neck edges and 23 cm from each other;
-        # the seam graph brings every pair within 1.4 cm
-        assert gap.max() < 2.0, (seam, gap.max())
+        # the seam graph brings every pair within 2.1 cm (1.4 cm before the
+        # layers were separated: cloth next to the seam that went through
+        # the fronts is held on the collar's layer, over them)
+        assert gap.max() < 2.5, (seam, gap.max())
     collar = placed["collar"]
     scene = BodyCollider(np.asarray(character_e.vertices), character_e.faces)
     assert not scene.inside(collar).any()

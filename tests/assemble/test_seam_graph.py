@@ -4,7 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from patternbridge.assemble.place.seam_graph import SeamGraphSettings, close_seam_graph
+from patternbridge.assemble.cloth import weld_groups
+from patternbridge.assemble.collision import BodyCollider
+from patternbridge.assemble.place.seam_graph import SeamGraphSettings, close_seam_graph, layer_ranks
+from patternbridge.assemble.selfcross import self_crossing
 
 
 def _grid(nx: int, ny: int, step: float, origin) -> tuple[np.ndarray, np.ndarray]:
@@ -70,6 +73,10 @@ class _Ball:
         out[moved] = self.c + d[moved] / np.maximum(dist[moved, None], 1e-12) * (self.r + offset_cm)
         return out, moved
 
+    def clear_triangles(self, vertices, faces, offset_cm):
+        # the tests' triangles (2 cm) cannot span the ball (4 cm) with their corners outside
+        return np.array(vertices, dtype=np.float64)
+
 
 def test_the_body_is_an_obstacle():
     # two pieces facing each other across a ball, sewn along their top edges:
@@ -91,3 +98,45 @@ def test_the_body_is_an_obstacle():
 def test_without_seams_nothing_moves():
     x0, faces, _, _ = _two_pieces(gap_cm=5.0)
     np.testing.assert_array_equal(close_seam_graph(x0, faces, np.zeros((0, 2), np.int64)), x0)
+
+
+def _crossing_sheets():
+    """Two 12 cm sheets over a ball of radius 10 cm, one tilted through the other, sewn at one corner."""
+    a, fa = _grid(7, 7, 2.0, (-6.0, -6.0, 11.5))
+    b, fb = _grid(7, 7, 2.0, (-6.0, -6.0, 11.5))
+    b[:, 2] += 0.4 * (b[:, 0] - 1.0)  # through a along x = 1
+    x0 = np.concatenate([a, b])
+    faces = np.concatenate([fa, fb + len(a)])
+    pairs = np.array([[0, len(a)]])
+    layers = np.repeat(layer_ranks(np.array([len(a), len(b) - 1])), [len(a), len(b)])
+    return x0, faces, pairs, layers
+
+
+def _crossings(x, faces, pairs):
+    same = weld_groups(len(x), pairs)
+    return int(np.count_nonzero(self_crossing(x, faces, np.zeros(len(faces), np.int64), same)))
+
+
+def test_cloth_through_cloth_is_separated_into_layers():
+    import open3d as o3d
+
+    sphere = o3d.geometry.TriangleMesh.create_sphere(radius=10.0, resolution=30)
+    ball = BodyCollider(np.asarray(sphere.vertices, dtype=np.float64), np.asarray(sphere.triangles, dtype=np.int64))
+    x0, faces, pairs, layers = _crossing_sheets()
+    assert _crossings(x0, faces, pairs) > 0
+    kept = close_seam_graph(x0, faces, pairs, scene=ball, settings=SeamGraphSettings(layer_rounds=0), layers=layers)
+    assert _crossings(kept, faces, pairs) > 0  # the linear solve alone keeps the sheets through each other
+    x = close_seam_graph(x0, faces, pairs, scene=ball, layers=layers)
+    assert _crossings(x, faces, pairs) == 0
+    # the sheets lie on the ball, outside it, the one with less cloth over the other
+    r = np.linalg.norm(x, axis=1)
+    assert r.min() > 10.0
+    middle = np.abs(x0[:, 0] - 1.0) < 3.0
+    n = len(x0) // 2
+    assert np.median(r[n:][middle[n:]]) > np.median(r[:n][middle[:n]])
+
+
+def test_layers_follow_the_cloth_each_piece_holds():
+    ranks = layer_ranks(np.array([900, 900, 300, 120, 300]))
+    np.testing.assert_array_equal(ranks, [0, 1, 2, 4, 3])
+    assert sorted(ranks.tolist()) == list(range(5))

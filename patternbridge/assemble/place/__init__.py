@@ -21,7 +21,7 @@ from ...pattern.model import Pattern
 from ...report import Report
 from ..bodyparts import BodyParts
 from ..mesh2d import PatternMesh
-from .seam_graph import SeamGraphSettings, close_seam_graph
+from .seam_graph import SeamGraphSettings, close_seam_graph, layer_ranks
 from .wrap import Cylinder, bounding_cylinders, instance_part, landmark_position, mirror_name, place_instances
 
 __all__ = [
@@ -32,6 +32,7 @@ __all__ = [
     "close_seams",
     "instance_part",
     "landmark_position",
+    "layer_ranks",
     "mirror_name",
     "place_garment",
     "place_instances",
@@ -39,9 +40,15 @@ __all__ = [
 
 
 def close_seams(
-    pmesh: PatternMesh, placed: dict[str, np.ndarray], scene=None, settings: SeamGraphSettings | None = None
+    pmesh: PatternMesh,
+    placed: dict[str, np.ndarray],
+    scene=None,
+    settings: SeamGraphSettings | None = None,
 ) -> dict[str, np.ndarray]:
-    """The placed copies (instance key -> (n, 3) cm) moved and bent together along the seam graph."""
+    """The placed copies (instance key -> (n, 3) cm) moved and bent together along the seam graph.
+
+    Every copy's layer comes from the cloth it holds (:func:`~.seam_graph.layer_ranks`).
+    """
     keys = [inst.key for inst in pmesh.instances]
     sizes = [len(placed[k]) for k in keys]
     offsets = dict(zip(keys, np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(int).tolist(), strict=True))
@@ -50,7 +57,15 @@ def close_seams(
         [np.stack([sp.a_vertices + offsets[sp.a.key], sp.b_vertices + offsets[sp.b.key]], axis=1) for sp in pmesh.seams]
         or [np.zeros((0, 2), np.int64)]
     )
-    x = close_seam_graph(np.concatenate([placed[k] for k in keys]), faces, pairs, scene=scene, settings=settings)
+    layers = np.repeat(layer_ranks(np.array(sizes)), sizes)
+    x = close_seam_graph(
+        np.concatenate([placed[k] for k in keys]),
+        faces,
+        pairs,
+        scene=scene,
+        settings=settings,
+        layers=layers,
+    )
     return {k: x[offsets[k] : offsets[k] + len(placed[k])] for k in keys}
 
 

@@ -17,7 +17,23 @@ which is which), and the contact terms hold vertices that fell inside the
 body on their pushed-out positions ``y_c``. The normal equations
 ``(w_seam SᵀS + w_shape LᵀL + w_stay I + W_c) X = …`` are solved, the body
 pushes out what went inside, those vertices become contacts, and the solve
-repeats (:data:`CONTACT_ROUNDS`).
+repeats (``contact_rounds``).
+
+Linear seams do not know which piece lies over which: two pieces pulled
+together across a seam, or a piece bent round a corner, can end up through
+each other, and the cloth simulation keeps whatever side each pair of layers
+starts on. So the solve then separates the layers: the triangles through
+other cloth (counted as :mod:`~patternbridge.assemble.selfcross` counts them,
+the sides of a seam as one vertex) and their neighbours are held on an
+offset surface of the skin, ``clearance_cm + layer * layer_cm`` out, where
+``layer`` orders the pieces by the cloth they hold (:func:`layer_ranks`: a
+collar over its neckline, a cuff over its sleeve, a sleeve cap over the
+bodice); the sewn vertices stay free to meet between the layers. The solve
+repeats (``layer_rounds``) and the round with the fewest crossing triangles
+is kept. Every round ends with the body's clean-up: vertices inside pushed
+out and triangles through the skin between their corners (a long edge over a
+thin limb) cleared by the collider; what it moved is held there in the next
+solve, and the crossings are counted after it.
 
 Nothing here knows a piece, a garment or a body part: the seams, the wrap and
 the body decide.
@@ -30,7 +46,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["SeamGraphSettings", "close_seam_graph"]
+__all__ = ["SeamGraphSettings", "close_seam_graph", "layer_ranks"]
 
 log = logging.getLogger(__name__)
 
@@ -40,7 +56,10 @@ class SeamGraphSettings:
     """Weights of the seam-graph solve (relative; see the module docstring).
 
     clearance_cm : distance from the skin a vertex pushed out of the body keeps
+    clear_move_cm : the farthest the skin clean-up may move a vertex
+    layer_cm : distance between two layers of cloth held apart (see :func:`layer_ranks`)
     contact_rounds : solve / push out / add contacts rounds
+    layer_rounds : rounds that hold crossing cloth on its layer and solve again
     """
 
     seam: float = 1.0
@@ -48,7 +67,10 @@ class SeamGraphSettings:
     stay: float = 2e-3
     contact: float = 10.0
     clearance_cm: float = 1.0
+    clear_move_cm: float = 2.0
+    layer_cm: float = 0.6
     contact_rounds: int = 4
+    layer_rounds: int = 6
 
 
 def _laplacian(faces: np.ndarray, n: int):
@@ -68,6 +90,7 @@ def close_seam_graph(
     *,
     scene=None,
     settings: SeamGraphSettings | None = None,
+    layers: np.ndarray | None = None,
 ) -> np.ndarray:
     """Positions (N, 3) near the wrapped layout ``x0`` with the sewn ``pairs`` brought together, outside the body.
 
@@ -78,6 +101,8 @@ def close_seam_graph(
     pairs : (P, 2) int64 — sewn vertex pairs (global ids)
     scene : a :class:`~patternbridge.assemble.collision.BodyCollider`, or None (no obstacle)
     settings : the weights
+    layers : (N,) int64 — the layer of every vertex's piece (0 nearest the body, :func:`layer_ranks`);
+        with a ``scene``, cloth passing through cloth is held on its layer's offset from the skin
 
     Returns
     -------
@@ -88,9 +113,6 @@ def close_seam_graph(
     The matrix changes only where contacts are added, so each round is one
     sparse LU factorisation of an (N, N) matrix and three solves.
     """
-    from scipy.sparse import coo_matrix, diags
-    from scipy.sparse.linalg import splu
-
     s = settings or SeamGraphSettings()
     x0 = np.asarray(x0, dtype=np.float64)
     n = len(x0)
@@ -98,26 +120,163 @@ def close_seam_graph(
     pairs = pairs[pairs[:, 0] != pairs[:, 1]]
     if n == 0 or len(pairs) == 0:
         return x0.copy()
-    lap = _laplacian(np.asarray(faces, dtype=np.int64), n)
-    rows = np.repeat(np.arange(len(pairs)), 2)
-    sew = coo_matrix((np.tile([1.0, -1.0], len(pairs)), (rows, pairs.ravel())), shape=(len(pairs), n)).tocsr()
-    base = (s.seam * (sew.T @ sew) + s.shape * (lap.T @ lap) + s.stay * diags(np.ones(n))).tocsc()
-    rhs0 = s.shape * (lap.T @ (lap @ x0)) + s.stay * x0
-    w_contact = np.zeros(n)
-    target = np.zeros((n, 3))
-    x = x0.copy()
-    for _ in range(max(1, s.contact_rounds)):
-        lu = splu((base + diags(w_contact)).tocsc())
-        rhs = rhs0 + w_contact[:, None] * target
-        x = np.stack([lu.solve(rhs[:, k]) for k in range(3)], axis=1)
-        if scene is None:
-            break
-        pushed, moved = scene.push_out(x, s.clearance_cm, robust=True)
-        if not moved.any():
-            break
-        w_contact[moved] = s.contact
-        target[moved] = pushed[moved]
-        log.debug("seam graph: %d vertices held outside the body", int(np.count_nonzero(w_contact)))
-    if scene is not None:
-        x, _ = scene.push_out(x, s.clearance_cm, robust=True)
+    faces = np.asarray(faces, dtype=np.int64)
+    solve = _Solve(x0, faces, pairs, s)
+    x = solve.contacts(scene)
+    if scene is None:
+        return x
+    x = solve.clear_skin(scene, x, faces)
+    if layers is not None and s.layer_rounds > 0:
+        x = _separate_layers(solve, scene, x, faces, pairs, np.asarray(layers, dtype=np.int64))
     return x
+
+
+class _Solve:
+    """The seam-graph normal equations with contact terms that accumulate between solves."""
+
+    def __init__(
+        self,
+        x0: np.ndarray,
+        faces: np.ndarray,
+        pairs: np.ndarray,
+        s: SeamGraphSettings,
+    ):
+        from scipy.sparse import coo_matrix, diags
+
+        n = len(x0)
+        lap = _laplacian(faces, n)
+        rows = np.repeat(np.arange(len(pairs)), 2)
+        sew = coo_matrix((np.tile([1.0, -1.0], len(pairs)), (rows, pairs.ravel())), shape=(len(pairs), n)).tocsr()
+        self.base = (s.seam * (sew.T @ sew) + s.shape * (lap.T @ lap) + s.stay * diags(np.ones(n))).tocsc()
+        self.rhs0 = s.shape * (lap.T @ (lap @ x0)) + s.stay * x0
+        self.w_contact = np.zeros(n)
+        self.target = np.zeros((n, 3))
+        self.settings = s
+        self.x0 = x0
+
+    def __call__(self) -> np.ndarray:
+        from scipy.sparse import diags
+        from scipy.sparse.linalg import splu
+
+        lu = splu((self.base + diags(self.w_contact)).tocsc())
+        rhs = self.rhs0 + self.w_contact[:, None] * self.target
+        return np.stack([lu.solve(rhs[:, k]) for k in range(3)], axis=1)
+
+    def hold(self, ids: np.ndarray, target: np.ndarray) -> None:
+        """Hold vertices ``ids`` on ``target`` (len(ids), 3) by contact terms from the next solve on."""
+        self.w_contact[ids] = self.settings.contact
+        self.target[ids] = target
+
+    def contacts(self, scene) -> np.ndarray:
+        """Solve, push what went inside the body out, hold it there, solve again (``contact_rounds``)."""
+        s = self.settings
+        x = self.x0.copy()
+        for _ in range(max(1, s.contact_rounds)):
+            x = self()
+            if scene is None:
+                return x
+            pushed, moved = scene.push_out(x, s.clearance_cm, robust=True)
+            if not moved.any():
+                break
+            self.hold(np.flatnonzero(moved), pushed[moved])
+            log.debug("seam graph: %d vertices held outside the body", int(np.count_nonzero(self.w_contact)))
+        return scene.push_out(x, s.clearance_cm, robust=True)[0]
+
+    def clear_skin(self, scene, x: np.ndarray, faces: np.ndarray) -> np.ndarray:
+        """``x`` pushed out of the body and with no triangle through the skin; what moved is held there."""
+        s = self.settings
+        pushed, moved = scene.push_out(x, s.clearance_cm, robust=True)
+        cleared = scene.clear_triangles(pushed, faces, s.clearance_cm)
+        # a corner the clean-up carries far (out between two body parts that
+        # touch) opens its seams and folds the cloth: it stays
+        far = np.linalg.norm(cleared - pushed, axis=1) > s.clear_move_cm
+        cleared[far] = pushed[far]
+        moved |= np.any(cleared != x, axis=1)
+        self.hold(np.flatnonzero(moved), cleared[moved])
+        return cleared
+
+
+def _separate_layers(
+    solve: _Solve, scene, x: np.ndarray, faces: np.ndarray, pairs: np.ndarray, layers: np.ndarray
+) -> np.ndarray:
+    """``x`` with cloth passing through cloth moved onto its layer's offset surface, solved again, round by round.
+
+    The triangles through other cloth (:func:`~patternbridge.assemble.selfcross.self_crossing`
+    over the whole garment, the two sides of a seam counting as one vertex)
+    and their neighbours within :data:`LAYER_RINGS` edges, except the sewn
+    vertices (free to meet their partners between the layers), are held at the
+    distance ``clearance_cm + layers * layer_cm`` outside the skin along the
+    skin's normal: two pieces crossing at a seam lie one over the other, a
+    piece folded through itself lies flat. The round with the fewest
+    crossing triangles is kept.
+    """
+    from ..cloth import weld_groups
+    from ..selfcross import self_crossing
+
+    s = solve.settings
+    same = weld_groups(len(x), pairs)
+    one = np.zeros(len(faces), np.int64)
+    adj = _adjacency(faces, len(x))
+    sewn = np.zeros(len(x), dtype=bool)
+    sewn[pairs.ravel()] = True
+    best, best_n = x, None
+    for _ in range(s.layer_rounds + 1):
+        crossing = self_crossing(x, faces, one, same)
+        n_cross = int(np.count_nonzero(crossing))
+        if best_n is None or n_cross < best_n:
+            best, best_n = x, n_cross
+        if n_cross == 0:
+            break
+        ids = np.zeros(len(x), dtype=bool)
+        ids[faces[crossing].ravel()] = True
+        for _ in range(LAYER_RINGS):
+            ids |= (adj @ ids.astype(np.float64)) > 0
+        ids[sewn] = False  # the two sides of a seam stay free to meet between their layers
+        ids = np.flatnonzero(ids)
+        solve.hold(ids, _offset_points(scene, x[ids], s.clearance_cm + s.layer_cm * layers[ids]))
+        x = solve.clear_skin(scene, solve(), faces)
+        log.debug("seam graph: %d triangles through the cloth, %d vertices layered", n_cross, len(ids))
+    return best
+
+
+LAYER_RINGS = 2  # neighbours (in edges) of the crossing triangles held on their layer too
+
+
+def _adjacency(faces: np.ndarray, n: int):
+    """(n, n) sparse vertex adjacency of a triangle mesh."""
+    from scipy.sparse import coo_matrix
+
+    e = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    return coo_matrix((np.ones(2 * len(e)), (e.ravel(), e[:, ::-1].ravel())), shape=(n, n)).tocsr()
+
+
+def _offset_points(scene, points: np.ndarray, offset_cm: np.ndarray) -> np.ndarray:
+    """(n, 3): the closest skin points of ``points`` moved ``offset_cm`` (n,) out along the skin's normal."""
+    q, normal, _, _, _ = scene.closest(points)
+    inside = scene.inside(points)
+    away = points - q
+    length = np.linalg.norm(away, axis=1, keepdims=True)
+    use_face = inside | (length[:, 0] < 1e-6)
+    direction = np.where(use_face[:, None], normal, away / np.maximum(length, 1e-12))
+    return q + np.asarray(offset_cm, dtype=np.float64)[:, None] * direction
+
+
+def layer_ranks(sizes: np.ndarray) -> np.ndarray:
+    """(k,) int64: the layer of each of ``k`` pieces from the cloth it holds, ``sizes`` (k,): 0 for the most.
+
+    A piece with less cloth lies over the pieces it is sewn to: a collar over
+    the neckline, a cuff over the sleeve, a band outside the body piece it
+    binds, a sleeve cap over the bodice at the armhole. Of equal sizes (a
+    piece and its mirror copy) the one listed first lies under the other: a
+    centre seam laps one way all along.
+
+    Examples
+    --------
+    >>> layer_ranks(np.array([900, 900, 300, 120, 300])).tolist()
+    [0, 1, 2, 4, 3]
+    """
+    sizes = np.asarray(sizes)
+    order = np.lexsort((np.arange(len(sizes)), -sizes))
+    ranks = np.zeros(len(sizes), np.int64)
+    ranks[order] = np.arange(len(sizes))
+    return ranks
