@@ -21,7 +21,7 @@ from ..library.sidecar import SIDECAR_FORMAT
 from ..pattern.json import measurement_link_to_dict
 from ..pattern.model import Pattern
 from .alternatives import copies_cut
-from .landmarks import drawn_side, piece_landmarks
+from .landmarks import piece_landmarks, worn_side
 from .links import measurement_links
 from .model import BridgeInference, Join
 
@@ -53,16 +53,19 @@ def runs_against(pattern: Pattern, inference: BridgeInference, j: Join) -> bool:
 
 
 def _side_of(pattern: Pattern, inference: BridgeInference, name: str) -> str | None:
-    o = inference.orientations[name]
-    return drawn_side(o.apply(sew_line(pattern.piece(name))[0]), inference.roles[name].role, o)
+    return worn_side(pattern, inference, name)
 
 
 def _seam(pattern: Pattern, inference: BridgeInference, j: Join) -> dict[str, Any]:
-    """One seam; a half drawn as the left half meets a right-drawn piece's mirror copy (one body side)."""
+    """One seam; a half drawn as the left half meets a right-drawn piece's mirror copy (one body side).
+
+    Pieces drawn for opposite sides and cut once each (a garment whose left
+    and right pieces are drawn separately) meet as drawn.
+    """
     mirror = centre = j.kind == "fold" or (j.kind == "centre" and j.a.piece == j.b.piece)
     if not mirror and j.kind != "band" and j.a.piece != j.b.piece:
         sa, sb = _side_of(pattern, inference, j.a.piece), _side_of(pattern, inference, j.b.piece)
-        mirror = sa is not None and sb is not None and sa != sb
+        mirror = sa is not None and sb is not None and sa != sb and _has_mirror_copy(pattern, inference, j.b.piece)
     return {
         "id": j.id,
         "kind": "fold" if j.kind == "fold" else "seam",
