@@ -183,15 +183,6 @@ def _band_ends(pattern: Pattern, j: Join, spans) -> list[tuple[float, float]]:
     ]
 
 
-def _one_to_one(joins: tuple[Join, ...]) -> set[str]:
-    """Ids of band joins without spans whose band range no other band join uses (a strip on one range)."""
-    count: dict[tuple, int] = {}
-    for j in joins:
-        if j.kind == "band":
-            count[(j.b.key, j.copy_b)] = count.get((j.b.key, j.copy_b), 0) + 1
-    return {j.id for j in joins if j.kind == "band" and not j.spans and count[(j.b.key, j.copy_b)] == 1}
-
-
 def _remap(side: Side, index: np.ndarray | None) -> Side:
     if index is None:
         return side
@@ -202,15 +193,11 @@ def split_bands(pattern: Pattern, inference: BridgeInference) -> tuple[Pattern, 
     """Each placed band join as one-to-one seams, with a vertex on the band at every joint.
 
     Returns the pattern with the new band vertices, the inference with the
-    band joins replaced (a band range used by one join only is sewn as it is)
-    and every index on a band renumbered, and the new vertices per piece.
+    placed band joins replaced and every index on a band renumbered, and the
+    new vertices per piece. Strips binding parts of one opening (the CLO
+    shirt's neck strips, :mod:`.strips`) stay ``band`` joins.
     """
-    single = _one_to_one(inference.joins)
-    placed = [
-        j if j.spans else dataclasses.replace(j, spans=(("primary", 0.0, 1.0),))
-        for j in inference.joins
-        if j.kind == "band" and (j.spans or j.id in single)
-    ]
+    placed = [j for j in inference.joins if j.kind == "band" and j.spans]
     wanted: dict[str, list[float]] = {}
     ends: dict[str, list[tuple[float, float]]] = {}
     for j in placed:

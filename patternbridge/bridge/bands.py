@@ -477,8 +477,10 @@ def _attach(
     if split and all(j.kind != "band" for j in split):
         joins.extend(split)
         return op.kind
+    # a strip binding one part of an opening (:mod:`.strips` places it) is not placed here
+    place = (lambda js: js) if op.part else (lambda js: place_band(pattern, js, edge, op, band_copy))
     if split:
-        joins.extend(place_band(pattern, split, edge, op, band_copy))
+        joins.extend(place(split))
         return op.kind
     along = []
     for side in op.sides:
@@ -493,5 +495,5 @@ def _attach(
                 why=f"band along the {op.kind}: {op.length_cm:.1f} cm of opening, band {edge.length_cm:.1f} cm",
             )
         )
-    joins.extend(place_band(pattern, along, edge, op, band_copy))
+    joins.extend(place(along))
     return op.kind

@@ -24,9 +24,10 @@ A **band's width** (binding, neckband, cuff, collar, waistband) follows the
 body height in proportion, so a strip graded to a child stays a strip; so
 does a **strap's width** (``<piece>_strap``: a bodice's shoulder, side neck
 to shoulder point, straight) when the neckline is a scoop (a ``neckline``
-link): nothing else holds the strip of cloth between a scoop and the armhole,
-and graded to a child it would vanish. A neckline at the neck holds the
-shoulder together with the chest, and gets no strap link. A
+link) and the shoulder is a strap, at most ``STRAP_SHARE`` of the bodice's
+half chest span: nothing else holds the strip of cloth between a scoop and
+the armhole, and graded to a child it would vanish. A neckline at the neck,
+or a shoulder as wide as a T-shirt's, is held with the chest and the neck. A
 band sewn along an opening of several ranges (``band`` entries, not applied
 as seams) keeps its **length to the opening**: the link ``<band>_length``
 is its sewn edge minus the opening's ranges (each copy of a half at a centre
@@ -67,6 +68,9 @@ REFERENCE_BODY_CM = {
 
 #: a neckline longer than this many reference necks is a style line (scoop, boat), not a neck fit
 NECK_AT_NECK = 1.3
+#: a shoulder at most this share of the bodice's half chest span is a strap (tanks: 0.12-0.31 on the shared
+#: files; a T-shirt's or a shirt's shoulder: 0.5-0.64)
+STRAP_SHARE = 0.4
 
 _LEGS = (Role.LEG, Role.LEG_FRONT, Role.LEG_BACK)
 
@@ -272,9 +276,14 @@ def _collect(pattern: Pattern, inference: BridgeInference) -> dict[str, list[Leg
         first = role not in seen_roles  # lengths and limb girths: one piece of each role
         seen_roles.add(role)
         if role in (Role.FRONT, Role.BACK) and (shapes_scooped(up) or o.fold is not None):
-            add("chest_girth|chest_girth|girth", _chest_leg(piece, o))
+            chest = _chest_leg(piece, o)
+            add("chest_girth|chest_girth|girth", chest)
             add("neck_girth|neck_girth|girth", _neckline_leg(piece, o, found[name]))
-            add(f"{name}_strap|stature|length", _strap_leg(piece, found[name]))
+            strap = _strap_leg(piece, found[name])
+            if strap is not None and chest is not None:
+                half_chest = _span(piece, chest) / (2.0 if o.whole else chest.factor)
+                if _span(piece, strap) <= STRAP_SHARE * half_chest:
+                    add(f"{name}_strap|stature|length", strap)
             if role is Role.BACK or Role.BACK not in {inference.roles[n].role for n in inference.chosen}:
                 if first and "centre_neck" in found[name].marks and "centre_hem" in found[name].marks:
                     m = found[name].marks
