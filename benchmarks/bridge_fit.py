@@ -98,12 +98,15 @@ BODY_LENGTHS = ("body_length", "sleeve_length", "leg_length")
 
 
 def _links(measurements: list[dict]) -> str:
-    """Short names of the links: girths and body lengths by name, band widths and band lengths counted."""
+    """Short names of the links: girths and body lengths by name; band widths, straps and band lengths counted."""
     ids = [m["id"] for m in measurements]
     widths = sum(i.endswith("_width") for i in ids)
+    straps = sum(i.endswith("_strap") for i in ids)
     bands = sum(i.endswith("_length") and i not in BODY_LENGTHS for i in ids)
-    names = [i.removesuffix("_girth") for i in ids if not i.endswith(("_width", "_length")) or i in BODY_LENGTHS]
+    counted_ends = ("_width", "_length", "_strap")
+    names = [i.removesuffix("_girth") for i in ids if not i.endswith(counted_ends) or i in BODY_LENGTHS]
     counted = [f"{widths} width{'s' * (widths != 1)}"] * bool(widths)
+    counted += [f"{straps} strap{'s' * (straps != 1)}"] * bool(straps)
     counted += [f"{bands} band length{'s' * (bands != 1)}"] * bool(bands)
     return ", ".join(names + counted)
 

@@ -28,9 +28,22 @@ HALVES_TOL_SHARE = 0.15
 
 
 def copies_cut(piece) -> int:
-    """How many copies of the piece are cut: its quantity, else the ``2X FABRIC`` cutting note."""
+    """How many copies of the piece are cut: its quantity, else the cutting note.
+
+    The note is ``<count>X <material>`` (``2X FABRIC``, ``1X RIB``) or
+    ``<fabric code> X <count>`` (``10 X 1``, ``10X2``: fabric 10, cut once or twice).
+
+    Examples
+    --------
+    >>> from patternbridge.pattern.model import Piece
+    >>> notes = ("2XFABRIC", "10X2", "10 X 1")
+    >>> [copies_cut(Piece(name="p", outline=[[0, 0], [1, 0], [0, 1]], annotation=a)) for a in notes]
+    [2, 2, 1]
+    """
     total = piece.quantity.right + piece.quantity.left
-    note = re.match(r"\s*(\d+)\s*X", piece.annotation.upper())
+    text = piece.annotation.upper()
+    coded = re.match(r"\s*\d+\s*X\s*(\d+)", text)
+    note = coded or re.match(r"\s*(\d+)\s*X", text)
     return max(total, int(note.group(1)) if note else 0)
 
 

@@ -22,6 +22,7 @@ import numpy as np
 from ..library.seams import sew_line
 from ..pattern.model import Pattern
 from .alternatives import copies_cut
+from .band_spans import FLAT_APPLIED, place_band
 from .edges import Run, breaks
 from .model import Join, Role, RoleGuess, Side, is_band
 from .openings import Opening, run_side
@@ -34,8 +35,6 @@ MAX_STRETCH = 1.4
 MAX_EASE = 0.78
 #: two strip ends this close in length are sewn together
 END_TOL_CM = 0.1
-#: a band longer than this times its opening is applied flat (ends free), not closed into a loop
-FLAT_APPLIED = 1.05
 #: of a band's two long edges the one with more marks is sewn when at least this share of the longer
 #: (a collar's neck edge, marked at the shoulders and the centre back, is shorter than its fall edge)
 SEWN_EDGE_SHARE = 0.85
@@ -337,7 +336,7 @@ def band_joins(
         fold = folds.get(name)
         edge, _, ends = _band_edges([r for r in runs[name] if fold is None or (r.start, r.end) != fold])
         kind, opening_cm, first = None, [], len(joins)
-        for _ in range(min(max(copies_cut(pattern.piece(name)), 1), 2)):
+        for copy_no in range(min(max(copies_cut(pattern.piece(name)), 1), 2)):
             # a second copy binds the twin opening (the other armhole, the other sleeve), never another kind
             kind = _attach(
                 pattern,
@@ -353,6 +352,7 @@ def band_joins(
                 opening_cm,
                 centres,
                 root,
+                band_copy="mirror" if copy_no else "primary",
             )
             if kind is None or kind == "neck":
                 break
@@ -440,10 +440,12 @@ def _attach(
     taken_cm: list[float] | None = None,
     centres: set[tuple[str, int]] = frozenset(),
     root: Roots | None = None,
+    band_copy: str = "primary",
 ) -> str | None:
     """Sew band ``name``'s long ``edge`` along the free opening it fits best; its kind, None when none fits.
 
-    ``taken_cm`` receives the length of the opening taken.
+    ``taken_cm`` receives the length of the opening taken. Band joins along
+    several ranges are placed on the band (:func:`.band_spans.place_band`).
     """
     best = None
     for k, op in enumerate(opened):
@@ -472,11 +474,17 @@ def _attach(
             role=_OPENING_ROLES[op.kind][0], confidence=conf, why=f"strip {edge.length_cm:.1f} cm along the {op.kind}"
         )
     split = _split_band(pattern, runs, edge, op, in_place, centres, root)
-    if split:
+    if split and all(j.kind != "band" for j in split):
         joins.extend(split)
         return op.kind
+    # a strip binding one part of an opening (:mod:`.strips` places it) is not placed here
+    place = (lambda js: js) if op.part else (lambda js: place_band(pattern, js, edge, op, band_copy))
+    if split:
+        joins.extend(place(split))
+        return op.kind
+    along = []
     for side in op.sides:
-        joins.append(
+        along.append(
             Join(
                 id=f"{name}_{op.kind}_{side.piece}_{side.start}",
                 a=side,
@@ -487,4 +495,5 @@ def _attach(
                 why=f"band along the {op.kind}: {op.length_cm:.1f} cm of opening, band {edge.length_cm:.1f} cm",
             )
         )
+    joins.extend(place(along))
     return op.kind

@@ -14,9 +14,11 @@ x = 0) and its sew line read by level, as a pattern maker reads a block:
 - **leg** (front, back or one piece): the waist is the top (the highest 3 % of
   the leg's height); the crotch point is the
   tip of the side that reaches out furthest beyond its waist corner, the side
-  waist the highest point of the outer quarter on the other side (the middle of the top on a one-piece leg, whose
-  side seam is folded away); placed on the right leg at the side waist;
-- **sleeve**: the cap top (highest point) on the shoulder point, right arm;
+  waist the highest point of the outer quarter on the other side (on a one-piece leg, whose side seam is folded
+  away, half way along the waist line from the top of the back rise to the top of the front rise); placed on the
+  right leg at the side waist;
+- **sleeve**: the cap top (highest point) on the shoulder point, right arm (a sleeve cut once and sewn
+  into a left bodice half: the left arm);
 - **band** (neckband, binding, collar, cuff, waistband): the middle of its long
   edge, on the neck, the arm, the wrist or the waist.
 
@@ -35,10 +37,20 @@ import numpy as np
 
 from ..library.seams import sew_line
 from ..pattern.model import Pattern, Role
+from .alternatives import copies_cut
 from .model import BridgeInference, Orientation
 from .openings import shapes_scooped
 
-__all__ = ["PieceLandmarks", "drawn_side", "leg_landmarks", "piece_landmarks", "skirt_panel_landmarks"]
+__all__ = [
+    "PieceLandmarks",
+    "drawn_side",
+    "leg_landmarks",
+    "piece_landmarks",
+    "skirt_panel_landmarks",
+    "waist_line",
+    "waist_middle",
+    "worn_side",
+]
 
 _LEGS = (Role.LEG_FRONT, Role.LEG_BACK, Role.LEG)
 #: band roles -> (body part, anchor landmark)
@@ -117,7 +129,7 @@ def leg_landmarks(up: np.ndarray, role: Role) -> PieceLandmarks:
     crotch = int(np.argmin(x)) if reach_left > reach_right else int(np.argmax(x))
     marks = {"crotch_point": crotch}
     if role is Role.LEG:
-        side_waist = top[np.argmin(np.abs(x[top] - 0.5 * (x[left] + x[right])))]
+        side_waist = waist_middle(up)
         side = "around"
     else:
         # the side waist: the highest point of the outer quarter on the side away from the crotch
@@ -134,6 +146,41 @@ def leg_landmarks(up: np.ndarray, role: Role) -> PieceLandmarks:
     return PieceLandmarks(marks=marks, landmarks=landmarks, placement=placement)
 
 
+#: a waist line's segments rise or fall less than this against their run (tan 45°); the rises are steeper
+WAIST_SLOPE = 1.0
+
+
+def waist_line(up: np.ndarray) -> np.ndarray:
+    """(k,) vertex indices of the top edge through the highest point, in outline order, up to its two corners.
+
+    From the highest vertex the outline is followed both ways while its
+    segments stay flatter than ``WAIST_SLOPE``; where it turns down (the top
+    of a rise, a side seam) the waist ends.
+    """
+    n = len(up)
+    step = np.roll(up, -1, axis=0) - up  # segment k runs from vertex k to k + 1
+    flat = np.abs(step[:, 1]) <= WAIST_SLOPE * np.abs(step[:, 0]) + 1e-9
+    top = int(np.argmax(up[:, 1]))
+    first, last = top, top
+    while flat[(last) % n] and (last - first) < n - 1:
+        last += 1
+    while flat[(first - 1) % n] and (last - first) < n - 1:
+        first -= 1
+    return np.arange(first, last + 1) % n
+
+
+def waist_middle(up: np.ndarray) -> int:
+    """The vertex at half the length of the waist line (:func:`waist_line`): a one-piece leg's side waist.
+
+    A one-piece leg's waist runs from the top of the back rise to the top of
+    the front rise; its side seam, folded away, lies half way along.
+    """
+    idx = waist_line(up)
+    pts = up[idx]
+    cum = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))])
+    return int(idx[np.argmin(np.abs(cum - 0.5 * cum[-1]))])
+
+
 def _band(up: np.ndarray, role: Role) -> PieceLandmarks:
     """The middle of the band's lower long edge (the one sewn on), on the band's body landmark."""
     part, anchor = _BAND_PLACE[role]
@@ -147,9 +194,7 @@ def _band(up: np.ndarray, role: Role) -> PieceLandmarks:
 def _sleeve(up: np.ndarray) -> PieceLandmarks:
     cap = int(np.argmax(up[:, 1]))
     placement = {"body_part": "right_arm", "side": "around", "anchor": "shoulder_point_right", "anchor_mark": "cap_top"}
-    return PieceLandmarks(
-        marks={"cap_top": cap}, landmarks={"shoulder_point_right": "cap_top"}, placement=placement
-    )
+    return PieceLandmarks(marks={"cap_top": cap}, landmarks={"shoulder_point_right": "cap_top"}, placement=placement)
 
 
 def _other(up: np.ndarray, role: Role) -> PieceLandmarks:
@@ -183,12 +228,42 @@ def drawn_side(up: np.ndarray, role: Role, o: Orientation) -> str | None:
     return None
 
 
+def worn_side(pattern: Pattern, inference: BridgeInference, name: str) -> str | None:
+    """``right`` or ``left``: the body side the piece as drawn is worn on (None: drawn whole or not a half).
+
+    :func:`drawn_side`, except for a sleeve cut once (a garment whose left and
+    right pieces are drawn separately): it is worn on the side of the bodice
+    its cap is sewn to.
+    """
+    o, role = inference.orientations[name], inference.roles[name].role
+    side = drawn_side(o.apply(sew_line(pattern.piece(name))[0]), role, o)
+    if role is not Role.SLEEVE or copies_cut(pattern.piece(name)) > 1 or o.fold is not None:
+        return side
+    for j in inference.joins:
+        if j.kind == "band" or (j.a.piece == name) == (j.b.piece == name):
+            continue
+        other = j.b.piece if j.a.piece == name else j.a.piece
+        if inference.roles[other].role in (Role.FRONT, Role.BACK):
+            oo = inference.orientations[other]
+            worn = drawn_side(oo.apply(sew_line(pattern.piece(other))[0]), inference.roles[other].role, oo)
+            if worn is not None:
+                return worn
+    return side
+
+
 def _sided(found: PieceLandmarks, side: str | None) -> PieceLandmarks:
-    """A piece drawn as the left half names the left landmarks."""
+    """A piece drawn as the left half names the left landmarks and is placed on the left limb."""
     if side != "left":
         return found
     landmarks = {k.replace("_right", "_left"): v for k, v in found.landmarks.items()}
-    return PieceLandmarks(marks=found.marks, landmarks=landmarks, placement=found.placement)
+    placement = found.placement
+    if placement is not None:
+        placement = {
+            **placement,
+            "body_part": placement["body_part"].replace("right_", "left_"),
+            "anchor": placement["anchor"].replace("_right", "_left"),
+        }
+    return PieceLandmarks(marks=found.marks, landmarks=landmarks, placement=placement)
 
 
 def piece_landmarks(pattern: Pattern, inference: BridgeInference) -> dict[str, PieceLandmarks]:
@@ -206,7 +281,7 @@ def piece_landmarks(pattern: Pattern, inference: BridgeInference) -> dict[str, P
         elif role in _LEGS:
             out[piece.name] = _sided(leg_landmarks(up, role), drawn_side(up, role, o))
         elif role is Role.SLEEVE:
-            out[piece.name] = _sleeve(up)
+            out[piece.name] = _sided(_sleeve(up), worn_side(pattern, inference, piece.name))
         elif role in _BAND_PLACE:
             out[piece.name] = _band(up, role)
         else:

@@ -21,7 +21,13 @@ proportion to the body: the bodice's centre length to the back length
 (nape to waist), the sleeve's underarm seam to the arm, the leg's length to
 the outside leg.
 A **band's width** (binding, neckband, cuff, collar, waistband) follows the
-body height in proportion, so a strip graded to a child stays a strip; a
+body height in proportion, so a strip graded to a child stays a strip; so
+does a **strap's width** (``<piece>_strap``: a bodice's shoulder, side neck
+to shoulder point, straight) when the neckline is a scoop (a ``neckline``
+link) and the shoulder is a strap, at most ``STRAP_SHARE`` of the bodice's
+half chest span: nothing else holds the strip of cloth between a scoop and
+the armhole, and graded to a child it would vanish. A neckline at the neck,
+or a shoulder as wide as a T-shirt's, is held with the chest and the neck. A
 band sewn along an opening of several ranges (``band`` entries, not applied
 as seams) keeps its **length to the opening**: the link ``<band>_length``
 is its sewn edge minus the opening's ranges (each copy of a half at a centre
@@ -62,6 +68,9 @@ REFERENCE_BODY_CM = {
 
 #: a neckline longer than this many reference necks is a style line (scoop, boat), not a neck fit
 NECK_AT_NECK = 1.3
+#: a shoulder at most this share of the bodice's half chest span is a strap (tanks: 0.12-0.31 on the shared
+#: files; a T-shirt's or a shirt's shoulder: 0.5-0.64)
+STRAP_SHARE = 0.4
 
 _LEGS = (Role.LEG, Role.LEG_FRONT, Role.LEG_BACK)
 
@@ -118,6 +127,14 @@ def _neckline_leg(piece: Piece, o: Orientation, found: PieceLandmarks) -> Leg | 
     start, end = (a, b) if _arc(pts, a, b) <= _arc(pts, b, a) else (b, a)
     factor = 2.0 if o.whole else _copies(piece, o)
     return Leg(piece=piece.name, start=f"v{start}", end=f"v{end}", along="boundary", factor=factor)
+
+
+def _strap_leg(piece: Piece, found: PieceLandmarks) -> Leg | None:
+    """A bodice's strap: straight across its shoulder, from the side neck to the shoulder point."""
+    a, b = found.marks.get("neck_side"), found.marks.get("shoulder_point")
+    if a is None or b is None or a == b:
+        return None
+    return Leg(piece=piece.name, start=f"v{a}", end=f"v{b}", along="chord", factor=1.0)
 
 
 def _opening_factor(pattern: Pattern, inference: BridgeInference, side) -> float:
@@ -259,8 +276,14 @@ def _collect(pattern: Pattern, inference: BridgeInference) -> dict[str, list[Leg
         first = role not in seen_roles  # lengths and limb girths: one piece of each role
         seen_roles.add(role)
         if role in (Role.FRONT, Role.BACK) and (shapes_scooped(up) or o.fold is not None):
-            add("chest_girth|chest_girth|girth", _chest_leg(piece, o))
+            chest = _chest_leg(piece, o)
+            add("chest_girth|chest_girth|girth", chest)
             add("neck_girth|neck_girth|girth", _neckline_leg(piece, o, found[name]))
+            strap = _strap_leg(piece, found[name])
+            if strap is not None and chest is not None:
+                half_chest = _span(piece, chest) / (2.0 if o.whole else chest.factor)
+                if _span(piece, strap) <= STRAP_SHARE * half_chest:
+                    add(f"{name}_strap|stature|length", strap)
             if role is Role.BACK or Role.BACK not in {inference.roles[n].role for n in inference.chosen}:
                 if first and "centre_neck" in found[name].marks and "centre_hem" in found[name].marks:
                     m = found[name].marks
@@ -290,7 +313,11 @@ def _collect(pattern: Pattern, inference: BridgeInference) -> dict[str, list[Leg
 def measurement_links(pattern: Pattern, inference: BridgeInference) -> list[MeasurementLink]:
     """The girth and length links of the chosen garment, with ease and proportions read off the pattern."""
     links = []
-    for key, legs in _collect(pattern, inference).items():
+    collected = _collect(pattern, inference)
+    neck = sum(_span(pattern.piece(g.piece), g) for g in collected.get("neck_girth|neck_girth|girth", ()))
+    for key, legs in collected.items():
+        if key.split("|")[0].endswith("_strap") and neck <= NECK_AT_NECK * REFERENCE_BODY_CM["neck_girth"]:
+            continue  # a neckline at the neck holds the shoulder with the chest; only a scoop leaves a strap free
         link_id, measurement, kind = key.split("|")
         sample = sum(_span(pattern.piece(g.piece), g) for g in legs)
         if kind == "girth" and sample <= 1e-6:

@@ -103,6 +103,11 @@ class Join:
         (an edge sewn to the same edge of the piece's mirror copy), ``band``
         (a band's edge sewn along one stretch of an opening)
     ease_cm : len(b) - len(a) in the sample size
+    spans : for a ``band`` join, where each copy of ``a`` the band runs along
+        lies on ``b``: ``(copy of a, start, end)``, fractions of ``b``'s sew-line
+        length from ``b.start`` (:mod:`.band_spans`); empty when not placed
+    copy_a, copy_b : the copies sewn (``primary`` as drawn, ``mirror``); a
+        sidecar writes the band's ``spans`` as ordinary seams on these copies
     """
 
     id: str
@@ -112,6 +117,9 @@ class Join:
     confidence: float = 1.0
     ease_cm: float = 0.0
     why: str = ""
+    spans: tuple[tuple[str, float, float], ...] = ()
+    copy_a: str | None = None
+    copy_b: str | None = None
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

@@ -200,7 +200,9 @@ _BODY_SPOTS = {
     ("torso", "front"): (60, 62),
     ("torso", "back"): (60, 92),
     ("right_arm", None): (22, 100),
+    ("left_arm", None): (98, 100),
     ("right_leg", None): (46, 165),
+    ("left_leg", None): (74, 165),
 }
 BODY_PX = (430, 210)
 
@@ -220,13 +222,12 @@ def _draw_body(draw, x0: float, y0: float, found: dict, inference: BridgeInferen
             part = place.get("body_part", "")
             key = (part, place.get("side")) if part == "torso" else (part, None)
             listed.setdefault(key, []).append(name)
-    for row, (key, (u, v)) in enumerate(_BODY_SPOTS.items()):
-        names = listed.get(key, [])
-        if not names:
-            continue
+    shown = [(key, spot) for key, spot in _BODY_SPOTS.items() if listed.get(key)]
+    for row, (key, (u, v)) in enumerate(shown):
+        names = listed[key]
         colour = _ROLE_FILL.get(inference.roles[names[0]].role, _OTHER_FILL)
         draw.ellipse([x0 + u - 5, y0 + v - 5, x0 + u + 5, y0 + v + 5], fill=colour, outline=INK)
-        ty = y0 + 20 + 36 * row
+        ty = y0 + 20 + 30 * row
         draw.line([(x0 + u + 5, y0 + v), (x0 + 125, ty + 7)], fill=(190, 190, 190), width=1)
         label = " ".join(k for k in key if k).replace("_", " ")
         draw.text((x0 + 128, ty), f"{label}: " + ", ".join(names), fill=INK, font=fonts["small"])

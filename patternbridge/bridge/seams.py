@@ -245,6 +245,7 @@ def _continue(j1: Join, j2: Join, keep: set[tuple[str, int]], folded: set[str]) 
         return None
     else:
         a = Side(piece=j1.a.piece, start=j1.a.start, end=j2.a.end, length_cm=j1.a.length_cm + j2.a.length_cm)
+    first, second = (j2, j1) if b[0].start == j2.b.start else (j1, j2)
     return Join(
         id=j1.id,
         a=a,
@@ -253,7 +254,30 @@ def _continue(j1: Join, j2: Join, keep: set[tuple[str, int]], folded: set[str]) 
         confidence=min(j1.confidence, j2.confidence),
         ease_cm=round(j1.ease_cm + j2.ease_cm, 3),
         why=j1.why + "; continued past a notch",
+        spans=chain_spans(first, second),
+        copy_a=j1.copy_a,
+        copy_b=j1.copy_b,
     )
+
+
+def chain_spans(first: Join, second: Join) -> tuple[tuple[str, float, float], ...]:
+    """The :attr:`Join.spans` of ``first.b`` continued by ``second.b``, on the joined range; () if neither has any.
+
+    Consecutive spans on the same copy become one.
+    """
+    if not first.spans and not second.spans:
+        return ()
+    total = first.b.length_cm + second.b.length_cm
+    cut = first.b.length_cm / total if total > 0 else 0.5
+    spans = [(c, f0 * cut, f1 * cut) for c, f0, f1 in first.spans]
+    spans += [(c, cut + f0 * (1 - cut), cut + f1 * (1 - cut)) for c, f0, f1 in second.spans]
+    out: list[tuple[str, float, float]] = []
+    for c, f0, f1 in spans:
+        if out and out[-1][0] == c and abs(out[-1][2] - f0) < 1e-6:
+            out[-1] = (c, out[-1][1], f1)
+        else:
+            out.append((c, f0, f1))
+    return tuple((c, round(f0, 6), round(f1, 6)) for c, f0, f1 in out)
 
 
 def merge_continuing(

@@ -21,7 +21,8 @@ from ..library.sidecar import SIDECAR_FORMAT
 from ..pattern.json import measurement_link_to_dict
 from ..pattern.model import Pattern
 from .alternatives import copies_cut
-from .landmarks import drawn_side, piece_landmarks
+from .band_spans import split_bands
+from .landmarks import piece_landmarks, worn_side
 from .links import measurement_links
 from .model import BridgeInference, Join
 
@@ -53,25 +54,34 @@ def runs_against(pattern: Pattern, inference: BridgeInference, j: Join) -> bool:
 
 
 def _side_of(pattern: Pattern, inference: BridgeInference, name: str) -> str | None:
-    o = inference.orientations[name]
-    return drawn_side(o.apply(sew_line(pattern.piece(name))[0]), inference.roles[name].role, o)
+    return worn_side(pattern, inference, name)
 
 
 def _seam(pattern: Pattern, inference: BridgeInference, j: Join) -> dict[str, Any]:
-    """One seam; a half drawn as the left half meets a right-drawn piece's mirror copy (one body side)."""
+    """One seam; a half drawn as the left half meets a right-drawn piece's mirror copy (one body side).
+
+    Pieces drawn for opposite sides and cut once each (a garment whose left
+    and right pieces are drawn separately) meet as drawn.
+    """
     mirror = centre = j.kind == "fold" or (j.kind == "centre" and j.a.piece == j.b.piece)
     if not mirror and j.kind != "band" and j.a.piece != j.b.piece:
         sa, sb = _side_of(pattern, inference, j.a.piece), _side_of(pattern, inference, j.b.piece)
-        mirror = sa is not None and sb is not None and sa != sb
+        mirror = sa is not None and sb is not None and sa != sb and _has_mirror_copy(pattern, inference, j.b.piece)
+    copy_a, copy_b = "primary", "mirror" if mirror else "primary"
+    reverse = False if centre else runs_against(pattern, inference, j)
+    if j.kind != "band" and (j.copy_a or j.copy_b):
+        # a band's part placed on the copies it binds: pieces seen from outside run against each other
+        copy_a, copy_b = j.copy_a or "primary", j.copy_b or "primary"
+        reverse = copy_a == copy_b
     return {
         "id": j.id,
         "kind": "fold" if j.kind == "fold" else "seam",
-        "reverse": False if centre else runs_against(pattern, inference, j),
+        "reverse": reverse,
         "ease_cm": 0.0 if j.kind == "band" else j.ease_cm,
         "status": "band" if j.kind == "band" else "proposed",
         "confidence": j.confidence,
-        "a": _edge(j.a, "primary"),
-        "b": _edge(j.b, "mirror" if mirror else "primary"),
+        "a": _edge(j.a, copy_a),
+        "b": _edge(j.b, copy_b),
         "length_a_cm": j.a.length_cm,
         "length_b_cm": j.b.length_cm,
         "why": j.why,
@@ -90,10 +100,14 @@ def _with_twins(pattern: Pattern, inference: BridgeInference, seams: list[dict[s
     """
     swap = {"primary": "mirror", "mirror": "primary"}
     out = list(seams)
+    sewn = {(e["piece"], e["start"], e["end"], e["copy"]) for s in seams for e in (s["a"], s["b"])}
     for s in seams:
         a, b = s["a"]["piece"], s["b"]["piece"]
         if s["kind"] == "fold" or s["status"] == "band" or (a == b and s["a"]["copy"] != s["b"]["copy"]):
             continue  # a fold or a centre seam joins the two copies already
+        twin = [(e["piece"], e["start"], e["end"], swap[e["copy"]]) for e in (s["a"], s["b"])]
+        if any(t in sewn for t in twin):
+            continue  # the other copy's edge is sewn already (a band round both halves of a neckline)
         if _has_mirror_copy(pattern, inference, a) and _has_mirror_copy(pattern, inference, b):
             out.append(
                 {
@@ -107,7 +121,14 @@ def _with_twins(pattern: Pattern, inference: BridgeInference, seams: list[dict[s
 
 
 def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str, Any]:
-    """The sidecar dict of ``inference`` for ``pattern`` (JSON-ready)."""
+    """The sidecar dict of ``inference`` for ``pattern`` (JSON-ready).
+
+    Bands placed along several ranges of an opening are written as one seam
+    per range, with marks at the joints on the band (:func:`.band_spans.split_bands`);
+    a joint between two of the band's vertices is written with ``"insert": true``
+    and becomes a vertex when the sidecar is applied.
+    """
+    pattern, inference, inserted = split_bands(pattern, inference)
     marks: dict[str, set[int]] = {p.name: set() for p in pattern.pieces}
     for j in inference.joins:
         for side in (j.a, j.b):
@@ -140,7 +161,11 @@ def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str,
                 },
                 "marks": {
                     **{
-                        f"v{i}": {"vertex": i, "xy": [round(float(v), 4) for v in p.outline[i]]}
+                        f"v{i}": {
+                            "vertex": i,
+                            "xy": [round(float(v), 4) for v in p.outline[i]],
+                            **({"insert": True} if i in inserted.get(p.name, ()) else {}),
+                        }
                         for i in sorted(marks[p.name])
                     },
                     **{

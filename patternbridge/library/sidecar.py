@@ -21,6 +21,7 @@ import numpy as np
 
 from ..atomic import write_text
 from ..errors import InputError
+from ..pattern.insert import insert_vertices, segment_at
 from ..pattern.json import (
     measurement_link_from_dict,
     measurement_link_to_dict,
@@ -34,6 +35,7 @@ from ..pattern.model import Pattern, Placement
 __all__ = [
     "SIDECAR_FORMAT",
     "apply_sidecar",
+    "insert_marked_vertices",
     "read_sidecar",
     "sidecar_beside",
     "sidecar_dict",
@@ -146,6 +148,21 @@ def read_sidecar(path: str | os.PathLike) -> dict[str, Any]:
     return data
 
 
+def insert_marked_vertices(piece, entry: dict[str, Any]):
+    """``piece`` with a vertex at each mark of ``entry`` flagged ``insert`` that is not a vertex yet.
+
+    A band's joints placed in proportion to its opening fall between the band's
+    vertices; the sidecar stores them with ``"insert": true`` and their
+    cut-line position, and they become vertices here (:mod:`..pattern.insert`).
+    """
+    for m in entry.get("marks", {}).values():
+        if isinstance(m, dict) and m.get("insert") and m.get("xy") is not None:
+            at = segment_at(piece.outline, np.asarray(m["xy"], dtype=np.float64), MATCH_TOL_CM)
+            if at is not None:
+                piece, _ = insert_vertices(piece, [at])
+    return piece
+
+
 def _match_marks(path: Path, piece, entry: dict[str, Any]) -> dict[str, int]:
     marks = {}
     outline = piece.outline
@@ -211,6 +228,7 @@ def apply_sidecar(
             if e is None:
                 pieces.append(p)
                 continue
+            p = insert_marked_vertices(p, e)
             marks = _match_marks(path, p, e)
             pl = e.get("placement")
             pieces.append(

@@ -161,7 +161,7 @@ _SIDECAR = {
         {
             "name": _Req(STR),
             "n_vertices": INT,
-            "marks": _Map(_Either(INT, {"vertex": _Req(INT), "xy": _Opt(_POINT)})),
+            "marks": _Map(_Either(INT, {"vertex": _Req(INT), "xy": _Opt(_POINT), "insert": BOOL})),
             "landmarks": _Map(STR),
             "placement": _PIECE["placement"],
         }
