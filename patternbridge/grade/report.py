@@ -87,7 +87,10 @@ def fit_report(result: FitResult, *, character: str = "", garment: str = "") -> 
     ``baselines`` (every baseline by name), ``nsga2`` (NSGA-II's own
     choice, before the final step), ``checks`` (findings of
     :func:`~.checks.design_checks`: a collapsed piece, a flattened curve, a
-    lost symmetry) and ``design_kept`` (no finding), ``pareto_front`` (the final front:
+    lost symmetry) and ``design_kept`` (no finding), ``shape_forcing`` (when the shape error is
+    above proportional scaling's: the links released one at a time and the shape error each then
+    reaches, those that alone bring it to scaling's (``forced_by``), and the critical
+    points that carry the excess; :func:`~.forcing.shape_forcing`), ``pareto_front`` (the final front:
     objectives per row, the chosen row, which rows the final step made and
     which are within tolerance) and
     run settings.
@@ -102,6 +105,13 @@ def fit_report(result: FitResult, *, character: str = "", garment: str = "") -> 
     out["nsga2"] = _solution_dict(result, result.ga_choice)
     out["checks"] = [{"code": f.code, "where": f.where, "message": f.message} for f in result.findings]
     out["design_kept"] = not result.findings
+    f = result.forcing
+    out["shape_forcing"] = None if f is None else {
+        "forced_by": list(f.forced_by),
+        "links": [{"id": lid, "scaling_miss_cm": _r(m, 3), "shape_released": _r(sr, 5)}
+                  for lid, m, sr in zip(f.link_ids, f.miss_cm, f.shape_released, strict=True)],
+        "points": [{"piece": piece, "point": name, "angle_change_deg": _r(deg, 2)} for piece, name, deg in f.points],
+    }
     out["pareto_front"] = {
         "objectives": ["measurement_cm", "seam", "shape_rad"],
         "F": np.round(result.front_F, 5).tolist(),
