@@ -61,8 +61,7 @@ class Forcing:
     @property
     def forced_by(self) -> tuple[str, ...]:
         """The links whose release alone brings the shape error to scaling's or below."""
-        return tuple(lid for lid, s in zip(self.link_ids, self.shape_released, strict=True)
-                     if s <= self.shape_ref)
+        return tuple(lid for lid, s in zip(self.link_ids, self.shape_released, strict=True) if s <= self.shape_ref)
 
 
 def released(data: ObjectiveData, link: int) -> ObjectiveData:
@@ -92,8 +91,9 @@ def _critical_weights(data: ObjectiveData) -> np.ndarray:
     return 1.0 / (n_pieces * counts[piece])
 
 
-def excess_points(grid: PatternGrid, data: ObjectiveData, x: np.ndarray, x_ref: np.ndarray,
-                  n: int = 3) -> tuple[tuple[str, str, float], ...]:
+def excess_points(
+    grid: PatternGrid, data: ObjectiveData, x: np.ndarray, x_ref: np.ndarray, n: int = 3
+) -> tuple[tuple[str, str, float], ...]:
     """The ``n`` critical points that add most to the shape error of ``x`` beyond ``x_ref``'s.
 
     Returns ``(piece, mark name or "vertex i", |Δ inner angle| in degrees)``
@@ -154,7 +154,8 @@ def shape_forcing(
     pts = grid.outlines(np.stack([x, x_ref]))
     shape, shape_ref = (float(v) for v in shape_error(data, pts))
     return Forcing(
-        shape=shape, shape_ref=shape_ref,
+        shape=shape,
+        shape_ref=shape_ref,
         link_ids=tuple(data.link_ids[order[j]] for j in rank),
         miss_cm=np.array([miss[order[j]] for j in rank], dtype=np.float64),
         shape_released=shapes_arr[rank],
@@ -164,12 +165,15 @@ def shape_forcing(
 
 def describe_forcing(forcing: Forcing) -> str:
     """One line: the shape error against scaling's, what forces it, where the excess sits."""
-    tried = ", ".join(f"{lid} (scaling misses it by {m:+.2f} cm; let go: {s:.4f})"
-                      for lid, m, s in zip(forcing.link_ids, forcing.miss_cm, forcing.shape_released, strict=True))
+    tried = ", ".join(
+        f"{lid} (scaling misses it by {m:+.2f} cm; let go: {s:.4f})"
+        for lid, m, s in zip(forcing.link_ids, forcing.miss_cm, forcing.shape_released, strict=True)
+    )
     forced = forcing.forced_by
-    verdict = (f"forced by {' or '.join(forced)}" if forced
-               else "no single measurement released brings it to scaling's")
+    verdict = f"forced by {' or '.join(forced)}" if forced else "no single measurement released brings it to scaling's"
     where = ", ".join(f"{piece}:{name} turns {deg:.1f}°" for piece, name, deg in forcing.points)
-    return (f"shape error {forcing.shape:.4f} rad against proportional scaling's {forcing.shape_ref:.4f}, "
-            f"which misses the fit: {verdict} (released one at a time: {tried or 'none'}); "
-            f"the excess is at {where or 'no critical point'}")
+    return (
+        f"shape error {forcing.shape:.4f} rad against proportional scaling's {forcing.shape_ref:.4f}, "
+        f"which misses the fit: {verdict} (released one at a time: {tried or 'none'}); "
+        f"the excess is at {where or 'no critical point'}"
+    )
