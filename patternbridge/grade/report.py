@@ -6,6 +6,7 @@ from typing import Any
 
 import numpy as np
 
+from .forcing import Forcing
 from .run import FitResult, Scores, Solution
 
 __all__ = ["fit_report", "scores_dict"]
@@ -78,6 +79,16 @@ def _solution_dict(result: FitResult, sol: Solution) -> dict[str, Any]:
     return out
 
 
+def _forcing_dict(f: Forcing) -> dict[str, Any]:
+    """The release test of :func:`~.forcing.shape_forcing` as JSON."""
+    links = [
+        {"id": lid, "scaling_miss_cm": _r(m, 3), "shape_released": _r(sr, 5)}
+        for lid, m, sr in zip(f.link_ids, f.miss_cm, f.shape_released, strict=True)
+    ]
+    points = [{"piece": piece, "point": name, "angle_change_deg": _r(deg, 2)} for piece, name, deg in f.points]
+    return {"forced_by": list(f.forced_by), "links": links, "points": points}
+
+
 def fit_report(result: FitResult, *, character: str = "", garment: str = "") -> dict[str, Any]:
     """The fit report: figures of the graded pattern, the baselines and the front.
 
@@ -105,13 +116,7 @@ def fit_report(result: FitResult, *, character: str = "", garment: str = "") -> 
     out["nsga2"] = _solution_dict(result, result.ga_choice)
     out["checks"] = [{"code": f.code, "where": f.where, "message": f.message} for f in result.findings]
     out["design_kept"] = not result.findings
-    f = result.forcing
-    out["shape_forcing"] = None if f is None else {
-        "forced_by": list(f.forced_by),
-        "links": [{"id": lid, "scaling_miss_cm": _r(m, 3), "shape_released": _r(sr, 5)}
-                  for lid, m, sr in zip(f.link_ids, f.miss_cm, f.shape_released, strict=True)],
-        "points": [{"piece": piece, "point": name, "angle_change_deg": _r(deg, 2)} for piece, name, deg in f.points],
-    }
+    out["shape_forcing"] = None if result.forcing is None else _forcing_dict(result.forcing)
     out["pareto_front"] = {
         "objectives": ["measurement_cm", "seam", "shape_rad"],
         "F": np.round(result.front_F, 5).tolist(),
