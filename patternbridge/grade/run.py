@@ -707,7 +707,7 @@ def choose_member(result: FitResult, k: int, *, size: str | None = None) -> FitR
     The start is the front member's genes; the final step runs with the
     settings the continuation settled on (:attr:`FitResult.finish_settings`).
     The front itself is kept; ``chosen_index`` becomes ``k`` and the checks
-    are run on the new pattern.
+    and the release test (:attr:`FitResult.forcing`) are run on the new pattern.
 
     Raises
     ------
@@ -727,7 +727,16 @@ def choose_member(result: FitResult, k: int, *, size: str | None = None) -> FitR
     sol = _solution(result.grid, result.data, "nsga2+refine", res.x, size,
                     f"least shape change under the fit, started from front member {int(k)} (chosen by the user)")
     findings = _checks(result.grid, result.data, sol, result.baselines["proportional"])
-    return dataclasses.replace(result, pattern=sol.pattern, chosen=sol, chosen_index=int(k), findings=findings)
+    settings = {**result.finish_settings, "max_iter": RELEASE_ITER}
+
+    def release_finish(d: ObjectiveData, x_start: np.ndarray) -> np.ndarray:
+        return refine(result.grid, d, x_start, **settings).x
+
+    with _single_thread():
+        forcing = _forcing(result.grid, result.data, sol, result.baselines["proportional"], release_finish,
+                           float(settings.get("measure_tol_cm", 0.15)), "fit --choose")
+    return dataclasses.replace(result, pattern=sol.pattern, chosen=sol, chosen_index=int(k), findings=findings,
+                               forcing=forcing)
 
 
 def front_members(result: FitResult, n: int = 6) -> list[tuple[int, Pattern]]:
