@@ -26,7 +26,7 @@ where a linear model holds.
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -45,8 +45,9 @@ class Forcing:
     """What holds a graded solution's shape error above proportional scaling's.
 
     shape, shape_ref : shape error of the graded solution and of scaling, rad
-    link_ids : (n,) the links released, the most costly first
-    miss_cm : (n,) where scaling leaves each link against its target (achieved − target), cm
+    link_ids : (n,) the links released, one at a time, then (when none of them alone is enough) the two
+        that helped most together as ``"a+b"``; by the shape error reached, least first
+    miss_cm : (n,) where scaling leaves each link against its target (achieved − target), cm; NaN for a pair
     shape_released : (n,) shape error of the final step from the graded solution with that link let go, rad
     points : critical points carrying the excess over scaling, ``(piece, mark or vertex, Δ°)``, largest first
     """
@@ -60,20 +61,21 @@ class Forcing:
 
     @property
     def forced_by(self) -> tuple[str, ...]:
-        """The links whose release alone brings the shape error to scaling's or below."""
+        """The links (or pairs) whose release brings the shape error to scaling's or below."""
         return tuple(lid for lid, s in zip(self.link_ids, self.shape_released, strict=True) if s <= self.shape_ref)
 
 
-def released(data: ObjectiveData, link: int) -> ObjectiveData:
-    """``data`` with link ``link`` let go: an ``at_least`` target every length meets.
+def released(data: ObjectiveData, link: int | Sequence[int]) -> ObjectiveData:
+    """``data`` with link ``link`` (or every link in it) let go: an ``at_least`` target every length meets.
 
     Its legs stay (the link's share terms and the level of its chords are
     geometry, not fit), only its target stops binding.
     """
+    idx = np.atleast_1d(np.asarray(link, dtype=np.int64))
     target = data.target_cm.copy()
-    target[link] = RELEASE_FLOOR_CM
+    target[idx] = RELEASE_FLOOR_CM
     at_least = data.at_least.copy()
-    at_least[link] = True
+    at_least[idx] = True
     return dataclasses.replace(data, target_cm=target, at_least=at_least)
 
 
@@ -122,7 +124,7 @@ def shape_forcing(
     x_ref: np.ndarray,
     finish: Callable[[ObjectiveData, np.ndarray], np.ndarray],
     *,
-    n_release: int = 4,
+    n_release: int = 3,
     band_cm: float = 0.15,
 ) -> Forcing:
     """Release test of the links that hold the shape error of ``x`` above that of ``x_ref``.
@@ -134,7 +136,8 @@ def shape_forcing(
     x_ref : (n_var,) proportional scaling
     finish : ``finish(data, x_start) -> x``: the final step with the fit's settings
     n_release : how many links to release, one at a time: those scaling misses
-        most (in cm) beyond ``band_cm``
+        most (in cm) beyond ``band_cm``; when none is enough alone, the two
+        that helped most are released together
     band_cm : the final step's measurement band; a link scaling meets within it forces nothing
 
     Returns
@@ -145,20 +148,26 @@ def shape_forcing(
     x_ref = np.asarray(x_ref, dtype=np.float64)
     miss = scaling_miss(grid, data, x_ref)
     order = [int(i) for i in np.argsort(-np.abs(miss), kind="stable") if abs(miss[i]) > band_cm][:n_release]
-    shapes = []
-    for i in order:
-        x_i = finish(released(data, i), x)
-        shapes.append(float(shape_error(data, grid.outlines(x_i[None, :]))[0]))
-    shapes_arr = np.array(shapes, dtype=np.float64)
-    rank = np.argsort(shapes_arr, kind="stable")
     pts = grid.outlines(np.stack([x, x_ref]))
     shape, shape_ref = (float(v) for v in shape_error(data, pts))
+
+    def shape_without(links: list[int]) -> float:
+        x_i = finish(released(data, links), x)
+        return float(shape_error(data, grid.outlines(x_i[None, :]))[0])
+
+    tried = [([i], shape_without([i])) for i in order]
+    if len(tried) >= 2 and min(s for _, s in tried) > shape_ref:
+        # no single link: the two whose release helps most, together (a girth pair such as chest and waist)
+        best = sorted(tried, key=lambda t: t[1])[:2]
+        pair = best[0][0] + best[1][0]
+        tried.append((pair, shape_without(pair)))
+    tried.sort(key=lambda t: t[1])
     return Forcing(
         shape=shape,
         shape_ref=shape_ref,
-        link_ids=tuple(data.link_ids[order[j]] for j in rank),
-        miss_cm=np.array([miss[order[j]] for j in rank], dtype=np.float64),
-        shape_released=shapes_arr[rank],
+        link_ids=tuple("+".join(data.link_ids[i] for i in links) for links, _ in tried),
+        miss_cm=np.array([miss[links[0]] if len(links) == 1 else np.nan for links, _ in tried]),
+        shape_released=np.array([value for _, value in tried], dtype=np.float64),
         points=excess_points(grid, data, x, x_ref),
     )
 
@@ -166,14 +175,14 @@ def shape_forcing(
 def describe_forcing(forcing: Forcing) -> str:
     """One line: the shape error against scaling's, what forces it, where the excess sits."""
     tried = ", ".join(
-        f"{lid} (scaling misses it by {m:+.2f} cm; let go: {s:.4f})"
+        f"{lid} (scaling misses it by {m:+.2f} cm; let go: {s:.4f})" if np.isfinite(m) else f"{lid} together: {s:.4f}"
         for lid, m, s in zip(forcing.link_ids, forcing.miss_cm, forcing.shape_released, strict=True)
     )
     forced = forcing.forced_by
-    verdict = f"forced by {' or '.join(forced)}" if forced else "no single measurement released brings it to scaling's"
+    verdict = f"forced by {' or '.join(forced)}" if forced else "no release tried brings it to scaling's"
     where = ", ".join(f"{piece}:{name} turns {deg:.1f}°" for piece, name, deg in forcing.points)
     return (
         f"shape error {forcing.shape:.4f} rad against proportional scaling's {forcing.shape_ref:.4f}, "
-        f"which misses the fit: {verdict} (released one at a time: {tried or 'none'}); "
+        f"which misses the fit: {verdict} (released: {tried or 'none'}); "
         f"the excess is at {where or 'no critical point'}"
     )

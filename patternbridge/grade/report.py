@@ -82,7 +82,7 @@ def _solution_dict(result: FitResult, sol: Solution) -> dict[str, Any]:
 def _forcing_dict(f: Forcing) -> dict[str, Any]:
     """The release test of :func:`~.forcing.shape_forcing` as JSON."""
     links = [
-        {"id": lid, "scaling_miss_cm": _r(m, 3), "shape_released": _r(sr, 5)}
+        {"id": lid, "scaling_miss_cm": _r(m, 3) if np.isfinite(m) else None, "shape_released": _r(sr, 5)}
         for lid, m, sr in zip(f.link_ids, f.miss_cm, f.shape_released, strict=True)
     ]
     points = [{"piece": piece, "point": name, "angle_change_deg": _r(deg, 2)} for piece, name, deg in f.points]
