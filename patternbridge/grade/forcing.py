@@ -124,7 +124,7 @@ def shape_forcing(
     x_ref: np.ndarray,
     finish: Callable[[ObjectiveData, np.ndarray], np.ndarray],
     *,
-    n_release: int = 3,
+    n_release: int = 2,
     band_cm: float = 0.15,
 ) -> Forcing:
     """Release test of the links that hold the shape error of ``x`` above that of ``x_ref``.
