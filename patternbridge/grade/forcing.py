@@ -136,8 +136,9 @@ def shape_forcing(
     x_ref : (n_var,) proportional scaling
     finish : ``finish(data, x_start) -> x``: the final step with the fit's settings
     n_release : how many links to release, one at a time: those scaling misses
-        most (in cm) beyond ``band_cm``; when none is enough alone, the two
-        that helped most are released together
+        most (in cm) beyond ``band_cm``, the largest miss first, stopping at the
+        first whose release brings the shape error to scaling's; when none is
+        enough alone, the two that helped most are released together
     band_cm : the final step's measurement band; a link scaling meets within it forces nothing
 
     Returns
@@ -155,7 +156,11 @@ def shape_forcing(
         x_i = finish(released(data, links), x)
         return float(shape_error(data, grid.outlines(x_i[None, :]))[0])
 
-    tried = [([i], shape_without([i])) for i in order]
+    tried: list[tuple[list[int], float]] = []
+    for i in order:  # the largest miss first; stop at the first release that explains the excess
+        tried.append(([i], shape_without([i])))
+        if tried[-1][1] <= shape_ref:
+            break
     if len(tried) >= 2 and min(s for _, s in tried) > shape_ref:
         # no single link: the two whose release helps most, together (a girth pair such as chest and waist)
         best = sorted(tried, key=lambda t: t[1])[:2]
