@@ -136,6 +136,12 @@ def print_row(char: str, garment: str, rep: dict) -> int:
           f"| {cpu:5.1f} {rep['seconds']:6.1f} | {text}", flush=True)
     for c in rep["checks"]:
         print(f"#   {char} {garment}: {c['where']}: {c['message']} [{c['code']}]")
+    forcing = rep.get("shape_forcing")
+    if forcing is not None:
+        tried = ", ".join(f"{lk['id']} {lk['shape_released']:.4f}" for lk in forcing["links"])
+        print(f"#   {char} {garment}: shape forced by {' or '.join(forcing['forced_by']) or 'no single link'} "
+              f"(released, shape error: {tried}; scaling {prop[3]:.4f}); excess at "
+              + ", ".join(f"{p['piece']}:{p['point']} {p['angle_change_deg']:.1f}°" for p in forcing["points"]))
     return int(not all(flags.values()))
 
 

@@ -6,6 +6,7 @@ from typing import Any
 
 import numpy as np
 
+from .forcing import Forcing
 from .run import FitResult, Scores, Solution
 
 __all__ = ["fit_report", "scores_dict"]
@@ -78,6 +79,16 @@ def _solution_dict(result: FitResult, sol: Solution) -> dict[str, Any]:
     return out
 
 
+def _forcing_dict(f: Forcing) -> dict[str, Any]:
+    """The release test of :func:`~.forcing.shape_forcing` as JSON."""
+    links = [
+        {"id": lid, "scaling_miss_cm": _r(m, 3) if np.isfinite(m) else None, "shape_released": _r(sr, 5)}
+        for lid, m, sr in zip(f.link_ids, f.miss_cm, f.shape_released, strict=True)
+    ]
+    points = [{"piece": piece, "point": name, "angle_change_deg": _r(deg, 2)} for piece, name, deg in f.points]
+    return {"forced_by": list(f.forced_by), "links": links, "points": points}
+
+
 def fit_report(result: FitResult, *, character: str = "", garment: str = "") -> dict[str, Any]:
     """The fit report: figures of the graded pattern, the baselines and the front.
 
@@ -87,7 +98,10 @@ def fit_report(result: FitResult, *, character: str = "", garment: str = "") -> 
     ``baselines`` (every baseline by name), ``nsga2`` (NSGA-II's own
     choice, before the final step), ``checks`` (findings of
     :func:`~.checks.design_checks`: a collapsed piece, a flattened curve, a
-    lost symmetry) and ``design_kept`` (no finding), ``pareto_front`` (the final front:
+    lost symmetry) and ``design_kept`` (no finding), ``shape_forcing`` (when the shape error is
+    above proportional scaling's: the links released one at a time and the shape error each then
+    reaches, those that alone bring it to scaling's (``forced_by``), and the critical
+    points that carry the excess; :func:`~.forcing.shape_forcing`), ``pareto_front`` (the final front:
     objectives per row, the chosen row, which rows the final step made and
     which are within tolerance) and
     run settings.
@@ -102,6 +116,7 @@ def fit_report(result: FitResult, *, character: str = "", garment: str = "") -> 
     out["nsga2"] = _solution_dict(result, result.ga_choice)
     out["checks"] = [{"code": f.code, "where": f.where, "message": f.message} for f in result.findings]
     out["design_kept"] = not result.findings
+    out["shape_forcing"] = None if result.forcing is None else _forcing_dict(result.forcing)
     out["pareto_front"] = {
         "objectives": ["measurement_cm", "seam", "shape_rad"],
         "F": np.round(result.front_F, 5).tolist(),

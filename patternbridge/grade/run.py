@@ -40,6 +40,7 @@ import numpy as np
 from ..errors import SolverError
 from ..pattern.model import Pattern
 from ..report import Finding
+from .forcing import Forcing, describe_forcing, shape_forcing
 from .grid import PatternGrid, build_grid, deform_pattern
 from .objectives import (
     FOLD_MARGIN,
@@ -152,6 +153,10 @@ class FitResult:
     findings : what :func:`~.checks.design_checks` found wrong with the
         chosen pattern (a collapsed piece, a flattened curve, a lost
         symmetry); empty when it still is the design
+    forcing : when the chosen grading changes the shape more than
+        proportional scaling, the measurements that force it and the
+        critical points that carry the excess (:func:`~.forcing.shape_forcing`);
+        None otherwise
     """
 
     pattern: Pattern
@@ -174,6 +179,7 @@ class FitResult:
     front_within: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
     findings: tuple[Finding, ...] = ()
     finish_settings: Mapping[str, object] = field(default_factory=dict)
+    forcing: Forcing | None = None
 
 
 def _is_simple(pattern: Pattern) -> bool:
@@ -640,6 +646,20 @@ def _checks(grid: PatternGrid, data: ObjectiveData, sol: Solution, reference: So
                          cut_turn=cut_line_turns(grid.pattern, sol.pattern, reference.pattern))
 
 
+def _forcing(grid: PatternGrid, data: ObjectiveData, sol: Solution, reference: Solution,
+             finish: Callable[[ObjectiveData, np.ndarray], np.ndarray], band_cm: float,
+             source: str) -> Forcing | None:
+    """:func:`~.forcing.shape_forcing` of ``sol`` when its shape error is above ``reference``'s, logged."""
+    if sol.x is None or reference.x is None or sol.scores.shape_error <= reference.scores.shape_error:
+        return None
+    forcing = shape_forcing(grid, data, sol.x, reference.x, finish, band_cm=band_cm)
+    log.warning("%s: %s", source, describe_forcing(forcing))
+    return forcing
+
+
+RELEASE_ITER = 6
+"""Iterations of each release test of :func:`~.forcing.shape_forcing` (from the fitted solution)."""
+
 TRADE_LEVELS = ((0.45, 0.0), (0.05, 0.2), (0.3, 0.005), (0.02, 1.0))
 """(measurement band cm, fit cost) of the front members that trade fit against shape: a looser
 fit with less change of shape, a tighter one with more, and so on."""
@@ -687,7 +707,7 @@ def choose_member(result: FitResult, k: int, *, size: str | None = None) -> FitR
     The start is the front member's genes; the final step runs with the
     settings the continuation settled on (:attr:`FitResult.finish_settings`).
     The front itself is kept; ``chosen_index`` becomes ``k`` and the checks
-    are run on the new pattern.
+    and the release test (:attr:`FitResult.forcing`) are run on the new pattern.
 
     Raises
     ------
@@ -707,7 +727,16 @@ def choose_member(result: FitResult, k: int, *, size: str | None = None) -> FitR
     sol = _solution(result.grid, result.data, "nsga2+refine", res.x, size,
                     f"least shape change under the fit, started from front member {int(k)} (chosen by the user)")
     findings = _checks(result.grid, result.data, sol, result.baselines["proportional"])
-    return dataclasses.replace(result, pattern=sol.pattern, chosen=sol, chosen_index=int(k), findings=findings)
+    settings = {**result.finish_settings, "max_iter": RELEASE_ITER}
+
+    def release_finish(d: ObjectiveData, x_start: np.ndarray) -> np.ndarray:
+        return refine(result.grid, d, x_start, **settings).x
+
+    with _single_thread():
+        forcing = _forcing(result.grid, result.data, sol, result.baselines["proportional"], release_finish,
+                           float(settings.get("measure_tol_cm", 0.15)), "fit --choose")
+    return dataclasses.replace(result, pattern=sol.pattern, chosen=sol, chosen_index=int(k), findings=findings,
+                               forcing=forcing)
 
 
 def front_members(result: FitResult, n: int = 6) -> list[tuple[int, Pattern]]:
@@ -951,12 +980,19 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
     findings = _checks(grid, data, chosen, baselines["proportional"])
     for f in findings:
         log.warning("%s: %s", source, f)
+    forcing = None
+    if do_repair:
+        def release_finish(d: ObjectiveData, x_start: np.ndarray) -> np.ndarray:
+            # from the fitted solution, a few iterations show which way the shape goes
+            return refine(grid, d, x_start, **{**settings_at(start_stage[0]), "max_iter": RELEASE_ITER}).x
+
+        forcing = _forcing(grid, data, chosen, baselines["proportional"], release_finish, measure_band_cm, source)
     seconds = time.perf_counter() - t0
     return FitResult(
         pattern=chosen.pattern, original=pattern, chosen=chosen, ga_choice=ga_choice,
         front_F=front_F, front_X=front_X, chosen_index=idx, front_refined=is_refined,
         front_within=within, baselines=baselines, findings=findings,
-        finish_settings=settings_at(start_stage[0]),
+        finish_settings=settings_at(start_stage[0]), forcing=forcing,
         measurements=measurements, grid=grid, data=data, seconds=seconds, seed=int(seed),
         pop_size=pop_size, n_gen=n_gen, history=np.array(callback.history, dtype=np.float64).reshape(-1, 4),
     )
