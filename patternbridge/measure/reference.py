@@ -93,23 +93,13 @@ def landmark_level_girths(
     if "waist_front" not in marks or "waist_back" not in marks:
         return {}
     axis = 0.5 * (np.asarray(marks["waist_front"]) + np.asarray(marks["waist_back"]))
-    slabs = SlabIndex(v, faces, axis=1, slab_cm=max(float(np.ptp(v[:, 1])) / 200.0, 0.1))
+    slabs = _slabs(v, faces)
     out: dict[str, Measurement] = {}
     for mid, names in LEVEL_GIRTHS.items():
         if not all(n in marks for n in names):
             continue
         y = float(np.mean([marks[n][1] for n in names]))
-        sec = plane_loops(
-            v,
-            faces,
-            np.array([0.0, y, 0.0]),
-            np.array([0.0, 1.0, 0.0]),
-            candidates=slabs.faces_at(y),
-        )
-        q = sec.to_uv(np.array([axis[0], y, axis[2]]))
-        loops = [lp for lp in sec.loops if lp.closed and lp.contains_uv(q)]
-        if not loops and sec.loops:
-            loops = [min(sec.loops, key=lambda lp: lp.distance_uv(q))]
+        sec, loops = _loops_round_axis(v, faces, slabs, axis, y, nearest=True)
         if not loops:
             continue
         g, ring = hull_girth(sec, loops[-1:])
@@ -123,6 +113,25 @@ def landmark_level_girths(
             details={"level_y_cm": y},
         )
     return out
+
+
+def _slabs(v: np.ndarray, faces: np.ndarray) -> SlabIndex:
+    """Faces by height, in slabs of 1/200 of the body's height."""
+    return SlabIndex(v, faces, axis=1, slab_cm=max(float(np.ptp(v[:, 1])) / 200.0, 0.1))
+
+
+def _loops_round_axis(v, faces, slabs: SlabIndex, axis: np.ndarray, y: float, *, nearest: bool):
+    """The horizontal section at height ``y`` and its closed loops round the body's vertical ``axis``.
+
+    With ``nearest``, a section with no loop round the axis gives its loop
+    nearest to it instead.
+    """
+    sec = plane_loops(v, faces, np.array([0.0, y, 0.0]), np.array([0.0, 1.0, 0.0]), candidates=slabs.faces_at(y))
+    q = sec.to_uv(np.array([axis[0], y, axis[2]]))
+    loops = [lp for lp in sec.loops if lp.closed and lp.contains_uv(q)]
+    if not loops and nearest and sec.loops:
+        loops = [min(sec.loops, key=lambda lp: lp.distance_uv(q))]
+    return sec, loops
 
 
 def comparable_values(character: Character, result: Measurements) -> dict[str, float]:
@@ -184,16 +193,7 @@ def waist_line_marks(
     if "waist_front" not in marks or "waist_back" not in marks:
         return {}
     axis = 0.5 * (marks["waist_front"].position + marks["waist_back"].position)
-    slabs = SlabIndex(v, faces, axis=1, slab_cm=max(float(np.ptp(v[:, 1])) / 200.0, 0.1))
-    sec = plane_loops(
-        v,
-        faces,
-        np.array([0.0, level_y_cm, 0.0]),
-        np.array([0.0, 1.0, 0.0]),
-        candidates=slabs.faces_at(level_y_cm),
-    )
-    q = sec.to_uv(np.array([axis[0], level_y_cm, axis[2]]))
-    loops = [lp for lp in sec.loops if lp.closed and lp.contains_uv(q)]
+    _, loops = _loops_round_axis(v, faces, _slabs(v, faces), axis, level_y_cm, nearest=False)
     if not loops:
         return {}
     pts = loops[-1].points
