@@ -4,21 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from cloth_fixtures import sheet
 
 from patternbridge.assemble.cloth import DrapeSettings, SpringKind, Springs
 from patternbridge.assemble.cloth.constraints import difference_operator, project_springs
 from patternbridge.assemble.cloth.selfcontact import find_pairs, near_keys, resolve_pairs
 from patternbridge.assemble.drape import build_cloth, drape, seam_gaps
-
-
-def _sheet(n: int, size: float) -> tuple[np.ndarray, np.ndarray]:
-    """A square sheet of 2n² triangles, ``size`` cm wide, in the (x, z) plane: (pattern points, faces)."""
-    s = np.linspace(0.0, size, n + 1)
-    u, v = np.meshgrid(s, s, indexing="ij")
-    pts = np.stack([u.ravel(), v.ravel()], axis=1)
-    idx = np.arange((n + 1) ** 2).reshape(n + 1, n + 1)
-    a, b, c, d = idx[:-1, :-1].ravel(), idx[1:, :-1].ravel(), idx[1:, 1:].ravel(), idx[:-1, 1:].ravel()
-    return pts, np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)])
 
 
 def test_springs_validate_their_shapes():
@@ -42,7 +33,7 @@ def test_the_local_step_scales_differences_to_their_targets():
 
 def _two_sheets(gap_cm: float, speed_cm_s: float):
     """Two 10 cm sheets ``gap_cm`` apart, the upper one moving down at ``speed_cm_s`` (no seams)."""
-    pts, f = _sheet(8, 10.0)
+    pts, f = sheet(8, 10.0)
     low = np.c_[pts[:, 0], np.zeros(len(pts)), pts[:, 1]]
     high = low + [0.5, gap_cm, 0.3]
     cloth = build_cloth([low, high], [pts, pts], [f, f], [])
@@ -76,7 +67,7 @@ def test_a_sheet_thrown_at_another_does_not_pass_through_it(no_body, speed):
 
 
 def test_self_pairs_skip_neighbours_and_keep_the_side_they_started_on():
-    pts, f = _sheet(4, 4.0)
+    pts, f = sheet(4, 4.0)
     low = np.c_[pts[:, 0], np.zeros(len(pts)), pts[:, 1]]
     x = np.concatenate([low, low + [0.3, 0.2, 0.3]])
     faces = np.concatenate([f, f + len(pts)])
@@ -147,7 +138,7 @@ def test_a_fast_vertex_does_not_tunnel_through_a_thin_plate():
     from patternbridge.assemble.collision import BodyCollider
 
     plate = trimesh.creation.box(extents=[40.0, 0.4, 40.0])
-    pts, f = _sheet(3, 3.0)
+    pts, f = sheet(3, 3.0)
     x = np.c_[pts[:, 0] - 1.5, np.full(len(pts), 2.0), pts[:, 1] - 1.5]
     cloth = build_cloth([x], [pts], [f], [])
     cloth.v[:] = [0.0, -150.0 * 60 / 60, 0.0]

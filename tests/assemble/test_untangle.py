@@ -4,20 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from cloth_fixtures import sheet
 
 from patternbridge.assemble.cloth import DrapeSettings
 from patternbridge.assemble.cloth.untangle import edge_faces, find_crossings
 from patternbridge.assemble.drape import build_cloth, drape
-
-
-def _sheet(n: int, size: float) -> tuple[np.ndarray, np.ndarray]:
-    """A square sheet of 2n² triangles, ``size`` cm wide: (pattern points (P, 2), faces)."""
-    s = np.linspace(0.0, size, n + 1)
-    u, v = np.meshgrid(s, s, indexing="ij")
-    pts = np.stack([u.ravel(), v.ravel()], axis=1)
-    idx = np.arange((n + 1) ** 2).reshape(n + 1, n + 1)
-    a, b, c, d = idx[:-1, :-1].ravel(), idx[1:, :-1].ravel(), idx[1:, 1:].ravel(), idx[:-1, 1:].ravel()
-    return pts, np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)])
 
 
 def _crossing_pairs(x: np.ndarray, faces: np.ndarray) -> int:
@@ -44,7 +35,7 @@ def _crossing_pairs(x: np.ndarray, faces: np.ndarray) -> int:
 
 def _pressed_through(depth_cm: float):
     """A 10 cm sheet 0.8 cm over another, its middle pressed ``depth_cm`` down through the lower one."""
-    pts, f = _sheet(10, 10.0)
+    pts, f = sheet(10, 10.0)
     low = np.c_[pts[:, 0], np.zeros(len(pts)), pts[:, 1]]
     high = low + [0.37, 0.8, 0.21]
     r = np.hypot(high[:, 0] - 5.0, high[:, 2] - 5.0)
@@ -68,7 +59,7 @@ def test_the_brute_force_check_sees_the_sheets_crossing():
 def test_edge_faces_lists_the_faces_beside_every_edge():
     from patternbridge.assemble.cloth import edges_and_bends
 
-    _, f = _sheet(2, 2.0)
+    _, f = sheet(2, 2.0)
     edges, _ = edges_and_bends(f)
     beside = edge_faces(f, edges)
     for e, (f0, f1) in zip(edges, beside, strict=True):
