@@ -94,19 +94,24 @@ def test_tank_scoop_neckline_is_a_style_line_and_bands_follow_their_openings(aam
     assert {leg.factor for leg in links["GLX0926S16SBIA_length"].legs[1:]} == {-1.0}
 
 
-@pytest.mark.shared
-@pytest.mark.slow
-def test_neckband_stays_a_band_when_graded_to_a_child(aama_dir, shared_dir, tmp_path):
-    """MEN CLASSIC TEE on D_cartoon_child: the neckband keeps a band's width (it collapsed to 0.07 cm)."""
+def _graded_for_child(shared_dir, dxf, tmp_path):
+    """``fit`` of a tailor's file with no sidecar to D_cartoon_child, a small budget, no drape."""
     from patternbridge.workflow import FitOptions, fit
 
-    result = fit(
+    return fit(
         shared_dir / "characters" / "D_cartoon_child.obj",
-        aama_dir / "MEN CLASSIC TEE.DXF",
+        dxf,
         seed=0,
         options=FitOptions(pop_size=8, n_gen=2, drape=False),
         out_dir=tmp_path / "out",
     )
+
+
+@pytest.mark.shared
+@pytest.mark.slow
+def test_neckband_stays_a_band_when_graded_to_a_child(aama_dir, shared_dir, tmp_path):
+    """MEN CLASSIC TEE on D_cartoon_child: the neckband keeps a band's width (it collapsed to 0.07 cm)."""
+    result = _graded_for_child(shared_dir, aama_dir / "MEN CLASSIC TEE.DXF", tmp_path)
     band = result.grading.pattern.piece("REGULAR TEESFCO").outline
     c = band - band.mean(axis=0)
     width = np.ptp(c @ np.linalg.svd(c, full_matrices=False)[2][1])
@@ -119,15 +124,8 @@ def test_neckband_stays_a_band_when_graded_to_a_child(aama_dir, shared_dir, tmp_
 def test_tank_straps_keep_their_width_when_graded_to_a_child(aama_dir, shared_dir, tmp_path):
     """simple.DXF on D_cartoon_child: each strap (side neck to shoulder point) follows the body height."""
     from patternbridge.library.seams import sew_line
-    from patternbridge.workflow import FitOptions, fit
 
-    result = fit(
-        shared_dir / "characters" / "D_cartoon_child.obj",
-        aama_dir / "simple.DXF",
-        seed=0,
-        options=FitOptions(pop_size=8, n_gen=2, drape=False),
-        out_dir=tmp_path / "out",
-    )
+    result = _graded_for_child(shared_dir, aama_dir / "simple.DXF", tmp_path)
     straps = [m for m in result.grading.pattern.measurements if m.id.endswith("_strap")]
     assert len(straps) == 2  # the front's and the back's
     stature = {m["id"]: m["body_cm"] for m in result.report["measurements"]}
