@@ -29,7 +29,7 @@ from .contact import contact_targets, signed_distances, slide_budgets, swept_hit
 from .selfcontact import EdgePairs, SelfPairs, find_edge_pairs, find_pairs, near_keys, resolve_pairs
 from .untangle import edge_faces, untangle_targets
 
-__all__ = ["ClothSolver", "DrapeSettings", "seam_gaps", "weld_groups"]
+__all__ = ["ClothSolver", "DrapeSettings", "seam_gaps", "vertex_adjacency", "weld_groups"]
 
 GRAVITY_CM_S2 = 981.0
 
@@ -112,7 +112,7 @@ class ClothSolver:
         self.weld = weld_groups(n, cloth.seams)
         self.near = near_keys(n, np.concatenate([cloth.edges, cloth.seams]).reshape(-1, 2))
         self.beside = edge_faces(cloth.faces, cloth.edges)
-        self.adjacency = _adjacency(n, cloth.edges)
+        self.adjacency = vertex_adjacency(n, cloth.edges)
         self._base = None  # the constant part of the global matrix
         self._free = None  # its factorisation
         self.stats = {"factorisations": 0, "contacts": 0, "self_pairs": 0, "crossings": 0}
@@ -305,8 +305,12 @@ def _without(
     return pairs, epairs
 
 
-def _adjacency(n: int, edges: np.ndarray):
-    """(n, n) boolean sparse matrix of the cloth's edges."""
+def vertex_adjacency(n: int, edges: np.ndarray):
+    """(n, n) boolean sparse matrix: True where an edge of ``edges`` (E, 2) joins two of ``n`` vertices.
+
+    A boolean vector ``m`` grown by ``m |= adjacency @ m`` gains its ring of
+    neighbours; repeated edges (a triangle mesh's shared edges) are harmless.
+    """
     from scipy.sparse import coo_matrix
 
     e = np.asarray(edges, dtype=np.int64)

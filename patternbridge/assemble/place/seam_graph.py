@@ -210,13 +210,13 @@ def _separate_layers(
     piece folded through itself lies flat. The round with the fewest
     crossing triangles is kept.
     """
-    from ..cloth import weld_groups
+    from ..cloth import vertex_adjacency, weld_groups
     from ..selfcross import self_crossing
 
     s = solve.settings
     same = weld_groups(len(x), pairs)
     one = np.zeros(len(faces), np.int64)
-    adj = _adjacency(faces, len(x))
+    adj = vertex_adjacency(len(x), np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]))
     sewn = np.zeros(len(x), dtype=bool)
     sewn[pairs.ravel()] = True
     best, best_n = x, None
@@ -230,7 +230,7 @@ def _separate_layers(
         ids = np.zeros(len(x), dtype=bool)
         ids[faces[crossing].ravel()] = True
         for _ in range(LAYER_RINGS):
-            ids |= (adj @ ids.astype(np.float64)) > 0
+            ids |= adj @ ids
         ids[sewn] = False  # the two sides of a seam stay free to meet between their layers
         ids = np.flatnonzero(ids)
         solve.hold(ids, _offset_points(scene, x[ids], s.clearance_cm + s.layer_cm * layers[ids]))
@@ -240,14 +240,6 @@ def _separate_layers(
 
 
 LAYER_RINGS = 2  # neighbours (in edges) of the crossing triangles held on their layer too
-
-
-def _adjacency(faces: np.ndarray, n: int):
-    """(n, n) sparse vertex adjacency of a triangle mesh."""
-    from scipy.sparse import coo_matrix
-
-    e = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    return coo_matrix((np.ones(2 * len(e)), (e.ravel(), e[:, ::-1].ravel())), shape=(n, n)).tocsr()
 
 
 def _offset_points(scene, points: np.ndarray, offset_cm: np.ndarray) -> np.ndarray:
