@@ -26,6 +26,7 @@ import numpy as np
 
 from ..library.seams import sew_line
 from ..pattern.model import Pattern
+from .band_spans import split_bands
 from .model import BridgeInference, Join, Role, is_band
 
 __all__ = ["LOW_CONFIDENCE", "review_png", "seam_colour", "seam_numbers"]
@@ -322,9 +323,15 @@ def _seam_list(inference: BridgeInference) -> list[tuple[str, tuple[int, int, in
 
 
 def review_png(pattern: Pattern, inference: BridgeInference, *, px_per_cm: float = 6.0, title: str = "") -> bytes:
-    """PNG bytes of the review picture of ``inference`` (pieces upright, seams numbered on both edges)."""
+    """PNG bytes of the review picture of ``inference`` (pieces upright, seams numbered on both edges).
+
+    Bands are drawn as the sidecar writes them (:func:`.band_spans.split_bands`):
+    one seam per range of the opening, numbered on the band's vertices with
+    the joints inserted.
+    """
     from PIL import Image, ImageDraw
 
+    pattern, inference, _ = split_bands(pattern, inference)
     upright = {p.name: _shown(p, inference) for p in pattern.pieces}
     fonts = {"title": _font(18), "piece": _font(14), "seam": _font(14), "small": _font(11)}
     measure = ImageDraw.Draw(Image.new("RGB", (1, 1)))

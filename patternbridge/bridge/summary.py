@@ -5,13 +5,18 @@ from __future__ import annotations
 from collections import Counter
 
 from ..pattern.model import Pattern
+from .band_spans import split_bands
 from .model import BridgeInference
 
 __all__ = ["summary_line"]
 
 
 def summary_line(pattern: Pattern, inference: BridgeInference) -> str:
-    """``style: 2 front, 2 back, … | 14 seams | alternatives: … | lowest confidence 0.42``."""
+    """``style: 2 front, 2 back, … | 14 seams | alternatives: … | lowest confidence 0.42``.
+
+    Seams are counted as the sidecar writes them (bands split by the opening's ranges).
+    """
+    pattern, inference, _ = split_bands(pattern, inference)
     roles = Counter(inference.roles[n].role.value for n in inference.chosen)
     role_text = ", ".join(f"{k} {r}" if k > 1 else r for r, k in sorted(roles.items()))
     kinds = Counter(j.kind for j in inference.joins)
