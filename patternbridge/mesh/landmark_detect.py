@@ -63,7 +63,8 @@ PROVISIONAL = 0.3  # a point a later rule replaces
 NO_CORNER = "no shoulder corner: highest vertex 1.2 % of S outside the armpit (provisional)"
 SHARP = 0.85  # a rule that found a sharp geometric feature (the shoulder corner, the neck base)
 LEVEL_ARM_SHARE = 0.53  # a level arm's acromion: this share of the way from the side neck point to the armpit
-WRIST_END = 1.1  # the wrist ends where its section is this much wider than the narrowest
+WRIST_END = 1.1  # the forearm ends where its section is this much wider than the narrowest
+FOREARM_WRIST_END = 1.05  # ... and, square to the forearm, where its section is this much wider
 STRAIGHT_DEG = 20.0  # an elbow flexed less than this is straight (A-pose elbows: 45°)
 
 
@@ -555,38 +556,44 @@ def _bust_points(sc: Scan, y: float) -> None:
         )
 
 
-def _arm_sections(sc: Scan, spt: np.ndarray, tip: np.ndarray, x_arm: float, sg: float):
-    """Centres and widths of sections square to the shoulder-fingertip line."""
-    from ..measure.section import plane_loops
-
+def _arm_faces(sc: Scan, spt: np.ndarray, tip: np.ndarray, x_arm: float, sg: float) -> np.ndarray:
+    """Faces near the shoulder-fingertip line, wholly beyond the armpit."""
     v, faces = sc.v, sc.f
-    d = tip - spt
-    u = d / np.linalg.norm(d)
-    ts = np.linspace(0.10, 0.88, 79)  # 1 % of the shoulder-fingertip line apart
     arm_faces = _faces_near(v, faces, spt, tip, 0.12 * sc.S)
     beyond = sg * (v[:, 0] - x_arm) > 0
-    arm_faces = arm_faces[beyond[faces[arm_faces]].all(axis=1)]
-    cents, widths, loops = [], [], []
-    for t in ts:
-        q = spt + t * d
-        sec = plane_loops(v, faces, q, u, candidates=arm_faces)
-        if not sec.loops:
-            cents.append(q)
-            widths.append(np.inf)
-            loops.append(None)
-            continue
-        qq = sec.to_uv(q)
-        lp = min(sec.loops, key=lambda lp: lp.distance_uv(qq) if not lp.contains_uv(qq) else -1.0)
-        cents.append(sec.to_xyz(lp.centroid_uv))
-        widths.append(float(np.sum(np.ptp(lp.uv, axis=0))))
-        loops.append(lp.points)
-    return ts, np.asarray(cents), np.asarray(widths), loops
+    return arm_faces[beyond[faces[arm_faces]].all(axis=1)]
+
+
+def _arm_section(sc: Scan, q: np.ndarray, u: np.ndarray, arm_faces: np.ndarray):
+    """Centre, width (sum of the two extents) and points of the arm's loop in the plane through ``q`` square to ``u``.
+
+    The loop holding ``q`` (or the nearest one); ``(q, inf, None)`` where the plane cuts nothing.
+    """
+    from ..measure.section import plane_loops
+
+    sec = plane_loops(sc.v, sc.f, q, u, candidates=arm_faces)
+    if not sec.loops:
+        return q, np.inf, None
+    qq = sec.to_uv(q)
+    lp = min(sec.loops, key=lambda lp: lp.distance_uv(qq) if not lp.contains_uv(qq) else -1.0)
+    return sec.to_xyz(lp.centroid_uv), float(np.sum(np.ptp(lp.uv, axis=0))), lp.points
+
+
+def _arm_sections(sc: Scan, spt: np.ndarray, tip: np.ndarray, arm_faces: np.ndarray):
+    """Centres and widths of sections square to the shoulder-fingertip line, 1 % of it apart."""
+    d = tip - spt
+    u = d / np.linalg.norm(d)
+    ts = np.linspace(0.10, 0.88, 79)
+    cut = [_arm_section(sc, spt + t * d, u, arm_faces) for t in ts]
+    return ts, np.asarray([c[0] for c in cut]), np.asarray([c[1] for c in cut])
 
 
 def _wrist_index(ts: np.ndarray, widths: np.ndarray) -> int:
     """The narrowest forearm section before the hand: scanning out from 0.55 of the
     shoulder-fingertip line, the running minimum until the width grows by 30 %
-    (the palm), so the narrow fingers beyond are never taken."""
+    (the palm), so the narrow fingers beyond are never taken; then out to the
+    distal end of the narrow wrist (the last section less than :data:`WRIST_END`
+    times wider)."""
     distal = np.flatnonzero((ts > 0.55) & (ts < 0.9))
     best = int(distal[0])
     for k in distal:
@@ -594,11 +601,44 @@ def _wrist_index(ts: np.ndarray, widths: np.ndarray) -> int:
             best = int(k)
         elif widths[k] > 1.3 * widths[best]:
             break
-    # the styloid sits at the distal end of the narrow wrist, where the palm begins to widen it
     end = best
     while end + 1 < len(widths) and widths[end + 1] < WRIST_END * widths[best]:
         end += 1
     return end
+
+
+def _forearm_wrist(sc: Scan, ts, cents, k_w: int, arm_faces: np.ndarray, out: np.ndarray):
+    """The wrist section square to the forearm, or None: the distal end of the narrow wrist.
+
+    The sections of :func:`_arm_sections` are square to the whole
+    shoulder-fingertip line, oblique to a bent forearm, and their widths grow
+    into the hand 1-2 cm before the wrist's end. The forearm's axis is the line
+    through their centres over the 15 % of that line before the narrow wrist;
+    sections square to it, 0.25 % of S apart, from 6 % of S before the wrist
+    out: the running minimum until the width grows by 30 % (the palm), then
+    the last section less than :data:`FOREARM_WRIST_END` times the narrowest,
+    where the hand begins (the ulnar styloid; 0.0-0.6 cm along the arm from the
+    reference vertex on the six characters and the two T-poses).
+    """
+    sel = np.flatnonzero((ts > ts[k_w] - 0.15) & (ts <= ts[k_w]))
+    if len(sel) < 3:
+        return None
+    c = cents[sel]
+    axis = np.linalg.svd(c - c.mean(axis=0))[2][0]
+    axis = axis if axis @ out > 0 else -axis
+    hs = np.arange(-0.06, 0.06, 0.0025) * sc.S
+    cut = [_arm_section(sc, cents[k_w] + h * axis, axis, arm_faces) for h in hs]
+    widths = np.array([w for _, w, _ in cut])
+    best = 0
+    for k in range(len(hs)):
+        if widths[k] < widths[best]:
+            best = k
+        elif widths[k] > 1.3 * widths[best]:
+            break
+    end = best
+    while end + 1 < len(hs) and widths[end + 1] < FOREARM_WRIST_END * widths[best]:
+        end += 1
+    return cut[end][2]
 
 
 def detect_arm(sc: Scan, s: str) -> None:
@@ -615,17 +655,19 @@ def detect_arm(sc: Scan, s: str) -> None:
         return
     idx = np.flatnonzero(region)
     tip = v[idx[np.argmax(np.sum((v[idx] - spt) ** 2, axis=1))]]
-    ts, cents, widths, loops = _arm_sections(sc, spt, tip, x_arm, sg)
+    arm_faces = _arm_faces(sc, spt, tip, x_arm, sg)
+    ts, cents, widths = _arm_sections(sc, spt, tip, arm_faces)
     on_arm = sg * (cents[:, 0] - x_arm) > 0
     first = int(np.argmax(on_arm & (ts >= 0.15)))
     k_w = _wrist_index(ts, widths)
-    if not sc.has(f"wrist_point_{s}") and loops[k_w] is not None:
-        lp = loops[k_w]
-        sc.put(
-            f"wrist_point_{s}",
-            lp[np.argmin(lp[:, 2])],
-            f"back of the narrowest arm section before the hand ({ts[k_w]:.2f} of shoulder-fingertip)",
-        )
+    if not sc.has(f"wrist_point_{s}"):
+        lp = _forearm_wrist(sc, ts, cents, k_w, arm_faces, tip - spt)
+        if lp is not None:
+            sc.put(
+                f"wrist_point_{s}",
+                lp[np.argmin(lp[:, 2])],
+                "back of the forearm section where the narrow wrist ends (the hand begins)",
+            )
     if sc.has(f"elbow_point_{s}"):
         return
     a, b = cents[first], cents[k_w]
