@@ -61,6 +61,7 @@ FOUND = 0.7  # confidence of a point its rule found
 FALLBACK = 0.35  # confidence of a point placed by a rule's fallback
 PROVISIONAL = 0.3  # a point a later rule replaces
 NO_CORNER = "no shoulder corner: highest vertex 1.2 % of S outside the armpit (provisional)"
+NECK_WALL = 1.5  # the side of the neck rises more steeply than this (dy / dx) from the shoulder slope
 SHARP = 0.85  # a rule that found a sharp geometric feature (the shoulder corner, the neck base)
 LEVEL_ARM_SHARE = 0.53  # a level arm's acromion: this share of the way from the side neck point to the armpit
 WRIST_END = 1.1  # the forearm ends where its section is this much wider than the narrowest
@@ -309,13 +310,18 @@ def _shoulder_point(sc: Scan, s: str, arm: np.ndarray, zc: float) -> None:
 
     The frontal plane is at the median depth of the skin in the column 1.2 %
     of S outside the armpit, above it (up to 12 % of S, below the head). Along
-    it, the highest vertex per x bin from 4 % of S inside the armpit to 6 %
-    outside gives the top contour; the corner is the point farthest above the
+    it, the highest vertex per x bin from 8 % of S inside the armpit to 6 %
+    outside gives the top contour (from where it leaves the neck,
+    :func:`_clear_of_the_neck`); the corner is the point farthest above the
     chord of that contour (the shoulder slope turning down the arm, which
     falls beyond it by more than 1 in 2), within 2.5 % of S of the column
-    1.2 % of S outside the armpit. Without a corner (a level T-pose arm)
-    the highest vertex 1.2 % of S outside the
-    armpit is taken, with a lower confidence.
+    1.2 % of S outside the armpit. The chord reaches up the shoulder slope
+    toward the neck, as the acromion's definition walks it from the side of
+    the neck: from 4 % of S inside the armpit it lay along the top of A's
+    massive deltoid, whose lower corner was taken (2.5 cm off the acromion;
+    stable from 7 to 10 % on all six test bodies). Without a corner (a level
+    T-pose arm) the highest vertex 1.2 % of S outside the armpit is taken,
+    with a lower confidence.
     """
     v, S, sg = sc.v, sc.S, SIDES[s]
     xs = arm[0] + sg * 0.012 * S
@@ -327,13 +333,14 @@ def _shoulder_point(sc: Scan, s: str, arm: np.ndarray, zc: float) -> None:
     # its top 3 % of S drifted 2.2 cm back onto the trapezius of the heavy A and C)
     zm = float(np.median(v[colm][:, 2]))
     slab = (np.abs(v[:, 2] - zm) < 0.01 * S) & shoulder_band
-    xs_bins = arm[0] + sg * np.linspace(-0.04 * S, 0.06 * S, 26)
+    xs_bins = arm[0] + sg * np.linspace(-0.08 * S, 0.06 * S, 36)
     prof = []
     for x in xs_bins:
         sel = slab & (np.abs(v[:, 0] - x) < max(0.002 * S, 0.2))
         if sel.any():
             i = np.flatnonzero(sel)
             prof.append(i[np.argmax(v[i, 1])])
+    prof = _clear_of_the_neck(v, np.asarray(prof, dtype=np.int64), arm[0], sg, S)
     if len(prof) > 4:
         p = v[prof][:, [0, 1]]
         ab = p[-1] - p[0]
@@ -358,6 +365,31 @@ def _shoulder_point(sc: Scan, s: str, arm: np.ndarray, zc: float) -> None:
         else np.flatnonzero(colm)
     )
     sc.put(f"shoulder_point_{s}", v[sel[np.argmax(v[sel, 1])]], NO_CORNER, PROVISIONAL)
+
+
+def _clear_of_the_neck(v: np.ndarray, prof: np.ndarray, x_armpit: float, sg: float, S: float) -> np.ndarray:
+    """The top contour ``prof`` (vertex ids, inside to outside) from where it leaves the neck.
+
+    Walking in from the arm along the contour's upper envelope (bins lower
+    than one further out are gaps in the slab, skipped), inside the armpit the
+    contour climbs the shoulder slope (less than 1 in 1 on the test bodies, the trapezius of
+    the muscular A included) up to the side of the neck, which rises more than
+    :data:`NECK_WALL` times as much as it comes in, and by more than 1 % of S;
+    the bins from there on inward lie on the neck (an arms-down re-posed
+    shoulder slopes gently into a steep neck, and a chord from a point high on
+    the neck made a corner of its even slope).
+    """
+    x = sg * (v[prof, 0] - x_armpit)
+    y = v[prof, 1]
+    top = len(prof) - 1
+    for i in range(len(prof) - 2, -1, -1):
+        rise = y[i] - y[top]
+        if rise <= 0.0:
+            continue
+        if x[i] < 0.0 and rise > max(NECK_WALL * (x[top] - x[i]), 0.01 * S):
+            return prof[top:]
+        top = i
+    return prof
 
 
 def level_arm_shoulder(sc: Scan, s: str) -> None:
