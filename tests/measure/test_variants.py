@@ -124,9 +124,10 @@ def test_arm_and_shoulder_lengths_from_detection_alone(characters_dir, name):
     assert all(abs(v) <= 3.0 for v in off.values()), off
 
 
-#: girths that hold across the pose; elbow and wrist follow the skin of the
-#: straightened T-pose elbow and turned forearm, and the neck-base plane rides
-#: on the raised trapezius of a rigless T-pose (docs/measurements.md)
+#: girths that hold across the pose (the elbow's snug tape of the straightened
+#: elbow: C's A-pose and T-pose elbows were 3.8 % apart cut square to the
+#: surface-straightened arm); the neck-base plane rides on the raised trapezius
+#: of a rigless T-pose (docs/measurements.md)
 POSE_FREE = (
     "chest_girth",
     "underbust_girth",
@@ -137,6 +138,10 @@ POSE_FREE = (
     "head_girth",
     "upper_arm_girth_left",
     "upper_arm_girth_right",
+    "elbow_girth_left",
+    "elbow_girth_right",
+    "wrist_girth_left",
+    "wrist_girth_right",
     "thigh_girth_left",
     "knee_girth_left",
     "calf_girth_left",
