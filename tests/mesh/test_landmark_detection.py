@@ -148,7 +148,8 @@ def test_detection_alone_on_the_shared_characters(characters_dir):
     The elbow sat 1.5-2.5 cm down the forearm (4.5 cm on A), the crotch up to
     2.9 cm in front of the inseams' meeting point, A's shoulder points on the
     lower corner of its deltoid (2.5 cm off; arm length -5.3 %, shoulder width
-    +8.4 %), the wrist points 0.7-2.0 cm short of the hand (F's arm -3.5 %).
+    +8.4 %), the wrist points 0.7-2.0 cm short of the hand (F's arm -3.5 %), the
+    jugular notch 2.3-3.9 cm off on A, C, E and F.
     A's elbow stays the weakest point (4.2 cm: its bulging upper arm bends the
     sections' centre line 3 cm below the elbow joint).
     """
@@ -160,6 +161,7 @@ def test_detection_alone_on_the_shared_characters(characters_dir):
             n: float(np.linalg.norm(found[n].position - c.landmarks[n].position))
             for n in (
                 "crotch_point",
+                "front_neck_point",
                 *(f"{p}_{s}" for p in ("elbow_point", "shoulder_point", "wrist_point") for s in SIDES),
             )
         }
@@ -169,6 +171,8 @@ def test_detection_alone_on_the_shared_characters(characters_dir):
     assert max(d[f"shoulder_point_{s}"] for d in far.values() for s in SIDES) < 0.5, far
     wrists = [d[f"wrist_point_{s}"] for d in far.values() for s in SIDES]
     assert np.median(wrists) < 0.5 and max(wrists) < 1.2, far
+    notches = [d["front_neck_point"] for d in far.values()]
+    assert np.median(notches) < 1.8 and max(notches) < 3.0, far
 
 
 def test_every_landmark_has_a_confidence_and_evidence(variants):
