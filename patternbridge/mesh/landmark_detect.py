@@ -13,19 +13,21 @@ rule that placed it and a confidence:
   flares gradually, so the scan steps back while the contour is steeper than
   about 60°); the lowest vertex above the gap between torso and arm; the
   axilla folds (front-most / back-most point 1.1 % of S above the armpit) and
-  the shoulder point (highest vertex 1.2 % of S outside the armpit).
+  the shoulder point (the convex corner of the shoulder's top contour, from
+  the side of the neck down the arm).
 * :func:`detect_neck` — the narrowest section between the shoulders and the
   head; the front neck point deepest behind the chord of the front midline
-  profile, the back neck point on the back midline where the section has grown
+  profile from the upper chest, the back neck point on the back midline where the section has grown
   by 30 % (the neck base), the side neck points at the neck/shoulder corner of
   the frontal contour.
 * :func:`detect_torso_points` — the waist (narrowest torso section), chest
   (widest above) and hip (widest below) levels of the girth search, and their
   front, back and lateral extreme points.
 * :func:`detect_arm` — along the line shoulder point to fingertip, sections
-  1 % of it apart: the wrist at the distal end of the narrow wrist (the last
-  section less than 10 % wider than the narrowest before the palm; back side)
-  and the elbow where the arm's centre line bends most (outer side).
+  1 % of it apart: the narrow wrist before the palm, then square to the
+  forearm the wrist point where the narrow wrist ends (the last section less
+  than 5 % wider than the narrowest; back side), and the elbow where the
+  arm's centre line bends most (outer side).
 * :func:`detect_leg` — the ankles where the foot section's depth/width ratio
   has dropped to 75 % of the sole's, the heel behind and below them, the knee
   in front at 60 % of the height from ankle to crotch.
