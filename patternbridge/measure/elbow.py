@@ -18,6 +18,12 @@ from the surface alone, so a rigged and a rigless file measure alike:
 * its vertices turn about the joint, by the flexion times a smoothstep weight
   of their height above that plane over two elbow radii (a two-bone linear
   blend skin, the weights a rig paints round an elbow).
+
+The section axes bend 10-14° less than the bones (a straight T-pose arm's
+axes are 14° apart on C), so the surface straightening leaves some bend; the
+girth is the snug tape over the elbow point, the smallest section through it
+within :data:`SNUG_DEG` of square to the arm (:func:`snug_normals`), as a
+tailor draws the tape where it lies shortest round the joint.
 """
 
 from __future__ import annotations
@@ -29,7 +35,11 @@ import numpy as np
 from ..mesh.landmark_detect import STRAIGHT_DEG
 from ..mesh.skinning import rotation_about_axis
 
-__all__ = ["StraightElbow", "straighten_elbow"]
+__all__ = ["SNUG_DEG", "StraightElbow", "snug_normals", "straighten_elbow"]
+
+#: the elbow tape is drawn snug: the smallest section through the elbow point
+#: whose plane lies within this many degrees of square to the straightened arm
+SNUG_DEG = 10.0
 
 
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)
@@ -122,3 +132,20 @@ def straighten_elbow(
     w_el = w_el * w_el * (3.0 - 2.0 * w_el)
     el = elbow + w_el * ((elbow - joint) @ turn.T + joint - elbow)
     return StraightElbow(vertices=moved, elbow=el, axis=u_up, centre=joint, flexion_deg=float(np.degrees(flex)))
+
+
+def snug_normals(normal: np.ndarray, max_deg: float = SNUG_DEG, steps: int = 5) -> np.ndarray:
+    """Unit plane normals tilted up to ``max_deg`` from ``normal`` about two axes square to it.
+
+    A ``steps`` x ``steps`` grid of tilts (``normal`` itself in the middle for
+    an odd ``steps``); (steps * steps, 3).
+    """
+    n = np.asarray(normal, dtype=np.float64)
+    n = n / np.linalg.norm(n)
+    a = np.cross(n, np.eye(3)[int(np.argmin(np.abs(n)))])
+    a /= np.linalg.norm(a)
+    b = np.cross(n, a)
+    t = np.tan(np.radians(np.linspace(-max_deg, max_deg, steps)))
+    ta, tb = np.meshgrid(t, t, indexing="ij")
+    out = n + ta.reshape(-1, 1) * a + tb.reshape(-1, 1) * b
+    return out / np.linalg.norm(out, axis=1, keepdims=True)

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import LandmarkError
-from .elbow import StraightElbow, straighten_elbow
+from .elbow import StraightElbow, snug_normals, straighten_elbow
 from .model import Measurement
 from .section import Section, SlabIndex, hull_girth, plane_loops
 
@@ -475,19 +475,43 @@ WRIST_ABOVE = 0.025
 WRIST_BELOW = 0.005
 
 
+def _snug_elbow_cut(
+    body: BodyFrame,
+    v: np.ndarray,
+    point: np.ndarray,
+    normal: np.ndarray,
+    axis: tuple[np.ndarray, np.ndarray],
+    cands: np.ndarray,
+) -> _Cut:
+    """The smallest arm section through ``point`` (the elbow point) within ``SNUG_DEG`` of square to ``normal``.
+
+    ``v`` are the body's vertices as cut (the straightened arm, or the body
+    itself); the loop kept is the arm's, round the point where the arm's
+    ``axis`` (point, unit direction) meets the plane.
+    """
+    f = body.f[cands]
+    c, u = axis
+    best = None
+    for n in snug_normals(normal):
+        h = v[f] @ n
+        level = float(point @ n)
+        crossing = cands[(h.min(axis=1) <= level) & (h.max(axis=1) >= level)]
+        sec = plane_loops(v, body.f, point, n, candidates=crossing)
+        ref = c + (float((point - c) @ n) / float(u @ n)) * u
+        cut = _hull_cut(sec, body.part_loops(sec, ref))
+        if cut.value_cm > 0 and (best is None or cut.value_cm < best.value_cm):
+            best = cut
+    return best if best is not None else _Cut(value_cm=0.0, polyline=np.zeros((0, 3)), origin=point, normal=normal)
+
+
 def _straight_elbow_cut(body: BodyFrame, straight: StraightElbow, cands: np.ndarray) -> _Cut:
-    """The elbow girth square to the straightened arm, its ring carried back onto the given skin."""
+    """The snug elbow girth of the straightened arm, its ring carried back onto the given skin."""
     from scipy.spatial import cKDTree
 
-    v, n = straight.vertices, straight.axis
-    h = v[body.f[cands]] @ n
-    level = float(straight.elbow @ n)
-    crossing = cands[(h.min(axis=1) <= level) & (h.max(axis=1) >= level)]
-    sec = plane_loops(v, body.f, straight.elbow, n, candidates=crossing)
-    ref = straight.centre + ((straight.elbow - straight.centre) @ n) * n
-    cut = _hull_cut(sec, body.part_loops(sec, ref))
+    v = straight.vertices
+    cut = _snug_elbow_cut(body, v, straight.elbow, straight.axis, (straight.centre, straight.axis), cands)
     if len(cut.polyline):
-        ids = np.unique(body.f[crossing])
+        ids = np.unique(body.f[cands])
         _, near = cKDTree(v[ids]).query(cut.polyline)
         ring = cut.polyline + (body.v[ids[near]] - v[ids[near]])
         cut = _Cut(value_cm=cut.value_cm, polyline=ring, origin=cut.origin, normal=cut.normal)
@@ -522,7 +546,7 @@ def _arm_girths(body: BodyFrame, side: str) -> dict[str, Measurement]:
     if straight is None:
         bis = u_up + u_lo
         bis /= np.linalg.norm(bis)
-        cut = body.part_cut(el, bis, c_up + ((el - c_up) @ u_up) * u_up, cands)
+        cut = _snug_elbow_cut(body, body.v, el, bis, (c_up, u_up), cands)
     else:
         cut = _straight_elbow_cut(body, straight, cands)
     out[f"elbow_girth_{side}"] = _girth(

@@ -13,19 +13,21 @@ rule that placed it and a confidence:
   flares gradually, so the scan steps back while the contour is steeper than
   about 60°); the lowest vertex above the gap between torso and arm; the
   axilla folds (front-most / back-most point 1.1 % of S above the armpit) and
-  the shoulder point (highest vertex 1.2 % of S outside the armpit).
+  the shoulder point (the convex corner of the shoulder's top contour, from
+  the side of the neck down the arm).
 * :func:`detect_neck` — the narrowest section between the shoulders and the
   head; the front neck point deepest behind the chord of the front midline
-  profile, the back neck point on the back midline where the section has grown
+  profile from the upper chest, the back neck point on the back midline where the section has grown
   by 30 % (the neck base), the side neck points at the neck/shoulder corner of
   the frontal contour.
 * :func:`detect_torso_points` — the waist (narrowest torso section), chest
   (widest above) and hip (widest below) levels of the girth search, and their
   front, back and lateral extreme points.
 * :func:`detect_arm` — along the line shoulder point to fingertip, sections
-  1 % of it apart: the wrist at the distal end of the narrow wrist (the last
-  section less than 10 % wider than the narrowest before the palm; back side)
-  and the elbow where the arm's centre line bends most (outer side).
+  1 % of it apart: the narrow wrist before the palm, then square to the
+  forearm the wrist point where the narrow wrist ends (the last section less
+  than 5 % wider than the narrowest; back side), and the elbow where the
+  arm's centre line bends most (outer side).
 * :func:`detect_leg` — the ankles where the foot section's depth/width ratio
   has dropped to 75 % of the sole's, the heel behind and below them, the knee
   in front at 60 % of the height from ankle to crotch.
@@ -61,9 +63,11 @@ FOUND = 0.7  # confidence of a point its rule found
 FALLBACK = 0.35  # confidence of a point placed by a rule's fallback
 PROVISIONAL = 0.3  # a point a later rule replaces
 NO_CORNER = "no shoulder corner: highest vertex 1.2 % of S outside the armpit (provisional)"
+NECK_WALL = 1.5  # the side of the neck rises more steeply than this (dy / dx) from the shoulder slope
 SHARP = 0.85  # a rule that found a sharp geometric feature (the shoulder corner, the neck base)
 LEVEL_ARM_SHARE = 0.53  # a level arm's acromion: this share of the way from the side neck point to the armpit
-WRIST_END = 1.1  # the wrist ends where its section is this much wider than the narrowest
+WRIST_END = 1.1  # the forearm ends where its section is this much wider than the narrowest
+FOREARM_WRIST_END = 1.05  # ... and, square to the forearm, where its section is this much wider
 STRAIGHT_DEG = 20.0  # an elbow flexed less than this is straight (A-pose elbows: 45°)
 
 
@@ -308,13 +312,18 @@ def _shoulder_point(sc: Scan, s: str, arm: np.ndarray, zc: float) -> None:
 
     The frontal plane is at the median depth of the skin in the column 1.2 %
     of S outside the armpit, above it (up to 12 % of S, below the head). Along
-    it, the highest vertex per x bin from 4 % of S inside the armpit to 6 %
-    outside gives the top contour; the corner is the point farthest above the
+    it, the highest vertex per x bin from 8 % of S inside the armpit to 6 %
+    outside gives the top contour (from where it leaves the neck,
+    :func:`_clear_of_the_neck`); the corner is the point farthest above the
     chord of that contour (the shoulder slope turning down the arm, which
     falls beyond it by more than 1 in 2), within 2.5 % of S of the column
-    1.2 % of S outside the armpit. Without a corner (a level T-pose arm)
-    the highest vertex 1.2 % of S outside the
-    armpit is taken, with a lower confidence.
+    1.2 % of S outside the armpit. The chord reaches up the shoulder slope
+    toward the neck, as the acromion's definition walks it from the side of
+    the neck: from 4 % of S inside the armpit it lay along the top of A's
+    massive deltoid, whose lower corner was taken (2.5 cm off the acromion;
+    stable from 7 to 10 % on all six test bodies). Without a corner (a level
+    T-pose arm) the highest vertex 1.2 % of S outside the armpit is taken,
+    with a lower confidence.
     """
     v, S, sg = sc.v, sc.S, SIDES[s]
     xs = arm[0] + sg * 0.012 * S
@@ -326,13 +335,14 @@ def _shoulder_point(sc: Scan, s: str, arm: np.ndarray, zc: float) -> None:
     # its top 3 % of S drifted 2.2 cm back onto the trapezius of the heavy A and C)
     zm = float(np.median(v[colm][:, 2]))
     slab = (np.abs(v[:, 2] - zm) < 0.01 * S) & shoulder_band
-    xs_bins = arm[0] + sg * np.linspace(-0.04 * S, 0.06 * S, 26)
+    xs_bins = arm[0] + sg * np.linspace(-0.08 * S, 0.06 * S, 36)
     prof = []
     for x in xs_bins:
         sel = slab & (np.abs(v[:, 0] - x) < max(0.002 * S, 0.2))
         if sel.any():
             i = np.flatnonzero(sel)
             prof.append(i[np.argmax(v[i, 1])])
+    prof = _clear_of_the_neck(v, np.asarray(prof, dtype=np.int64), arm[0], sg, S)
     if len(prof) > 4:
         p = v[prof][:, [0, 1]]
         ab = p[-1] - p[0]
@@ -357,6 +367,31 @@ def _shoulder_point(sc: Scan, s: str, arm: np.ndarray, zc: float) -> None:
         else np.flatnonzero(colm)
     )
     sc.put(f"shoulder_point_{s}", v[sel[np.argmax(v[sel, 1])]], NO_CORNER, PROVISIONAL)
+
+
+def _clear_of_the_neck(v: np.ndarray, prof: np.ndarray, x_armpit: float, sg: float, S: float) -> np.ndarray:
+    """The top contour ``prof`` (vertex ids, inside to outside) from where it leaves the neck.
+
+    Walking in from the arm along the contour's upper envelope (bins lower
+    than one further out are gaps in the slab, skipped), inside the armpit the
+    contour climbs the shoulder slope (less than 1 in 1 on the test bodies, the trapezius of
+    the muscular A included) up to the side of the neck, which rises more than
+    :data:`NECK_WALL` times as much as it comes in, and by more than 1 % of S;
+    the bins from there on inward lie on the neck (an arms-down re-posed
+    shoulder slopes gently into a steep neck, and a chord from a point high on
+    the neck made a corner of its even slope).
+    """
+    x = sg * (v[prof, 0] - x_armpit)
+    y = v[prof, 1]
+    top = len(prof) - 1
+    for i in range(len(prof) - 2, -1, -1):
+        rise = y[i] - y[top]
+        if rise <= 0.0:
+            continue
+        if x[i] < 0.0 and rise > max(NECK_WALL * (x[top] - x[i]), 0.01 * S):
+            return prof[top:]
+        top = i
+    return prof
 
 
 def level_arm_shoulder(sc: Scan, s: str) -> None:
@@ -419,8 +454,11 @@ def detect_neck(sc: Scan) -> None:
     zc = float(np.mean(tn[:, 2]))
     midv = np.abs(v[:, 0] - xm) < max(0.004 * S, 0.3)
     if not sc.has("front_neck_point"):
+        # the chord runs from the upper chest, 8 % of S below the shoulder points, to the narrowest neck
+        # (the jugular notch's definition takes it from the upper chest to the neck; from 4 % the
+        # notch was 2.4-3.9 cm off on A, C, E, F; the same points from 7 % to 10 %)
         prof = []
-        for y in np.arange(y_sh - 0.04 * S, y_neck, step):
+        for y in np.arange(y_sh - 0.08 * S, y_neck, step):
             sel = midv & (np.abs(v[:, 1] - y) < step) & (v[:, 2] > zc - 0.02 * S)
             if sel.any():
                 i = np.flatnonzero(sel)
@@ -555,38 +593,44 @@ def _bust_points(sc: Scan, y: float) -> None:
         )
 
 
-def _arm_sections(sc: Scan, spt: np.ndarray, tip: np.ndarray, x_arm: float, sg: float):
-    """Centres and widths of sections square to the shoulder-fingertip line."""
-    from ..measure.section import plane_loops
-
+def _arm_faces(sc: Scan, spt: np.ndarray, tip: np.ndarray, x_arm: float, sg: float) -> np.ndarray:
+    """Faces near the shoulder-fingertip line, wholly beyond the armpit."""
     v, faces = sc.v, sc.f
-    d = tip - spt
-    u = d / np.linalg.norm(d)
-    ts = np.linspace(0.10, 0.88, 79)  # 1 % of the shoulder-fingertip line apart
     arm_faces = _faces_near(v, faces, spt, tip, 0.12 * sc.S)
     beyond = sg * (v[:, 0] - x_arm) > 0
-    arm_faces = arm_faces[beyond[faces[arm_faces]].all(axis=1)]
-    cents, widths, loops = [], [], []
-    for t in ts:
-        q = spt + t * d
-        sec = plane_loops(v, faces, q, u, candidates=arm_faces)
-        if not sec.loops:
-            cents.append(q)
-            widths.append(np.inf)
-            loops.append(None)
-            continue
-        qq = sec.to_uv(q)
-        lp = min(sec.loops, key=lambda lp: lp.distance_uv(qq) if not lp.contains_uv(qq) else -1.0)
-        cents.append(sec.to_xyz(lp.centroid_uv))
-        widths.append(float(np.sum(np.ptp(lp.uv, axis=0))))
-        loops.append(lp.points)
-    return ts, np.asarray(cents), np.asarray(widths), loops
+    return arm_faces[beyond[faces[arm_faces]].all(axis=1)]
+
+
+def _arm_section(sc: Scan, q: np.ndarray, u: np.ndarray, arm_faces: np.ndarray):
+    """Centre, width (sum of the two extents) and points of the arm's loop in the plane through ``q`` square to ``u``.
+
+    The loop holding ``q`` (or the nearest one); ``(q, inf, None)`` where the plane cuts nothing.
+    """
+    from ..measure.section import plane_loops
+
+    sec = plane_loops(sc.v, sc.f, q, u, candidates=arm_faces)
+    if not sec.loops:
+        return q, np.inf, None
+    qq = sec.to_uv(q)
+    lp = min(sec.loops, key=lambda lp: lp.distance_uv(qq) if not lp.contains_uv(qq) else -1.0)
+    return sec.to_xyz(lp.centroid_uv), float(np.sum(np.ptp(lp.uv, axis=0))), lp.points
+
+
+def _arm_sections(sc: Scan, spt: np.ndarray, tip: np.ndarray, arm_faces: np.ndarray):
+    """Centres and widths of sections square to the shoulder-fingertip line, 1 % of it apart."""
+    d = tip - spt
+    u = d / np.linalg.norm(d)
+    ts = np.linspace(0.10, 0.88, 79)
+    cut = [_arm_section(sc, spt + t * d, u, arm_faces) for t in ts]
+    return ts, np.asarray([c[0] for c in cut]), np.asarray([c[1] for c in cut])
 
 
 def _wrist_index(ts: np.ndarray, widths: np.ndarray) -> int:
     """The narrowest forearm section before the hand: scanning out from 0.55 of the
     shoulder-fingertip line, the running minimum until the width grows by 30 %
-    (the palm), so the narrow fingers beyond are never taken."""
+    (the palm), so the narrow fingers beyond are never taken; then out to the
+    distal end of the narrow wrist (the last section less than :data:`WRIST_END`
+    times wider)."""
     distal = np.flatnonzero((ts > 0.55) & (ts < 0.9))
     best = int(distal[0])
     for k in distal:
@@ -594,11 +638,44 @@ def _wrist_index(ts: np.ndarray, widths: np.ndarray) -> int:
             best = int(k)
         elif widths[k] > 1.3 * widths[best]:
             break
-    # the styloid sits at the distal end of the narrow wrist, where the palm begins to widen it
     end = best
     while end + 1 < len(widths) and widths[end + 1] < WRIST_END * widths[best]:
         end += 1
     return end
+
+
+def _forearm_wrist(sc: Scan, ts, cents, k_w: int, arm_faces: np.ndarray, out: np.ndarray):
+    """The wrist section square to the forearm, or None: the distal end of the narrow wrist.
+
+    The sections of :func:`_arm_sections` are square to the whole
+    shoulder-fingertip line, oblique to a bent forearm, and their widths grow
+    into the hand 1-2 cm before the wrist's end. The forearm's axis is the line
+    through their centres over the 15 % of that line before the narrow wrist;
+    sections square to it, 0.25 % of S apart, from 6 % of S before the wrist
+    out: the running minimum until the width grows by 30 % (the palm), then
+    the last section less than :data:`FOREARM_WRIST_END` times the narrowest,
+    where the hand begins (the ulnar styloid; 0.0-0.6 cm along the arm from the
+    reference vertex on the six characters and the two T-poses).
+    """
+    sel = np.flatnonzero((ts > ts[k_w] - 0.15) & (ts <= ts[k_w]))
+    if len(sel) < 3:
+        return None
+    c = cents[sel]
+    axis = np.linalg.svd(c - c.mean(axis=0))[2][0]
+    axis = axis if axis @ out > 0 else -axis
+    hs = np.arange(-0.06, 0.06, 0.0025) * sc.S
+    cut = [_arm_section(sc, cents[k_w] + h * axis, axis, arm_faces) for h in hs]
+    widths = np.array([w for _, w, _ in cut])
+    best = 0
+    for k in range(len(hs)):
+        if widths[k] < widths[best]:
+            best = k
+        elif widths[k] > 1.3 * widths[best]:
+            break
+    end = best
+    while end + 1 < len(hs) and widths[end + 1] < FOREARM_WRIST_END * widths[best]:
+        end += 1
+    return cut[end][2]
 
 
 def detect_arm(sc: Scan, s: str) -> None:
@@ -615,17 +692,19 @@ def detect_arm(sc: Scan, s: str) -> None:
         return
     idx = np.flatnonzero(region)
     tip = v[idx[np.argmax(np.sum((v[idx] - spt) ** 2, axis=1))]]
-    ts, cents, widths, loops = _arm_sections(sc, spt, tip, x_arm, sg)
+    arm_faces = _arm_faces(sc, spt, tip, x_arm, sg)
+    ts, cents, widths = _arm_sections(sc, spt, tip, arm_faces)
     on_arm = sg * (cents[:, 0] - x_arm) > 0
     first = int(np.argmax(on_arm & (ts >= 0.15)))
     k_w = _wrist_index(ts, widths)
-    if not sc.has(f"wrist_point_{s}") and loops[k_w] is not None:
-        lp = loops[k_w]
-        sc.put(
-            f"wrist_point_{s}",
-            lp[np.argmin(lp[:, 2])],
-            f"back of the narrowest arm section before the hand ({ts[k_w]:.2f} of shoulder-fingertip)",
-        )
+    if not sc.has(f"wrist_point_{s}"):
+        lp = _forearm_wrist(sc, ts, cents, k_w, arm_faces, tip - spt)
+        if lp is not None:
+            sc.put(
+                f"wrist_point_{s}",
+                lp[np.argmin(lp[:, 2])],
+                "back of the forearm section where the narrow wrist ends (the hand begins)",
+            )
     if sc.has(f"elbow_point_{s}"):
         return
     a, b = cents[first], cents[k_w]
