@@ -154,7 +154,7 @@ def waist_line_marks(
     marks: Mapping[str, Landmark],
     level_y_cm: float,
 ) -> dict[str, Landmark]:
-    """Waist back and side points on the horizontal waist line at ``level_y_cm``.
+    """Waist front, back and side points on the horizontal waist line at ``level_y_cm``.
 
     The tailor's waist is a horizontal line round the natural waist (ISO 8559-1:
     the narrowest level between the lower ribs and the hip bones); back length
@@ -171,8 +171,8 @@ def waist_line_marks(
 
     Returns
     -------
-    ``waist_back``, ``waist_side_left``, ``waist_side_right`` on their nearest
-    vertices (empty when no torso loop is found there)
+    ``waist_front``, ``waist_back``, ``waist_side_left``, ``waist_side_right``
+    on their nearest vertices (empty when no torso loop is found there)
 
     Examples
     --------
@@ -200,7 +200,9 @@ def waist_line_marks(
     near_mid = np.abs(pts[:, 0] - axis[0])
     behind = pts[:, 2] < axis[2]
     back = pts[behind][np.argmin(near_mid[behind])] if behind.any() else pts[np.argmin(pts[:, 2])]
+    front = pts[~behind][np.argmin(near_mid[~behind])] if (~behind).any() else pts[np.argmax(pts[:, 2])]
     chosen = {
+        "waist_front": front,
         "waist_back": back,
         "waist_side_left": pts[np.argmax(pts[:, 0])],
         "waist_side_right": pts[np.argmin(pts[:, 0])],
