@@ -56,7 +56,10 @@ def opening_units(op: Opening) -> list[tuple[Side, str]] | None:
     A neckline side cut twice (a half on the fold, a pair) is walked on both
     copies, which meet at the centre line; any other opening (an armhole, a
     sleeve hem) is one copy of the garment's. Two sides close a loop in either
-    order; more need the seams' chain order, which is not known here.
+    order; more need the seams' chain order, which is not known here. An
+    armhole's ranges are taken on the copies worn on the body's right side
+    (:attr:`.openings.Opening.right_copy`), so a band's drawn copy binds one
+    armhole, never a left front's and a right back's half of two.
     """
     if not 1 <= len(op.sides) <= 2:
         return None
@@ -64,7 +67,7 @@ def opening_units(op: Opening) -> list[tuple[Side, str]] | None:
     for k, side in enumerate(op.sides):
         twice = op.kind == "neck" and k < len(op.copies) and op.copies[k] == 2
         if not twice:
-            units.append((side, "primary"))
+            units.append((side, op.right_copy[k] if k < len(op.right_copy) else "primary"))
             continue
         centre_first = k < len(op.centre_first) and op.centre_first[k]
         # the drawn copy in outline order goes centre -> outer when its range starts at the centre line
