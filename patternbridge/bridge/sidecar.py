@@ -25,6 +25,7 @@ from .band_spans import split_bands
 from .landmarks import piece_landmarks, worn_side
 from .links import measurement_links
 from .model import BridgeInference, Join
+from .size_chart import choose_chart
 
 __all__ = ["SIDECAR_VERSION", "inference_sidecar", "runs_against"]
 
@@ -133,7 +134,8 @@ def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str,
     for j in inference.joins:
         for side in (j.a, j.b):
             marks[side.piece] |= {side.start, side.end}
-    links = measurement_links(pattern, inference)
+    chart = choose_chart(pattern.sizes, pattern.sample_size)
+    links = measurement_links(pattern, inference, chart)
     for link in links:
         for leg in link.legs:
             marks[leg.piece] |= {int(leg.start[1:]), int(leg.end[1:])}
@@ -184,6 +186,7 @@ def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str,
         "style": pattern.style,
         "description": f"inferred by patternbridge bridge infer ({len(inference.joins)} seams)",
         "sample_size": pattern.sample_size,
+        "size_chart": chart.to_dict(),
         "garment_pieces": list(inference.chosen),
         "alternatives": [[list(option) for option in group] for group in inference.alternatives],
         "pieces": pieces,
