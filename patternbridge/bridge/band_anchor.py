@@ -8,7 +8,8 @@ of the band's drawn copy to a piece with body landmarks (a front's
 ``centre_neck``, ``neck_side``, ``shoulder_point``, ``underarm``) names, for
 each landmark mark inside the seam's range, the vertex of the band that meets
 it (the two sides run from opposite ends when the seam is ``reverse``). Of
-these, the band vertex nearest the middle of the band's sewn span anchors it:
+these, the band vertex nearest the middle of the band's sewn span anchors it
+(a landmark's distance from the seam counts against it):
 that vertex goes on that landmark, on the body part the landmark belongs to
 (:data:`LANDMARK_PART`). A band whose partners carry no landmark on its seams
 (a cuff on a sleeve hem) keeps the role's place (:data:`.landmarks` ``_BAND_PLACE``).
@@ -76,23 +77,24 @@ def _reverse(pattern: Pattern, inference: BridgeInference, j: Join) -> bool:
     return runs_against(pattern, inference, j)
 
 
-def _meets(pattern: Pattern, inference: BridgeInference, j: Join, vertex: int) -> float | None:
-    """Where partner vertex ``vertex`` meets the band range ``j.b`` (band cm from vertex 0); None when the
-    vertex lies outside the range ``j.a`` by more than ``MAX_SNAP_CM`` (one just outside, the corner beside
-    an armhole's end, counts as that end)."""
+def _meets(pattern: Pattern, inference: BridgeInference, j: Join, vertex: int) -> tuple[float, float] | None:
+    """Where partner vertex ``vertex`` meets the band range ``j.b`` (band cm from vertex 0) and how far outside
+    the range ``j.a`` it lies (cm); None when farther than ``MAX_SNAP_CM`` (one just outside, the corner
+    beside an armhole's end, counts as that end)."""
     arc_a, total_a = _arc(pattern, j.a.piece)
     d_a, len_a = _along(arc_a, total_a, j.a.start, j.a.end)
-    d = float(d_a[vertex])
+    d, outside = float(d_a[vertex]), 0.0
     if d > len_a + 1e-6:
         after, before = d - len_a, total_a - d
-        if min(after, before) > MAX_SNAP_CM:
+        outside = min(after, before)
+        if outside > MAX_SNAP_CM:
             return None
         d = len_a if after < before else 0.0
     t = d / len_a if len_a > 0 else 0.0
     arc_b, total_b = _arc(pattern, j.b.piece)
     _, len_b = _along(arc_b, total_b, j.b.start, j.b.end)
     s = (1.0 - t) if _reverse(pattern, inference, j) else t
-    return float(np.mod(arc_b[j.b.start] + s * len_b, total_b))
+    return float(np.mod(arc_b[j.b.start] + s * len_b, total_b)), outside
 
 
 def _sewn_middle(starts: np.ndarray, lengths: np.ndarray, total: float) -> tuple[float, float]:
@@ -138,14 +140,17 @@ def band_anchor(pattern: Pattern, inference: BridgeInference, band: str, found: 
             name = _swap_side(landmark) if mirrored else landmark
             if _swap_side(name) not in LANDMARK_PART and name not in LANDMARK_PART:
                 continue
-            pos = _meets(pattern, inference, j, partner.marks[mark])
-            if pos is None:
+            met = _meets(pattern, inference, j, partner.marks[mark])
+            if met is None:
                 continue
+            pos, outside = met
             gap = np.abs(np.mod(arc_b - pos + 0.5 * total_b, total_b) - 0.5 * total_b)
             v = int(np.argmin(gap))
             if gap[v] > MAX_SNAP_CM:
                 continue
-            off = abs(float(np.mod(pos - origin, total_b)) - (middle - origin))
+            # nearest the middle; of landmarks meeting one vertex (a strap's side neck and shoulder point,
+            # 2 cm apart), the one nearest the seam
+            off = abs(float(np.mod(pos - origin, total_b)) - (middle - origin)) + outside + float(gap[v])
             if best is None or off < best[0] - 1e-6:
                 best = (off, name, v)
     return None if best is None else (best[1], best[2])

@@ -75,6 +75,19 @@ def opening_units(op: Opening) -> list[tuple[Side, str]] | None:
     return units
 
 
+def _closure_height(op: Opening, units: list[tuple[Side, str]], start: int) -> float:
+    """Minus the upright height of the joint where a band started at unit ``start`` closes (0 when not known).
+
+    The walk starts at the unit's start on a drawn copy, at its end on a mirror copy. Of the places its own
+    marks leave open, an armhole band closes at its highest joint (the shoulder): both armholes' bands then
+    close alike, the band's middle at the underarm.
+    """
+    if not op.heights or len(op.heights) != len(units):
+        return 0.0
+    side_start, side_end = op.heights[start]
+    return -(side_start if units[start][1] == "primary" else side_end)
+
+
 def _bounds(lengths: np.ndarray, start: int, band_copy: str, margin: float = 0.0) -> np.ndarray:
     """(m + 1,) positions (share of the band edge from its start) of the unit ends, the loop started at ``start``.
 
@@ -105,14 +118,15 @@ def place_band(pattern: Pattern, joins: list[Join], edge: Run, op: Opening, band
     excess = edge.length_cm - lengths.sum()
     margin = 0.5 * excess / edge.length_cm if edge.length_cm > FLAT_APPLIED * lengths.sum() else 0.0
 
-    def fit(start: int) -> tuple[int, float, int]:
+    def fit(start: int) -> tuple[int, float, float, int]:
         inner = _bounds(lengths, start, band_copy, margin)[1:-1]
+        low = _closure_height(op, units, start)
         if not len(marks) or not len(inner):
-            return (0, 0.0, start)
+            return (0, 0.0, low, start)
         d = np.min(np.abs(inner[:, None] - marks[None, :]), axis=1)
-        return (-int(np.sum(d < SNAP)), float(np.minimum(d, SNAP).sum()), start)
+        return (-int(np.sum(d < SNAP)), float(np.minimum(d, SNAP).sum()), low, start)
 
-    start = min(fit(k) for k in range(len(units)))[2]
+    start = min(fit(k) for k in range(len(units)))[-1]
     pos = _bounds(lengths, start, band_copy, margin)
     for k in range(int(margin == 0.0), len(pos) - int(margin == 0.0)):
         if len(marks) and np.min(np.abs(marks - pos[k])) < SNAP:

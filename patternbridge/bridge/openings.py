@@ -39,6 +39,8 @@ class Opening:
     #: per side of an opening away from the centre line (an armhole): the copy that lies on the body's right
     #: side, ``mirror`` for a half drawn as the left half and cut twice (its drawn copy is worn on the left)
     right_copy: tuple[str, ...] = ()
+    #: per side of an armhole: the upright height (cm) of its start and end vertex (where a band may close)
+    heights: tuple[tuple[float, float], ...] = ()
 
 
 def run_side(r: Run) -> Side:
@@ -94,6 +96,11 @@ def _side_points(pattern: Pattern, o: Orientation, side: Side) -> tuple[np.ndarr
     n = len(pts)
     idx = np.arange(side.start, side.end + 1) if side.end > side.start else np.r_[side.start : n, 0 : side.end + 1]
     return pts, pts[idx]
+
+
+def _end_heights(pattern: Pattern, o: Orientation, side: Side) -> tuple[float, float]:
+    _, pts = _side_points(pattern, o, side)
+    return float(pts[0, 1]), float(pts[-1, 1])
 
 
 def _right_copy(pattern: Pattern, role: Role, o: Orientation, name: str) -> str:
@@ -158,7 +165,10 @@ def openings(
     backs = [s for _, s in sorted(arm[Role.BACK], key=lambda t: -t[0])]
     for f, b in zip(fronts, backs, strict=False):
         right = tuple(_right_copy(pattern, roles[s.piece].role, orientations[s.piece], s.piece) for s in (f, b))
-        out.append(Opening(kind="armhole", sides=(f, b), length_cm=f.length_cm + b.length_cm, right_copy=right))
+        ys = tuple(_end_heights(pattern, orientations[s.piece], s) for s in (f, b))
+        out.append(
+            Opening(kind="armhole", sides=(f, b), length_cm=f.length_cm + b.length_cm, right_copy=right, heights=ys)
+        )
     if waist:
         out.append(
             Opening(kind="waist", sides=tuple(s for s, _ in waist), length_cm=sum(s.length_cm * c for s, c in waist))
