@@ -201,6 +201,7 @@ _BODY_SPOTS = {
     ("neck", None): (60, 36),
     ("torso", "front"): (60, 62),
     ("torso", "back"): (60, 92),
+    ("torso", "around"): (60, 112),
     ("right_arm", None): (22, 100),
     ("left_arm", None): (98, 100),
     ("right_leg", None): (46, 165),

@@ -102,7 +102,7 @@ def choose_chart(sizes: Sequence[str], sample_size: str) -> ChartChoice:
     """The size system of a file with size labels ``sizes`` and its sample size's body."""
     values = _even_numbers(tuple(sizes) or (sample_size,))
     sample = _even_numbers((sample_size,))
-    label = f"sizes {sizes[0]}–{sizes[-1]}, sample {sample_size}" if len(sizes) > 1 else f"size {sample_size}"
+    label = f"sizes {sizes[0]} to {sizes[-1]}, sample {sample_size}" if len(sizes) > 1 else f"size {sample_size}"
     if values is not None and sample is not None and 20 <= values.min() and values.max() <= 80:
         s = float(sample[0])
         if values.min() < 40 and s <= 46:
