@@ -97,11 +97,16 @@ def _with_twins(pattern: Pattern, inference: BridgeInference, seams: list[dict[s
     """Each seam between pieces that both have a mirror copy, also on the other body side (copies swapped).
 
     A sleeve's underarm or a pair of fronts and backs is sewn on both copies; the
-    seam inferred on the drawn pieces is written once per body side.
+    seam inferred on the drawn pieces is written once per body side. A piece's
+    seam to itself (a band's closure) is twinned only when its mirror copy is
+    sewn to another piece: a neck binding whose cutting note reads two copies
+    binds one neckline, and its second copy, closed on itself and sewn to
+    nothing else, was draped as a loose loop at the shoulder.
     """
     swap = {"primary": "mirror", "mirror": "primary"}
     out = list(seams)
     sewn = {(e["piece"], e["start"], e["end"], e["copy"]) for s in seams for e in (s["a"], s["b"])}
+    closures = []
     for s in seams:
         a, b = s["a"]["piece"], s["b"]["piece"]
         if s["kind"] == "fold" or s["status"] == "band" or (a == b and s["a"]["copy"] != s["b"]["copy"]):
@@ -110,7 +115,7 @@ def _with_twins(pattern: Pattern, inference: BridgeInference, seams: list[dict[s
         if any(t in sewn for t in twin):
             continue  # the other copy's edge is sewn already (a band round both halves of a neckline)
         if _has_mirror_copy(pattern, inference, a) and _has_mirror_copy(pattern, inference, b):
-            out.append(
+            (closures if a == b else out).append(
                 {
                     **s,
                     "id": f"{s['id']}_twin",
@@ -118,7 +123,8 @@ def _with_twins(pattern: Pattern, inference: BridgeInference, seams: list[dict[s
                     "b": {**s["b"], "copy": swap[s["b"]["copy"]]},
                 }
             )
-    return out
+    placed = {(e["piece"], e["copy"]) for s in out if s["a"]["piece"] != s["b"]["piece"] for e in (s["a"], s["b"])}
+    return out + [c for c in closures if (c["a"]["piece"], c["a"]["copy"]) in placed]
 
 
 def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str, Any]:

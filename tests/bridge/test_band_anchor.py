@@ -117,3 +117,14 @@ def test_cuff_keeps_its_role_place_when_its_partner_has_no_landmark_on_the_seam(
     assert cuffs
     for name in cuffs:
         assert found[name].placement["anchor"].startswith("wrist_point"), found[name].placement
+
+
+@pytest.mark.parametrize("stem", ["GLX0924S16_NEW.DXF", "GLX0926S16.DXF", "simple.DXF"])
+def test_every_copy_a_seam_names_is_sewn_to_another_piece(aama_dir, stem):
+    """A band copy closed on itself but sewn to nothing else (a second neck binding) is not written."""
+    _, data = _sidecar(aama_dir, stem)
+    copies = {(e["piece"], e["copy"]) for s in data["seams"] for e in (s["a"], s["b"])}
+    joined = {
+        (e["piece"], e["copy"]) for s in data["seams"] if s["a"]["piece"] != s["b"]["piece"] for e in (s["a"], s["b"])
+    }
+    assert copies <= joined, copies - joined
