@@ -99,9 +99,9 @@ def _with_twins(pattern: Pattern, inference: BridgeInference, seams: list[dict[s
     A sleeve's underarm or a pair of fronts and backs is sewn on both copies; the
     seam inferred on the drawn pieces is written once per body side. A piece's
     seam to itself (a band's closure) is twinned only when its mirror copy is
-    sewn to another piece: a neck binding whose cutting note reads two copies
-    binds one neckline, and its second copy, closed on itself and sewn to
-    nothing else, was draped as a loose loop at the shoulder.
+    sewn to another piece or is cut anyway: closing a neck binding cut once on
+    a mirror copy added a second binding, sewn to nothing else, that was draped
+    as a loose loop at the shoulder.
     """
     swap = {"primary": "mirror", "mirror": "primary"}
     out = list(seams)
@@ -124,7 +124,8 @@ def _with_twins(pattern: Pattern, inference: BridgeInference, seams: list[dict[s
                 }
             )
     placed = {(e["piece"], e["copy"]) for s in out if s["a"]["piece"] != s["b"]["piece"] for e in (s["a"], s["b"])}
-    return out + [c for c in closures if (c["a"]["piece"], c["a"]["copy"]) in placed]
+    cut = {c["a"]["piece"] for c in closures if copies_cut(pattern.piece(c["a"]["piece"])) > 1}
+    return out + [c for c in closures if (c["a"]["piece"], c["a"]["copy"]) in placed or c["a"]["piece"] in cut]
 
 
 def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str, Any]:
