@@ -56,7 +56,10 @@ def opening_units(op: Opening) -> list[tuple[Side, str]] | None:
     A neckline side cut twice (a half on the fold, a pair) is walked on both
     copies, which meet at the centre line; any other opening (an armhole, a
     sleeve hem) is one copy of the garment's. Two sides close a loop in either
-    order; more need the seams' chain order, which is not known here.
+    order; more need the seams' chain order, which is not known here. An
+    armhole's ranges are taken on the copies worn on the body's right side
+    (:attr:`.openings.Opening.right_copy`), so a band's drawn copy binds one
+    armhole, never a left front's and a right back's half of two.
     """
     if not 1 <= len(op.sides) <= 2:
         return None
@@ -64,12 +67,25 @@ def opening_units(op: Opening) -> list[tuple[Side, str]] | None:
     for k, side in enumerate(op.sides):
         twice = op.kind == "neck" and k < len(op.copies) and op.copies[k] == 2
         if not twice:
-            units.append((side, "primary"))
+            units.append((side, op.right_copy[k] if k < len(op.right_copy) else "primary"))
             continue
         centre_first = k < len(op.centre_first) and op.centre_first[k]
         # the drawn copy in outline order goes centre -> outer when its range starts at the centre line
         units += [(side, "mirror"), (side, "primary")] if centre_first else [(side, "primary"), (side, "mirror")]
     return units
+
+
+def _closure_height(op: Opening, units: list[tuple[Side, str]], start: int) -> float:
+    """Minus the upright height of the joint where a band started at unit ``start`` closes (0 when not known).
+
+    The walk starts at the unit's start on a drawn copy, at its end on a mirror copy. Of the places its own
+    marks leave open, an armhole band closes at its highest joint (the shoulder): both armholes' bands then
+    close alike, the band's middle at the underarm.
+    """
+    if not op.heights or len(op.heights) != len(units):
+        return 0.0
+    side_start, side_end = op.heights[start]
+    return -(side_start if units[start][1] == "primary" else side_end)
 
 
 def _bounds(lengths: np.ndarray, start: int, band_copy: str, margin: float = 0.0) -> np.ndarray:
@@ -102,14 +118,15 @@ def place_band(pattern: Pattern, joins: list[Join], edge: Run, op: Opening, band
     excess = edge.length_cm - lengths.sum()
     margin = 0.5 * excess / edge.length_cm if edge.length_cm > FLAT_APPLIED * lengths.sum() else 0.0
 
-    def fit(start: int) -> tuple[int, float, int]:
+    def fit(start: int) -> tuple[int, float, float, int]:
         inner = _bounds(lengths, start, band_copy, margin)[1:-1]
+        low = _closure_height(op, units, start)
         if not len(marks) or not len(inner):
-            return (0, 0.0, start)
+            return (0, 0.0, low, start)
         d = np.min(np.abs(inner[:, None] - marks[None, :]), axis=1)
-        return (-int(np.sum(d < SNAP)), float(np.minimum(d, SNAP).sum()), start)
+        return (-int(np.sum(d < SNAP)), float(np.minimum(d, SNAP).sum()), low, start)
 
-    start = min(fit(k) for k in range(len(units)))[2]
+    start = min(fit(k) for k in range(len(units)))[-1]
     pos = _bounds(lengths, start, band_copy, margin)
     for k in range(int(margin == 0.0), len(pos) - int(margin == 0.0)):
         if len(marks) and np.min(np.abs(marks - pos[k])) < SNAP:

@@ -38,6 +38,7 @@ import numpy as np
 from ..library.seams import sew_line
 from ..pattern.model import Pattern, Role
 from .alternatives import copies_cut
+from .band_anchor import LANDMARK_PART, band_anchor
 from .model import BridgeInference, Orientation
 from .openings import shapes_scooped
 
@@ -98,14 +99,15 @@ def _bodice(up: np.ndarray, o: Orientation, back: bool) -> PieceLandmarks:
         "neck_side": neck_side,
         "shoulder_point": int(top[np.argmax(d[top])]),
     }
-    if len(band):
-        marks["underarm"] = int(band[np.argmax(d[band])])
     side = "back" if back else "front"
     landmarks = {
         f"{side}_neck_point": "centre_neck",
         "neck_shoulder_point_right": "neck_side",
         "shoulder_point_right": "shoulder_point",
     }
+    if len(band):
+        marks["underarm"] = int(band[np.argmax(d[band])])
+        landmarks["armpit_point_right"] = "underarm"
     placement = {"body_part": "torso", "side": side, "anchor": f"{side}_neck_point", "anchor_mark": "centre_neck"}
     return PieceLandmarks(marks=marks, landmarks=landmarks, placement=placement)
 
@@ -182,7 +184,8 @@ def waist_middle(up: np.ndarray) -> int:
 
 
 def _band(up: np.ndarray, role: Role) -> PieceLandmarks:
-    """The middle of the band's lower long edge (the one sewn on), on the band's body landmark."""
+    """The middle of the band's lower long edge, on the role's body landmark: a band not sewn to a piece
+    with landmarks (:func:`.band_anchor.band_anchor` places the others where their opening lies)."""
     part, anchor = _BAND_PLACE[role]
     x, y = up[:, 0], up[:, 1]
     low = np.nonzero(y <= y.min() + 0.25 * np.ptp(y))[0]
@@ -286,4 +289,20 @@ def piece_landmarks(pattern: Pattern, inference: BridgeInference) -> dict[str, P
             out[piece.name] = _band(up, role)
         else:
             out[piece.name] = _other(up, role)
+    for piece in pattern.pieces:
+        if inference.roles[piece.name].role in _BAND_PLACE:
+            out[piece.name] = _band_on_opening(pattern, inference, piece.name, out)
     return out
+
+
+def _band_on_opening(pattern: Pattern, inference: BridgeInference, name: str, found: dict) -> PieceLandmarks:
+    """A band placed where the opening it is sewn to lies (:mod:`.band_anchor`), else by its role."""
+    anchored = band_anchor(pattern, inference, name, found)
+    if anchored is None:
+        return found[name]
+    landmark, vertex = anchored
+    part = LANDMARK_PART[landmark.replace("_left", "_right")]
+    if landmark.endswith("_left"):
+        part = part.replace("right_", "left_")
+    placement = {"body_part": part, "side": "around", "anchor": landmark, "anchor_mark": "band_anchor"}
+    return PieceLandmarks(marks={"band_anchor": vertex}, placement=placement)

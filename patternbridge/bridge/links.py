@@ -16,7 +16,7 @@
 - *thigh*, across each leg role at its crotch point.
 
 **Lengths** follow the body in proportion (``proportional`` links: target =
-sample length × body / reference body), so a garment keeps its design's
+sample length × body / sample body), so a garment keeps its design's
 proportion to the body: the bodice's centre length to the back length
 (nape to waist), the sleeve's underarm seam to the arm, the leg's length to
 the outside leg.
@@ -34,11 +34,12 @@ is its sewn edge minus the opening's ranges (each copy of a half at a centre
 line counted), a difference that follows the body height in proportion, so a
 binding 1 cm shorter than its armhole stays about that much shorter.
 
-The **ease** and the proportions are read against the **reference body**
-``REFERENCE_BODY_CM``: the men's sample body of the library's size chart
-(EN 13402-3 intervals with Aldrich's secondary dimensions, `docs/library.md`),
-because a file's own size label does not say which chart it follows. The
-marks the links need are added as ``v<vertex>``.
+The **ease** and the proportions are read against the **sample body**: the
+body of the file's sample size in the size system its labels belong to
+(:mod:`.size_chart`: a women's file's size 36 against a bust of 84 cm, a
+men's size 50 against a chest of 100 cm; a file in no recognised system
+against the library's men's sample body, ``REFERENCE_BODY_CM``). The marks
+the links need are added as ``v<vertex>``.
 """
 
 from __future__ import annotations
@@ -50,21 +51,9 @@ from ..pattern.model import Leg, MeasurementLink, Pattern, Piece
 from .landmarks import PieceLandmarks, piece_landmarks
 from .model import BridgeInference, Orientation, Role, is_band
 from .openings import shapes_scooped
+from .size_chart import REFERENCE_BODY_CM, ChartChoice, choose_chart
 
 __all__ = ["REFERENCE_BODY_CM", "measurement_links"]
-
-#: the body whose girths the ease and whose lengths the proportions are read against (library men's sample size)
-REFERENCE_BODY_CM = {
-    "chest_girth": 96.0,
-    "waist_girth": 84.0,
-    "neck_girth": 39.0,
-    "upper_arm_girth_right": 31.8,
-    "thigh_girth_right": 57.0,
-    "back_length": 45.0,
-    "arm_length_right": 64.0,
-    "outside_leg_right": 105.0,
-    "stature": 176.0,
-}
 
 #: a neckline longer than this many reference necks is a style line (scoop, boat), not a neck fit
 NECK_AT_NECK = 1.3
@@ -310,22 +299,29 @@ def _collect(pattern: Pattern, inference: BridgeInference) -> dict[str, list[Leg
     return legs
 
 
-def measurement_links(pattern: Pattern, inference: BridgeInference) -> list[MeasurementLink]:
-    """The girth and length links of the chosen garment, with ease and proportions read off the pattern."""
+def measurement_links(
+    pattern: Pattern, inference: BridgeInference, chart: ChartChoice | None = None
+) -> list[MeasurementLink]:
+    """The girth and length links of the chosen garment, with ease and proportions read off the pattern.
+
+    Ease and proportions are read against the body of the file's sample size
+    in ``chart`` (default: :func:`.size_chart.choose_chart` of the file's sizes).
+    """
+    body = (chart or choose_chart(pattern.sizes, pattern.sample_size)).body_cm
     links = []
     collected = _collect(pattern, inference)
     neck = sum(_span(pattern.piece(g.piece), g) for g in collected.get("neck_girth|neck_girth|girth", ()))
     for key, legs in collected.items():
-        if key.split("|")[0].endswith("_strap") and neck <= NECK_AT_NECK * REFERENCE_BODY_CM["neck_girth"]:
+        if key.split("|")[0].endswith("_strap") and neck <= NECK_AT_NECK * body["neck_girth"]:
             continue  # a neckline at the neck holds the shoulder with the chest; only a scoop leaves a strap free
         link_id, measurement, kind = key.split("|")
         sample = sum(_span(pattern.piece(g.piece), g) for g in legs)
         if kind == "girth" and sample <= 1e-6:
             continue
-        if link_id == "neck_girth" and sample > NECK_AT_NECK * REFERENCE_BODY_CM["neck_girth"]:
+        if link_id == "neck_girth" and sample > NECK_AT_NECK * body["neck_girth"]:
             # a style line: it keeps its proportion to the bodice's girth
             link_id, measurement, kind = "neckline", "chest_girth", "length"
-        ease = round(sample - REFERENCE_BODY_CM[measurement], 2)
+        ease = round(sample - body[measurement], 2)
         if kind == "length" and ease >= sample:
             continue
         links.append(

@@ -36,6 +36,11 @@ class Opening:
     #: starts (outline order) at the centre line rather than at its outer end
     copies: tuple[int, ...] = ()
     centre_first: tuple[bool, ...] = ()
+    #: per side of an opening away from the centre line (an armhole): the copy that lies on the body's right
+    #: side, ``mirror`` for a half drawn as the left half and cut twice (its drawn copy is worn on the left)
+    right_copy: tuple[str, ...] = ()
+    #: per side of an armhole: the upright height (cm) of its start and end vertex (where a band may close)
+    heights: tuple[tuple[float, float], ...] = ()
 
 
 def run_side(r: Run) -> Side:
@@ -93,6 +98,20 @@ def _side_points(pattern: Pattern, o: Orientation, side: Side) -> tuple[np.ndarr
     return pts, pts[idx]
 
 
+def _end_heights(pattern: Pattern, o: Orientation, side: Side) -> tuple[float, float]:
+    _, pts = _side_points(pattern, o, side)
+    return float(pts[0, 1]), float(pts[-1, 1])
+
+
+def _right_copy(pattern: Pattern, role: Role, o: Orientation, name: str) -> str:
+    """The copy of a front or back worn on the body's right: ``mirror`` for a half drawn as the left half (its
+    centre line on the side a left front or a right back has it) that is cut twice."""
+    piece = pattern.piece(name)
+    twice = o.fold is not None or piece.quantity.left > 0 or piece.quantity.right > 1
+    drawn_left = not o.whole and o.centre_on_right != (role is Role.FRONT)
+    return "mirror" if twice and drawn_left else "primary"
+
+
 def openings(
     pattern: Pattern,
     used: set[tuple[str, int]],
@@ -145,7 +164,11 @@ def openings(
     fronts = [s for _, s in sorted(arm[Role.FRONT], key=lambda t: t[0])]
     backs = [s for _, s in sorted(arm[Role.BACK], key=lambda t: -t[0])]
     for f, b in zip(fronts, backs, strict=False):
-        out.append(Opening(kind="armhole", sides=(f, b), length_cm=f.length_cm + b.length_cm))
+        right = tuple(_right_copy(pattern, roles[s.piece].role, orientations[s.piece], s.piece) for s in (f, b))
+        ys = tuple(_end_heights(pattern, orientations[s.piece], s) for s in (f, b))
+        out.append(
+            Opening(kind="armhole", sides=(f, b), length_cm=f.length_cm + b.length_cm, right_copy=right, heights=ys)
+        )
     if waist:
         out.append(
             Opening(kind="waist", sides=tuple(s for s, _ in waist), length_cm=sum(s.length_cm * c for s, c in waist))

@@ -28,6 +28,7 @@ from ..library.seams import sew_line
 from ..pattern.model import Pattern
 from .band_spans import split_bands
 from .model import BridgeInference, Join, Role, is_band
+from .size_chart import choose_chart
 
 __all__ = ["LOW_CONFIDENCE", "review_png", "seam_colour", "seam_numbers"]
 
@@ -200,6 +201,7 @@ _BODY_SPOTS = {
     ("neck", None): (60, 36),
     ("torso", "front"): (60, 62),
     ("torso", "back"): (60, 92),
+    ("torso", "around"): (60, 112),
     ("right_arm", None): (22, 100),
     ("left_arm", None): (98, 100),
     ("right_leg", None): (46, 165),
@@ -370,6 +372,8 @@ def review_png(pattern: Pattern, inference: BridgeInference, *, px_per_cm: float
     found = _landmarks(pattern, inference)
     _draw_landmarks(draw, found, shapes, canvas, fonts)
     draw.text((GAP_CM * k, 10), heading, fill=INK, font=fonts["title"])
+    chart = choose_chart(pattern.sizes, pattern.sample_size)
+    draw.text((GAP_CM * k, 36), f"ease read against {chart.why}", fill=INK, font=fonts["small"])
     y0 = head_px + (height_cm + GAP_CM) * k
     rows = (len(listed) + columns - 1) // columns if listed else 0
     for i, (text, colour) in enumerate(listed):

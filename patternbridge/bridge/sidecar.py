@@ -25,6 +25,7 @@ from .band_spans import split_bands
 from .landmarks import piece_landmarks, worn_side
 from .links import measurement_links
 from .model import BridgeInference, Join
+from .size_chart import choose_chart
 
 __all__ = ["SIDECAR_VERSION", "inference_sidecar", "runs_against"]
 
@@ -96,11 +97,16 @@ def _with_twins(pattern: Pattern, inference: BridgeInference, seams: list[dict[s
     """Each seam between pieces that both have a mirror copy, also on the other body side (copies swapped).
 
     A sleeve's underarm or a pair of fronts and backs is sewn on both copies; the
-    seam inferred on the drawn pieces is written once per body side.
+    seam inferred on the drawn pieces is written once per body side. A piece's
+    seam to itself (a band's closure) is twinned only when its mirror copy is
+    sewn to another piece or is cut anyway: closing a neck binding cut once on
+    a mirror copy added a second binding, sewn to nothing else, that was draped
+    as a loose loop at the shoulder.
     """
     swap = {"primary": "mirror", "mirror": "primary"}
     out = list(seams)
     sewn = {(e["piece"], e["start"], e["end"], e["copy"]) for s in seams for e in (s["a"], s["b"])}
+    closures = []
     for s in seams:
         a, b = s["a"]["piece"], s["b"]["piece"]
         if s["kind"] == "fold" or s["status"] == "band" or (a == b and s["a"]["copy"] != s["b"]["copy"]):
@@ -109,7 +115,7 @@ def _with_twins(pattern: Pattern, inference: BridgeInference, seams: list[dict[s
         if any(t in sewn for t in twin):
             continue  # the other copy's edge is sewn already (a band round both halves of a neckline)
         if _has_mirror_copy(pattern, inference, a) and _has_mirror_copy(pattern, inference, b):
-            out.append(
+            (closures if a == b else out).append(
                 {
                     **s,
                     "id": f"{s['id']}_twin",
@@ -117,7 +123,9 @@ def _with_twins(pattern: Pattern, inference: BridgeInference, seams: list[dict[s
                     "b": {**s["b"], "copy": swap[s["b"]["copy"]]},
                 }
             )
-    return out
+    placed = {(e["piece"], e["copy"]) for s in out if s["a"]["piece"] != s["b"]["piece"] for e in (s["a"], s["b"])}
+    cut = {c["a"]["piece"] for c in closures if copies_cut(pattern.piece(c["a"]["piece"])) > 1}
+    return out + [c for c in closures if (c["a"]["piece"], c["a"]["copy"]) in placed or c["a"]["piece"] in cut]
 
 
 def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str, Any]:
@@ -133,7 +141,8 @@ def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str,
     for j in inference.joins:
         for side in (j.a, j.b):
             marks[side.piece] |= {side.start, side.end}
-    links = measurement_links(pattern, inference)
+    chart = choose_chart(pattern.sizes, pattern.sample_size)
+    links = measurement_links(pattern, inference, chart)
     for link in links:
         for leg in link.legs:
             marks[leg.piece] |= {int(leg.start[1:]), int(leg.end[1:])}
@@ -184,6 +193,7 @@ def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str,
         "style": pattern.style,
         "description": f"inferred by patternbridge bridge infer ({len(inference.joins)} seams)",
         "sample_size": pattern.sample_size,
+        "size_chart": chart.to_dict(),
         "garment_pieces": list(inference.chosen),
         "alternatives": [[list(option) for option in group] for group in inference.alternatives],
         "pieces": pieces,

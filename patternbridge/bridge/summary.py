@@ -7,12 +7,13 @@ from collections import Counter
 from ..pattern.model import Pattern
 from .band_spans import split_bands
 from .model import BridgeInference
+from .size_chart import choose_chart
 
 __all__ = ["summary_line"]
 
 
 def summary_line(pattern: Pattern, inference: BridgeInference) -> str:
-    """``style: 2 front, 2 back, … | 14 seams | alternatives: … | lowest confidence 0.42``.
+    """``style: 2 front, 2 back, … | 14 seams | alternatives: … | sizes: … | lowest confidence 0.42``.
 
     Seams are counted as the sidecar writes them (bands split by the opening's ranges).
     """
@@ -26,5 +27,6 @@ def summary_line(pattern: Pattern, inference: BridgeInference) -> str:
     )
     return (
         f"{pattern.style}: {role_text} | {seam_text} | alternatives: {alts or 'none'}"
+        f" | {choose_chart(pattern.sizes, pattern.sample_size).why}"
         f" | lowest confidence {inference.lowest_confidence:.2f} | {inference.seconds:.2f} s"
     )

@@ -157,6 +157,7 @@ _SIDECAR = {
     "style": STR,
     "description": _Opt(STR),
     "sample_size": STR,
+    "size_chart": _Opt({"system": _Req(STR), "sample_size": STR, "why": STR, "body_cm": _Map(NUM)}),
     "pieces": _List(
         {
             "name": _Req(STR),
