@@ -54,16 +54,18 @@ def test_standing_counts_both_shape_measures_then_the_worst_ratio():
     all_only = standing(0.0030, 0.0010, *ref)
     neither_close = standing(0.0057, 0.0043, *ref)  # ratios 2.4 and 3.6
     neither_flat = standing(0.0056, 0.0121, *ref)  # a hair lower at the critical points, curves pulled flat
-    assert both == (-2, pytest.approx(0.0011 / 0.0012))  # the worse of the two ratios
+    assert both == (-2, -1, pytest.approx(0.0011 / 0.0012))  # the worse of the two ratios
     assert crit_only[0] == all_only[0] == -1 and neither_close[0] == 0
-    assert both < all_only < crit_only < neither_close < neither_flat
+    # one measure each: the critical points (the issue's own measure) go first
+    assert both < crit_only < all_only < neither_close < neither_flat
     assert standing(0.0024, 0.0012, *ref)[0] == -2  # at scaling's counts as passing
 
 
 def test_continuation_stages_run_the_strong_all_vertex_weight_once_then_the_ladder():
     stages = continuation_stages((1.0, 3.0, 0.5), (1.0, 1 / 3, 0.0))
     assert stages[0] == (3.0, 1.0)
-    assert stages[1:] == [(a, d) for a in (1.0, 0.5) for d in (1.0, 1 / 3, 0.0)]
+    # the halved all-vertex weight runs only where the grid-interval term has let go
+    assert stages[1:] == [(1.0, 1.0), (1.0, 1 / 3), (1.0, 0.0), (0.5, 1 / 3), (0.5, 0.0)]
     assert stages == sorted(stages, reverse=True)  # decreasing weights: the order `st < first` relies on
     assert continuation_stages((1.0,), (1.0, 0.0)) == [(1.0, 1.0), (1.0, 0.0)]
 
@@ -73,13 +75,16 @@ def test_choose_prefers_rows_that_stand_better_against_scaling():
     within = np.ones(3, dtype=bool)
     assert choose(F, tol_measure_cm=0.5, tol_seam=0.5, within=within) == 0
     # rows 1 and 2 keep both measures at or below scaling's: the least shape error of them
-    both = np.array([[-1, 3.0], [-2, 0.9], [-2, 0.8]])
+    both = np.array([[-1, -1, 3.0], [-2, -1, 0.9], [-2, -1, 0.8]])
     assert choose(F, tol_measure_cm=0.5, tol_seam=0.5, within=within, standing=both) == 1
     # none keeps both: the most kept, then the smallest worst ratio
-    one = np.array([[-1, 3.0], [-1, 1.5], [0, 1.2]])
+    one = np.array([[-1, -1, 3.0], [-1, -1, 1.5], [0, 0, 1.2]])
     assert choose(F, tol_measure_cm=0.5, tol_seam=0.5, within=within, standing=one) == 1
     # the preference applies among the rows within tolerance only
     assert choose(F, tol_measure_cm=0.5, tol_seam=0.5, within=np.array([True, False, True]), standing=one) == 0
+    # one measure each: the row that keeps the critical points, though its other ratio is worse
+    crit_first = np.array([[-1, 0, 1.1], [-1, -1, 2.0], [0, 0, 1.2]])
+    assert choose(F, tol_measure_cm=0.5, tol_seam=0.5, within=within, standing=crit_first) == 1
 
 
 def test_choose_with_a_tolerance_mask():
