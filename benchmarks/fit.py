@@ -240,10 +240,11 @@ def main(argv: list[str] | None = None) -> int:
               f"worst grain tilt {max(r['grain_tilt_deg'] for r in reports):.3f}°")
         refined = sum(r["method"] == "nsga2+refine" for r in reports)
         full = sum("design weight x1," in r["note"] + "," for r in reports)
-        stepped = [f"{r['character']} {r['garment']}" for r in reports if "all-vertex weight x" in r["note"]]
+        strong = sum("all-vertex weight x3" in r["note"] for r in reports)
+        stepped = [f"{r['character']} {r['garment']}" for r in reports if "all-vertex weight x0" in r["note"]]
         print(f"# chosen: a refined solution in {refined} of {len(reports)} cases (else an NSGA-II front member); "
-              f"full design weight in {full}; all-vertex weight stepped down in {len(stepped)}"
-              + (f" ({', '.join(stepped)})" if stepped else ""))
+              f"full design weight in {full}; every vertex held three times as hard in {strong}; all-vertex "
+              f"weight stepped down in {len(stepped)}" + (f" ({', '.join(stepped)})" if stepped else ""))
         for garment in args.garments.split(","):
             secs = [r["cpu_seconds"] for r in reports if r["garment"] == garment]
             if secs:

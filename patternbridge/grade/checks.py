@@ -29,6 +29,8 @@ __all__ = [
     "MAX_TURN_DEG",
     "MIN_CURVE_RATIO",
     "MIN_EXTENT_RATIO",
+    "curve_depth",
+    "curve_runs",
     "cut_line_turns",
     "design_checks",
     "piece_extents",
@@ -46,6 +48,10 @@ MIN_CURVE_RATIO = 0.5
 
 MIN_CURVE_DEPTH = 0.04
 """Spans whose depth in the design is below this (sagitta / chord) count as straight."""
+
+SMOOTH_DEG = 20.0
+"""A critical point where the design's outline turns by less than this (a centre-back neck mark, an
+armhole notch) lies inside one curve: the curve is judged whole as well as span by span."""
 
 MAX_SYMMETRY_CM = 0.2
 """A symmetric piece further than this from its mirror image has lost its symmetry."""
@@ -175,6 +181,46 @@ def span_sagitta(data: ObjectiveData, points: np.ndarray) -> np.ndarray:
     return np.where(on_span[None], dist, 0.0).max(axis=1) / length
 
 
+def curve_runs(data: ObjectiveData) -> tuple[np.ndarray, ...]:
+    """The design's curves that run through smooth critical points: ordered global vertex indices of each.
+
+    Consecutive spans of a piece (:func:`span_sagitta`) are joined where the
+    critical point between them turns the design's outline by less than
+    :data:`SMOOTH_DEG` (a yoke's neckline through its centre-back mark).
+    Only runs of two spans or more are returned: the single spans are judged
+    on their own.
+    """
+    turn = np.degrees(np.abs(np.pi - data.angle0))
+    out = []
+    for p in np.unique(data.span_piece):
+        spans = np.flatnonzero(data.span_piece == p)  # in outline order, the last one closing the loop
+        smooth = turn[data.span_b[spans]] < SMOOTH_DEG  # the span's end continues into the next span
+        if smooth.all() or not smooth.any():
+            continue
+        start = (int(np.flatnonzero(~smooth)[-1]) + 1) % len(spans)
+        run: list[int] = []
+        for i in np.roll(np.arange(len(spans)), -start):
+            run.append(int(spans[i]))
+            if not smooth[i]:
+                if len(run) > 1:
+                    verts = [int(data.span_a[run[0]])]
+                    while verts[-1] != int(data.span_b[run[-1]]):  # walk the outline to the run's end
+                        verts.append(int(data.nxt[verts[-1]]))
+                    out.append(np.array(verts, dtype=np.int64))
+                run = []
+    return tuple(out)
+
+
+def curve_depth(points: np.ndarray, run: np.ndarray) -> np.ndarray:
+    """Depth (sagitta over chord) of the curve through the vertices ``run``, ``(n_pop,)``."""
+    pts = np.asarray(points, dtype=np.float64)[:, run, :]
+    chord = pts[:, -1] - pts[:, 0]
+    length = np.maximum(np.linalg.norm(chord, axis=-1), 1e-9)
+    rel = pts - pts[:, :1]
+    dist = np.abs(rel[..., 0] * chord[:, None, 1] - rel[..., 1] * chord[:, None, 0]) / length[:, None]
+    return dist.max(axis=1) / length
+
+
 def design_checks(
     data: ObjectiveData,
     points: np.ndarray,
@@ -244,6 +290,15 @@ def design_checks(
         out.append(Finding(code="curve-flattened", where=piece_names[p], message=(
             f"the curve between outline points {int(data.span_a[s]) - first} and {int(data.span_b[s]) - first} is "
             f"{depth[s] / depth0[s]:.2f} as deep as in the design (limit {MIN_CURVE_RATIO})")))
+    for run in curve_runs(data):
+        d0, d = float(curve_depth(data.points0[None], run)[0]), float(curve_depth(pts, run)[0])
+        if d0 >= MIN_CURVE_DEPTH and d < MIN_CURVE_RATIO * d0:
+            p = int(data.piece_of_point[run[0]])
+            first = int(np.flatnonzero(data.piece_of_point == p)[0])
+            out.append(Finding(code="curve-flattened", where=piece_names[p], message=(
+                f"the curve from outline point {int(run[0]) - first} through {len(run) - 2} vertices to "
+                f"{int(run[-1]) - first} is {d / d0:.2f} as deep as in the design, as a whole "
+                f"(limit {MIN_CURVE_RATIO})")))
     move = share_move(data, pts)[0]
     for k in np.flatnonzero(move > MAX_SHARE_MOVE):
         out.append(Finding(code="share-moved", where=data.link_ids[k], message=(

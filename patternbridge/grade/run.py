@@ -53,6 +53,7 @@ from .objectives import (
     objective_data,
     piece_axes_turn,
     residuals,
+    shape_error_all,
 )
 
 __all__ = [
@@ -62,6 +63,7 @@ __all__ = [
     "axis_scaling",
     "choose",
     "choose_member",
+    "continuation_stages",
     "fit_pattern",
     "front_members",
     "nearest_size",
@@ -69,6 +71,8 @@ __all__ = [
     "refine_members",
     "repair",
     "score_points",
+    "shape_standing",
+    "standing",
     "uniform_scaling",
     "within_tolerance",
 ]
@@ -345,7 +349,59 @@ def nearest_size(pattern: Pattern, data: ObjectiveData, grid: PatternGrid) -> tu
     return sizes[best], pts[best]
 
 
-def choose(F: np.ndarray, *, tol_measure_cm: float, tol_seam: float, within: np.ndarray | None = None) -> int:
+def shape_standing(scores: Scores, reference: Scores) -> tuple[int, int, float]:
+    """How a grading's change of shape stands against ``reference``'s (proportional scaling): smaller is better.
+
+    Compares :attr:`Scores.shape_error` and :attr:`Scores.shape_error_all`
+    (:func:`standing`).
+    """
+    return standing(scores.shape_error, scores.shape_error_all, reference.shape_error, reference.shape_error_all)
+
+
+def standing(shape: float, shape_all: float, ref: float, ref_all: float) -> tuple[int, int, float]:
+    """How a change of shape stands against a reference's (proportional scaling): smaller is better.
+
+    ``(−passed, −critical, worst)``: ``passed`` counts the two shape
+    measures — the critical points (:func:`~.objectives.shape_error`) and
+    every outline vertex (:func:`~.objectives.shape_error_all`) — on which
+    the grading changes the design no more than the reference; ``critical``
+    is 1 when the critical points are one of them (the issue's own measure
+    goes first between two that pass one each); ``worst`` is the larger of
+    the two ratios to the reference's. A grading at or below scaling on both
+    comes first; between two that pass alike, the smaller worst ratio wins:
+    on a shirt whose critical points the fit forces above scaling's, the
+    grading that bends its curves least is taken, not the one a hair lower
+    at the critical points with every curve pulled flat.
+    """
+    pairs = ((shape, ref), (shape_all, ref_all))
+    passed = sum(ours <= ref for ours, ref in pairs)
+    worst = max(ours / max(ref, 1e-9) for ours, ref in pairs)
+    return -int(passed), -int(shape <= ref), float(worst)
+
+
+def continuation_stages(all_levels, design_levels) -> list[tuple[float, float]]:
+    """The final step's continuation stages ``(all-vertex factor, grid-interval factor)``, in the order run.
+
+    Decreasing weights. The strongest all-vertex factor (every outline vertex
+    held hard: curves keep their shape) runs once, at the largest
+    grid-interval factor; at the next all-vertex factor the grid-interval
+    factor steps down through its levels; at every further (smaller)
+    all-vertex factor through its levels but the largest: under the full
+    grid-interval term a smaller all-vertex weight changed the critical
+    points by at most 0.0002 rad (the slim female's, the average male's and
+    the tall elder's shirts, the slim female's trousers), the grid holds them.
+    """
+    alls = sorted({float(a) for a in all_levels}, reverse=True)
+    designs = sorted({float(d) for d in design_levels}, reverse=True)
+    if len(alls) < 2:
+        return [(a, d) for a in alls for d in designs]
+    lower = designs[1:] or designs
+    return ([(alls[0], designs[0])] + [(alls[1], d) for d in designs]
+            + [(a, d) for a in alls[2:] for d in lower])
+
+
+def choose(F: np.ndarray, *, tol_measure_cm: float, tol_seam: float, within: np.ndarray | None = None,
+           standing: np.ndarray | None = None) -> int:
     """Row of ``F`` with the least shape error among those within tolerance.
 
     ``within`` : (n,) bool, optional — which rows are within tolerance (e.g.
@@ -353,12 +409,26 @@ def choose(F: np.ndarray, *, tol_measure_cm: float, tol_seam: float, within: np.
     is within tolerance when ``f1 <= tol_measure_cm`` and ``f2 <= tol_seam``.
     When no row is, the rows whose worst normalised violation
     ``max(f1/tol1, f2/tol2)`` is within 25 % of the best one compete instead.
+    ``standing`` : (n, 3), optional — every row's :func:`standing` against
+    proportional scaling, ``(−passed, −critical, worst ratio)``: among the
+    rows that compete, those that keep the most of the two shape measures at
+    or below scaling's come first (the critical points first between those
+    that keep one); when they keep both, the least shape error decides (the
+    rule above), else the smallest worst ratio (the measure they miss comes
+    closest).
     """
     F = np.asarray(F, dtype=np.float64)
     score = np.maximum(F[:, 0] / tol_measure_cm, F[:, 1] / tol_seam)
     ok = score <= 1.0 if within is None else np.asarray(within, dtype=bool)
     if not ok.any():
         ok = score <= score.min() * 1.25
+    if standing is not None:
+        standing = np.asarray(standing, dtype=np.float64)
+        for col in (0, 1):
+            ok = ok & (standing[:, col] == standing[ok, col].min())
+        rows = np.flatnonzero(ok)
+        if standing[rows[0], 0] > -2:
+            return int(rows[np.argmin(standing[rows, 2])])
     rows = np.flatnonzero(ok)
     return int(rows[np.argmin(F[rows, 2])])
 
@@ -551,7 +621,7 @@ def fit_pattern(
     w_share: float = 3.0,
     design_levels: tuple[float, ...] = (1.0, 1.0 / 3.0, 1.0 / 9.0, 0.0),
     w_all: float = 1.0,
-    all_levels: tuple[float, ...] = (1.0, 0.5),
+    all_levels: tuple[float, ...] = (3.0, 1.0, 0.5),
     n_refine: int = 3,
     n_trade: int = 2,
     source: str = "pattern",
@@ -656,6 +726,12 @@ def _forcing(grid: PatternGrid, data: ObjectiveData, sol: Solution, reference: S
     log.warning("%s: %s", source, describe_forcing(forcing))
     return forcing
 
+
+CLOSE_RATIO = 1.5
+"""When no continuation stage passed on the first start, later starts run the stage that came closest
+at the critical points if its shape error came within this factor of scaling's (another start may pass
+there: the slim female's trousers came within 1.29 and passed from an NSGA-II member), else the stage
+that stood best on both measures."""
 
 RELEASE_ITER = 6
 """Iterations of each release test of :func:`~.forcing.shape_forcing` (from the fitted solution)."""
@@ -833,14 +909,16 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
     seeds.append(grid.x0.copy())
 
     accept = {"mean_cm": min(tol_measure_cm, 0.5), "max_cm": 1.5, "seam_cm": 0.1}
-    shape_ref = baselines["proportional"].scores.shape_error
+    ref_scores = baselines["proportional"].scores
+    shape_ref = ref_scores.shape_error
     # the continuation's stages in order: the grid-interval weight steps
     # down first; only when no level of it passes does the all-vertex angle
     # weight step down, and the grid-interval levels run again
-    stages = [(float(a), float(d)) for a in sorted(set(all_levels), reverse=True)
-              for d in sorted(set(design_levels), reverse=True)]
+    stages = continuation_stages(all_levels, design_levels)
     start_stage = [stages[0]]
-    exhausted = [False]  # every stage ran once without passing: later starts run only the closest
+    closest_run: list[Solution | None] = [None]  # the first passing run of the last start, else its closest
+    later: list[tuple] = [()]  # no stage passed on the first start: the stages later starts run
+    stage_of: dict[bytes, tuple[float, float]] = {}  # the stage every refined solution ran at
 
     def settings_at(stage: tuple[float, float]) -> dict:
         w_all_level, level = stage
@@ -863,48 +941,61 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
     def finish(start_name: str, x_start: np.ndarray) -> Solution | None:
         """The constrained final step from ``x_start`` with the continuation on its tie-break weights.
 
-        The grid-interval design term runs at full weight first; when the
-        result changes the design more than proportional scaling does (shape
-        error not below scaling's), the step runs again from the same start
-        at the next ``design_levels`` factor (a third, a ninth, none). Each
-        stage starts from ``x_start``, not from the last stage's result:
-        warm-started, the slim female's trousers settled at 0.0030 rad
-        against scaling's 0.0027 (cold: 0.0019). When no level passes, the all-vertex angle term steps down to the next
-        ``all_levels`` factor and the grid-interval levels run again. The
-        link-share term keeps its full weight throughout. When a level
-        passes after one that did not (at the same all-vertex weight), the
-        geometric mean of the two is tried once and taken if it passes too:
-        the largest weights found whose shape error is below scaling's.
-        Later starts begin at that stage (it is a property of the garment
-        and the character more than of the start); when no stage passed,
-        later starts run only the stage that came closest. If no stage
-        passes, the fitted result with the least shape error; None when no
-        run meets the fit.
+        Stages run in order of decreasing weights (:func:`continuation_stages`).
+        Each stage starts from ``x_start``, not from the last stage's result:
+        warm-started, the slim female's trousers settled at 0.0030 rad against
+        scaling's 0.0027 (cold: 0.0019). Lower weights trade the all-vertex
+        measure for the critical-point one, so the ladder stops at the first
+        stage whose shape error at the critical points is below scaling's: a
+        later stage could only bend more curves. When a level passes after
+        one that did not (at the same all-vertex weight), the geometric mean
+        of the two is tried once. Of the stages run, the result is the one
+        that stands best against scaling on both measures
+        (:func:`shape_standing`). Later starts begin at the stage that passed;
+        when none did, later starts run only the stage that came closest at
+        the critical points when it came within :data:`CLOSE_RATIO` of
+        scaling's (another start may pass there), else only the stage that
+        stood best. None when no run meets the fit.
         """
-        first = start_stage[0]
-        todo = [first] if exhausted[0] else [first] + [st for st in stages if st < first]
-        best: Solution | None = None
-        best_stage = first
+        todo = list(later[0]) if later[0] else [start_stage[0]] + [st for st in stages if st < start_stage[0]]
+        closest_run[0] = None
+        done: dict[tuple[float, float], Solution] = {}
+        best: list = [None, todo[0]]  # solution, stage
+
+        def run(stage: tuple[float, float]) -> Solution | None:
+            cand = finish_at(start_name, x_start, stage)
+            stage_of[cand.x.tobytes()] = stage
+            if not _meets(cand, **accept):
+                return None
+            done[stage] = cand
+            if best[0] is None or shape_standing(cand.scores, ref_scores) < shape_standing(best[0].scores,
+                                                                                         ref_scores):
+                best[:] = [cand, stage]
+            return cand
+
         failed: tuple[float, float] | None = None
         for stage in todo:
-            cand = finish_at(start_name, x_start, stage)
-            if not _meets(cand, **accept):
+            cand = run(stage)
+            if cand is None:
                 continue
+            if closest_run[0] is None or cand.scores.shape_error < closest_run[0].scores.shape_error:
+                closest_run[0] = cand
             if cand.scores.shape_error < shape_ref:
+                closest_run[0] = cand
                 if failed is not None and failed[0] == stage[0]:
                     level = stage[1]
                     mid = float(np.sqrt(failed[1] * level)) if level > 0 else failed[1] / 3.0
-                    between = finish_at(start_name, x_start, (stage[0], mid))
-                    if _meets(between, **accept) and between.scores.shape_error < shape_ref:
-                        cand, stage = between, (stage[0], mid)
+                    between = run((stage[0], mid))
+                    if between is not None and between.scores.shape_error < shape_ref:
+                        stage, closest_run[0] = (stage[0], mid), between
                 start_stage[0] = stage
-                return cand
-            if best is None or cand.scores.shape_error < best.scores.shape_error:
-                best, best_stage = cand, stage
+                return best[0]
             failed = stage
-        if len(todo) > 1:
-            start_stage[0], exhausted[0] = best_stage, True
-        return best
+        if len(todo) > 1 and done:
+            closest = min(done, key=lambda st: done[st].scores.shape_error)
+            near = done[closest].scores.shape_error <= CLOSE_RATIO * shape_ref
+            later[0] = (closest,) if near else (best[1],)
+        return best[0]
 
     refined: list[Solution] = []
     if do_repair:
@@ -913,7 +1004,9 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
         first = finish("proportional seed", x_axis)
         if first is not None:
             refined.append(first)
-            seeds.insert(1, first.x)
+            # NSGA-II is seeded with the run least changed at the critical points (the
+            # objective it minimises), which the ladder's result need not be
+            seeds.insert(1, closest_run[0].x)
     if progress is not None:
         progress("seed", 1, 1)
 
@@ -947,7 +1040,10 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
             if sol is not None:
                 refined.append(sol)
     if do_repair and n_trade:
-        refined += _trade_offs(grid, data, refined, settings_at(start_stage[0]), n_trade, size, accept,
+        fitted = [r for r in refined if _meets(r, **accept)]
+        base_stage = stage_of.get(min(fitted, key=lambda r: r.scores.shape_error).x.tobytes(),
+                                  start_stage[0]) if fitted else start_stage[0]
+        refined += _trade_offs(grid, data, refined, settings_at(base_stage), n_trade, size, accept,
                                progress)
     # the final Pareto front: NSGA-II's front and the refined solutions, the
     # dominated ones removed; the choice is the issue's rule on it
@@ -964,8 +1060,11 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
     # band; the looser rows (less change of shape) stay on the front for the
     # user to pick (choose_member)
     honest = within & (_max_link_error(grid, data, front_X) <= measure_band_cm + 1e-3)
+    all_vertex = shape_error_all(data, grid.outlines(front_X))
+    ranks = np.array([standing(f, a, ref_scores.shape_error, ref_scores.shape_error_all)
+                      for f, a in zip(front_F[:, 2], all_vertex, strict=True)])
     idx = choose(front_F, tol_measure_cm=tol_measure_cm, tol_seam=tol_seam,
-                 within=honest if honest.any() else within)
+                 within=honest if honest.any() else within, standing=ranks)
     by_x = {s.x.tobytes(): s for s in refined}
     chosen = by_x.get(front_X[idx].tobytes()) or _solution(
         grid, data, "nsga2", front_X[idx], size,
@@ -980,11 +1079,12 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
     findings = _checks(grid, data, chosen, baselines["proportional"])
     for f in findings:
         log.warning("%s: %s", source, f)
+    chosen_stage = stage_of.get(chosen.x.tobytes(), start_stage[0]) if chosen.x is not None else start_stage[0]
     forcing = None
     if do_repair:
         def release_finish(d: ObjectiveData, x_start: np.ndarray) -> np.ndarray:
             # from the fitted solution, a few iterations show which way the shape goes
-            return refine(grid, d, x_start, **{**settings_at(start_stage[0]), "max_iter": RELEASE_ITER}).x
+            return refine(grid, d, x_start, **{**settings_at(chosen_stage), "max_iter": RELEASE_ITER}).x
 
         forcing = _forcing(grid, data, chosen, baselines["proportional"], release_finish, measure_band_cm, source)
     seconds = time.perf_counter() - t0
@@ -992,7 +1092,7 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
         pattern=chosen.pattern, original=pattern, chosen=chosen, ga_choice=ga_choice,
         front_F=front_F, front_X=front_X, chosen_index=idx, front_refined=is_refined,
         front_within=within, baselines=baselines, findings=findings,
-        finish_settings=settings_at(start_stage[0]), forcing=forcing,
+        finish_settings=settings_at(chosen_stage), forcing=forcing,
         measurements=measurements, grid=grid, data=data, seconds=seconds, seed=int(seed),
         pop_size=pop_size, n_gen=n_gen, history=np.array(callback.history, dtype=np.float64).reshape(-1, 4),
     )

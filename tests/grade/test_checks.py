@@ -6,7 +6,14 @@ import numpy as np
 import pytest
 from grade_fixtures import BODY, skirt_pattern
 
-from patternbridge.grade.checks import design_checks, piece_extents, span_sagitta
+from patternbridge.grade.checks import (
+    MIN_CURVE_RATIO,
+    curve_depth,
+    curve_runs,
+    design_checks,
+    piece_extents,
+    span_sagitta,
+)
 from patternbridge.grade.grid import build_grid
 from patternbridge.grade.objectives import objective_data
 from patternbridge.grade.report import fit_report
@@ -53,8 +60,10 @@ def test_a_collapsed_yoke_is_caught(shirt):
     pts = grid.outlines(squashed[None])[0]
     assert piece_extents(data, pts[None])[0, k, 1] == pytest.approx(0.48 * piece_extents(data, ref[None])[0, k, 1])
     found = design_checks(data, pts, ref, piece_names=names)
-    assert _codes(found, "yoke") == {"piece-collapsed"}
+    # squashed to 0.48 of its height, the neckline keeps about 0.48 of its depth: flattened as a whole too
+    assert _codes(found, "yoke") == {"piece-collapsed", "curve-flattened"}
     assert all(f.where == "yoke" for f in found)
+    assert all("as a whole" in f.message for f in found if f.code == "curve-flattened")
 
 
 @pytest.mark.shared
@@ -72,6 +81,38 @@ def test_a_flat_neckline_is_caught(shirt):
     assert span_sagitta(data, pts[None])[0, span] < 1e-9
     found = design_checks(data, pts, ref, piece_names=names)
     assert "curve-flattened" in _codes(found, "yoke")
+
+
+@pytest.mark.shared
+def test_a_neckline_flattened_as_a_whole_is_caught_though_each_half_keeps_its_depth(shirt):
+    grid, data, x, names = shirt
+    ref = grid.outlines(x[None])[0]
+    k = names.index("yoke")
+    runs = [r for r in curve_runs(data) if data.piece_of_point[r[0]] == k]
+    neck = max(runs, key=lambda r: curve_depth(data.points0[None], r)[0])  # neck side to neck side
+    marks = grid.pattern.pieces[k].marks
+    first = int(grid.point_offsets[k])
+    assert {int(neck[0]) - first, int(neck[-1]) - first} == {marks["neck_side_left"], marks["neck_side_right"]}
+    assert marks["cb_neck"] + first in neck[1:-1]  # the centre-back mark lies inside the curve
+    # raise the neckline towards its chord by a tent that peaks at the centre back: linear on
+    # each half, so each half keeps its own bulge while the whole loses most of its depth
+    a, b = ref[neck[0]], ref[neck[-1]]
+    u = (b - a) / np.linalg.norm(b - a)
+    normal = np.array([-u[1], u[0]])
+    side = np.sign(np.median((ref[neck] - a) @ normal))
+    t = (ref[neck] - a) @ u / np.linalg.norm(b - a)
+    t_cb = (ref[marks["cb_neck"] + first] - a) @ u / np.linalg.norm(b - a)
+    tent = np.where(t <= t_cb, t / t_cb, (1.0 - t) / (1.0 - t_cb))
+    depth = float(np.abs((ref[neck] - a) @ normal).max())
+    pts = ref.copy()
+    pts[neck] -= side * 0.9 * depth * tent[:, None] * normal[None, :]
+    whole = curve_depth(pts[None], neck)[0] / curve_depth(ref[None], neck)[0]
+    on_neck = [s for s in np.flatnonzero(data.span_piece == k) if data.span_a[s] in neck and data.span_b[s] in neck]
+    halves = span_sagitta(data, pts[None])[0, on_neck] / span_sagitta(data, ref[None])[0, on_neck]
+    assert len(on_neck) == 2 and (halves >= MIN_CURVE_RATIO).all()
+    assert whole < MIN_CURVE_RATIO
+    found = [f for f in design_checks(data, pts, ref, piece_names=names) if f.where == "yoke"]
+    assert [f.code for f in found] == ["curve-flattened"] and "as a whole" in found[0].message
 
 
 @pytest.mark.shared

@@ -13,9 +13,11 @@ from patternbridge.grade.refine import refine, straight_constraints, straight_ed
 from patternbridge.grade.run import (
     axis_scaling,
     choose,
+    continuation_stages,
     fit_pattern,
     non_dominated,
     refine_members,
+    standing,
     within_tolerance,
 )
 
@@ -43,6 +45,46 @@ def test_refine_members_distinct_choice_first():
     # least normalised violation max(f1/0.5, f2/0.5): row 3 (0.6)
     assert rows[1] == 3 and rows[2] == 1
     assert refine_members(F, 2, 1) == [2]
+
+
+def test_standing_counts_both_shape_measures_then_the_worst_ratio():
+    ref = (0.0024, 0.0012)  # E_average_male's shirt under proportional scaling
+    both = standing(0.0020, 0.0011, *ref)
+    crit_only = standing(0.0023, 0.0144, *ref)
+    all_only = standing(0.0030, 0.0010, *ref)
+    neither_close = standing(0.0057, 0.0043, *ref)  # ratios 2.4 and 3.6
+    neither_flat = standing(0.0056, 0.0121, *ref)  # a hair lower at the critical points, curves pulled flat
+    assert both == (-2, -1, pytest.approx(0.0011 / 0.0012))  # the worse of the two ratios
+    assert crit_only[0] == all_only[0] == -1 and neither_close[0] == 0
+    # one measure each: the critical points (the issue's own measure) go first
+    assert both < crit_only < all_only < neither_close < neither_flat
+    assert standing(0.0024, 0.0012, *ref)[0] == -2  # at scaling's counts as passing
+
+
+def test_continuation_stages_run_the_strong_all_vertex_weight_once_then_the_ladder():
+    stages = continuation_stages((1.0, 3.0, 0.5), (1.0, 1 / 3, 0.0))
+    assert stages[0] == (3.0, 1.0)
+    # the halved all-vertex weight runs only where the grid-interval term has let go
+    assert stages[1:] == [(1.0, 1.0), (1.0, 1 / 3), (1.0, 0.0), (0.5, 1 / 3), (0.5, 0.0)]
+    assert stages == sorted(stages, reverse=True)  # decreasing weights: the order `st < first` relies on
+    assert continuation_stages((1.0,), (1.0, 0.0)) == [(1.0, 1.0), (1.0, 0.0)]
+
+
+def test_choose_prefers_rows_that_stand_better_against_scaling():
+    F = np.array([[0.1, 0.01, 0.002], [0.1, 0.01, 0.003], [0.1, 0.01, 0.004]])
+    within = np.ones(3, dtype=bool)
+    assert choose(F, tol_measure_cm=0.5, tol_seam=0.5, within=within) == 0
+    # rows 1 and 2 keep both measures at or below scaling's: the least shape error of them
+    both = np.array([[-1, -1, 3.0], [-2, -1, 0.9], [-2, -1, 0.8]])
+    assert choose(F, tol_measure_cm=0.5, tol_seam=0.5, within=within, standing=both) == 1
+    # none keeps both: the most kept, then the smallest worst ratio
+    one = np.array([[-1, -1, 3.0], [-1, -1, 1.5], [0, 0, 1.2]])
+    assert choose(F, tol_measure_cm=0.5, tol_seam=0.5, within=within, standing=one) == 1
+    # the preference applies among the rows within tolerance only
+    assert choose(F, tol_measure_cm=0.5, tol_seam=0.5, within=np.array([True, False, True]), standing=one) == 0
+    # one measure each: the row that keeps the critical points, though its other ratio is worse
+    crit_first = np.array([[-1, 0, 1.1], [-1, -1, 2.0], [0, 0, 1.2]])
+    assert choose(F, tol_measure_cm=0.5, tol_seam=0.5, within=within, standing=crit_first) == 1
 
 
 def test_choose_with_a_tolerance_mask():
