@@ -17,9 +17,9 @@ rule that placed it and a confidence:
   the side of the neck down the arm).
 * :func:`detect_neck` — the narrowest section between the shoulders and the
   head; the front neck point deepest behind the chord of the front midline
-  profile from the upper chest, the back neck point on the back midline where the section has grown
+  profile from the upper chest up to the chin, the back neck point on the back midline where the section has grown
   by 30 % (the neck base), the side neck points at the neck/shoulder corner of
-  the frontal contour.
+  the frontal section's contour, walked from the narrowest neck to the shoulder point.
 * :func:`detect_torso_points` — the waist (narrowest torso section), chest
   (widest above) and hip (widest below) levels of the girth search, and their
   front, back and lateral extreme points.
@@ -63,6 +63,7 @@ FOUND = 0.7  # confidence of a point its rule found
 FALLBACK = 0.35  # confidence of a point placed by a rule's fallback
 PROVISIONAL = 0.3  # a point a later rule replaces
 NO_CORNER = "no shoulder corner: highest vertex 1.2 % of S outside the armpit (provisional)"
+CHIN = 1.5  # under the jaw the front midline comes forward more than this (dz / dy) as it rises
 NECK_WALL = 1.5  # the side of the neck rises more steeply than this (dy / dx) from the shoulder slope
 SHARP = 0.85  # a rule that found a sharp geometric feature (the shoulder corner, the neck base)
 LEVEL_ARM_SHARE = 0.53  # a level arm's acromion: this share of the way from the side neck point to the armpit
@@ -441,6 +442,23 @@ def _narrowest_neck(sc: Scan, y_sh: float):
     return best
 
 
+def _below_the_chin(p: np.ndarray, S: float) -> tuple[np.ndarray, bool]:
+    """The front midline profile ``p`` (points from the upper chest up) cut where the chin begins, and
+    whether a chin was found.
+
+    Above its most recessed point the profile climbs the front of the neck,
+    which comes forward less than it rises; under the jaw the skin comes
+    forward :data:`CHIN` times as fast as it rises (and by more than 0.5 % of
+    S in one step), and the profile ends before it. The narrowest neck lay
+    under the chin on A, E and F, so a chord ending there leaned forward at
+    its top and its deepest point rose a vertex row (1.2 cm) up the neck.
+    """
+    dy, dz = np.diff(p[:, 1]), np.diff(p[:, 2])
+    chin = np.flatnonzero((dz > CHIN * np.maximum(dy, 1e-9)) & (dz > 0.005 * S))
+    chin = chin[chin >= int(np.argmin(p[:, 2]))]
+    return (p[: int(chin[0]) + 1], True) if len(chin) else (p, False)
+
+
 def detect_neck(sc: Scan) -> None:
     """Front, back and side neck points from the narrowest section between the shoulders and the head."""
     sh = [sc.at(f"shoulder_point_{s}") for s in SIDES if sc.has(f"shoulder_point_{s}")]
@@ -455,7 +473,7 @@ def detect_neck(sc: Scan) -> None:
     zc = float(np.mean(tn[:, 2]))
     midv = np.abs(v[:, 0] - xm) < max(0.004 * S, 0.3)
     if not sc.has("front_neck_point"):
-        # the chord runs from the upper chest, 8 % of S below the shoulder points, to the narrowest neck
+        # the chord runs from the upper chest, 8 % of S below the shoulder points, up the neck to the chin
         # (the jugular notch's definition takes it from the upper chest to the neck; from 4 % the
         # notch was 2.4-3.9 cm off on A, C, E, F; the same points from 7 % to 10 %)
         prof = []
@@ -465,7 +483,7 @@ def detect_neck(sc: Scan) -> None:
                 i = np.flatnonzero(sel)
                 prof.append(i[np.argmax(v[i, 2])])
         if len(prof) > 2:
-            p = v[prof]
+            p, chin = _below_the_chin(v[np.asarray(list(dict.fromkeys(prof)))], S)
             a, b = p[0], p[-1]
             ab = (b - a)[[1, 2]]
             n2 = np.array([ab[1], -ab[0]]) / np.linalg.norm(ab)
@@ -473,7 +491,9 @@ def detect_neck(sc: Scan) -> None:
             sc.put(
                 "front_neck_point",
                 p[int(np.argmax(depth))],
-                "front midline point deepest behind the chord of the neck/chest profile",
+                "front midline point deepest behind the chord of the neck/chest profile"
+                + (" up to the chin" if chin else ""),
+                SHARP if chin else FOUND,
             )
     if not sc.has("back_neck_point"):
         y_base, conf, rule = y_sh, FALLBACK, "back midline at the shoulder height (no neck base found)"
@@ -494,34 +514,72 @@ def detect_neck(sc: Scan) -> None:
             _side_neck_point(sc, s, tn, y_neck, zc)
 
 
+def _ordered_loop(points: np.ndarray, segments: np.ndarray) -> np.ndarray:
+    """The points of a closed section loop in their order along it."""
+    n = len(points)
+    nbr = np.full((n, 2), -1, dtype=np.int64)
+    fill = np.zeros(n, dtype=np.int64)
+    for a, b in segments:
+        if fill[a] < 2:
+            nbr[a, fill[a]] = b
+            fill[a] += 1
+        if fill[b] < 2:
+            nbr[b, fill[b]] = a
+            fill[b] += 1
+    order, prev, cur = [0], -1, 0
+    while len(order) < n:
+        nxt = nbr[cur, 0] if nbr[cur, 0] != prev else nbr[cur, 1]
+        if nxt < 0 or nxt == 0:
+            break
+        prev, cur = cur, int(nxt)
+        order.append(cur)
+    return points[np.asarray(order)]
+
+
 def _side_neck_point(sc: Scan, s: str, tn: np.ndarray, y_neck: float, zc: float) -> None:
-    v, S, sg = sc.v, sc.S, SIDES[s]
+    """Side neck point: the concave neck/shoulder corner of the frontal section's contour.
+
+    The section is the frontal plane half-way between the back and front neck
+    points; along its contour (walked point by point, so the chin, the head
+    and the arm never enter) from the side of the narrowest neck to the
+    shoulder point, the point deepest below the chord of that stretch. The
+    highest skin per x in a slab 1 % of S deep around the plane (the rule
+    before) climbed the trapezius behind the plane and made the contour
+    between the neck and the shoulder nearly straight: its deepest point
+    slid 1.3-3.5 cm out along the shoulder and 0.7-2.9 cm down.
+    """
+    from ..measure.section import plane_loops
+
+    S, sg = sc.S, SIDES[s]
     spt = sc.at(f"shoulder_point_{s}")
-    x_n = sc.x_mid + sg * 0.5 * float(np.ptp(tn[:, 0]))
-    prof = []
-    for x in np.linspace(x_n, spt[0], 24):
-        sel = (
-            (np.abs(v[:, 0] - x) < max(0.004 * S, 0.3))
-            & (np.abs(v[:, 2] - zc) < 0.01 * S)
-            & (v[:, 1] < y_neck + 0.02 * S)
-            & (v[:, 1] > spt[1] - 0.02 * S)
-        )
-        if sel.any():
-            i = np.flatnonzero(sel)
-            prof.append(i[np.argmax(v[i, 1])])
-    if len(prof) <= 2:
+    sec = plane_loops(sc.v, sc.f, np.array([0.0, 0.0, zc]), np.array([0.0, 0.0, 1.0]))
+    loops = [lp for lp in sec.loops if lp.closed]
+    if not loops:
         return
-    p = v[prof]
+    lp = min(loops, key=lambda q: float(np.min(np.linalg.norm(q.points[:, :2] - spt[:2], axis=1))))
+    P = _ordered_loop(lp.points, lp.segments)
+    k_sh = int(np.argmin(np.linalg.norm(P[:, :2] - spt[:2], axis=1)))
+    off = sg * (P[:, 0] - sc.x_mid)
+    on_neck = np.flatnonzero((off > 0.0) & (off < 0.6 * float(np.ptp(tn[:, 0])) + 0.01 * S))
+    if not len(on_neck):
+        return
+    k_n = int(on_neck[np.argmin(np.abs(P[on_neck, 1] - y_neck))])
+    n = len(P)
+    fwd, back = (k_sh - k_n) % n, (k_n - k_sh) % n
+    arc = (k_n + np.arange(fwd + 1)) % n if fwd <= back else (k_n - np.arange(back + 1)) % n
+    if len(arc) <= 2:
+        return
+    p = P[arc]
     a, b = p[0, [0, 1]], p[-1, [0, 1]]
     ab = b - a
-    n2 = np.array([-ab[1], ab[0]]) / np.linalg.norm(ab)
+    n2 = np.array([-ab[1], ab[0]]) / max(float(np.linalg.norm(ab)), 1e-9)
     if n2[1] > 0:
         n2 = -n2  # below the chord
     depth = (p[:, [0, 1]] - a) @ n2
     sc.put(
         f"neck_shoulder_point_{s}",
         p[int(np.argmax(depth))],
-        "neck/shoulder corner of the frontal contour between the neck and the shoulder point",
+        "concave neck/shoulder corner of the frontal section's contour from the narrowest neck to the shoulder point",
     )
 
 
@@ -547,16 +605,40 @@ def detect_torso_points(sc: Scan) -> None:
         sc.put("waist_side_left", allp[np.argmax(allp[:, 0])], f"left-most point of the {rule}")
         sc.put("waist_side_right", allp[np.argmin(allp[:, 0])], f"right-most point of the {rule}")
     _bust_points(sc, levels["chest"][0])
-    y = levels["hip"][0]
-    loops = [p for p in sc.loops(y) if abs(p[:, 0].mean() - xm) < 0.1 * S]
-    if loops:
+    _hip_points(sc, levels["hip"][0], levels["waist"][0])
+
+
+def _hip_points(sc: Scan, y_wide: float, y_waist: float) -> None:
+    """Buttock points (the buttocks' most posterior skin) and hip points (lateral, at their height).
+
+    Each half's buttock prominence is its back-most vertex between the crotch
+    and the waist, inside the widest hip section's lateral extent (so the
+    hands hanging beside the thighs never count); the hip points are the
+    outer-most points of the section at its height. The back-most and
+    outer-most points of the widest hip section (the rule before) lay 1.5-3.4
+    cm below the prominence, where the thighs flare: buttock points 2.6-3.8 cm
+    off on five of the six, waist-to-hip +9 to +13 %.
+    """
+    S, xm, v = sc.S, sc.x_mid, sc.v
+    wide = [p for p in sc.loops(y_wide) if abs(p[:, 0].mean() - xm) < 0.1 * S]
+    if not wide:
+        return
+    wp = np.concatenate(wide)
+    y_low = float(sc.at("crotch_point")[1]) if sc.has("crotch_point") else y_wide - 0.05 * S
+    for s, sg in SIDES.items():
+        off = sg * (v[:, 0] - xm)
+        reach = float(np.max(sg * (wp[:, 0] - xm)))
+        band = np.flatnonzero((v[:, 1] > y_low) & (v[:, 1] < y_waist) & (off > 0.01 * S) & (off < reach))
+        y = float(v[band[np.argmin(v[band, 2])], 1]) if len(band) else y_wide
+        loops = [p for p in sc.loops(y) if abs(p[:, 0].mean() - xm) < 0.1 * S]
+        if not loops:
+            continue
         allp = np.concatenate(loops)
-        rule = f"of the widest hip section (y = {y:.1f} cm)"
-        for s, sg in SIDES.items():
-            side = allp[sg * (allp[:, 0] - xm) > 0.01 * S]
-            if len(side):
-                sc.put(f"buttock_point_{s}", side[np.argmin(side[:, 2])], f"back-most point {rule}")
-                sc.put(f"hip_side_{s}", side[np.argmax(sg * (side[:, 0] - xm))], f"outer-most point {rule}")
+        side = allp[sg * (allp[:, 0] - xm) > 0.01 * S]
+        if len(side):
+            rule = f"of the section at the buttock prominence (y = {y:.1f} cm)"
+            sc.put(f"buttock_point_{s}", side[np.argmin(side[:, 2])], f"back-most point {rule}")
+            sc.put(f"hip_side_{s}", side[np.argmax(sg * (side[:, 0] - xm))], f"outer-most point {rule}")
 
 
 def _bust_points(sc: Scan, y: float) -> None:

@@ -92,8 +92,13 @@ _SIGN = {"left": 1.0, "right": -1.0}
 #: the rig: 0.8, a level T-pose arm without a shoulder corner: 0.45). The
 #: crotch projected straight down from between the hip joints lies 1.7-2.5 cm
 #: off the meeting point of the inseams on the rigged D and B, which the
-#: geometry finds where the legs separate.
-GEOMETRY_FIRST = frozenset({"shoulder_point_left", "shoulder_point_right", "back_neck_point", "crotch_point"})
+#: geometry finds where the legs separate. The skin in front of and below the
+#: neck joint lies a median 3.2 cm off the jugular notch on the six test
+#: bodies; the neck/chest corner of the front midline profile, its chord held
+#: below the chin, lies on it or one vertex row away (median 0.0).
+GEOMETRY_FIRST = frozenset(
+    {"shoulder_point_left", "shoulder_point_right", "back_neck_point", "front_neck_point", "crotch_point"}
+)
 
 
 # --------------------------------------------------------------------------- skeleton
