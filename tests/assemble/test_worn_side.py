@@ -100,3 +100,36 @@ def test_the_swap_is_reported_only_where_the_drawing_is_the_other_side(aama_dir,
     for seam, me, va, other, vb, _ in _armhole_seams(sim):
         gap = np.linalg.norm(x[va + off[me.key]] - x[vb + off[other.key]], axis=1).max()
         assert gap < 3.0, f"{seam}: {gap:.1f} cm"
+
+
+def test_a_cuff_follows_its_sleeve_whatever_its_own_gaps():
+    """The library shirt's cuff, sewn only to its sleeve on the same arm, takes the sleeve's way round.
+
+    Positions are made up: mirrored, every cuff vertex lies on the sleeve vertex it is sewn to (its own gaps
+    say "mirror"), while the sleeve's armhole gaps decide; the cuff is mirrored exactly when the sleeve is.
+    """
+    from patternbridge.assemble.mesh2d import mesh_pattern
+    from patternbridge.assemble.place.handedness import choose_mirrored, paired_limb_pieces
+    from patternbridge.assemble.place.wrap import LIMBS, instance_part
+    from patternbridge.library import load_garment
+
+    pattern = load_garment("shirt")
+    pm = mesh_pattern(pattern, max_edge_cm=4.0)
+    part = {inst.key: instance_part(pattern, inst) for inst in pm.instances}
+    candidates = paired_limb_pieces(pm, {k: p in LIMBS for k, p in part.items()})
+    assert {"sleeve", "cuff"} <= candidates
+    rng = np.random.default_rng(0)
+    drawn = {inst.key: rng.normal(scale=20.0, size=(len(pm.pieces[inst.piece].points), 3)) for inst in pm.instances}
+    for sleeve_mirrored_fits in (False, True):
+        mirrored = {k: v + 50.0 for k, v in drawn.items()}  # mirrored, every seam across the arm's root opens
+        for sp in pm.seams:
+            for me, va, other, vb in (
+                (sp.a, sp.a_vertices, sp.b, sp.b_vertices),
+                (sp.b, sp.b_vertices, sp.a, sp.a_vertices),
+            ):
+                if me.piece == "cuff" and other.piece == "sleeve":
+                    mirrored[me.key][va] = drawn[other.key][vb]
+                if sleeve_mirrored_fits and me.piece == "sleeve" and part[other.key] is not part[me.key]:
+                    mirrored[me.key][va] = drawn[other.key][vb]
+        chosen = choose_mirrored(pm, candidates, drawn, mirrored, part)
+        assert ("cuff" in chosen) == ("sleeve" in chosen) == sleeve_mirrored_fits

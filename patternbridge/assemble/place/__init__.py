@@ -127,13 +127,13 @@ def wrap_worn_side(
     """
     cylinders = bounding_cylinders(vertices, parts)  # (place_instances widens them to carry the pieces)
     drawn = place_instances(character, vertices, pattern, pmesh, cylinders, report, scene=scene, parts=parts)
-    on_limb = {inst.key: instance_part(pattern, inst) in LIMBS for inst in pmesh.instances}
-    candidates = paired_limb_pieces(pmesh, on_limb)
+    part = {inst.key: instance_part(pattern, inst) for inst in pmesh.instances}
+    candidates = paired_limb_pieces(pmesh, {k: p in LIMBS for k, p in part.items()})
     if not candidates:
         return pmesh, drawn
     flipped_mesh = with_mirrored(pmesh, candidates)
     flipped = place_instances(character, vertices, pattern, flipped_mesh, cylinders, Report(), scene=scene, parts=parts)
-    chosen = choose_mirrored(pmesh, candidates, drawn, flipped)
+    chosen = choose_mirrored(pmesh, candidates, drawn, flipped, part)
     for name in sorted(chosen):
         report.add(
             "worn-mirrored",

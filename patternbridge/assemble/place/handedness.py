@@ -12,8 +12,8 @@ crumpled).
 
 Of a pair, which copy is drawn as printed and which mirrored does not change
 the garment, only which of the two goes on which side. So each such piece is
-wrapped both ways and worn the way its seams to other pieces start closer
-together (:func:`choose_mirrored`); a piece worn mirrored has its mesh
+wrapped both ways and worn the way its seams across the limb's root start
+closer together (:func:`choose_mirrored`; a cuff follows its sleeve); a piece worn mirrored has its mesh
 mirrored in x (:func:`mirrored_mesh`), so the primary copy is the mirror of
 the drawing and the mirror copy the drawing itself. No piece name, role or
 body-part string is tested: the choice is a function of the seam graph and
@@ -68,11 +68,12 @@ def paired_limb_pieces(pmesh: PatternMesh, on_limb: dict[str, bool]) -> frozense
     )
 
 
-def _gaps(pmesh: PatternMesh, piece: str, positions: dict[str, np.ndarray]) -> float:
-    """Sum of squared distances (cm²) between the sewn vertex pairs of ``piece``'s seams to other pieces."""
+def _gaps(pmesh: PatternMesh, piece: str, positions: dict[str, np.ndarray], part: dict[str, object]) -> float:
+    """Sum of squared distances (cm²) between the sewn vertex pairs of ``piece``'s seams to copies on another
+    body part (``part``: instance key -> body part)."""
     total = 0.0
     for sp in pmesh.seams:
-        if (sp.a.piece == piece) == (sp.b.piece == piece):
+        if (sp.a.piece == piece) == (sp.b.piece == piece) or part[sp.a.key] == part[sp.b.key]:
             continue
         d = positions[sp.a.key][sp.a_vertices] - positions[sp.b.key][sp.b_vertices]
         total += float(np.sum(d * d))
@@ -84,10 +85,9 @@ def choose_mirrored(
     candidates: frozenset[str],
     drawn: dict[str, np.ndarray],
     mirrored: dict[str, np.ndarray],
-    *,
-    passes: int = 3,
+    part: dict[str, object],
 ) -> frozenset[str]:
-    """The ``candidates`` to wear mirrored: those whose seams to other pieces start closer that way.
+    """The ``candidates`` to wear mirrored: those whose seams across the limb's root start closer that way.
 
     Parameters
     ----------
@@ -95,23 +95,34 @@ def choose_mirrored(
     candidates : pieces that may be worn mirrored (:func:`paired_limb_pieces`)
     drawn : instance key -> (n, 3) cm, every copy wrapped as drawn
     mirrored : instance key -> (n, 3) cm, the copies of the candidates wrapped mirrored
+    part : instance key -> its body part
 
-    A candidate is worn mirrored when its seams' summed squared gaps fall
-    below :data:`GAIN` × those as drawn, the other candidates taken as chosen
-    so far; a few passes let a cuff follow its sleeve.
+    Only the seams to copies on another body part (a sleeve's armholes on the
+    torso) say which way round a piece goes: a candidate sewn across is worn
+    mirrored when their summed squared gaps fall below :data:`GAIN` × those as
+    drawn. A candidate sewn only to pieces on its own limb (a cuff, to its
+    sleeve) has no such evidence (a band is nearly symmetric, and wrapped at
+    the wrist its gaps to the sleeve are mostly the distance between them): it
+    follows the piece it is sewn to, so that the two still run the same way
+    round the limb.
     """
-    chosen: set[str] = set()
     keys = {inst.key: inst.piece for inst in pmesh.instances}
-    for _ in range(passes):
-        changed = False
-        for piece in sorted(candidates):
-            current = {k: (mirrored if p in chosen else drawn)[k] for k, p in keys.items()}
-            as_drawn = dict(current) | {k: drawn[k] for k, p in keys.items() if p == piece}
-            flipped = dict(current) | {k: mirrored[k] for k, p in keys.items() if p == piece}
-            want = _gaps(pmesh, piece, flipped) < GAIN * _gaps(pmesh, piece, as_drawn)
-            if want != (piece in chosen):
-                chosen.symmetric_difference_update({piece})
-                changed = True
-        if not changed:
-            break
+    across = {
+        p for sp in pmesh.seams if part[sp.a.key] != part[sp.b.key] for p in (sp.a.piece, sp.b.piece) if p in candidates
+    }
+    chosen: set[str] = set()
+    for piece in sorted(across):
+        mine = [k for k, p in keys.items() if p == piece]
+        flipped = dict(drawn) | {k: mirrored[k] for k in mine}
+        if _gaps(pmesh, piece, flipped, part) < GAIN * _gaps(pmesh, piece, drawn, part):
+            chosen.add(piece)
+    followers = set(candidates) - across
+    grown = True
+    while grown:
+        grown = False
+        for sp in pmesh.seams:
+            for me, other in ((sp.a.piece, sp.b.piece), (sp.b.piece, sp.a.piece)):
+                if me in followers and other in chosen and me not in chosen:
+                    chosen.add(me)
+                    grown = True
     return frozenset(chosen)
