@@ -147,7 +147,7 @@ def prepare(
         hands = hand_masks(character, body, parts)
     helpers = proxies + hand_mitts(body, hands)
     cloth_collider = BodyCollider(body, character.faces, proxies=helpers) if helpers else collider
-    placed = place_garment(character, body, pattern, pmesh, parts, findings, scene=collider)
+    pmesh, placed = place_garment(character, body, pattern, pmesh, parts, findings, scene=collider)
     keys = [inst.key for inst in pmesh.instances]
     index = {k: i for i, k in enumerate(keys)}
     positions = [placed[k] + rng.normal(scale=1e-3, size=placed[k].shape) for k in keys]

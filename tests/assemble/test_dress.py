@@ -126,7 +126,7 @@ def placed_library(character_e):
     for name in ("shirt", "trousers"):
         pattern = load_garment(name)
         pm = mesh_pattern(pattern, max_edge_cm=3.0)
-        out[name] = (pm, place_garment(character_e, body, pattern, pm, parts, Report(), scene=scene))
+        out[name] = place_garment(character_e, body, pattern, pm, parts, Report(), scene=scene)
     out["waist_y"] = float(body[character_e.landmarks["waist_back"].vertex][1])
     return out
 

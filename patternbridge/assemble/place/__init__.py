@@ -1,11 +1,13 @@
 """Place a garment's cut copies on the body from its seam graph and the body's landmarks.
 
-Two steps, both driven by data only (placement hints, seams, landmarks):
+Three steps, all driven by data only (placement hints, seams, landmarks):
 
 1. :mod:`.wrap` lays every cut copy on its body part's proxy surface (a
    bounding cylinder; a ring round the hips above the crotch) with its anchor
    mark on its anchor landmark;
-2. :mod:`.seam_graph` moves and bends all copies at once so that each seam's
+2. :mod:`.handedness` wears a piece cut in pairs on a limb (a sleeve) the way
+   round its seams face their partners (its front cap on the front);
+3. :mod:`.seam_graph` moves and bends all copies at once so that each seam's
    two sides meet, keeping every piece's wrapped shape, with the body as an
    obstacle.
 
@@ -21,8 +23,9 @@ from ...pattern.model import Pattern
 from ...report import Report
 from ..bodyparts import BodyParts
 from ..mesh2d import PatternMesh
+from .handedness import choose_mirrored, paired_limb_pieces, with_mirrored
 from .seam_graph import SeamGraphSettings, close_seam_graph, layer_ranks
-from .wrap import Cylinder, bounding_cylinders, instance_part, landmark_position, mirror_name, place_instances
+from .wrap import LIMBS, Cylinder, bounding_cylinders, instance_part, landmark_position, mirror_name, place_instances
 
 __all__ = [
     "Cylinder",
@@ -36,6 +39,7 @@ __all__ = [
     "mirror_name",
     "place_garment",
     "place_instances",
+    "wrap_worn_side",
 ]
 
 
@@ -78,8 +82,8 @@ def place_garment(
     report: Report,
     *,
     scene=None,
-) -> dict[str, np.ndarray]:
-    """Every cut copy placed on the body: wrapped on its proxy, then the seam graph closed.
+) -> tuple[PatternMesh, dict[str, np.ndarray]]:
+    """Every cut copy placed on the body: wrapped on its proxy the way round it is worn, then the seam graph closed.
 
     Parameters
     ----------
@@ -92,13 +96,50 @@ def place_garment(
 
     Returns
     -------
-    dict instance key -> (n, 3) float64 positions, cm
+    pmesh : ``pmesh`` with the pieces worn mirrored mirrored (:func:`wrap_worn_side`)
+    positions : dict instance key -> (n, 3) float64 positions, cm
 
     Raises
     ------
     InputError
         A piece has no placement hint, or its body part has no vertices.
     """
+    pmesh, wrapped = wrap_worn_side(character, vertices, pattern, pmesh, parts, report, scene=scene)
+    return pmesh, close_seams(pmesh, wrapped, scene)
+
+
+def wrap_worn_side(
+    character,
+    vertices: np.ndarray,
+    pattern: Pattern,
+    pmesh: PatternMesh,
+    parts: BodyParts,
+    report: Report,
+    *,
+    scene=None,
+) -> tuple[PatternMesh, dict[str, np.ndarray]]:
+    """Every cut copy wrapped on its proxy; a piece cut in pairs on a limb the way round its seams face their
+    partners (:mod:`.handedness`).
+
+    Returns ``pmesh`` with the meshes of the pieces worn mirrored mirrored, and the
+    wrapped positions (instance key -> (n, 3) cm). A ``worn-mirrored`` finding
+    names each such piece.
+    """
     cylinders = bounding_cylinders(vertices, parts)  # (place_instances widens them to carry the pieces)
-    wrapped = place_instances(character, vertices, pattern, pmesh, cylinders, report, scene=scene, parts=parts)
-    return close_seams(pmesh, wrapped, scene)
+    drawn = place_instances(character, vertices, pattern, pmesh, cylinders, report, scene=scene, parts=parts)
+    part = {inst.key: instance_part(pattern, inst) for inst in pmesh.instances}
+    candidates = paired_limb_pieces(pmesh, {k: p in LIMBS for k, p in part.items()})
+    if not candidates:
+        return pmesh, drawn
+    flipped_mesh = with_mirrored(pmesh, candidates)
+    flipped = place_instances(character, vertices, pattern, flipped_mesh, cylinders, Report(), scene=scene, parts=parts)
+    chosen = choose_mirrored(pmesh, candidates, drawn, flipped, part)
+    for name in sorted(chosen):
+        report.add(
+            "worn-mirrored",
+            "wrapped as drawn on its limb, its seams to other pieces start on the far side of it: "
+            "the drawing is worn on the mirrored side and its mirror image on the other",
+            where=name,
+        )
+    pick = {inst.key: (flipped if inst.piece in chosen else drawn)[inst.key] for inst in pmesh.instances}
+    return with_mirrored(pmesh, chosen), pick
