@@ -12,6 +12,12 @@
   a tank's scoop, 52–66 cm on the real files, is a style line that the neck
   does not control: its ``neckline`` link keeps its proportion to the chest
   girth, as the bodice does);
+- *hip*, across the hem of every chosen bodice whose hem falls at or below
+  the hip: its body length (centre neck to centre hem) at least the sample
+  body's back length plus its waist-to-hip height; the hem's side corner to
+  the centre line, doubled as the chest is; an ``at_least`` link: a top
+  whose hem passes over the hips must reach the hips plus its ease, and may
+  be wider (a straight hem over narrow hips is the design, not an error);
 - *upper arm*, across a sleeve at its underarm;
 - *thigh*, across each leg role at its crotch point.
 
@@ -61,6 +67,9 @@ NECK_AT_NECK = 1.3
 #: files; a T-shirt's or a shirt's shoulder: 0.5-0.64)
 STRAP_SHARE = 0.4
 
+#: a bodice's hem: its lowest share of the piece's height (a shirt-tail's side corner sits above its centre hem)
+HEM_BAND = 0.2
+
 _LEGS = (Role.LEG, Role.LEG_FRONT, Role.LEG_BACK)
 
 
@@ -85,6 +94,29 @@ def _chest_leg(piece: Piece, o: Orientation) -> Leg | None:
         return None
     mid = int(centre[np.argmin(np.abs(up[centre, 1] - up[under, 1]))])
     return Leg(piece=piece.name, start=f"v{under}", end=f"v{mid}", along="across", factor=_copies(piece, o))
+
+
+def _hem_leg(piece: Piece, o: Orientation, found: PieceLandmarks) -> Leg | None:
+    """Across a bodice's hem: its side corner (the widest vertex of the lowest ``HEM_BAND``) to the centre line.
+
+    A piece drawn whole is taken from its left to its right hem corner.
+    """
+    up = o.apply(sew_line(piece)[0])
+    y = up[:, 1]
+    idx = np.nonzero(y <= y.min() + HEM_BAND * np.ptp(y))[0]
+    if o.whole:
+        lo, hi = int(idx[np.argmin(up[idx, 0])]), int(idx[np.argmax(up[idx, 0])])
+        return Leg(piece=piece.name, start=f"v{lo}", end=f"v{hi}", along="across", factor=1.0)
+    side = int(idx[np.argmax(np.abs(up[idx, 0]))])
+    centre = found.marks.get("centre_hem")
+    if centre is None:
+        on_centre = np.nonzero(np.abs(up[:, 0]) < 0.5)[0]
+        if not len(on_centre):
+            return None
+        centre = int(on_centre[np.argmin(y[on_centre])])
+    if centre == side:
+        return None
+    return Leg(piece=piece.name, start=f"v{side}", end=f"v{centre}", along="across", factor=_copies(piece, o))
 
 
 def _waist_leg(piece: Piece, o: Orientation) -> Leg | None:
@@ -268,6 +300,7 @@ def _collect(pattern: Pattern, inference: BridgeInference) -> dict[str, list[Leg
             chest = _chest_leg(piece, o)
             add("chest_girth|chest_girth|girth", chest)
             add("neck_girth|neck_girth|girth", _neckline_leg(piece, o, found[name]))
+            add("hip_girth|hip_girth|girth", _hem_leg(piece, o, found[name]))
             strap = _strap_leg(piece, found[name])
             if strap is not None and chest is not None:
                 half_chest = _span(piece, chest) / (2.0 if o.whole else chest.factor)
@@ -311,6 +344,9 @@ def measurement_links(
     links = []
     collected = _collect(pattern, inference)
     neck = sum(_span(pattern.piece(g.piece), g) for g in collected.get("neck_girth|neck_girth|girth", ()))
+    length = sum(_span(pattern.piece(g.piece), g) for g in collected.get("body_length|back_length|length", ()))
+    if length < body["back_length"] + body["waist_to_hip"]:
+        collected.pop("hip_girth|hip_girth|girth", None)  # the hem sits above the hip: the hips do not pass it
     for key, legs in collected.items():
         if key.split("|")[0].endswith("_strap") and neck <= NECK_AT_NECK * body["neck_girth"]:
             continue  # a neckline at the neck holds the shoulder with the chest; only a scoop leaves a strap free
@@ -326,7 +362,12 @@ def measurement_links(
             continue
         links.append(
             MeasurementLink(
-                id=link_id, measurement=measurement, legs=tuple(legs), ease_cm=ease, proportional=kind == "length"
+                id=link_id,
+                measurement=measurement,
+                legs=tuple(legs),
+                ease_cm=ease,
+                proportional=kind == "length",
+                at_least=link_id == "hip_girth",
             )
         )
     return links

@@ -143,3 +143,65 @@ def test_tank_straps_keep_their_width_when_graded_to_a_child(aama_dir, shared_di
         body_ratio = stature[link.id] / choose_chart(result.grading.original.sizes, "36").body_cm["stature"]
         # within 2 mm of its target (a 2.3 cm strap graded to 1.5 cm; it vanished before the strap links)
         assert width(after) == pytest.approx(width(before) * body_ratio, abs=0.2), (link.id, ratio, body_ratio)
+
+
+def _hem_span(piece, orientation):
+    """Across a piece's hem, read off its outline: the extent across the grain of its lowest 2 cm."""
+    from patternbridge.library.seams import sew_line
+
+    up = orientation.apply(sew_line(piece)[0])
+    return float(np.ptp(up[up[:, 1] <= up[:, 1].min() + 2.0, 0]))
+
+
+@pytest.mark.shared
+def test_a_top_whose_hem_passes_the_hip_has_a_hip_link_over_its_hem(aama_dir, tmp_path):
+    """GMH1004F15-2: a men's T-shirt 70 cm long (size 50: back length + waist to hip 66 cm) holds its hem girth."""
+    pattern, _ = read_dxf(aama_dir / "GMH1004F15-2.DXF")
+    inference = infer_bridge(pattern)
+    _, links, lengths = _inferred(aama_dir / "GMH1004F15-2.DXF", tmp_path)
+    hip = links["hip_girth"]
+    assert not hip.proportional and hip.measurement == "hip_girth" and hip.at_least
+    # front and back halves cut on the fold, each across its hem: twice the hem of each, as a tape measures it
+    assert {leg.piece for leg in hip.legs} == {"GMH1004FFA", "GMH1004FBA"}
+    hem = sum(2.0 * _hem_span(pattern.piece(n), inference.orientations[n]) for n in ("GMH1004FFA", "GMH1004FBA"))
+    assert lengths["hip_girth"] == pytest.approx(hem, abs=0.5)
+    # a straight jersey T-shirt: its hem within a few cm of size 50's hip (104 cm), as its chest is of the chest
+    men_50 = choose_chart(pattern.sizes, pattern.sample_size).body_cm
+    assert hip.ease_cm == pytest.approx(lengths["hip_girth"] - men_50["hip_girth"], abs=0.01)
+    assert -6.0 <= hip.ease_cm <= 6.0
+
+
+@pytest.mark.shared
+@pytest.mark.parametrize("stem", ["GLX0924S16_NEW.DXF", "simple.DXF"])
+def test_a_top_whose_hem_sits_above_the_hip_has_no_hip_link(aama_dir, stem):
+    """Tanks 60-61 cm long against the women's size 36 back length + waist to hip of 61.2 cm: the hips pass below."""
+    pattern, _ = read_dxf(aama_dir / stem)
+    links = {m.id: m for m in measurement_links(pattern, infer_bridge(pattern))}
+    body = choose_chart(pattern.sizes, pattern.sample_size).body_cm
+    assert links["body_length"].legs and "hip_girth" not in links
+    assert body["back_length"] + body["waist_to_hip"] > 60.8
+
+
+@pytest.mark.shared
+@pytest.mark.slow
+def test_a_tshirt_graded_to_wide_hips_is_wide_enough_at_the_hem(aama_dir, shared_dir, tmp_path):
+    """GMH1004F15-2 on B_slim_female (hips wider than chest): the graded hem reaches B's hip plus the pattern's ease."""
+    from patternbridge.workflow import FitOptions, fit
+
+    result = fit(
+        shared_dir / "characters" / "B_slim_female.obj",
+        aama_dir / "GMH1004F15-2.DXF",
+        seed=0,
+        options=FitOptions(pop_size=8, n_gen=2, drape=False),
+        out_dir=tmp_path / "out",
+    )
+    body = {m["id"]: m["body_cm"] for m in result.report["measurements"]}
+    graded = result.grading.pattern
+    (hip,) = [m for m in graded.measurements if m.id == "hip_girth"]
+    k = list(graded.sizes).index(graded.sample_size) if graded.sizes else 0
+    achieved = float(link_lengths(graded)["hip_girth"][k])
+    assert achieved >= body["hip_girth"] + hip.ease_cm - 0.5
+    # measured independently off the graded outlines; before the hip link the hem was graded with the chest
+    orient = infer_bridge(result.grading.original).orientations
+    hem = sum(2.0 * _hem_span(graded.piece(n), orient[n]) for n in ("GMH1004FFA", "GMH1004FBA"))
+    assert hem >= body["hip_girth"] + hip.ease_cm - 1.0
