@@ -107,14 +107,22 @@ def read_mesh_arrays(path: str | os.PathLike) -> dict[str, Any]:
     return {"vertices": vertices, "faces": faces}
 
 
-def _read_sidecar(path: Path) -> dict[str, Any] | None:
+def _read_sidecar(path: Path) -> tuple[dict[str, Any] | None, str | None]:
+    """The character sidecar beside ``path``, or why the JSON there is not one.
+
+    A JSON that names one of PatternBridge's own output formats (``"format": "patternbridge-…"``, e.g. the
+    measurements ``measure -o`` wrote beside the mesh) is not a character sidecar: it is left unread and named.
+    """
     sidecar = path.with_suffix(".json")
     if not sidecar.is_file():
-        return None
+        return None, None
     data = read_json(sidecar, error=MeshError, hint="fix or remove it", what="sidecar")
+    kind = data.get("format") if isinstance(data, dict) else None
+    if isinstance(kind, str) and kind.startswith("patternbridge-"):
+        return None, f"{sidecar} is a {kind} file, not a character sidecar: it was not read as one"
     check_sidecar(data, sidecar)
     data["_path"] = str(sidecar)
-    return data
+    return data, None
 
 
 # --------------------------------------------------------------------------- checks
@@ -678,7 +686,9 @@ def load_character(
             f"{path}: face indices out of range "
             f"(0..{len(vertices) - 1} expected, got {faces.min()}..{faces.max()}); repair the mesh"
         )
-    sidecar = _read_sidecar(path)
+    sidecar, not_sidecar = _read_sidecar(path)
+    if not_sidecar is not None:
+        report.add("sidecar-ignored", not_sidecar, where=where)
     if sidecar is not None and int(sidecar.get("vertex_count", len(vertices))) != len(
         vertices
     ):

@@ -208,3 +208,18 @@ def test_vertex_id_landmarks_on_an_stl_are_refused(tmp_path, b_mesh):
     )
     c, _ = load_character(stl, landmarks=lm)
     np.testing.assert_allclose(c.landmarks["crotch_point"].position, v[6431], atol=1e-6)
+
+
+def test_measurements_beside_the_mesh_are_not_its_sidecar(tmp_path, b_obj):
+    """`measure B.obj -o B.json` writes beside the mesh; the next load must not take that file for the sidecar."""
+    from patternbridge.measure import measure
+    from patternbridge.measure.model import write_measurements
+
+    mesh = tmp_path / "B.obj"
+    mesh.write_bytes(b_obj.read_bytes())
+    bare, _ = load_character(mesh)
+    write_measurements(tmp_path / "B.json", measure(bare, tape=False))
+    again, report = load_character(mesh)
+    assert "sidecar-ignored" in report.codes()
+    assert not any(lm.source == "file" for lm in again.landmarks.values())
+    assert not again.assumed["units"].endswith("(sidecar)")
