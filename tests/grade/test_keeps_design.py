@@ -18,18 +18,6 @@ from patternbridge.pattern.model import Leg, MeasurementLink
 FAST = {"pop_size": 24, "n_gen": 12, "n_refine": 1}
 
 
-@pytest.fixture(scope="module")
-def measured(characters_dir):
-    from patternbridge.measure.run import measure
-    from patternbridge.mesh.load import load_character
-
-    def values(name: str) -> dict[str, float]:
-        character, _ = load_character(characters_dir / f"{name}.obj")
-        return measure(character, partial=True).values_cm()
-
-    return values
-
-
 def test_a_proportional_link_scales_the_sample_length_by_the_body():
     pattern = skirt_pattern()
     length = MeasurementLink(measurement="stature", id="skirt_length", ease_cm=-108.0, proportional=True,

@@ -19,18 +19,6 @@ pytestmark = [pytest.mark.shared, pytest.mark.slow]
 FAST = {"pop_size": 24, "n_gen": 12, "n_refine": 1}
 
 
-@pytest.fixture(scope="module")
-def measured(characters_dir):
-    from patternbridge.measure.run import measure
-    from patternbridge.mesh.load import load_character
-
-    def values(name: str) -> dict[str, float]:
-        character, _ = load_character(characters_dir / f"{name}.obj")
-        return measure(character, partial=True).values_cm()
-
-    return values
-
-
 def test_the_tshirt_keeps_both_shape_measures_at_or_below_scaling(measured):
     from patternbridge.library import load_garment
 

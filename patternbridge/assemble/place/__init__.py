@@ -96,7 +96,7 @@ def place_garment(
 
     Returns
     -------
-    pmesh : ``pmesh`` with the pieces worn mirrored mirrored (:func:`wrap_worn_side`)
+    pmesh : ``pmesh`` with each piece worn mirrored replaced by its mirror image (:func:`wrap_worn_side`)
     positions : dict instance key -> (n, 3) float64 positions, cm
 
     Raises
@@ -121,7 +121,7 @@ def wrap_worn_side(
     """Every cut copy wrapped on its proxy; a piece cut in pairs on a limb the way round its seams face their
     partners (:mod:`.handedness`).
 
-    Returns ``pmesh`` with the meshes of the pieces worn mirrored mirrored, and the
+    Returns ``pmesh`` with each piece worn mirrored replaced by its mirror image, and the
     wrapped positions (instance key -> (n, 3) cm). A ``worn-mirrored`` finding
     names each such piece.
     """
