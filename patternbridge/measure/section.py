@@ -36,6 +36,18 @@ class Loop:
         deg = np.bincount(self.segments.ravel(), minlength=len(self.points))
         return bool(np.all(deg == 2))
 
+    def ordered_points(self) -> np.ndarray:
+        """(n, 3) the points of a closed loop in their order along it (:attr:`closed` must hold)."""
+        n = len(self.points)
+        ends = np.concatenate([self.segments, self.segments[:, ::-1]])
+        ends = ends[np.argsort(ends[:, 0], kind="stable")]
+        nbr = ends[:, 1].reshape(n, 2)  # every point of a closed loop joins exactly two segments
+        order = np.zeros(n, dtype=np.int64)
+        for i in range(1, n):
+            prev = order[i - 2] if i > 1 else -1
+            order[i] = nbr[order[i - 1], 0] if nbr[order[i - 1], 0] != prev else nbr[order[i - 1], 1]
+        return self.points[order]
+
     @property
     def centroid_uv(self) -> np.ndarray:
         return self.uv.mean(axis=0)

@@ -514,28 +514,6 @@ def detect_neck(sc: Scan) -> None:
             _side_neck_point(sc, s, tn, y_neck, zc)
 
 
-def _ordered_loop(points: np.ndarray, segments: np.ndarray) -> np.ndarray:
-    """The points of a closed section loop in their order along it."""
-    n = len(points)
-    nbr = np.full((n, 2), -1, dtype=np.int64)
-    fill = np.zeros(n, dtype=np.int64)
-    for a, b in segments:
-        if fill[a] < 2:
-            nbr[a, fill[a]] = b
-            fill[a] += 1
-        if fill[b] < 2:
-            nbr[b, fill[b]] = a
-            fill[b] += 1
-    order, prev, cur = [0], -1, 0
-    while len(order) < n:
-        nxt = nbr[cur, 0] if nbr[cur, 0] != prev else nbr[cur, 1]
-        if nxt < 0 or nxt == 0:
-            break
-        prev, cur = cur, int(nxt)
-        order.append(cur)
-    return points[np.asarray(order)]
-
-
 def _side_neck_point(sc: Scan, s: str, tn: np.ndarray, y_neck: float, zc: float) -> None:
     """Side neck point: the concave neck/shoulder corner of the frontal section's contour.
 
@@ -557,7 +535,7 @@ def _side_neck_point(sc: Scan, s: str, tn: np.ndarray, y_neck: float, zc: float)
     if not loops:
         return
     lp = min(loops, key=lambda q: float(np.min(np.linalg.norm(q.points[:, :2] - spt[:2], axis=1))))
-    P = _ordered_loop(lp.points, lp.segments)
+    P = lp.ordered_points()
     k_sh = int(np.argmin(np.linalg.norm(P[:, :2] - spt[:2], axis=1)))
     off = sg * (P[:, 0] - sc.x_mid)
     on_neck = np.flatnonzero((off > 0.0) & (off < 0.6 * float(np.ptp(tn[:, 0])) + 0.01 * S))
