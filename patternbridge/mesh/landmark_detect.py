@@ -880,7 +880,7 @@ def _knee_point(sc: Scan, s: str, y_ank: float, x_leg: float) -> None:
     """
     sg = SIDES[s]
     y_crotch = float(sc.at("crotch_point")[1])
-    ys = y_ank + np.arange(0.40, 0.75 + 1e-9, 0.0025) * (y_crotch - y_ank)
+    ys = np.arange(y_ank + 0.40 * (y_crotch - y_ank), y_ank + 0.75 * (y_crotch - y_ank), sc.step)
     fronts = []
     for y in ys:
         loops = [
