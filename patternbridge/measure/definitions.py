@@ -109,7 +109,8 @@ DEFINITIONS: dict[str, Definition] = {
                 "neck_shoulder_point_left",
                 "neck_shoulder_point_right",
             ),
-            text="neck-base girth in the plane through the front, back and side neck points",
+            text="neck-base girth: the tape over the front, back and side neck points, in their plane, "
+            "not beyond the side neck points",
         ),
         Definition(
             id="head_girth",

@@ -344,17 +344,62 @@ NECK_TILTS = np.radians(np.arange(-10.0, 35.0 + 1e-9, 1.0))
 NECK_REACH = 0.10
 
 
+def _clip_convex(ring: np.ndarray, d: np.ndarray, lo: float, hi: float) -> np.ndarray:
+    """The convex polygon ``ring`` (closed, (k + 1, 2)) cut to the band ``lo <= p @ d <= hi``."""
+    poly = ring[:-1]
+    for limit, sign in ((hi, 1.0), (lo, -1.0)):
+        if len(poly) < 2:
+            break
+        h = sign * (poly @ d - limit)  # > 0: outside
+        nxt, hn = np.roll(poly, -1, axis=0), np.roll(h, -1)
+        out = []
+        for p, q, hp, hq in zip(poly, nxt, h, hn, strict=True):
+            if hp <= 0.0:
+                out.append(p)
+            if (hp <= 0.0) != (hq <= 0.0):
+                out.append(p + (hp / (hp - hq)) * (q - p))
+        poly = np.asarray(out).reshape(-1, 2)
+    return poly
+
+
 def _neck_base_girth(body: BodyFrame) -> Measurement:
-    """Neck-base girth: least-squares plane through the four neck points."""
+    """Neck-base girth: the tape round the neck base over the four neck points.
+
+    The section is the least-squares plane through the front, back and side
+    neck points; the tape passes over the side neck points and does not reach
+    out along the shoulders beyond them, so the section's hull is cut to the
+    band between them (square to the line joining them, in the plane), and
+    the four points (projected onto the plane) are on it. The whole hull of
+    the section ran 0.1-1.7 cm out beyond the side neck points, down the
+    trapezius, and with the arms raised (the trapezius lifted) 1.8 cm: the
+    rigless T-posed C measured +4.1 % of its A-pose, +1.6 % with the tape.
+    """
+    from scipy.spatial import ConvexHull, QhullError
+
     pts = np.stack([body.mark(n) for n in NECK_POINTS])
     centre = pts.mean(axis=0)
     _, _, vt = np.linalg.svd(pts - centre)
     normal = vt[2] if vt[2][1] >= 0 else -vt[2]
     radius = 0.15 * body.stature
     cands = body.near_segment(centre, centre, radius)
-    cut = body.part_cut(centre, normal, centre, cands)
-    if cut.value_cm <= 0:
+    sec = plane_loops(body.v, body.f, centre, normal, candidates=body.crossing(cands, centre, normal))
+    loops = body.part_loops(sec, centre)
+    if not loops:
         raise GirthError("no neck section through the neck points")
+    _, ring = hull_girth(sec, loops)
+    marks_uv = sec.to_uv(pts)
+    left, right = marks_uv[2], marks_uv[3]
+    d = left - right
+    d = d / max(float(np.linalg.norm(d)), 1e-12)
+    band = _clip_convex(sec.to_uv(ring), d, float(right @ d), float(left @ d))
+    uv = np.concatenate([band, marks_uv])
+    try:
+        hull = ConvexHull(uv)
+    except QhullError:
+        raise GirthError("no neck section through the neck points") from None
+    tape = uv[np.append(hull.vertices, hull.vertices[0])]
+    girth = float(np.sum(np.linalg.norm(np.diff(tape, axis=0), axis=1)))
+    cut = _Cut(value_cm=girth, polyline=sec.to_xyz(tape), origin=centre, normal=normal)
     return _girth("neck_base_girth", cut, NECK_POINTS)
 
 

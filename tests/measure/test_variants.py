@@ -141,8 +141,9 @@ def test_torso_girths_from_detection_alone(characters_dir, name):
 
 #: girths that hold across the pose (the elbow's snug tape of the straightened
 #: elbow: C's A-pose and T-pose elbows were 3.8 % apart cut square to the
-#: surface-straightened arm); the neck-base plane rides on the raised trapezius
-#: of a rigless T-pose (docs/measurements.md)
+#: surface-straightened arm); the neck-base tape stops at the side neck points
+#: (the whole section of its plane reached down the raised trapezius of the
+#: rigless T-posed C: +4.1 %, docs/measurements.md)
 POSE_FREE = (
     "chest_girth",
     "underbust_girth",
@@ -150,6 +151,7 @@ POSE_FREE = (
     "high_hip_girth",
     "hip_girth",
     "neck_girth",
+    "neck_base_girth",
     "head_girth",
     "upper_arm_girth_left",
     "upper_arm_girth_right",
