@@ -138,7 +138,9 @@ def test_leggings_graded_to_a_child_meet_its_calf_and_knee(aama_dir, shared_dir,
     body = {m["id"]: m["body_cm"] for m in result.report["measurements"]}
     graded = result.grading.pattern
     orientation = infer_bridge(result.grading.original).orientations
-    for link in (m for m in graded.measurements if m.id in ("knee_girth", "calf_girth")):
+    links = [m for m in graded.measurements if m.id in ("knee_girth", "calf_girth")]
+    assert len(links) == 2
+    for link in links:
         (g,) = link.legs
         piece = graded.piece(g.piece)
         up = orientation[g.piece].apply(sew_line(piece)[0])
