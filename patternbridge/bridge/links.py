@@ -29,8 +29,8 @@
   ease is the pattern's width there minus the sample body's girth (the calf
   of :data:`.size_chart.CALF_UNDER_KNEE_CM`, which no chart states). Without
   them nothing below the thigh follows the body: the lower leg is graded
-  with the width alone (the leggings' knee and hem 1.9–2.2 cm wider than
-  the pattern's ease on the child and on the average man).
+  with the width alone (the leggings' knee and hem 1.9 cm wider than
+  the pattern's ease on the child, 2.1–2.4 cm on the average man).
 
 **Lengths** follow the body in proportion (``proportional`` links: target =
 sample length × body / sample body), so a garment keeps its design's
