@@ -30,7 +30,13 @@
   of :data:`.size_chart.CALF_UNDER_KNEE_CM`, which no chart states). Without
   them nothing below the thigh follows the body: the lower leg is graded
   with the width alone (the leggings' knee and hem 1.9 cm wider than
-  the pattern's ease on the child, 2.1–2.4 cm on the average man).
+  the pattern's ease on the child, 2.1–2.4 cm on the average man). Only
+  a leg that fits is linked there: a width over ``LEG_AT_BODY`` times the
+  body's girth is a style width (the library trousers' knee is 1.26 times
+  the knee, their hem 1.86 times the ankle), which the body does not
+  control; it keeps its proportion to the rest of the leg, as the width
+  grading gives it (held to the body with an adult's ease, a child's
+  trousers narrowed below the knee and their side seam turned 2.1°).
 
 **Lengths** follow the body in proportion (``proportional`` links: target =
 sample length × body / sample body), so a garment keeps its design's
@@ -76,6 +82,9 @@ __all__ = ["REFERENCE_BODY_CM", "measurement_links"]
 
 #: a neckline longer than this many reference necks is a style line (scoop, boat), not a neck fit
 NECK_AT_NECK = 1.3
+#: a knee, calf or ankle width over this many body girths is a style width (a trouser's), not a fit (the leggings':
+#: 0.84-0.98; the library trousers' knee 1.26, hem 1.86)
+LEG_AT_BODY = 1.2
 #: a shoulder at most this share of the bodice's half chest span is a strap (tanks: 0.12-0.31 on the shared
 #: files; a T-shirt's or a shirt's shoulder: 0.5-0.64)
 STRAP_SHARE = 0.4
@@ -421,6 +430,8 @@ def measurement_links(
         if link_id == "neck_girth" and sample > NECK_AT_NECK * body["neck_girth"]:
             # a style line: it keeps its proportion to the bodice's girth
             link_id, measurement, kind = "neckline", "chest_girth", "length"
+        if measurement in LEG_LEVELS and sample > LEG_AT_BODY * body[measurement]:
+            continue  # a style width (a trouser's knee or hem): the body does not control it
         ease = round(sample - body[measurement], 2)
         if kind == "length" and ease >= sample:
             continue

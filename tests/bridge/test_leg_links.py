@@ -147,3 +147,28 @@ def test_leggings_graded_to_a_child_meet_its_calf_and_knee(aama_dir, shared_dir,
         i, j = piece.mark(g.start), piece.mark(g.end)
         width = abs(up[j, 0] - up[i, 0])
         assert width == pytest.approx(body[link.id] + link.ease_cm, abs=0.5), link.id
+
+
+def test_a_loose_trouser_leg_is_not_held_to_the_body_below_the_thigh():
+    """The library trousers read from their DXF: knee 1.26 times the knee, hem 1.86 times the ankle: style widths.
+
+    Held to a child's knee and ankle with an adult's ease they narrowed below
+    the knee and their side seam turned 2.1° (limit 2°); the width grading
+    keeps them in proportion to the rest of the leg.
+    """
+    from patternbridge.bridge.links import LEG_AT_BODY, measurement_links
+    from patternbridge.library.catalogue import LIBRARY_DIR
+
+    pattern, _ = read_dxf(LIBRARY_DIR / "trousers" / "trousers_aama.dxf")
+    inference = infer_bridge(pattern)
+    body = choose_chart(pattern.sizes, pattern.sample_size).body_cm
+    # the front's and back's widths at the knee notch and at the hem, read off the outlines
+    knee = hem = 0.0
+    for name in ("front", "back"):
+        up = inference.orientations[name].apply(sew_line(pattern.piece(name))[0])
+        crotch_y = up[piece_landmarks(pattern, inference)[name].marks["crotch_point"], 1]
+        knee += _width_at(up, crotch_y - LEG_LEVELS["knee_girth_right"] * body["inside_leg_right"])
+        hem += _width_at(up, up[:, 1].min() + 0.5)
+    assert knee > LEG_AT_BODY * body["knee_girth_right"] and hem > LEG_AT_BODY * body["ankle_girth_right"]
+    links = {m.id for m in measurement_links(pattern, inference)}
+    assert "thigh_girth" in links and not links & set(GIRTHS)
