@@ -36,7 +36,7 @@
   the knee, their hem 1.86 times the ankle), which the body does not
   control; it keeps its proportion to the rest of the leg, as the width
   grading gives it (held to the body with an adult's ease, a child's
-  trousers narrowed below the knee and their side seam turned 2.1°).
+  trousers narrowed below the knee and their pieces turned 3.9–4.3°).
 
 **Lengths** follow the body in proportion (``proportional`` links: target =
 sample length × body / sample body), so a garment keeps its design's
