@@ -19,7 +19,24 @@
   whose hem passes over the hips must reach the hips plus its ease, and may
   be wider (a straight hem over narrow hips is the design, not an error);
 - *upper arm*, across a sleeve at its underarm;
-- *thigh*, across each leg role at its crotch point.
+- *thigh*, across each leg role at its crotch point;
+- *knee*, *calf* and *ankle*, across each leg role at the level the body's
+  girth is measured at (:data:`.size_chart.LEG_LEVELS`: its share of the
+  sample body's inside leg below the leg's crotch point), from the outline's
+  vertex nearest that level on one side of the leg to the one on the other;
+  a level below the hem is not measured, unless it lies within
+  ``HEM_REACH_CM`` of it (a full-length leg's ankle girth is its hem). The
+  ease is the pattern's width there minus the sample body's girth (the calf
+  of :data:`.size_chart.CALF_UNDER_KNEE_CM`, which no chart states). Without
+  them nothing below the thigh follows the body: the lower leg is graded
+  with the width alone (the leggings' knee and hem 1.9 cm wider than
+  the pattern's ease on the child, 2.1–2.4 cm on the average man). Only
+  a leg that fits is linked there: a width over ``LEG_AT_BODY`` times the
+  body's girth is a style width (the library trousers' knee is 1.26 times
+  the knee, their hem 1.86 times the ankle), which the body does not
+  control; it keeps its proportion to the rest of the leg, as the width
+  grading gives it (held to the body with an adult's ease, a child's
+  trousers narrowed below the knee and their pieces turned 3.9–4.3°).
 
 **Lengths** follow the body in proportion (``proportional`` links: target =
 sample length × body / sample body), so a garment keeps its design's
@@ -50,6 +67,8 @@ the links need are added as ``v<vertex>``.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
 
 from ..library.seams import sew_line
@@ -57,12 +76,15 @@ from ..pattern.model import Leg, MeasurementLink, Pattern, Piece
 from .landmarks import PieceLandmarks, piece_landmarks
 from .model import BridgeInference, Orientation, Role, is_band
 from .openings import shapes_scooped
-from .size_chart import REFERENCE_BODY_CM, ChartChoice, choose_chart
+from .size_chart import LEG_LEVELS, REFERENCE_BODY_CM, ChartChoice, choose_chart
 
 __all__ = ["REFERENCE_BODY_CM", "measurement_links"]
 
 #: a neckline longer than this many reference necks is a style line (scoop, boat), not a neck fit
 NECK_AT_NECK = 1.3
+#: a knee, calf or ankle width over this many body girths is a style width (a trouser's), not a fit (the leggings':
+#: 0.84-0.98; the library trousers' knee 1.26, hem 1.86)
+LEG_AT_BODY = 1.2
 #: a shoulder at most this share of the bodice's half chest span is a strap (tanks: 0.12-0.31 on the shared
 #: files; a T-shirt's or a shirt's shoulder: 0.5-0.64)
 STRAP_SHARE = 0.4
@@ -71,6 +93,9 @@ STRAP_SHARE = 0.4
 HEM_BAND = 0.2
 
 _LEGS = (Role.LEG, Role.LEG_FRONT, Role.LEG_BACK)
+
+#: a leg level at most this far below the hem (cm) is measured at the hem (a full-length leg's ankle)
+HEM_REACH_CM = 3.0
 
 
 def _copies(piece: Piece, o: Orientation) -> float:
@@ -244,6 +269,48 @@ def _leg_legs(piece: Piece, o: Orientation, found: PieceLandmarks) -> tuple[Leg 
     return thigh, Leg(piece=piece.name, start=f"v{side}", end=f"v{hem}", along="chord", factor=1.0)
 
 
+def _pair_at_level(up: np.ndarray, level: float) -> tuple[int, int] | None:
+    """The outline vertices nearest height ``level`` on its leftmost and rightmost crossing of that height."""
+    n = len(up)
+    ya, yb = up[:, 1], np.roll(up[:, 1], -1)
+    cross = np.nonzero(((ya - level) * (yb - level) <= 0) & (ya != yb))[0]
+    if len(cross) < 2:
+        return None
+    nxt = (cross + 1) % n
+    t = (level - ya[cross]) / (yb[cross] - ya[cross])
+    x = up[cross, 0] + t * (up[nxt, 0] - up[cross, 0])
+    ends = np.where(np.abs(ya[cross] - level) <= np.abs(yb[cross] - level), cross, nxt)
+    left, right = int(ends[np.argmin(x)]), int(ends[np.argmax(x)])
+    return None if left == right else (left, right)
+
+
+def _leg_level_legs(piece: Piece, o: Orientation, found: PieceLandmarks, inside_leg: float) -> dict[str, Leg]:
+    """Per leg girth of :data:`.size_chart.LEG_LEVELS` (measurement id): the leg across the piece at its level.
+
+    The level lies ``share × inside_leg`` (the sample body's) below the
+    piece's crotch point; a level below the hem by more than ``HEM_REACH_CM``
+    is left out, one within it is taken at the hem. Two levels that meet the
+    same pair of vertices keep the first (the outline has no vertex between).
+    """
+    crotch = found.marks.get("crotch_point")
+    if crotch is None:
+        return {}
+    up = o.apply(sew_line(piece)[0])
+    hem = float(up[:, 1].min())
+    out: dict[str, Leg] = {}
+    used: set[tuple[int, int]] = set()
+    for measurement, share in LEG_LEVELS.items():
+        level = float(up[crotch, 1]) - share * inside_leg
+        if level < hem - HEM_REACH_CM:
+            continue
+        pair = _pair_at_level(up, max(level, hem + 1e-6))
+        if pair is None or pair in used:
+            continue
+        used.add(pair)
+        out[measurement] = Leg(piece=piece.name, start=f"v{pair[0]}", end=f"v{pair[1]}", along="across", factor=1.0)
+    return out
+
+
 def _band_width_leg(piece: Piece) -> Leg | None:
     """A band's width: straight across its short axis, near the middle of its length.
 
@@ -281,8 +348,11 @@ def _span(piece: Piece, leg: Leg) -> float:
     return float(abs(d @ piece.across_grain)) * leg.factor
 
 
-def _collect(pattern: Pattern, inference: BridgeInference) -> dict[str, list[Leg]]:
-    """Legs of every link, keyed ``link id|measurement|kind`` (kind ``girth`` or ``length``)."""
+def _collect(pattern: Pattern, inference: BridgeInference, body: Mapping[str, float]) -> dict[str, list[Leg]]:
+    """Legs of every link, keyed ``link id|measurement|kind`` (kind ``girth`` or ``length``).
+
+    ``body`` is the sample body (it places the leg levels).
+    """
     found = piece_landmarks(pattern, inference)
     legs: dict[str, list[Leg]] = {}
 
@@ -318,6 +388,9 @@ def _collect(pattern: Pattern, inference: BridgeInference) -> dict[str, list[Leg
             if role in _LEGS and first:
                 thigh, length = _leg_legs(piece, o, found[name])
                 add("thigh_girth|thigh_girth_right|girth", thigh)
+                levels = _leg_level_legs(piece, o, found[name], body["inside_leg_right"])
+                for measurement, leg in levels.items():
+                    add(f"{measurement.removesuffix('_right')}|{measurement}|girth", leg)
                 if "leg_length|outside_leg_right|length" not in legs:
                     add("leg_length|outside_leg_right|length", length)
         elif role is Role.SLEEVE and first:
@@ -342,7 +415,7 @@ def measurement_links(
     """
     body = (chart or choose_chart(pattern.sizes, pattern.sample_size)).body_cm
     links = []
-    collected = _collect(pattern, inference)
+    collected = _collect(pattern, inference, body)
     neck = sum(_span(pattern.piece(g.piece), g) for g in collected.get("neck_girth|neck_girth|girth", ()))
     length = sum(_span(pattern.piece(g.piece), g) for g in collected.get("body_length|back_length|length", ()))
     if length < body["back_length"] + body["waist_to_hip"]:
@@ -357,6 +430,8 @@ def measurement_links(
         if link_id == "neck_girth" and sample > NECK_AT_NECK * body["neck_girth"]:
             # a style line: it keeps its proportion to the bodice's girth
             link_id, measurement, kind = "neckline", "chest_girth", "length"
+        if measurement in LEG_LEVELS and sample > LEG_AT_BODY * body[measurement]:
+            continue  # a style width (a trouser's knee or hem): the body does not control it
         ease = round(sample - body[measurement], 2)
         if kind == "length" and ease >= sample:
             continue

@@ -21,8 +21,24 @@ control dimension and a chart of body measurements:
   write them): the reference body, the library men's sample size (chest 96).
 
 A chart read at a girth outside its five sizes is extended linearly with its
-own steps. A dimension the women's chart lacks (the outside leg, the ankle)
-is the men's sample value in proportion to the height (168 / 176 cm).
+own steps. A dimension the women's chart lacks (the outside leg, the inside
+leg, the ankle) is the men's sample value in proportion to the height
+(168 / 176 cm).
+
+**Leg girths.** Both library charts give the thigh and the knee girth (the
+men's also the ankle); neither gives the **calf**, which every system here
+gains from the knee of the same size: the calf girth is the knee girth less
+``CALF_UNDER_KNEE_CM`` (men 0, women 1 cm), so it grows with the knee's
+0.8 cm per size. Standard body tables put the adult calf within about 2 cm
+of the knee, and so do the shared characters as ``patternbridge measure``
+measures them (calf − knee: E_average_male +1.9, B_slim_female −1.5,
+F_tall_thin_elder −2.9, D_cartoon_child +0.3 cm; ``docs/measurements.md``).
+Where on the leg each girth lies is :data:`LEG_LEVELS`, read off the
+measurement definitions (``patternbridge.measure``): the knee point 40 % of
+the way from the crotch to the ankle (60 % of the height from ankle to
+crotch), the calf's largest girth about 30 % of the way from the knee to the
+ankle (the shared characters measure it at 25–35 %), the ankle girth just
+above the ankle bones (80–87 %).
 """
 
 from __future__ import annotations
@@ -36,7 +52,7 @@ import numpy as np
 
 from ..library.sizes import MEN, WOMEN, SizeChart
 
-__all__ = ["REFERENCE_BODY_CM", "ChartChoice", "SizeSystem", "choose_chart"]
+__all__ = ["CALF_UNDER_KNEE_CM", "LEG_LEVELS", "REFERENCE_BODY_CM", "ChartChoice", "SizeSystem", "choose_chart"]
 
 
 class SizeSystem(enum.Enum):
@@ -47,8 +63,26 @@ class SizeSystem(enum.Enum):
     REFERENCE = "reference"
 
 
+#: the calf girth under the knee girth of the same size, per library chart (module docstring: no chart states it)
+CALF_UNDER_KNEE_CM = MappingProxyType({"men": 0.0, "women": 1.0})
+
+#: where each leg girth is measured: its share of the inside leg, from the crotch (0) down to the ankle (1); the
+#: calf 30 % and the ankle girth 83 % of the way from the knee (0.40) to the ankle (module docstring)
+LEG_LEVELS = MappingProxyType(
+    {"knee_girth_right": 0.40, "calf_girth_right": 0.40 + 0.60 * 0.30, "ankle_girth_right": 0.40 + 0.60 * 0.83}
+)
+
+
+def with_leg_girths(body: Mapping[str, float], chart: SizeChart) -> dict[str, float]:
+    """``body`` with the calf girth of :data:`CALF_UNDER_KNEE_CM` added (it keeps one it has)."""
+    out = dict(body)
+    if "knee_girth_right" in out:
+        out.setdefault("calf_girth_right", out["knee_girth_right"] - CALF_UNDER_KNEE_CM[chart.name])
+    return out
+
+
 #: the body of the library men's sample size (chest 96): the body a file in no recognised size system is read against
-REFERENCE_BODY_CM = MappingProxyType(MEN.body(MEN.sample_size))
+REFERENCE_BODY_CM = MappingProxyType(with_leg_girths(MEN.body(MEN.sample_size), MEN))
 
 #: women's European numeric sizes: bust girth at size 36 and per size step (2 numbers)
 WOMEN_BUST_AT_36_CM = 84.0
@@ -109,12 +143,13 @@ def choose_chart(sizes: Sequence[str], sample_size: str) -> ChartChoice:
             bust = WOMEN_BUST_AT_36_CM + WOMEN_BUST_PER_SIZE_CM * (s - 36) / 2
             body = body_at(WOMEN, "bust_girth", bust)
             ratio = WOMEN.body(WOMEN.sample_size)["height"] / MEN.body(MEN.sample_size)["height"]
+            body = with_leg_girths(body, WOMEN)
             body.update({k: v * ratio for k, v in REFERENCE_BODY_CM.items() if k not in body})
             why = f"{label}: European women's numeric sizes (size 36 = bust 84 cm); bust {bust:g} cm"
             return ChartChoice(system=SizeSystem.WOMEN_EU, sample_size=sample_size, body_cm=body, why=why)
         if values.min() >= 40 and 42 <= s <= 64:
             chest = 2.0 * s
-            body = body_at(MEN, "chest_girth", chest)
+            body = with_leg_girths(body_at(MEN, "chest_girth", chest), MEN)
             why = f"{label}: European men's numeric sizes (half the chest girth); chest {chest:g} cm"
             return ChartChoice(system=SizeSystem.MEN_EU, sample_size=sample_size, body_cm=body, why=why)
     why = f"{label}: no size system recognised; the library men's sample body (chest 96 cm)"
