@@ -31,7 +31,7 @@ from assemble import CHARACTERS, _character_path, _graded, _variant_names
 
 
 def _welded_count(sim) -> int:
-    """Self-crossing triangles of the whole cloth (as the report counts them) with every group of sewn vertices averaged."""
+    """Self-crossing triangles of the whole cloth, as the report counts them, with the sewn vertices averaged."""
     import numpy as np
 
     from patternbridge.assemble.drape import weld_groups
