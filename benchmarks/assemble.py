@@ -6,7 +6,7 @@ Plain script (no asv). For every character and garment it runs
 NSGA-II budget or ``--grade-budget POP GEN``, not timed; ``--sample`` keeps
 the sample size; ``--graded-cache DIR`` grades each case once) and prints
 one line: seconds, peak RSS, penetrating vertices, triangles crossing the
-skin, triangles where a piece passes through itself (``self``), seam gap
+skin, triangles where the garment passes through itself (``self``), seam gap
 before and after welding, stretch percentiles, the verdict (``ok`` /
 ``flawed`` / ``failed``) and the worst piece, then one line per reason of
 the verdict. Pictures, meshes and ``drape.json`` go to ``--out`` (default

@@ -476,7 +476,7 @@ def _measure(
     cloth, names = sim.cloth, sim.names
     face_piece = cloth.group[cloth.faces[:, 0]]
     crossing = _crossing(sim.collider, wx, wf)
-    folded = self_crossing(wx, wf, face_piece)
+    folded = self_crossing(wx, wf)  # the whole garment: a piece through another piece counts too
     folded_pieces, folded_counts = np.unique(face_piece[folded], return_counts=True)
     body = np.asarray(sim.character.vertices, dtype=np.float64)
     skin = skin_check(body, sim.character.faces, wx, wf)

@@ -1,13 +1,16 @@
 """Cloth against itself: where a garment passes through itself (the report's count).
 
 A fold the solver pushed through the cloth beside it (the lower back tucked
-under the upper back, a sleeve's underside caught inside itself) shows as
-a jagged line in the pictures and catches the animator's cloth simulation
-in a knot. Vertex-to-vertex layer separation does not see it once the
-vertices have passed each other: :func:`self_crossing` counts it from the
-geometry for the report (a piece's edges cast against the same piece's
-triangles), independently of the solver's self-contact
-(:mod:`patternbridge.assemble.cloth.selfcontact`).
+under the upper back, a sleeve's underside caught inside itself, a sleeve
+cap through the bodice beside the armhole) shows as a jagged line in the
+pictures and catches the animator's cloth simulation in a knot.
+Vertex-to-vertex layer separation does not see it once the vertices have
+passed each other: :func:`self_crossing` counts it from the geometry for
+the report (the garment's edges cast against its triangles, the sides of a
+seam one vertex), independently of the solver's self-contact
+(:mod:`patternbridge.assemble.cloth.selfcontact`). One piece through
+another counts as much as a piece through itself: both are the garment
+passing through itself.
 """
 
 from __future__ import annotations
@@ -20,20 +23,21 @@ _EPS_CM = 1e-3  # an edge's ends are left out: the triangles round a vertex touc
 
 
 def self_crossing(
-    vertices: np.ndarray, faces: np.ndarray, group: np.ndarray, same: np.ndarray | None = None
+    vertices: np.ndarray, faces: np.ndarray, group: np.ndarray | None = None, same: np.ndarray | None = None
 ) -> np.ndarray:
-    """(F,) bool: triangles crossing, or crossed by, a triangle of the same piece they share no vertex with.
+    """(F,) bool: triangles crossing, or crossed by, a triangle of their group they share no vertex with.
 
     Parameters
     ----------
     vertices : (V, 3) float64, cm — welded: the two sides of a seam share vertices
     faces : (F, 3) int64
-    group : (F,) int64 — the piece of every triangle
+    group : (F,) int64, optional — triangles cross only triangles of their
+        own group (None: the whole garment is one group, as the report counts)
     same : (V,) int64, optional — vertices with one label count as one
         (the sides of a seam before welding, see ``drape.weld_groups``)
 
-    Every edge of a piece is cast as a ray, from each end, against that
-    piece's triangles; a hit strictly between its ends on a triangle that
+    Every edge of a group is cast as a ray, from each end, against that
+    group's triangles; a hit strictly between its ends on a triangle that
     has neither end as a corner marks both triangles. Only the first hit
     along a ray is seen, so two layers crossing one edge count once.
     """
@@ -43,7 +47,7 @@ def self_crossing(
 
     x = np.asarray(vertices, dtype=np.float64)
     f = np.asarray(faces, dtype=np.int64)
-    group = np.asarray(group)
+    group = np.zeros(len(f), dtype=np.int64) if group is None else np.asarray(group)
     same = np.arange(len(x)) if same is None else np.asarray(same)
     out = np.zeros(len(f), dtype=bool)
     for g in np.unique(group):

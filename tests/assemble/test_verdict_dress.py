@@ -45,17 +45,19 @@ def sample_shorts(character_e):
     return assemble(character_e, _shorts(), **COARSE)
 
 
-def test_the_sample_shorts_on_e_are_ok(sample_shorts, character_e):
+def test_the_sample_shorts_on_e_are_at_worst_flawed_at_the_crotch(sample_shorts, character_e):
     report = sample_shorts.report
-    # measured: seams 1.1 mm open before welding, 0.3 % of the edges beyond 1.10, no self-crossing, nothing
-    # inside the skin, the waistband 1.6 cm off the waist landmark
-    assert report.verdict is Verdict.OK, [r.message for r in report.reasons]
-    assert report.to_dict()["verdict"] == "ok"
+    # measured: seams 1.1 mm open before welding, 0.3 % of the edges beyond 1.10, nothing inside the skin,
+    # the waistband 1.6 cm off the waist landmark; the two back halves cross each other in 8 triangles at
+    # the crotch (counted over the whole garment, a crossing of two pieces is the garment through itself)
+    assert report.verdict in (Verdict.OK, Verdict.FLAWED), [r.message for r in report.reasons]
+    assert report.to_dict()["verdict"] == str(report.verdict)
+    assert {r.check for r in report.reasons} <= {Check.SELF_CROSSING}
+    assert set(report.self_crossing_pieces) <= {"back", "back~mirror"}
     # the verdict's skin check agrees with a signed distance taken here, on the welded garment's vertices
     v, _ = sample_shorts.welded()
     depth_mm = -10.0 * signed_distance(character_e.vertices, character_e.faces, v).min()
     assert report.skin_depth_mm >= depth_mm - 1e-3
-    assert report.reasons == ()
 
 
 def test_a_seam_ten_cm_too_long_fails(character_e):
