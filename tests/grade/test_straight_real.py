@@ -72,8 +72,15 @@ def test_the_final_step_closes_the_seams_from_proportional_scaling(shirt, charac
     data = objective_data(grid, subject.measurements.values_cm())
     straight = row_basis(np.concatenate([straight_constraints(grid, shirt[1]), grain_constraints(grid)]))
     x0 = axis_scaling(grid, data)
-    res = refine(grid, data, x0, straight=straight, x_design=x0, w_all=3.0,
-                 symmetric=symmetry_constraints(grid, mirror_symmetries(grid)))
+    res = refine(
+        grid,
+        data,
+        x0,
+        straight=straight,
+        x_design=x0,
+        w_all=3.0,
+        symmetric=symmetry_constraints(grid, mirror_symmetries(grid)),
+    )
     assert res.converged and res.iterations < 30
     assert res.max_violation_cm < 0.01  # every seam within 0.1 mm, every measurement within its band
     assert float(grid.fold_margin(res.x[None])[0]) > 0.08  # no cell held at the fold limit (0.05)
