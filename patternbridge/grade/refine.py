@@ -183,9 +183,16 @@ def straight_constraints(grid: PatternGrid, edges: tuple[StraightEdge, ...]) -> 
         # vertices themselves on one line asks every cell they cross at
         # slightly different heights to flatten (a CLO sleeve hem's 0.19 mm
         # of drawing noise pulled the row above onto the fold limit)
+        # (a vertex on its chord keeps its own row: exactly straight runs, the
+        # library's, keep exactly the rows they had)
         pts = weights[e.points] @ g.control
-        on_chord = pts[0] + np.outer((pts - pts[0]) @ e.direction, e.direction)
-        wp = map_weights(on_chord, g.xs, g.ys, g.deformation)
+        rel = pts - pts[0]
+        off = rel[:, 1] * e.direction[0] - rel[:, 0] * e.direction[1]
+        wp = weights[e.points].copy()
+        noisy = np.abs(off) > 1e-6  # cm: float noise, far below any drawing noise
+        if noisy.any():
+            on_chord = pts[0] + np.outer(rel[noisy] @ e.direction, e.direction)
+            wp[noisy] = map_weights(on_chord, g.xs, g.ys, g.deformation)
         w = wp[1:] - wp[0][None, :]
         r = np.zeros((len(w), grid.n_var))
         base = grid.var_offsets[k] + 2 * np.arange(g.n_control)
