@@ -164,7 +164,10 @@ def straight_constraints(grid: PatternGrid, edges: tuple[StraightEdge, ...]) -> 
     For every edge, each vertex's offset from the line through its first
     vertex along the edge's original direction ``u`` (``u × (p_i − p_0)``;
     for an axis-parallel edge the constant coordinate minus that of the
-    first vertex); redundant rows are removed (orthonormal row basis).
+    first vertex), taken at the vertices' projections onto the run's chord:
+    the original meets the constraints exactly, and the run's own drawing
+    noise (up to ``max_offset_cm``) is carried along instead of flattened by
+    the cells it lies in; redundant rows are removed (orthonormal row basis).
 
     Returns
     -------
@@ -175,7 +178,22 @@ def straight_constraints(grid: PatternGrid, edges: tuple[StraightEdge, ...]) -> 
         k = grid.piece_index(e.piece)
         g = grid.pieces[k]
         weights = g.cut_weights if e.cut else g.outline_weights
-        w = weights[e.points[1:]] - weights[e.points[0]][None, :]
+        # taken at the run's vertices projected onto its chord: a drawn run
+        # lies within 0.2 mm of its chord, not on it, and holding the
+        # vertices themselves on one line asks every cell they cross at
+        # slightly different heights to flatten (a CLO sleeve hem's 0.19 mm
+        # of drawing noise pulled the row above onto the fold limit)
+        # (a vertex on its chord keeps its own row: exactly straight runs, the
+        # library's, keep exactly the rows they had)
+        pts = weights[e.points] @ g.control
+        rel = pts - pts[0]
+        off = rel[:, 1] * e.direction[0] - rel[:, 0] * e.direction[1]
+        wp = weights[e.points].copy()
+        noisy = np.abs(off) > 1e-6  # cm: float noise, far below any drawing noise
+        if noisy.any():
+            on_chord = pts[0] + np.outer(rel[noisy] @ e.direction, e.direction)
+            wp[noisy] = map_weights(on_chord, g.xs, g.ys, g.deformation)
+        w = wp[1:] - wp[0][None, :]
         r = np.zeros((len(w), grid.n_var))
         base = grid.var_offsets[k] + 2 * np.arange(g.n_control)
         # the offset of every vertex from the line through the first along the original direction
