@@ -41,6 +41,7 @@ from .objectives import (
     link_shares,
     residuals,
 )
+from .suppression import Suppression, suppression_terms
 
 __all__ = ["StepTerms"]
 
@@ -122,7 +123,9 @@ class StepTerms:
     None ; share_ref, shared : the design's link shares and the links
     over several pieces that add up ; axes_ref : (P, 2) turn of every
     piece's drawing axes in ``x_design`` (:func:`~.objectives.piece_axes_turn`)
-    or None ; w_* : weights (see :func:`~.refine.refine`)
+    or None ; suppress : the design's split of every reduction between
+    girth levels among darts and seams (:mod:`.suppression`) or None ;
+    w_* : weights (see :func:`~.refine.refine`)
     """
 
     grid: PatternGrid
@@ -135,6 +138,8 @@ class StepTerms:
     share_ref: np.ndarray | None
     shared: np.ndarray | None
     axes_ref: np.ndarray | None
+    suppress: Suppression | None = None
+    w_suppress: float = 0.0
     w_rotation: float
     w_axes: float
     w_shift: float
@@ -237,6 +242,9 @@ class StepTerms:
             sh = link_shares(data, pts, edges)[0][:, :, self.shared]
             w_sh = self.w_share / np.sqrt(max(int(self.shared.sum()), 1))
             terms.append(w_sh * (sh - self.share_ref).reshape(len(X), -1))
+        if self.suppress is not None and self.suppress.n_parts and self.w_suppress > 0:
+            w_su = self.w_suppress / np.sqrt(self.suppress.n_parts)
+            terms.append(w_su * suppression_terms(self.suppress, data, pts, edges))
         achieved = link_lengths(data, pts, edges)
         if self.w_fit > 0:
             terms.append(wm * link_error(data, achieved))
