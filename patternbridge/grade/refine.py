@@ -400,6 +400,7 @@ def refine(
     w_share: float = 3.0,
     w_suppress: float = 0.0,
     keep_darts: bool = True,
+    dart_cap: bool = False,
     w_fit: float = 0.02,
     fit_eps_cm: float = 0.01,
     stall_window: int = 10,
@@ -446,6 +447,10 @@ def refine(
         a dart lines of its own (:func:`~.grid.pattern_darts`), and without
         this the step lengthened the slim female's back dart past the hip
         line, which changes no angle
+    dart_cap : with ``keep_darts``, a dart may shorten but not lengthen
+        (a strong one-sided cost instead of the equality): with the split of
+        the reduction held (``w_suppress``), a dart whose intake shrinks
+        keeps its angle by shortening
     w_fit : cost of the measurement errors inside the band, in rad of shape
         error per cm of mean ``|m − t|``: iteratively reweighted
         (``1/sqrt(|m − t| + fit_eps_cm)``) so that it acts as an L1 cost,
@@ -498,7 +503,7 @@ def refine(
         dart_ref=dart_lengths(data, grid.outlines(x_ref[None, :]))[0] if keep_darts else None,
         share_ref=share_ref, shared=shared, axes_ref=axes_ref,
         suppress=suppression(grid, data) if x_design is not None and w_suppress > 0 else None,
-        w_suppress=w_suppress, w_axes=w_axes, w_rotation=w_rotation,
+        w_suppress=w_suppress, dart_cap=dart_cap, w_axes=w_axes, w_rotation=w_rotation,
         w_shift=w_shift, w_bend=w_bend,
         w_cell=w_cell, min_cell_ratio=min_cell_ratio, w_design=w_design, design_slack=design_slack,
         w_share=w_share, w_fit=w_fit, w_interval=w_interval, w_turn=w_turn, w_symmetry=w_symmetry,

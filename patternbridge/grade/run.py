@@ -931,7 +931,7 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
         w_all_level, level = stage
         return {"measure_tol_cm": measure_band_cm, "straight": straight, "max_iter": refine_iter,
                 "x_design": x_axis, "w_design": w_design * level, "w_share": w_share, "w_fit": w_fit,
-                "w_suppress": w_suppress * level,
+                "w_suppress": w_suppress * level, "dart_cap": w_suppress * level > 0,
                 "w_all": w_all * w_all_level, "symmetric": symmetric}
 
     def finish_at(start_name: str, x_start: np.ndarray, stage: tuple[float, float]) -> Solution:

@@ -10,8 +10,8 @@ with the width), so the final step holds it as a design term
 (:func:`suppression_terms`, in :class:`~.step_terms.StepTerms`).
 
 For every piece and every two neighbouring girth levels it carries (waist
-and hip, chest and waist, thigh and knee: girth links, by the measurement
-catalogue's kind, with legs on the piece), the **reduction** ``R`` is the
+and hip, chest and waist: girth links, by the measurement catalogue's kind,
+with legs on the piece) where a dart takes part, the **reduction** ``R`` is the
 wider level's length on the piece minus the narrower's, and its **parts**
 are
 
@@ -154,12 +154,11 @@ def suppression(grid: PatternGrid, data: ObjectiveData) -> Suppression:
             g = len(pieces)
             narrow_ends = np.unique(np.concatenate([r[[0, -1]] for r, _ in legs[(k, narrow)]]))
             wide_ends = np.unique(np.concatenate([r[[0, -1]] for r, _ in legs[(k, wide)]]))
-            parts = 0
-            for a, _x, b in data.darts:
-                if a in narrow_ends and b in narrow_ends:
-                    darts.append((a, b))
-                    dart_pair.append(g)
-                    parts += 1
+            mine = [(a, b) for a, _x, b in data.darts if a in narrow_ends and b in narrow_ends]
+            if not mine:
+                continue  # no dart takes part: the seams share it alone, which the shares of the girths hold
+            darts += mine
+            dart_pair += [g] * len(mine)
             centre = float(np.mean(p0[wide_ends] @ across))
             for h in np.setdiff1d(wide_ends, narrow_ends):
                 w = min(narrow_ends, key=lambda v, h=h: _arc(p0, data.nxt, int(h), int(v), lo, hi))
@@ -169,9 +168,6 @@ def suppression(grid: PatternGrid, data: ObjectiveData) -> Suppression:
                 ends.append((h, w))
                 dirs.append(inward)
                 slope_pair.append(g)
-                parts += 1
-            if not parts:
-                continue
             pieces.append(k)
             links.append((narrow, wide))
             cols_e.append(e[wide] - e[narrow])
