@@ -156,6 +156,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--generations", type=int, default=None)
     parser.add_argument("--band", type=float, default=None, help="measurement band of the final step, cm")
     parser.add_argument("--w-fit", type=float, default=None, help="cost of measurement errors inside the band")
+    parser.add_argument("--w-suppress", type=float, default=None,
+                        help="weight of the design's split of girth reductions among darts and seams")
     parser.add_argument("--deformation", choices=DEFORMATIONS, default=None,
                         help="grid deformation (default: fit_pattern's)")
     parser.add_argument("--json", type=Path, help="write every fit report here")
@@ -175,6 +177,8 @@ def main(argv: list[str] | None = None) -> int:
         kwargs["measure_band_cm"] = args.band
     if args.w_fit is not None:
         kwargs["w_fit"] = args.w_fit
+    if args.w_suppress is not None:
+        kwargs["w_suppress"] = args.w_suppress
     if args.deformation is not None:
         kwargs["deformation"] = args.deformation
 

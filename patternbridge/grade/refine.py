@@ -53,6 +53,7 @@ from .objectives import (
     piece_axes_turn,
 )
 from .step_terms import StepTerms
+from .suppression import suppression
 
 __all__ = [
     "RefineResult",
@@ -415,7 +416,9 @@ def refine(
     w_design: float = 0.7,
     design_slack: float = 0.0,
     w_share: float = 3.0,
+    w_suppress: float = 0.0,
     keep_darts: bool = True,
+    dart_cap: bool = False,
     w_fit: float = 0.02,
     fit_eps_cm: float = 0.01,
     stall_window: int = 10,
@@ -453,11 +456,19 @@ def refine(
     w_share : weight of each piece's share of the links with legs on
         several pieces that add up (:func:`~.objectives.balanced_links`),
         against the design's share
+    w_suppress : weight of the design's split of every reduction between
+        two girth levels of a piece among its darts' intake and its seams'
+        slopes (:mod:`.suppression`), per unit of share, over the root of
+        the number of parts
     keep_darts : every dart keeps the length it has in ``x_design`` (or in
         ``x``): an equality constraint; its intake stays free. The grid gives
         a dart lines of its own (:func:`~.grid.pattern_darts`), and without
         this the step lengthened the slim female's back dart past the hip
         line, which changes no angle
+    dart_cap : with ``keep_darts``, a dart may shorten but not lengthen
+        (a strong one-sided cost instead of the equality): with the split of
+        the reduction held (``w_suppress``), a dart whose intake shrinks
+        keeps its angle by shortening
     w_fit : cost of the measurement errors inside the band, in rad of shape
         error per cm of mean ``|m − t|``: iteratively reweighted
         (``1/sqrt(|m − t| + fit_eps_cm)``) so that it acts as an L1 cost,
@@ -508,7 +519,9 @@ def refine(
         x_design=None if x_design is None else np.asarray(x_design, dtype=np.float64),
         level=across_legs(data),
         dart_ref=dart_lengths(data, grid.outlines(x_ref[None, :]))[0] if keep_darts else None,
-        share_ref=share_ref, shared=shared, axes_ref=axes_ref, w_axes=w_axes, w_rotation=w_rotation,
+        share_ref=share_ref, shared=shared, axes_ref=axes_ref,
+        suppress=suppression(grid, data) if x_design is not None and w_suppress > 0 else None,
+        w_suppress=w_suppress, dart_cap=dart_cap, w_axes=w_axes, w_rotation=w_rotation,
         w_shift=w_shift, w_bend=w_bend,
         w_cell=w_cell, min_cell_ratio=min_cell_ratio, w_design=w_design, design_slack=design_slack,
         w_share=w_share, w_fit=w_fit, w_interval=w_interval, w_turn=w_turn, w_symmetry=w_symmetry,

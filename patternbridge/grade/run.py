@@ -619,6 +619,7 @@ def fit_pattern(
     w_fit: float = 0.02,
     w_design: float = 0.7,
     w_share: float = 3.0,
+    w_suppress: float = 0.0,
     design_levels: tuple[float, ...] = (1.0, 1.0 / 3.0, 1.0 / 9.0, 0.0),
     w_all: float = 1.0,
     all_levels: tuple[float, ...] = (3.0, 1.0, 0.5),
@@ -663,6 +664,11 @@ def fit_pattern(
         split of a girth and the balance of the front and back rise are
         design facts a tailor checks, and without them a slim body's trousers
         came out with the back rise shorter than the front's.
+    w_suppress : weight of the design's split of every reduction between
+        two girth levels of a piece among its darts and seams
+        (:mod:`.suppression`); it steps down with ``w_design``'s levels.
+        0 (off) by default: with every dart's length held, the split moves
+        the fit's change into the darts' points (docs/grading.md)
     w_all, all_levels : weight of the every-vertex angle term of the final
         step (:func:`~.refine.refine`) and its factors, tried in turn when no
         ``design_levels`` factor brings the shape error below proportional
@@ -696,8 +702,9 @@ def fit_pattern(
             tol_seam=tol_seam, size=size, do_repair=do_repair, measure_band_cm=measure_band_cm,
             keep_straight=keep_straight, keep_grain=keep_grain, keep_symmetry=keep_symmetry,
             refine_iter=refine_iter, w_fit=w_fit,
-            w_design=w_design, w_share=w_share, design_levels=tuple(design_levels), w_all=w_all,
-            all_levels=tuple(all_levels), n_refine=n_refine, n_trade=n_trade, source=source, progress=progress,
+            w_design=w_design, w_share=w_share, w_suppress=w_suppress, design_levels=tuple(design_levels),
+            w_all=w_all, all_levels=tuple(all_levels), n_refine=n_refine, n_trade=n_trade, source=source,
+            progress=progress,
         )
 
 
@@ -855,8 +862,8 @@ def _meets(sol: Solution, *, mean_cm: float, max_cm: float, seam_cm: float) -> b
 
 def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max_cell_frac, deformation,
                  tol_measure_cm, tol_seam, size, do_repair, measure_band_cm, keep_straight, keep_grain,
-                 keep_symmetry, refine_iter,
-                 w_fit, w_design, w_share, design_levels, w_all, all_levels, n_refine, n_trade, source, progress):
+                 keep_symmetry, refine_iter, w_fit, w_design, w_share, w_suppress, design_levels, w_all,
+                 all_levels, n_refine, n_trade, source, progress):
     from pymoo.algorithms.moo.nsga2 import NSGA2
     from pymoo.optimize import minimize
 
@@ -924,6 +931,7 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
         w_all_level, level = stage
         return {"measure_tol_cm": measure_band_cm, "straight": straight, "max_iter": refine_iter,
                 "x_design": x_axis, "w_design": w_design * level, "w_share": w_share, "w_fit": w_fit,
+                "w_suppress": w_suppress * level, "dart_cap": w_suppress * level > 0,
                 "w_all": w_all * w_all_level, "symmetric": symmetric}
 
     def finish_at(start_name: str, x_start: np.ndarray, stage: tuple[float, float]) -> Solution:

@@ -41,6 +41,7 @@ from .objectives import (
     link_shares,
     residuals,
 )
+from .suppression import Suppression, suppression_terms
 
 __all__ = ["StepTerms"]
 
@@ -107,6 +108,9 @@ def _seam_blocks(grid: PatternGrid, data: ObjectiveData) -> tuple[_SeamBlock, ..
     return tuple(blocks)
 
 
+W_DART_CAP = 30.0
+"""Weight of a dart's length beyond its reference, per unit of its reference length (``StepTerms.dart_cap``)."""
+
 SHEAR_SLACK = np.radians(2.0)
 """Shear (rad, the angle between a piece's drawing axes against ``x_design``'s) the final step leaves free."""
 
@@ -122,7 +126,11 @@ class StepTerms:
     None ; share_ref, shared : the design's link shares and the links
     over several pieces that add up ; axes_ref : (P, 2) turn of every
     piece's drawing axes in ``x_design`` (:func:`~.objectives.piece_axes_turn`)
-    or None ; w_* : weights (see :func:`~.refine.refine`)
+    or None ; suppress : the design's split of every reduction between
+    girth levels among darts and seams (:mod:`.suppression`) or None ;
+    dart_cap : the dart lengths ``dart_ref`` are a ceiling (a strong
+    one-sided cost, :data:`W_DART_CAP`) instead of an equality ;
+    w_* : weights (see :func:`~.refine.refine`)
     """
 
     grid: PatternGrid
@@ -135,6 +143,9 @@ class StepTerms:
     share_ref: np.ndarray | None
     shared: np.ndarray | None
     axes_ref: np.ndarray | None
+    suppress: Suppression | None = None
+    w_suppress: float = 0.0
+    dart_cap: bool = False
     w_rotation: float
     w_axes: float
     w_shift: float
@@ -227,8 +238,12 @@ class StepTerms:
         c = [X @ self.straight.T]  # straight edges: linear, cm
         if self.level.any():  # girths across the grain stay at their levels
             c.append(level_slip(data, pts)[:, self.level])
-        if self.dart_ref is not None and len(self.dart_ref):
+        if self.dart_ref is not None and len(self.dart_ref) and not self.dart_cap:
             c.append(dart_lengths(data, pts) - self.dart_ref)
+        elif self.dart_ref is not None and len(self.dart_ref):
+            # a dart may shorten with its intake (keeping its angle) but never reach past its reference length
+            over = np.maximum(dart_lengths(data, pts) / self.dart_ref - 1.0, 0.0)
+            terms.append(W_DART_CAP * over)
         if data.n_seams:
             mismatch = edges @ data.seam_b_edges - edges @ data.seam_a_edges - data.seam_ease_cm
             pos_a, pos_b = _notch_positions(data, edges)
@@ -237,6 +252,9 @@ class StepTerms:
             sh = link_shares(data, pts, edges)[0][:, :, self.shared]
             w_sh = self.w_share / np.sqrt(max(int(self.shared.sum()), 1))
             terms.append(w_sh * (sh - self.share_ref).reshape(len(X), -1))
+        if self.suppress is not None and self.suppress.n_parts and self.w_suppress > 0:
+            w_su = self.w_suppress / np.sqrt(self.suppress.n_parts)
+            terms.append(w_su * suppression_terms(self.suppress, data, pts, edges))
         achieved = link_lengths(data, pts, edges)
         if self.w_fit > 0:
             terms.append(wm * link_error(data, achieved))
