@@ -39,6 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .bands import band_axes
 from .grid import PatternGrid, map_weights
 from .objectives import (
     FOLD_MARGIN,
@@ -419,6 +420,7 @@ def refine(
     w_suppress: float = 0.0,
     keep_darts: bool = True,
     dart_cap: bool = False,
+    w_band: float = 1.0,
     w_fit: float = 0.02,
     fit_eps_cm: float = 0.01,
     stall_window: int = 10,
@@ -469,6 +471,12 @@ def refine(
         (a strong one-sided cost instead of the equality): with the split of
         the reduction held (``w_suppress``), a dart whose intake shrinks
         keeps its angle by shortening
+    w_band : weight, per cm, of the width of every band (a placket, a
+        collar stand, a binding: a piece at most :data:`~.bands.BAND_ASPECT`
+        as wide as long whose width no measurement link governs,
+        :func:`~.bands.band_axes`) against its sample width; without it
+        nothing but the bending term holds that width and the pieces sewn to
+        a band drag it (a polo's collar stand graded to 0.65 of its height)
     w_fit : cost of the measurement errors inside the band, in rad of shape
         error per cm of mean ``|m − t|``: iteratively reweighted
         (``1/sqrt(|m − t| + fit_eps_cm)``) so that it acts as an L1 cost,
@@ -521,7 +529,8 @@ def refine(
         dart_ref=dart_lengths(data, grid.outlines(x_ref[None, :]))[0] if keep_darts else None,
         share_ref=share_ref, shared=shared, axes_ref=axes_ref,
         suppress=suppression(grid, data) if x_design is not None and w_suppress > 0 else None,
-        w_suppress=w_suppress, dart_cap=dart_cap, w_axes=w_axes, w_rotation=w_rotation,
+        w_suppress=w_suppress, dart_cap=dart_cap, w_axes=w_axes,
+        bands=band_axes(data) if w_band > 0 else None, w_band=w_band, w_rotation=w_rotation,
         w_shift=w_shift, w_bend=w_bend,
         w_cell=w_cell, min_cell_ratio=min_cell_ratio, w_design=w_design, design_slack=design_slack,
         w_share=w_share, w_fit=w_fit, w_interval=w_interval, w_turn=w_turn, w_symmetry=w_symmetry,

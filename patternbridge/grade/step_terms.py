@@ -27,6 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .bands import Bands, strip_width
 from .grid import PatternGrid
 from .objectives import (
     ObjectiveData,
@@ -111,6 +112,9 @@ def _seam_blocks(grid: PatternGrid, data: ObjectiveData) -> tuple[_SeamBlock, ..
 W_DART_CAP = 30.0
 """Weight of a dart's length beyond its reference, per unit of its reference length (``StepTerms.dart_cap``)."""
 
+BAND_SLACK_CM = 0.1
+"""Change of a band's width (cm) the final step leaves free: a band that keeps its width adds nothing to the step."""
+
 SHEAR_SLACK = np.radians(2.0)
 """Shear (rad, the angle between a piece's drawing axes against ``x_design``'s) the final step leaves free."""
 
@@ -130,6 +134,9 @@ class StepTerms:
     girth levels among darts and seams (:mod:`.suppression`) or None ;
     dart_cap : the dart lengths ``dart_ref`` are a ceiling (a strong
     one-sided cost, :data:`W_DART_CAP`) instead of an equality ;
+    bands : the long narrow pieces whose width no link governs
+    (:func:`~.bands.band_axes`), held at their sample width (beyond
+    :data:`BAND_SLACK_CM`) at ``w_band`` per cm, or None ;
     w_* : weights (see :func:`~.refine.refine`)
     """
 
@@ -146,6 +153,8 @@ class StepTerms:
     suppress: Suppression | None = None
     w_suppress: float = 0.0
     dart_cap: bool = False
+    bands: Bands | None = None
+    w_band: float = 0.0
     w_rotation: float
     w_axes: float
     w_shift: float
@@ -194,6 +203,13 @@ class StepTerms:
             shear = d[:, 1:] - d[:, :1]
             terms.append(self.w_axes * np.sign(shear) * np.maximum(np.abs(shear) - SHEAR_SLACK, 0.0))
         terms.append(self.w_shift * (centre - data.centre0[k]) / data.extent_cm[k])
+        if self.bands is not None and self.w_band > 0 and np.any(self.bands.pieces == k):
+            j = int(np.flatnonzero(self.bands.pieces == k)[0])
+            q = np.roll(pts, -1, axis=1)
+            area = 0.5 * np.abs((pts[..., 0] * q[..., 1] - pts[..., 1] * q[..., 0]).sum(axis=1))
+            width = strip_width(area, np.linalg.norm(q - pts, axis=-1).sum(axis=1))
+            d = width - self.bands.width0[j]
+            terms.append(self.w_band * (np.sign(d) * np.maximum(np.abs(d) - BAND_SLACK_CM, 0.0))[:, None])
         ext = float(np.mean(data.extent_cm))
         terms.append((self.w_bend / ext) * grid.bending(X, pieces=[k]))
         terms.append(self.w_cell * np.maximum(0.0, self.min_cell_ratio - grid.corner_ratios(X, pieces=[k])))
