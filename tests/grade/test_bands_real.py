@@ -17,9 +17,7 @@ import pytest
 from patternbridge.grade.bands import band_axes, band_widths, strip_width
 from patternbridge.grade.grid import build_grid
 from patternbridge.grade.objectives import objective_data
-from patternbridge.grade.refine import grain_constraints, refine, row_basis, straight_constraints, straight_edges
-from patternbridge.grade.run import axis_scaling
-from patternbridge.grade.symmetry import mirror_symmetries, symmetry_constraints
+from patternbridge.grade.refine import straight_edges
 
 pytestmark = pytest.mark.shared
 
@@ -54,19 +52,9 @@ def test_the_strip_width_of_a_rectangle_is_its_width():
 
 
 @pytest.mark.slow
-def test_the_final_step_keeps_the_bands_widths(polo):
+def test_the_final_step_keeps_the_bands_widths(polo, final_step_from_scaling):
     grid, data = polo
-    straight = row_basis(np.concatenate([straight_constraints(grid, straight_edges(grid)), grain_constraints(grid)]))
-    x0 = axis_scaling(grid, data)
-    res = refine(
-        grid,
-        data,
-        x0,
-        straight=straight,
-        x_design=x0,
-        w_all=3.0,
-        symmetric=symmetry_constraints(grid, mirror_symmetries(grid)),
-    )
+    res, _ = final_step_from_scaling(grid, data, straight_edges(grid))
     assert res.max_violation_cm < 0.01
     bands = band_axes(data)
     widths = band_widths(data, bands, grid.outlines(res.x[None]))[0]

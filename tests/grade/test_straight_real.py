@@ -18,9 +18,7 @@ import pytest
 
 from patternbridge.grade.grid import build_grid
 from patternbridge.grade.objectives import objective_data
-from patternbridge.grade.refine import grain_constraints, refine, row_basis, straight_constraints, straight_edges
-from patternbridge.grade.run import axis_scaling
-from patternbridge.grade.symmetry import mirror_symmetries, symmetry_constraints
+from patternbridge.grade.refine import straight_constraints, straight_edges
 
 pytestmark = pytest.mark.shared
 
@@ -64,23 +62,13 @@ def test_the_original_and_its_similar_copies_meet_the_straight_constraints(shirt
 
 
 @pytest.mark.slow
-def test_the_final_step_closes_the_seams_from_proportional_scaling(shirt, characters_dir):
+def test_the_final_step_closes_the_seams_from_proportional_scaling(shirt, characters_dir, final_step_from_scaling):
     from patternbridge.workflow import load_subject
 
     grid = shirt[0]
     subject, _ = load_subject(characters_dir / "D_cartoon_child.obj")
     data = objective_data(grid, subject.measurements.values_cm())
-    straight = row_basis(np.concatenate([straight_constraints(grid, shirt[1]), grain_constraints(grid)]))
-    x0 = axis_scaling(grid, data)
-    res = refine(
-        grid,
-        data,
-        x0,
-        straight=straight,
-        x_design=x0,
-        w_all=3.0,
-        symmetric=symmetry_constraints(grid, mirror_symmetries(grid)),
-    )
+    res, straight = final_step_from_scaling(grid, data, shirt[1])
     assert res.converged and res.iterations < 30
     assert res.max_violation_cm < 0.01  # every seam within 0.1 mm, every measurement within its band
     assert float(grid.fold_margin(res.x[None])[0]) > 0.08  # no cell held at the fold limit (0.05)
