@@ -345,21 +345,16 @@ NECK_REACH = 0.10
 
 
 def _clip_convex(ring: np.ndarray, d: np.ndarray, lo: float, hi: float) -> np.ndarray:
-    """The convex polygon ``ring`` (closed, (k + 1, 2)) cut to the band ``lo <= p @ d <= hi``."""
-    poly = ring[:-1]
-    for limit, sign in ((hi, 1.0), (lo, -1.0)):
-        if len(poly) < 2:
-            break
-        h = sign * (poly @ d - limit)  # > 0: outside
-        nxt, hn = np.roll(poly, -1, axis=0), np.roll(h, -1)
-        out = []
-        for p, q, hp, hq in zip(poly, nxt, h, hn, strict=True):
-            if hp <= 0.0:
-                out.append(p)
-            if (hp <= 0.0) != (hq <= 0.0):
-                out.append(p + (hp / (hp - hq)) * (q - p))
-        poly = np.asarray(out).reshape(-1, 2)
-    return poly
+    """The vertices of the convex polygon ``ring`` (closed, (k + 1, 2)) cut to the band ``lo <= p @ d <= hi``."""
+    import shapely
+
+    e = np.array([-d[1], d[0]])
+    reach = 2.0 * float(np.abs(ring).max(initial=0.0)) + abs(lo) + abs(hi) + 1.0
+    strip = shapely.Polygon([lo * d - reach * e, hi * d - reach * e, hi * d + reach * e, lo * d + reach * e])
+    cut = shapely.Polygon(ring).intersection(strip)
+    if cut.is_empty or cut.geom_type != "Polygon":
+        return np.zeros((0, 2))
+    return np.asarray(cut.exterior.coords)[:-1]
 
 
 def _neck_base_girth(body: BodyFrame) -> Measurement:
