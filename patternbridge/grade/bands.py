@@ -19,7 +19,7 @@ import numpy as np
 
 from .objectives import ObjectiveData
 
-__all__ = ["BAND_ASPECT", "Bands", "band_axes", "band_widths", "strip_width"]
+__all__ = ["BAND_ASPECT", "Bands", "band_axes", "band_widths", "outline_width", "strip_width"]
 
 BAND_ASPECT = 0.25
 """A piece at most this share as wide as it is long (a rectangle's width over its length) is a band."""
@@ -88,6 +88,13 @@ def band_widths(data: ObjectiveData, bands: Bands, points: np.ndarray) -> np.nda
     """Width of every band, ``(n_pop, B)`` cm: :func:`strip_width` of its area and perimeter."""
     area, per = _area_perimeter(data, np.asarray(points, dtype=np.float64))
     return strip_width(area[:, bands.pieces], per[:, bands.pieces])
+
+
+def outline_width(outline: np.ndarray) -> np.ndarray:
+    """Width ``(n_pop,)`` cm of one closed outline ``(n_pop, n, 2)``: :func:`strip_width` of its area and perimeter."""
+    q = np.roll(outline, -1, axis=1)
+    area = 0.5 * np.abs((outline[..., 0] * q[..., 1] - outline[..., 1] * q[..., 0]).sum(axis=1))
+    return strip_width(area, np.linalg.norm(q - outline, axis=-1).sum(axis=1))
 
 
 def strip_width(area: np.ndarray, perimeter: np.ndarray) -> np.ndarray:

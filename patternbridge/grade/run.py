@@ -667,8 +667,8 @@ def fit_pattern(
     w_suppress : weight of the design's split of every reduction between
         two girth levels of a piece among its darts and seams
         (:mod:`.suppression`); it steps down with ``w_design``'s levels.
-        0 (off) by default: with every dart's length held, the split moves
-        the fit's change into the darts' points (docs/grading.md)
+        0 (off) by default: the dart-length ceiling it brings lets the
+        trousers' dart points move (docs/grading.md)
     w_all, all_levels : weight of the every-vertex angle term of the final
         step (:func:`~.refine.refine`) and its factors, tried in turn when no
         ``design_levels`` factor brings the shape error below proportional

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .bands import Bands, strip_width
+from .bands import Bands, outline_width
 from .grid import PatternGrid
 from .objectives import (
     ObjectiveData,
@@ -205,10 +205,7 @@ class StepTerms:
         terms.append(self.w_shift * (centre - data.centre0[k]) / data.extent_cm[k])
         if self.bands is not None and self.w_band > 0 and np.any(self.bands.pieces == k):
             j = int(np.flatnonzero(self.bands.pieces == k)[0])
-            q = np.roll(pts, -1, axis=1)
-            area = 0.5 * np.abs((pts[..., 0] * q[..., 1] - pts[..., 1] * q[..., 0]).sum(axis=1))
-            width = strip_width(area, np.linalg.norm(q - pts, axis=-1).sum(axis=1))
-            d = width - self.bands.width0[j]
+            d = outline_width(pts) - self.bands.width0[j]
             terms.append(self.w_band * (np.sign(d) * np.maximum(np.abs(d) - BAND_SLACK_CM, 0.0))[:, None])
         ext = float(np.mean(data.extent_cm))
         terms.append((self.w_bend / ext) * grid.bending(X, pieces=[k]))
@@ -254,12 +251,13 @@ class StepTerms:
         c = [X @ self.straight.T]  # straight edges: linear, cm
         if self.level.any():  # girths across the grain stay at their levels
             c.append(level_slip(data, pts)[:, self.level])
-        if self.dart_ref is not None and len(self.dart_ref) and not self.dart_cap:
-            c.append(dart_lengths(data, pts) - self.dart_ref)
-        elif self.dart_ref is not None and len(self.dart_ref):
-            # a dart may shorten with its intake (keeping its angle) but never reach past its reference length
-            over = np.maximum(dart_lengths(data, pts) / self.dart_ref - 1.0, 0.0)
-            terms.append(W_DART_CAP * over)
+        if self.dart_ref is not None and len(self.dart_ref):
+            lengths = dart_lengths(data, pts)
+            if self.dart_cap:
+                # a dart may shorten with its intake (keeping its angle) but never reach past its reference length
+                terms.append(W_DART_CAP * np.maximum(lengths / self.dart_ref - 1.0, 0.0))
+            else:
+                c.append(lengths - self.dart_ref)
         if data.n_seams:
             mismatch = edges @ data.seam_b_edges - edges @ data.seam_a_edges - data.seam_ease_cm
             pos_a, pos_b = _notch_positions(data, edges)
