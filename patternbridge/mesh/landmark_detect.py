@@ -72,6 +72,7 @@ FOREARM_WRIST_END = 1.05  # ... and, square to the forearm, where its section is
 STRAIGHT_DEG = 20.0  # an elbow flexed less than this is straight (A-pose elbows: 45°)
 KNEE_CORNER = 0.002  # a knee cap's corner stands at least this share of S in front of the profile's chord
 NECK_SPINE = 0.44  # the cervical spine's frontal plane: this share of the way from the back to the front neck point
+AXILLA_OUT = 0.03  # an axilla fold lies within this share of S outside the armpit (beyond: the raised arm)
 BUST_OUT_DEG = 17.5  # a bust point is the chest front's most prominent point this far out from straight ahead
 
 
@@ -297,18 +298,63 @@ def detect_armpits(sc: Scan) -> None:
 
 
 def _axillae(sc: Scan, s: str, arm: np.ndarray, zc: float) -> None:
-    S = sc.S
+    """Axilla folds: the dents between chest (back) and arm in the section 1.1 % of S above the armpit.
+
+    On the torso loop of that section (there it holds the arm), each of its
+    front and back halves beside the armpit, seen from the front (back), is
+    bridged by its convex hull between the chest's (back's) bulge and the
+    arm's; the fold is the point deepest inside the bridging hull edge, where
+    a tape laid over the front (back) would leave the skin (the reference
+    rule's fold). Only the loop within :data:`AXILLA_OUT` of S outside the
+    armpit counts: a raised arm lies along the section, and its underside's
+    dent 10 cm out put the T-posed C's front folds 15 cm off. Without a
+    dent, the front-most (back-most) point of the section at the armpit's
+    x; that point (the rule before) lay 0.7-5.1 cm off the folds.
+    """
+    S, sg, xm = sc.S, SIDES[s], sc.x_mid
     ya = arm[1] + 0.011 * S
     loops = sc.loops(ya)
     if not loops:
         return
+    rule = f"section {ya:.1f} cm high, 1.1 % of S above the armpit"
+    t = _torso_loop(loops, xm)
+    across = sg * (t[:, 0] - xm)
+    beside = (across > 0.011 * S) & (across < sg * (arm[0] - xm) + AXILLA_OUT * S)  # not out along a raised arm
     allp = np.concatenate(loops)
-    near = allp[np.abs(allp[:, 0] - arm[0]) < max(0.006 * S, 0.5)]
-    near = near[np.abs(near[:, 2] - zc) < 0.12 * S]
-    if len(near):
-        rule = f"section {ya:.1f} cm high, 1.1 % of S above the armpit, at its x"
-        sc.put(f"axilla_front_{s}", near[np.argmax(near[:, 2])], f"front-most point of the {rule}")
-        sc.put(f"axilla_back_{s}", near[np.argmin(near[:, 2])], f"back-most point of the {rule}")
+    near = allp[(np.abs(allp[:, 0] - arm[0]) < max(0.006 * S, 0.5)) & (np.abs(allp[:, 2] - zc) < 0.12 * S)]
+    for name, side in ((f"axilla_front_{s}", 1.0), (f"axilla_back_{s}", -1.0)):
+        q = t[beside & (side * (t[:, 2] - arm[2]) > 0)]
+        k = _dent(np.stack([across[beside & (side * (t[:, 2] - arm[2]) > 0)], side * q[:, 2]], axis=1))
+        if k is not None:
+            sc.put(name, q[k], f"deepest point of the dent between the torso and the arm in the {rule}")
+        elif len(near):
+            extreme = near[np.argmax(side * near[:, 2])]
+            sc.put(name, extreme, f"no dent: {'front' if side > 0 else 'back'}most point of the {rule}", FALLBACK)
+
+
+def _dent(p: np.ndarray) -> int | None:
+    """Index of the point of ``p`` (N, 2: across, out) deepest below its upper convex hull, None if none is."""
+    if len(p) < 3:
+        return None
+    order = np.argsort(p[:, 0], kind="stable")
+    q = p[order]
+    hull: list[int] = []
+    for i in range(len(q)):
+        while len(hull) >= 2:
+            a, b = q[hull[-2]], q[hull[-1]]
+            if (b[0] - a[0]) * (q[i, 1] - a[1]) - (b[1] - a[1]) * (q[i, 0] - a[0]) >= 0:
+                hull.pop()
+            else:
+                break
+        hull.append(i)
+    h = np.asarray(hull)
+    seg = np.clip(np.searchsorted(q[h, 0], q[:, 0], side="right") - 1, 0, len(h) - 2)
+    a, b = q[h[seg]], q[h[seg + 1]]
+    d = b - a
+    below = d[:, 1] * (q[:, 0] - a[:, 0]) - d[:, 0] * (q[:, 1] - a[:, 1])
+    depth = below / np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-12)
+    k = int(np.argmax(depth))
+    return int(order[k]) if depth[k] > 1e-6 else None
 
 
 def _shoulder_point(sc: Scan, s: str, arm: np.ndarray, zc: float) -> None:
@@ -855,8 +901,11 @@ def detect_leg(sc: Scan, s: str) -> None:
     if p is None:
         return
     rule = f"leg section no longer a foot (y = {y_ank:.1f} cm)"
-    sc.put(f"ankle_inside_{s}", p[np.argmin(sg * (p[:, 0] - xm))], f"inner-most point of the {rule}")
-    sc.put(f"ankle_outside_{s}", p[np.argmax(sg * (p[:, 0] - xm))], f"outer-most point of the {rule}")
+    outside = p[np.argmax(sg * (p[:, 0] - xm))]
+    inner = p[sg * (p[:, 0] - p[:, 0].mean()) < 0]
+    inside = inner[np.argmin(np.abs(inner[:, 2] - outside[2]))] if len(inner) else p[np.argmin(sg * (p[:, 0] - xm))]
+    sc.put(f"ankle_outside_{s}", outside, f"outer-most point of the {rule}")
+    sc.put(f"ankle_inside_{s}", inside, f"inner side of the {rule}, across from the outer ankle")
     foot = (sg * (v[:, 0] - xm) > 0) & (v[:, 1] < y_ank) & (np.abs(v[:, 0] - p[:, 0].mean()) < 0.05 * S)
     if foot.any():
         i = np.flatnonzero(foot)
