@@ -73,6 +73,7 @@ STRAIGHT_DEG = 20.0  # an elbow flexed less than this is straight (A-pose elbows
 KNEE_CORNER = 0.002  # a knee cap's corner stands at least this share of S in front of the profile's chord
 NECK_SPINE = 0.44  # the cervical spine's frontal plane: this share of the way from the back to the front neck point
 AXILLA_OUT = 0.03  # an axilla fold lies within this share of S outside the armpit (beyond: the raised arm)
+ELBOW_SLAB = 0.01  # the olecranon lies within this share of S of the elbow's centre along the upper arm
 BUST_OUT_DEG = 17.5  # a bust point is the chest front's most prominent point this far out from straight ahead
 
 
@@ -840,16 +841,31 @@ def detect_arm(sc: Scan, s: str) -> None:
     if flexion < STRAIGHT_DEG:  # a straight arm (biceps and forearm bulges bend its centre line a little): half-way
         k_e = int(cand[np.argmin(np.abs(ts[cand] - 0.5 * (ts[first] + ts[k_w])))])
         conf, rule = 0.5, "straight arm: half-way between the shoulder and the wrist, behind"
+    elif sc.has(f"wrist_point_{s}"):  # the bend of a bulging upper arm's centre line lies below the joint
+        k_e = _half_way(spt, cents[first : k_w + 1], sc.at(f"wrist_point_{s}")) + first
+        rule = f"elbow flexed {flexion:.0f}° (largest bend of the arm's centre line): half-way along the arm"
     c_e = cents[k_e]
     bend = (c_e - a) / np.linalg.norm(c_e - a) - (b - c_e) / np.linalg.norm(b - c_e)
     if np.linalg.norm(bend) < 0.2:
         bend = np.array([0.0, 0.0, -1.0])
-    hit = _olecranon(sc, c_e, bend, a, b, widths[k_e])
+    hit = _olecranon(sc, c_e, bend, a, b, widths[k_e], level=conf == FOUND)
     if hit is not None:
         sc.put(f"elbow_point_{s}", v[hit], rule, conf)
 
 
-def _olecranon(sc: Scan, c_e: np.ndarray, bend: np.ndarray, a: np.ndarray, b: np.ndarray, width: float) -> int | None:
+def _half_way(spt: np.ndarray, centres: np.ndarray, wrist: np.ndarray) -> int:
+    """Index into ``centres`` (the arm's centre line, shoulder to wrist) of the point half-way along the path
+    from the shoulder point through them to the wrist point: the upper arm and the forearm are equally long
+    from acromion to styloid (the reference olecranon lies 0.48-0.51 of the way on the six test bodies)."""
+    path = np.concatenate([spt[None], centres, wrist[None]])
+    run = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(path, axis=0), axis=1))])
+    half = float(np.interp(0.5 * run[-1], run, np.arange(len(path))))
+    return int(np.clip(round(half) - 1, 0, len(centres) - 1))
+
+
+def _olecranon(
+    sc: Scan, c_e: np.ndarray, bend: np.ndarray, a: np.ndarray, b: np.ndarray, width: float, *, level: bool
+) -> int | None:
     """The olecranon: the elbow's skin point furthest out along the bend, in the flexion plane.
 
     Among the vertices within an arm's diameter of the elbow's centre ``c_e`` and
@@ -857,7 +873,10 @@ def _olecranon(sc: Scan, c_e: np.ndarray, bend: np.ndarray, a: np.ndarray, b: np
     the wrist end ``b`` (the flexion plane; for a straight arm the plane holding
     the bend direction), the one furthest along ``bend``, the outward bisector
     of upper arm and forearm. The point of a section square to the whole arm's
-    line sat 1.5-2.5 cm down the forearm of a bent elbow.
+    line sat 1.5-2.5 cm down the forearm of a bent elbow. A bent elbow's
+    (``level``) point lies within :data:`ELBOW_SLAB` of S of ``c_e`` along the
+    upper arm: the whole sphere let A's olecranon slide 3.9 cm down its
+    forearm (4.1 cm off on the 75° elbows of A_superhero_bent, 0.0 now).
     """
     v, S = sc.v, sc.S
     d = bend / np.linalg.norm(bend)
@@ -868,6 +887,9 @@ def _olecranon(sc: Scan, c_e: np.ndarray, bend: np.ndarray, a: np.ndarray, b: np
     rel = v - c_e
     radius = max(0.5 * float(width), 0.02 * S) if np.isfinite(width) else 0.04 * S
     near = (np.sum(rel * rel, axis=1) < radius * radius) & (np.abs(rel @ n) < 0.01 * S)
+    if level:  # a bent elbow: level with its centre along the upper arm
+        upper = (c_e - a) / max(float(np.linalg.norm(c_e - a)), 1e-12)
+        near &= np.abs(rel @ upper) < ELBOW_SLAB * S
     if not near.any():
         return _ray_hit(v, c_e, d, max(0.006 * S, 0.5))
     idx = np.flatnonzero(near)
