@@ -72,6 +72,8 @@ FOREARM_WRIST_END = 1.05  # ... and, square to the forearm, where its section is
 STRAIGHT_DEG = 20.0  # an elbow flexed less than this is straight (A-pose elbows: 45°)
 KNEE_CORNER = 0.002  # a knee cap's corner stands at least this share of S in front of the profile's chord
 NECK_SPINE = 0.44  # the cervical spine's frontal plane: this share of the way from the back to the front neck point
+AXILLA_OUT = 0.03  # an axilla fold lies within this share of S outside the armpit (beyond: the raised arm)
+ELBOW_SLAB = 0.01  # the olecranon lies within this share of S of the elbow's centre along the upper arm
 BUST_OUT_DEG = 17.5  # a bust point is the chest front's most prominent point this far out from straight ahead
 
 
@@ -297,18 +299,63 @@ def detect_armpits(sc: Scan) -> None:
 
 
 def _axillae(sc: Scan, s: str, arm: np.ndarray, zc: float) -> None:
-    S = sc.S
+    """Axilla folds: the dents between chest (back) and arm in the section 1.1 % of S above the armpit.
+
+    On the torso loop of that section (there it holds the arm), each of its
+    front and back halves beside the armpit, seen from the front (back), is
+    bridged by its convex hull between the chest's (back's) bulge and the
+    arm's; the fold is the point deepest inside the bridging hull edge, where
+    a tape laid over the front (back) would leave the skin (the reference
+    rule's fold). Only the loop within :data:`AXILLA_OUT` of S outside the
+    armpit counts: a raised arm lies along the section, and its underside's
+    dent 10 cm out put the T-posed C's front folds 15 cm off. Without a
+    dent, the front-most (back-most) point of the section at the armpit's
+    x; that point (the rule before) lay 0.7-5.1 cm off the folds.
+    """
+    S, sg, xm = sc.S, SIDES[s], sc.x_mid
     ya = arm[1] + 0.011 * S
     loops = sc.loops(ya)
     if not loops:
         return
+    rule = f"section {ya:.1f} cm high, 1.1 % of S above the armpit"
+    t = _torso_loop(loops, xm)
+    across = sg * (t[:, 0] - xm)
+    beside = (across > 0.011 * S) & (across < sg * (arm[0] - xm) + AXILLA_OUT * S)  # not out along a raised arm
     allp = np.concatenate(loops)
-    near = allp[np.abs(allp[:, 0] - arm[0]) < max(0.006 * S, 0.5)]
-    near = near[np.abs(near[:, 2] - zc) < 0.12 * S]
-    if len(near):
-        rule = f"section {ya:.1f} cm high, 1.1 % of S above the armpit, at its x"
-        sc.put(f"axilla_front_{s}", near[np.argmax(near[:, 2])], f"front-most point of the {rule}")
-        sc.put(f"axilla_back_{s}", near[np.argmin(near[:, 2])], f"back-most point of the {rule}")
+    near = allp[(np.abs(allp[:, 0] - arm[0]) < max(0.006 * S, 0.5)) & (np.abs(allp[:, 2] - zc) < 0.12 * S)]
+    for name, side in ((f"axilla_front_{s}", 1.0), (f"axilla_back_{s}", -1.0)):
+        q = t[beside & (side * (t[:, 2] - arm[2]) > 0)]
+        k = _dent(np.stack([across[beside & (side * (t[:, 2] - arm[2]) > 0)], side * q[:, 2]], axis=1))
+        if k is not None:
+            sc.put(name, q[k], f"deepest point of the dent between the torso and the arm in the {rule}")
+        elif len(near):
+            extreme = near[np.argmax(side * near[:, 2])]
+            sc.put(name, extreme, f"no dent: {'front' if side > 0 else 'back'}most point of the {rule}", FALLBACK)
+
+
+def _dent(p: np.ndarray) -> int | None:
+    """Index of the point of ``p`` (N, 2: across, out) deepest below its upper convex hull, None if none is."""
+    if len(p) < 3:
+        return None
+    order = np.argsort(p[:, 0], kind="stable")
+    q = p[order]
+    hull: list[int] = []
+    for i in range(len(q)):
+        while len(hull) >= 2:
+            a, b = q[hull[-2]], q[hull[-1]]
+            if (b[0] - a[0]) * (q[i, 1] - a[1]) - (b[1] - a[1]) * (q[i, 0] - a[0]) >= 0:
+                hull.pop()
+            else:
+                break
+        hull.append(i)
+    h = np.asarray(hull)
+    seg = np.clip(np.searchsorted(q[h, 0], q[:, 0], side="right") - 1, 0, len(h) - 2)
+    a, b = q[h[seg]], q[h[seg + 1]]
+    d = b - a
+    below = d[:, 1] * (q[:, 0] - a[:, 0]) - d[:, 0] * (q[:, 1] - a[:, 1])
+    depth = below / np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-12)
+    k = int(np.argmax(depth))
+    return int(order[k]) if depth[k] > 1e-6 else None
 
 
 def _shoulder_point(sc: Scan, s: str, arm: np.ndarray, zc: float) -> None:
@@ -794,16 +841,31 @@ def detect_arm(sc: Scan, s: str) -> None:
     if flexion < STRAIGHT_DEG:  # a straight arm (biceps and forearm bulges bend its centre line a little): half-way
         k_e = int(cand[np.argmin(np.abs(ts[cand] - 0.5 * (ts[first] + ts[k_w])))])
         conf, rule = 0.5, "straight arm: half-way between the shoulder and the wrist, behind"
+    elif sc.has(f"wrist_point_{s}"):  # the bend of a bulging upper arm's centre line lies below the joint
+        k_e = _half_way(spt, cents[first : k_w + 1], sc.at(f"wrist_point_{s}")) + first
+        rule = f"elbow flexed {flexion:.0f}° (largest bend of the arm's centre line): half-way along the arm"
     c_e = cents[k_e]
     bend = (c_e - a) / np.linalg.norm(c_e - a) - (b - c_e) / np.linalg.norm(b - c_e)
     if np.linalg.norm(bend) < 0.2:
         bend = np.array([0.0, 0.0, -1.0])
-    hit = _olecranon(sc, c_e, bend, a, b, widths[k_e])
+    hit = _olecranon(sc, c_e, bend, a, b, widths[k_e], level=conf == FOUND)
     if hit is not None:
         sc.put(f"elbow_point_{s}", v[hit], rule, conf)
 
 
-def _olecranon(sc: Scan, c_e: np.ndarray, bend: np.ndarray, a: np.ndarray, b: np.ndarray, width: float) -> int | None:
+def _half_way(spt: np.ndarray, centres: np.ndarray, wrist: np.ndarray) -> int:
+    """Index into ``centres`` (the arm's centre line, shoulder to wrist) of the point half-way along the path
+    from the shoulder point through them to the wrist point: the upper arm and the forearm are equally long
+    from acromion to styloid (the reference olecranon lies 0.48-0.51 of the way on the six test bodies)."""
+    path = np.concatenate([spt[None], centres, wrist[None]])
+    run = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(path, axis=0), axis=1))])
+    half = float(np.interp(0.5 * run[-1], run, np.arange(len(path))))
+    return int(np.clip(round(half) - 1, 0, len(centres) - 1))
+
+
+def _olecranon(
+    sc: Scan, c_e: np.ndarray, bend: np.ndarray, a: np.ndarray, b: np.ndarray, width: float, *, level: bool
+) -> int | None:
     """The olecranon: the elbow's skin point furthest out along the bend, in the flexion plane.
 
     Among the vertices within an arm's diameter of the elbow's centre ``c_e`` and
@@ -811,7 +873,10 @@ def _olecranon(sc: Scan, c_e: np.ndarray, bend: np.ndarray, a: np.ndarray, b: np
     the wrist end ``b`` (the flexion plane; for a straight arm the plane holding
     the bend direction), the one furthest along ``bend``, the outward bisector
     of upper arm and forearm. The point of a section square to the whole arm's
-    line sat 1.5-2.5 cm down the forearm of a bent elbow.
+    line sat 1.5-2.5 cm down the forearm of a bent elbow. A bent elbow's
+    (``level``) point lies within :data:`ELBOW_SLAB` of S of ``c_e`` along the
+    upper arm: the whole sphere let A's olecranon slide 3.9 cm down its
+    forearm (4.1 cm off on the 75° elbows of A_superhero_bent, 0.0 now).
     """
     v, S = sc.v, sc.S
     d = bend / np.linalg.norm(bend)
@@ -822,6 +887,9 @@ def _olecranon(sc: Scan, c_e: np.ndarray, bend: np.ndarray, a: np.ndarray, b: np
     rel = v - c_e
     radius = max(0.5 * float(width), 0.02 * S) if np.isfinite(width) else 0.04 * S
     near = (np.sum(rel * rel, axis=1) < radius * radius) & (np.abs(rel @ n) < 0.01 * S)
+    if level:  # a bent elbow: level with its centre along the upper arm
+        upper = (c_e - a) / max(float(np.linalg.norm(c_e - a)), 1e-12)
+        near &= np.abs(rel @ upper) < ELBOW_SLAB * S
     if not near.any():
         return _ray_hit(v, c_e, d, max(0.006 * S, 0.5))
     idx = np.flatnonzero(near)
@@ -855,8 +923,11 @@ def detect_leg(sc: Scan, s: str) -> None:
     if p is None:
         return
     rule = f"leg section no longer a foot (y = {y_ank:.1f} cm)"
-    sc.put(f"ankle_inside_{s}", p[np.argmin(sg * (p[:, 0] - xm))], f"inner-most point of the {rule}")
-    sc.put(f"ankle_outside_{s}", p[np.argmax(sg * (p[:, 0] - xm))], f"outer-most point of the {rule}")
+    outside = p[np.argmax(sg * (p[:, 0] - xm))]
+    inner = p[sg * (p[:, 0] - p[:, 0].mean()) < 0]
+    inside = inner[np.argmin(np.abs(inner[:, 2] - outside[2]))] if len(inner) else p[np.argmin(sg * (p[:, 0] - xm))]
+    sc.put(f"ankle_outside_{s}", outside, f"outer-most point of the {rule}")
+    sc.put(f"ankle_inside_{s}", inside, f"inner side of the {rule}, across from the outer ankle")
     foot = (sg * (v[:, 0] - xm) > 0) & (v[:, 1] < y_ank) & (np.abs(v[:, 0] - p[:, 0].mean()) < 0.05 * S)
     if foot.any():
         i = np.flatnonzero(foot)
