@@ -120,7 +120,11 @@ def infer_fabric(
             why = (
                 f"{link.id} {link.ease_cm:+.1f} cm against the body's {body[link.measurement]:.1f} cm "
                 f"({100 * share:+.1f} %): it goes on only by stretching "
-                + (f"more than a knit's worn {100 * knit:g} %" if need is FabricClass.STRETCH_KNIT else "")
+                + (
+                    f"more than a plain knit is drafted to ({100 * knit:g} %)"
+                    if need is FabricClass.STRETCH_KNIT
+                    else ""
+                )
             ).rstrip()
     trims = {n: w[0] for n in chosen if (w := words[n]) is not None and n not in body_pieces and w[0] is not fabric}
     if trims:
