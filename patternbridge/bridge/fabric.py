@@ -2,9 +2,9 @@
 
 A garment that is smaller than the body at a girth it closes round
 (negative ease) goes on only if the fabric stretches: it is a knit, and a
-stretch knit when it is smaller by more than a plain knit holds when worn
-(:data:`~patternbridge.pattern.fabric.FABRIC_STRETCH`: more than 10 %, the
-top of the range jersey tops are drafted in). The negative ease must
+stretch knit when it is smaller by more than a plain knit is drafted to
+(``KNIT_AT_MOST``, 10 %: the top of the 0-10 % range jersey tops are drafted
+in, :data:`~patternbridge.pattern.fabric.FABRIC_STRETCH`). The negative ease must
 pass ``NEGATIVE_EASE_SHARE`` of the body girth: a body read off a size chart
 for the file's sample size is known to about half a size step (a size adds
 4 cm to an 84-100 cm girth, 4-5 %), so a pattern 1 % under the chart's body
