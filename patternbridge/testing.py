@@ -162,6 +162,7 @@ class _Diff:
             "annotation",
             "fabric",
             "placement",
+            "fabric_class",
         ):
             self.eq(where, f, getattr(a, f), getattr(b, f), "piece")
         for f in ("marks", "landmarks", "extra_text"):
@@ -203,6 +204,8 @@ class _Diff:
             "provenance",
             "seams",
             "measurements",
+            "fabric_class",
+            "fabric_why",
         ):
             self.eq(where, f, getattr(a, f), getattr(b, f))
         self.rules(where, a.rules, b.rules)

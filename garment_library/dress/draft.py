@@ -29,6 +29,7 @@ from patternbridge.library.garment import (
     seam,
 )
 from patternbridge.library.sizes import WOMEN
+from patternbridge.pattern.fabric import FabricClass
 from patternbridge.pattern.model import Placement, Quantity, VertexKind
 
 CHART = WOMEN
@@ -383,6 +384,8 @@ def build():
         draft=draft,
         seams=SEAMS,
         links=LINKS,
+        fabric_class=FabricClass.WOVEN,
+        fabric_why="drafted for a woven with a little stretch: darts and a zip",
     )
 
 

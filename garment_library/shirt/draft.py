@@ -39,6 +39,7 @@ from patternbridge.library.garment import (
     set_in_sleeve,
 )
 from patternbridge.library.sizes import MEN
+from patternbridge.pattern.fabric import FabricClass
 from patternbridge.pattern.model import Placement, Quantity, VertexKind
 
 CHART = MEN
@@ -551,6 +552,8 @@ def build():
         draft=draft,
         seams=seams(),
         links=LINKS,
+        fabric_class=FabricClass.WOVEN,
+        fabric_why="drafted for woven shirting",
     )
 
 

@@ -14,6 +14,7 @@ from pathlib import Path
 
 from patternbridge.library.garment import build_pattern, leg, link
 from patternbridge.library.sizes import MEN
+from patternbridge.pattern.fabric import FabricClass
 
 _TROUSERS = runpy.run_path(
     str(Path(__file__).resolve().parents[1] / "trousers" / "draft.py")
@@ -93,6 +94,8 @@ def build():
         draft=draft,
         seams=SEAMS,
         links=LINKS,
+        fabric_class=FabricClass.WOVEN,
+        fabric_why="drafted for a woven twill",
     )
 
 

@@ -25,6 +25,7 @@ from patternbridge.library.garment import (
     seam,
 )
 from patternbridge.library.sizes import WOMEN
+from patternbridge.pattern.fabric import FabricClass
 from patternbridge.pattern.model import Placement, Quantity
 
 CHART = WOMEN.relabel("waist_girth")
@@ -244,6 +245,8 @@ def build():
         draft=draft,
         seams=seams(),
         links=LINKS,
+        fabric_class=FabricClass.WOVEN,
+        fabric_why="drafted for a woven: darts and a zip",
     )
 
 

@@ -18,6 +18,7 @@ import numpy as np
 from patternbridge.library.draft import OutlineBuilder, hermite
 from patternbridge.library.garment import PieceDraft, build_pattern, leg, link, seam
 from patternbridge.library.sizes import MEN
+from patternbridge.pattern.fabric import FabricClass
 from patternbridge.pattern.model import Placement, Quantity
 
 CHART = MEN.relabel("waist_girth")
@@ -348,6 +349,8 @@ def build():
         draft=draft,
         seams=SEAMS,
         links=LINKS,
+        fabric_class=FabricClass.WOVEN,
+        fabric_why="drafted for a woven suiting or twill",
     )
 
 

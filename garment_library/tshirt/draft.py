@@ -31,6 +31,7 @@ from patternbridge.library.garment import (
     set_in_sleeve,
 )
 from patternbridge.library.sizes import MEN
+from patternbridge.pattern.fabric import FabricClass
 from patternbridge.pattern.model import Placement, Quantity, VertexKind
 
 CHART = MEN
@@ -324,6 +325,8 @@ def build():
         draft=draft,
         seams=seams(),
         links=LINKS,
+        fabric_class=FabricClass.KNIT,
+        fabric_why="drafted for single jersey with a rib neckband",
     )
 
 

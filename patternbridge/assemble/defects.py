@@ -12,10 +12,21 @@ from ..pattern.model import Pattern
 from .mesh2d import PatternMesh
 from .place.wrap import landmark_position
 
-__all__ = ["anchor_levels_cm", "edge_stretch", "faces_touching", "girth_strain", "seam_excess_cm"]
+__all__ = [
+    "anchor_levels_cm",
+    "edge_stretch",
+    "faces_touching",
+    "girth_strain",
+    "grain_directions",
+    "hem_rise_cm",
+    "seam_excess_cm",
+]
 
 GIRTH_STEP_CM = 1.0  # the garment's girths are measured on horizontal cuts this far apart
 SHORT_EDGE_CM = 0.1  # pattern edges shorter than this (a corner collapsed by grading) are not measured
+HEM_BAND_CM = 1.0  # the hem: boundary points within this of the piece's lowest point along its grain
+HANGING_MIN_CM = 10.0  # pieces whose hem hangs less far below their anchor mark are not checked
+HANGING_COS = 0.85  # ... nor those whose anchor-to-hem runs more than ~30° off the grain or, draped, off the vertical
 
 
 def seam_excess_cm(pattern: Pattern, pmesh: PatternMesh) -> dict[str, float]:
@@ -59,6 +70,58 @@ def anchor_levels_cm(
         if lm is None or pl.anchor_mark not in marks:
             continue
         out[inst.key] = float(abs(x[offsets[i] + marks[pl.anchor_mark], 1] - lm[1]))
+    return out
+
+
+def grain_directions(pattern: Pattern, pmesh: PatternMesh) -> np.ndarray:
+    """(G, 2) float64: the unit grain direction of every piece instance in its pattern coordinates."""
+    out = np.zeros((len(pmesh.instances), 2))
+    for i, inst in enumerate(pmesh.instances):
+        across = pattern.piece(inst.piece).across_grain  # the grain turned a quarter clockwise
+        out[i] = (-across[1], across[0])
+    return out
+
+
+def hem_rise_cm(
+    pattern: Pattern, pmesh: PatternMesh, x: np.ndarray, group: np.ndarray, grain: np.ndarray
+) -> dict[str, float]:
+    """Instance key -> how much nearer its hem hangs to its anchor mark than the pattern has it, cm.
+
+    The hem is the boundary of the piece within :data:`HEM_BAND_CM` of its
+    farthest point along the grain from the anchor mark. The distance from the anchor mark to the
+    hem's middle in the drape, less that distance in the pattern, is the rise
+    (positive when the hem rode up or the cloth bunched along the grain: a
+    leg ending at mid-calf instead of the ankle). Only pieces that hang from
+    their anchor are measured: the hem at least :data:`HANGING_MIN_CM` below
+    the mark, along the grain in the pattern and down the body in the drape
+    (not a collar round the neck, nor a sleeve held out in an A pose).
+
+    Parameters
+    ----------
+    x : (N, 3) float64, cm — the garment ; group : (N,) instance of each vertex
+    grain : (G, 2) float64 — :func:`grain_directions`
+    """
+    offsets = np.searchsorted(group, np.arange(len(pmesh.instances)))
+    out: dict[str, float] = {}
+    for i, inst in enumerate(pmesh.instances):
+        pl = pattern.piece(inst.piece).placement
+        mesh = pmesh.pieces[inst.piece]
+        if pl is None or pl.anchor_mark not in mesh.marks:
+            continue
+        uv = mesh.points[: mesh.n_boundary]
+        anchor = mesh.marks[pl.anchor_mark]
+        along = uv @ grain[i] - mesh.points[anchor] @ grain[i]
+        down = along if along.max() > -along.min() else -along  # the grain's end away from the anchor
+        hem = np.flatnonzero(down >= down.max() - HEM_BAND_CM)
+        flat = uv[hem].mean(axis=0) - mesh.points[anchor]
+        length = float(np.linalg.norm(flat))
+        if length < HANGING_MIN_CM or down[hem].mean() < HANGING_COS * length:
+            continue
+        drop = x[offsets[i] + hem].mean(axis=0) - x[offsets[i] + anchor]
+        drape = float(np.linalg.norm(drop))
+        if -drop[1] < HANGING_COS * drape:
+            continue
+        out[inst.key] = length - drape
     return out
 
 

@@ -9,7 +9,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from .verdict import Reason, Verdict
+from ..pattern.fabric import FabricClass
+from .verdict import Reason, Verdict, VerdictLimits
 
 __all__ = ["DrapeReport", "SeamGap", "Stretch"]
 
@@ -71,6 +72,10 @@ class DrapeReport:
         horizontal cut, drape length / pattern length) and its height
     unchecked : checks that could not run, with why (a character without
         the landmarks the pieces hang from cannot have its levels checked)
+    hem_rise_cm : piece -> how much nearer its hem hangs to its anchor than
+        in the pattern (:func:`~.defects.hem_rise_cm`; 0 when it hangs lower)
+    limits, fabric_why, piece_fabrics : the fabric judged against, its
+        limits, the evidence for it, and the pieces of another fabric (a rib)
     """
 
     verdict: Verdict
@@ -97,9 +102,13 @@ class DrapeReport:
     max_placement_move_cm: float
     girth_strain: float = 1.0
     girth_height_cm: float = 0.0
+    hem_rise_cm: dict[str, float] = field(default_factory=dict)
     unchecked: tuple[str, ...] = ()
     warnings: tuple[str, ...] = ()
     files: tuple[str, ...] = field(default=())
+    limits: VerdictLimits = field(default_factory=VerdictLimits)
+    fabric_why: str = ""
+    piece_fabrics: dict[str, FabricClass] = field(default_factory=dict)
 
     def to_dict(self) -> dict:
         """JSON form: the ``drape`` entry of ``fit_report.json``."""
@@ -120,8 +129,14 @@ class DrapeReport:
             "seam_gaps_before_weld": [g.to_dict() for g in self.seam_gaps_before_weld],
             "seams_open_before_weld": [g.to_dict() for g in self.seams_open_before_weld],
             "levels_cm": {k: round(v, 2) for k, v in self.levels_cm.items()},
+            "hem_rise_cm": {k: round(v, 2) for k, v in self.hem_rise_cm.items()},
             "stretch": self.stretch.to_dict(),
             "girth": {"strain": round(self.girth_strain, 4), "height_cm": round(self.girth_height_cm, 1)},
+            "fabric": {
+                **self.limits.to_dict(),
+                "why": self.fabric_why,
+                "pieces": {k: v.value for k, v in self.piece_fabrics.items()},
+            },
             "seconds": self.seconds,
             "vertices": self.vertices,
             "triangles": self.triangles,

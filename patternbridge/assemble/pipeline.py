@@ -28,7 +28,7 @@ from .garment import Garment
 from .phases import Phase
 from .pose import DRESS_ARM_DROP_DEG
 from .strategy import ARMS, LEGS, Strategy, choose_strategy
-from .verdict import Measured, VerdictLimits, judge
+from .verdict import Measured, VerdictLimits, edge_limits, judge, limits_for
 
 if TYPE_CHECKING:
     from .bodyparts import BodyParts
@@ -395,7 +395,8 @@ def finish(sim: Simulation, limits: VerdictLimits | None = None) -> Garment:
     Parameters
     ----------
     sim : the sewn and draped simulation, in the rest pose
-    limits : the verdict's limits (:class:`~patternbridge.assemble.verdict.VerdictLimits`)
+    limits : the verdict's limits (:class:`~patternbridge.assemble.verdict.VerdictLimits`;
+        default: those of the pattern's fabric, :func:`~patternbridge.assemble.verdict.limits_for`)
     """
     from .drape import seam_gaps, weld_groups
     from .weights import transfer_weights
@@ -422,7 +423,7 @@ def finish(sim: Simulation, limits: VerdictLimits | None = None) -> Garment:
     else:
         joints = np.zeros((len(x), 0), np.int64)
         weights = np.zeros((len(x), 0))
-    report, flagged = _measure(sim, table, x, wx, wf, inside, limits or VerdictLimits())
+    report, flagged = _measure(sim, table, x, wx, wf, inside, limits or limits_for(sim.pattern.fabric_class))
     return Garment(
         vertices=x,
         faces=cloth.faces,
@@ -468,7 +469,15 @@ def _measure(
     limits: VerdictLimits,
 ) -> tuple[DrapeReport, np.ndarray]:
     """The drape report of the finished garment and the (F,) faces to mark red in the pictures."""
-    from .defects import anchor_levels_cm, edge_stretch, faces_touching, girth_strain, seam_excess_cm
+    from .defects import (
+        anchor_levels_cm,
+        edge_stretch,
+        faces_touching,
+        girth_strain,
+        grain_directions,
+        hem_rise_cm,
+        seam_excess_cm,
+    )
     from .drape import seam_gaps, weld_groups
     from .selfcross import self_crossing
     from .skin_check import skin_check
@@ -483,11 +492,18 @@ def _measure(
     skin_bad = skin.inside(0.1 * limits.skin_depth_flawed_mm)
     ratio, measured = edge_stretch(x, cloth.edges, cloth.rest)
     egroup = cloth.group[cloth.edges[measured, 0]]
-    beyond = ratio > limits.stretch_limit
+    grain = grain_directions(sim.pattern, sim.pmesh)
+    fabrics = tuple(
+        sim.pattern.piece(inst.piece).fabric_class or sim.pattern.fabric_class for inst in sim.pmesh.instances
+    )
+    e = cloth.edges[measured]
+    worn_limit, torn_limit = edge_limits(limits, fabrics, egroup, grain, cloth.uv[e[:, 1]] - cloth.uv[e[:, 0]])
+    beyond, torn = ratio > worn_limit, ratio > torn_limit
     per = {n: float(np.percentile(ratio[egroup == i], 95)) for i, n in enumerate(names) if np.any(egroup == i)}
     over = {names[g]: int(c) for g, c in zip(*np.unique(egroup[beyond], return_counts=True), strict=True)}
     gaps = {r["seam"]: r["max_mm"] for r in table}
     levels = anchor_levels_cm(sim.character, body, sim.pattern, sim.pmesh, x, cloth.group)
+    rises = {k: max(0.0, r) for k, r in hem_rise_cm(sim.pattern, sim.pmesh, x, cloth.group, grain).items()}
     heights, girths, girth_faces = girth_strain(x, cloth.uv, cloth.faces, weld_groups(len(x), cloth.seams))
     tight = int(np.argmax(girths)) if len(girths) else -1
     measured_defects = Measured(
@@ -498,9 +514,10 @@ def _measure(
         skin_share=float(np.mean(skin_bad)) if len(skin_bad) else 0.0,
         skin_pieces=tuple(sorted({names[g] for g in face_piece[skin_bad]})),
         stretch_share=float(np.mean(beyond)) if len(ratio) else 0.0,
-        torn_share=float(np.mean(ratio > limits.stretch_torn)) if len(ratio) else 0.0,
+        torn_share=float(np.mean(torn)) if len(ratio) else 0.0,
         stretch_pieces=tuple(sorted(over, key=lambda k: -over[k])),
         levels_cm=levels,
+        hem_rise_cm=rises,
         girth_strain=float(girths[tight]) if tight >= 0 else 1.0,
         girth_height_cm=float(heights[tight]) if tight >= 0 else 0.0,
         girth_pieces=tuple(sorted({names[g] for g in face_piece[girth_faces[tight]]})) if tight >= 0 else (),
@@ -523,6 +540,7 @@ def _measure(
         seam_gaps_before_weld=tuple(by_gap),
         seams_open_before_weld=tuple(g for g in by_gap if g.max_mm > WELDED_OPEN_MM),
         levels_cm=levels,
+        hem_rise_cm=rises,
         girth_strain=measured_defects.girth_strain,
         girth_height_cm=measured_defects.girth_height_cm,
         stretch=Stretch(
@@ -545,18 +563,22 @@ def _measure(
             if inst.key not in levels
         ),
         warnings=tuple(str(f) for f in sim.findings),
+        limits=limits,
+        fabric_why=sim.pattern.fabric_why,
+        piece_fabrics={
+            p.name: p.fabric_class for p in sim.pattern.pieces if p.fabric_class not in (None, limits.fabric)
+        },
     )
     # the pictures mark in red what the verdict names: open seams, the cloth
     # through itself or the skin, cloth stretched beyond tearing
     g = seam_gaps(cloth.x, cloth.seams) if len(cloth.seams) else np.zeros(0)
     open_pairs = cloth.seams[g * 10.0 > limits.seam_gap_flawed_mm]
-    torn = cloth.edges[measured][ratio > limits.stretch_torn]
     flagged = (
         folded
         | crossing
         | skin_bad
         | faces_touching(cloth.faces, open_pairs, len(cloth.x))
-        | faces_touching(cloth.faces, torn, len(cloth.x))
+        | faces_touching(cloth.faces, e[torn], len(cloth.x))
     )
     if measured_defects.girth_strain > limits.girth_failed:
         flagged |= girth_faces[tight]  # the girth the garment does not close round

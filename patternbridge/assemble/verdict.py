@@ -8,15 +8,25 @@ The verdict is the worst of the checks. The checks see what the solver
 left before any cosmetic step (the seam gaps are measured before welding)
 and the skin is checked by an independent signed-distance query
 (:mod:`.skin_check`), not by the solver's collider.
+
+The stretch a drape may show depends on the fabric (:mod:`patternbridge.pattern.fabric`):
+:func:`limits_for` gives the limits of a garment cut from a woven, a knit or
+a stretch knit, the girth limits from the fabric's stretch across the grain
+and the edge limits (:func:`edge_limits`) from its stretch in each edge's
+direction to the grain, never below a woven's bias.
 """
 
 from __future__ import annotations
 
 import enum
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 
-__all__ = ["Check", "Reason", "Verdict", "VerdictLimits", "judge", "worst"]
+import numpy as np
+
+from ..pattern.fabric import FabricClass, directional
+
+__all__ = ["Check", "Reason", "Verdict", "VerdictLimits", "edge_limits", "judge", "limits_for", "worst"]
 
 
 class Verdict(str, enum.Enum):
@@ -52,7 +62,7 @@ class Check(str, enum.Enum):
     SKIN = "skin"  # cloth inside the body (independent signed distance)
     STRETCH = "stretch"  # cloth stretched beyond what the fabric takes
     GIRTH = "girth"  # a girth the garment closes round the body only by stretching all the way round
-    LEVEL = "level"  # a piece's anchor (a waist, a neck point, a cuff hem) off its landmark
+    LEVEL = "level"  # a piece's anchor (a waist, a neck point) off its landmark, or its hem ridden up
 
     def __str__(self) -> str:
         return self.value
@@ -80,12 +90,17 @@ class VerdictLimits:
         skin. Under 1 mm is the tolerance of the skin mesh itself.
     skin_share_failed : share of garment triangles with a point deeper than
         ``skin_depth_flawed_mm`` that fails the drape whatever the depth.
+    fabric : the fabric the limits are for (:func:`limits_for`)
     stretch_limit : edge length / pattern length a woven fabric takes
-        (about 10 % across the bias; on the grain far less).
+        (about 10 % across the bias; on the grain far less): the least an
+        edge of any fabric is allowed, whatever its direction (a triangle
+        sheared on the bias stretches its edges that much).
     stretch_flawed_share, stretch_failed_share : share of the cloth's edges
-        beyond ``stretch_limit`` (flawed), and beyond ``stretch_torn``
-        (failed): cloth stretched by a third is a tear or a hole in the
-        picture.
+        beyond their flawed limit (``stretch_limit``, or the fabric's worn
+        stretch in the edge's direction when larger), and beyond their torn
+        limit (``stretch_torn`` or the fabric's stretch limit in that
+        direction) (failed): a woven stretched by a third is a tear or a hole
+        in the picture.
     girth_flawed, girth_failed : strain of the garment's tightest girth,
         a horizontal cut closing round the body: its length on the drape over
         its length in the pattern (:func:`.defects.girth_strain`). A size
@@ -94,10 +109,22 @@ class VerdictLimits:
         small, and a girth runs along the cross grain, which gives far less
         than the bias); beyond 8 % the garment is two sizes too small for the
         body and does not close round it as designed, however evenly the
-        solver spreads the strain over single edges.
+        solver spreads the strain over single edges. These are a woven's
+        figures; a knit's come from its stretch across the grain
+        (:func:`limits_for`).
     level_flawed_cm, level_failed_cm : vertical distance between a piece's
         anchor mark and the body landmark it hangs from (a waistband off the
         waist, a cuff off the wrist, a neck point off the neck).
+    hem_rise_flawed_cm, hem_rise_failed_cm : how much nearer a hanging
+        piece's hem is to its anchor mark in the drape than in the pattern
+        (:func:`~.defects.hem_rise_cm`): a hem ridden up or the cloth bunched
+        along the grain. The straight line from the mark to the hem also
+        shortens where the piece wraps round the body or its hem breaks on
+        the foot (2.4-3.9 cm on the library shorts over the seat, 5.1-6.3 cm
+        on the library trousers, shorts and T-shirt on B_slim_female, whose
+        pictures show hems where they belong), hence limits above those: 8 cm
+        is the anchor's failed limit, a hem plainly off its line; 15 cm is
+        another garment (a full-length leg ending at mid-calf).
     """
 
     seam_gap_flawed_mm: float = 2.0
@@ -117,6 +144,76 @@ class VerdictLimits:
     girth_failed: float = 1.08
     level_flawed_cm: float = 3.0
     level_failed_cm: float = 8.0
+    hem_rise_flawed_cm: float = 8.0
+    hem_rise_failed_cm: float = 15.0
+    fabric: FabricClass = FabricClass.WOVEN
+
+    def to_dict(self) -> dict:
+        """The fabric and the stretch limits judged against (``fit_report.json`` ``drape.fabric``)."""
+        s = self.fabric.stretch
+        return {
+            "class": self.fabric.value,
+            "stretch": s.to_dict(),
+            "girth_flawed": round(self.girth_flawed, 4),
+            "girth_failed": round(self.girth_failed, 4),
+            "edge_flawed": {
+                "along": round(max(self.stretch_limit, 1.0 + s.along_worn), 4),
+                "across": round(max(self.stretch_limit, 1.0 + s.across_worn), 4),
+            },
+            "edge_torn": {
+                "along": round(max(self.stretch_torn, 1.0 + s.along_limit), 4),
+                "across": round(max(self.stretch_torn, 1.0 + s.across_limit), 4),
+            },
+        }
+
+
+def limits_for(fabric: FabricClass | str, base: VerdictLimits | None = None) -> VerdictLimits:
+    """The verdict's limits for a garment cut from ``fabric``.
+
+    The girth limits are ``base``'s (a woven's: a size too small is flawed,
+    two sizes failed) shifted by the fabric's worn stretch across the grain
+    (:data:`~patternbridge.pattern.fabric.FABRIC_STRETCH`): a knit drafted
+    under the body is judged as a woven garment that much larger, so a knit
+    two sizes too small for the body still fails.
+
+    Examples
+    --------
+    >>> lim = limits_for("stretch_knit")
+    >>> round(lim.girth_flawed, 2), round(lim.girth_failed, 2)
+    (1.18, 1.23)
+    >>> limits_for("woven").girth_failed
+    1.08
+    """
+    fabric = FabricClass(fabric)
+    base = base or VerdictLimits()
+    worn = fabric.stretch.across_worn
+    return replace(base, fabric=fabric, girth_flawed=base.girth_flawed + worn, girth_failed=base.girth_failed + worn)
+
+
+def edge_limits(
+    lim: VerdictLimits, fabrics: tuple[FabricClass, ...], group: np.ndarray, grain: np.ndarray, d: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """The flawed and torn limit (edge length / pattern length) of every edge, from its fabric and direction.
+
+    Parameters
+    ----------
+    fabrics : the fabric of every piece instance ; group : (E,) int64, the instance of each edge
+    grain : (G, 2) float64, the unit grain direction of each instance in pattern coordinates
+    d : (E, 2) float64, each edge's direction in the pattern
+
+    Returns
+    -------
+    flawed, torn : (E,) float64, at least ``lim.stretch_limit`` and ``lim.stretch_torn``
+    """
+    stretch = [f.stretch for f in fabrics]
+    along_w, across_w, along_l, across_l = (
+        np.array([getattr(s, a) for s in stretch] or [0.0])[group]
+        for a in ("along_worn", "across_worn", "along_limit", "across_limit")
+    )
+    g = np.asarray(grain, dtype=np.float64).reshape(-1, 2)[group] if len(group) else np.zeros((0, 2))
+    flawed = np.maximum(lim.stretch_limit, 1.0 + directional(along_w, across_w, g, d))
+    torn = np.maximum(lim.stretch_torn, 1.0 + directional(along_l, across_l, g, d))
+    return flawed, torn
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -165,6 +262,7 @@ class Measured:
     levels_cm : piece instance -> |height of its anchor mark - height of its landmark|
     girth_strain : the strain of the tightest girth (drape length / pattern length of a horizontal cut)
     girth_height_cm : the height of that cut ; girth_pieces : the pieces it crosses
+    hem_rise_cm : piece instance -> how much nearer its hem hangs to its anchor than in the pattern
     """
 
     seam_gaps_mm: dict[str, float]
@@ -180,6 +278,7 @@ class Measured:
     girth_strain: float = 1.0
     girth_height_cm: float = 0.0
     girth_pieces: tuple[str, ...] = ()
+    hem_rise_cm: dict[str, float] = field(default_factory=dict)
 
 
 def _grade(value: float, flawed: float, failed: float) -> Verdict:
@@ -273,6 +372,7 @@ def _stretch_reason(m: Measured, lim: VerdictLimits) -> Reason | None:
             if v is Verdict.FAILED
             else (m.stretch_share, lim.stretch_limit, lim.stretch_flawed_share)
         )
+        word = "limit" if v is Verdict.FAILED else "worn stretch"
         return Reason(
             check=Check.STRETCH,
             verdict=v,
@@ -280,8 +380,9 @@ def _stretch_reason(m: Measured, lim: VerdictLimits) -> Reason | None:
             limit=100 * limit,
             unit="% of edges",
             where=m.stretch_pieces,
-            message=f"{100 * share:.1f} % of the edges (limit {100 * limit:g} %) stretched beyond {ratio:g} x "
-            "their pattern length: " + ", ".join(m.stretch_pieces[:3]),
+            message=f"{100 * share:.1f} % of the edges (limit {100 * limit:g} %) stretched beyond the "
+            f"{lim.fabric.value.replace('_', ' ')}'s {word} (at least {ratio:g} x their pattern length): "
+            + ", ".join(m.stretch_pieces[:3]),
         )
     return None
 
@@ -300,8 +401,8 @@ def _girth_reason(m: Measured, lim: VerdictLimits) -> Reason | None:
         unit="% strain",
         where=m.girth_pieces,
         message=f"the girth at {m.girth_height_cm:.0f} cm is stretched {100 * (m.girth_strain - 1.0):.1f} % all "
-        f"the way round (limit {100 * (limit - 1.0):g} %): the garment is too small there; "
-        + ", ".join(m.girth_pieces[:3]),
+        f"the way round (limit {100 * (limit - 1.0):g} % for a {lim.fabric.value.replace('_', ' ')}): the garment "
+        "is too small there; " + ", ".join(m.girth_pieces[:3]),
     )
 
 
@@ -341,6 +442,14 @@ def judge(m: Measured, limits: VerdictLimits | None = None) -> tuple[Verdict, tu
             lim.level_failed_cm,
             "cm",
             "pieces hang off their landmark by up to",
+        ),
+        _largest(
+            Check.LEVEL,
+            m.hem_rise_cm,
+            lim.hem_rise_flawed_cm,
+            lim.hem_rise_failed_cm,
+            "cm",
+            "hems ride up towards their anchor by up to",
         ),
     ]
     reasons += [_self_crossing_reason(m, lim), _skin_reason(m, lim), _stretch_reason(m, lim), _girth_reason(m, lim)]

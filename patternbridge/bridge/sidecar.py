@@ -22,6 +22,7 @@ from ..pattern.json import measurement_link_to_dict
 from ..pattern.model import Pattern
 from .alternatives import copies_cut
 from .band_spans import split_bands
+from .fabric import infer_fabric
 from .landmarks import piece_landmarks, worn_side
 from .links import measurement_links
 from .model import BridgeInference, Join
@@ -29,7 +30,7 @@ from .size_chart import choose_chart
 
 __all__ = ["SIDECAR_VERSION", "inference_sidecar", "runs_against"]
 
-SIDECAR_VERSION = "1.1"
+SIDECAR_VERSION = "1.2"
 
 
 def _edge(side, copy: str) -> dict[str, Any]:
@@ -153,6 +154,7 @@ def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str,
         for leg in link.legs:
             marks[leg.piece] |= {int(leg.start[1:]), int(leg.end[1:])}
     found = piece_landmarks(pattern, inference)
+    fabric = infer_fabric(pattern, inference.roles, inference.chosen, links, chart.body_cm)
     pieces = []
     for p in pattern.pieces:
         o = inference.orientations[p.name]
@@ -190,6 +192,7 @@ def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str,
                 },
                 "landmarks": dict(found[p.name].landmarks),
                 "placement": found[p.name].placement,
+                **({"fabric_class": str(fabric.pieces[p.name])} if p.name in fabric.pieces else {}),
             }
         )
     return {
@@ -200,6 +203,8 @@ def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str,
         "description": f"inferred by patternbridge bridge infer ({len(inference.joins)} seams)",
         "sample_size": pattern.sample_size,
         "size_chart": chart.to_dict(),
+        "fabric_class": str(fabric.fabric),
+        "fabric_why": fabric.why,
         "garment_pieces": list(inference.chosen),
         "alternatives": [[list(option) for option in group] for group in inference.alternatives],
         "pieces": pieces,

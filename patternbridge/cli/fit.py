@@ -158,8 +158,11 @@ def run(args: argparse.Namespace) -> int:
     print(f"wrote {len(result.files)} files to {result.out_dir}: " + ", ".join(result.files))
     if result.verdict is None:
         return 0
-    reasons = [r.get("message", "") for r in (rep.get("drape") or {}).get("verdict_reasons", [])]
-    print(f"patternbridge: drape verdict {result.verdict.value}" + (f": {'; '.join(reasons)}" if reasons else "")
+    drape = rep.get("drape") or {}
+    reasons = [r.get("message", "") for r in drape.get("verdict_reasons", [])]
+    fabric = (drape.get("fabric") or {}).get("class", "woven").replace("_", " ")
+    print(f"patternbridge: drape verdict {result.verdict.value} (judged as a {fabric})"
+          + (f": {'; '.join(reasons)}" if reasons else "")
           + ("" if result.verdict is Verdict.OK else " (failing regions in red in the fit_*.png pictures)"),
           file=sys.stderr)
     return 3 if result.verdict is Verdict.FAILED else 0

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from ..pattern.fabric import FabricClass
 from ..pattern.model import (
     Copy,
     EdgeRange,
@@ -208,8 +209,12 @@ def build_pattern(
     draft: Callable[[dict[str, float]], list[PieceDraft]],
     seams: Sequence[Seam],
     links: Sequence[tuple],
+    fabric_class: FabricClass = FabricClass.WOVEN,
+    fabric_why: str = "",
 ) -> Pattern:
     """Draft every size of ``chart`` and return the graded pattern.
+
+    ``fabric_class`` and ``fabric_why`` state the fabric the garment is drafted for.
 
     Raises
     ------
@@ -325,6 +330,8 @@ def build_pattern(
         ),
         description=description,
         seams=tuple(seams),
+        fabric_class=fabric_class,
+        fabric_why=fabric_why,
     )
     from .seams import link_lengths
 

@@ -23,6 +23,7 @@ from ..atomic import write_text
 from ..errors import InputError
 from ..pattern.insert import insert_vertices, segment_at
 from ..pattern.json import (
+    fabric_to_dict,
     measurement_link_from_dict,
     measurement_link_to_dict,
     placement_to_dict,
@@ -30,7 +31,7 @@ from ..pattern.json import (
     seam_to_dict,
 )
 from ..pattern.json_check import check_sidecar_dict
-from ..pattern.model import Pattern, Placement
+from ..pattern.model import FabricClass, Pattern, Placement
 
 __all__ = [
     "SIDECAR_FORMAT",
@@ -62,6 +63,7 @@ def sidecar_dict(
             "name": p.name,
             "n_vertices": p.n_vertices,
             **({"role": str(p.role)} if p.role is not None else {}),
+            **({"fabric_class": str(p.fabric_class)} if p.fabric_class is not None else {}),
             "marks": {
                 m: {"vertex": i, "xy": [round(float(v), 4) for v in p.outline[i]]}
                 for m, i in p.marks.items()
@@ -82,6 +84,7 @@ def sidecar_dict(
         "pieces": pieces,
         "seams": seams,
         "measurements": [measurement_link_to_dict(m) for m in pattern.measurements],
+        **fabric_to_dict(pattern),
     }
 
 
@@ -239,6 +242,7 @@ def apply_sidecar(
                     placement=None if pl is None else Placement(**pl),
                     role=e.get("role", p.role),
                     role_confidence=e.get("role_confidence", p.role_confidence),
+                    fabric_class=e.get("fabric_class", p.fabric_class),
                 )
             )
         out = replace(pattern, pieces=tuple(pieces))
@@ -280,4 +284,18 @@ def apply_sidecar(
                     "unknown piece or mark; fix the sidecar"
                 )
     description = data.get("description") or out.description
-    return replace(out, seams=tuple(seams), measurements=links, description=description)
+    try:
+        fabric = FabricClass(data.get("fabric_class", out.fabric_class))
+    except ValueError:
+        raise InputError(
+            f"{path}: fabric_class {data.get('fabric_class')!r} is none of "
+            f"{[str(f) for f in FabricClass]}; fix the sidecar"
+        ) from None
+    return replace(
+        out,
+        seams=tuple(seams),
+        measurements=links,
+        description=description,
+        fabric_class=fabric,
+        fabric_why=data.get("fabric_why", out.fabric_why) if "fabric_class" in data else out.fabric_why,
+    )

@@ -17,6 +17,7 @@ from .model import (
     Annotation,
     DrillHole,
     EdgeRange,
+    FabricClass,
     GradeRuleTable,
     Leg,
     Line,
@@ -33,6 +34,7 @@ from .model import (
 
 __all__ = [
     "FORMAT_VERSION",
+    "fabric_to_dict",
     "measurement_link_from_dict",
     "measurement_link_to_dict",
     "pattern_from_dict",
@@ -135,6 +137,8 @@ def _piece_to_dict(p: Piece) -> dict[str, Any]:
         out["role"] = str(p.role)
         if p.role_confidence is not None:
             out["role_confidence"] = p.role_confidence
+    if p.fabric_class is not None:
+        out["fabric_class"] = str(p.fabric_class)
     return out
 
 
@@ -191,6 +195,7 @@ def _piece_from_dict(d: dict[str, Any]) -> Piece:
         extra_text=d.get("extra_text", {}),
         role=d.get("role"),
         role_confidence=d.get("role_confidence"),
+        fabric_class=d.get("fabric_class"),
     )
 
 
@@ -305,7 +310,15 @@ def pattern_to_dict(pattern: Pattern) -> dict[str, Any]:
         "pieces": [_piece_to_dict(p) for p in pattern.pieces],
         "seams": [seam_to_dict(s) for s in pattern.seams],
         "measurements": [measurement_link_to_dict(m) for m in pattern.measurements],
+        **fabric_to_dict(pattern),
     }
+
+
+def fabric_to_dict(pattern: Pattern) -> dict[str, Any]:
+    """The garment's ``fabric_class`` and ``fabric_why`` (none for a woven garment whose fabric nothing stated)."""
+    if pattern.fabric_class is FabricClass.WOVEN and not pattern.fabric_why:
+        return {}
+    return {"fabric_class": str(pattern.fabric_class), "fabric_why": pattern.fabric_why}
 
 
 def pattern_from_dict(d: dict[str, Any]) -> Pattern:
@@ -352,4 +365,6 @@ def pattern_from_dict(d: dict[str, Any]) -> Pattern:
         measurements=tuple(
             measurement_link_from_dict(m) for m in d.get("measurements", ())
         ),
+        fabric_class=d.get("fabric_class", FabricClass.WOVEN),
+        fabric_why=d.get("fabric_why", ""),
     )

@@ -116,6 +116,7 @@ _PIECE = {
         {"body_part": _Req(STR), "side": _Req(STR), "anchor": _Req(STR), "anchor_mark": _Opt(STR)}
     ),
     "extra_text": _Map(STR),
+    "fabric_class": STR,
 }
 _EDGE = {"piece": _Req(STR), "start": _Req(STR), "end": _Req(STR), "copy": STR}
 _SEAM = {"id": _Req(STR), "a": _Req(_EDGE), "b": _Req(_EDGE), "kind": STR, "reverse": BOOL, "ease_cm": NUM}
@@ -149,6 +150,8 @@ _PATTERN = {
     "pieces": _Req(_List(_PIECE, min_length=1)),
     "seams": _List(_SEAM),
     "measurements": _List(_LINK),
+    "fabric_class": STR,
+    "fabric_why": STR,
 }
 _SIDECAR = {
     "format": _Req(STR),
@@ -165,10 +168,13 @@ _SIDECAR = {
             "marks": _Map(_Either(INT, {"vertex": _Req(INT), "xy": _Opt(_POINT), "insert": BOOL})),
             "landmarks": _Map(STR),
             "placement": _PIECE["placement"],
+            "fabric_class": STR,
         }
     ),
     "seams": _List({**_SEAM, "status": STR}),
     "measurements": _List(_LINK),
+    "fabric_class": STR,
+    "fabric_why": STR,
 }
 
 

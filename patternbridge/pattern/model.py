@@ -29,6 +29,7 @@ from types import MappingProxyType
 import numpy as np
 
 from .._arrays import as_float_array, frozen
+from .fabric import FabricClass
 
 __all__ = [
     "Annotation",
@@ -36,6 +37,7 @@ __all__ = [
     "Copy",
     "DrillHole",
     "EdgeRange",
+    "FabricClass",
     "Flavor",
     "GradeRuleTable",
     "Leg",
@@ -402,6 +404,9 @@ class Piece:
     extra_text : piece system text we do not model, kept for the round trip
     role, role_confidence : what the piece is in the garment and how sure the
         inference that named it was (0..1; None when a person set it)
+    fabric_class : the class of fabric the piece is cut from when it differs
+        from the garment's (a rib collar on a jersey or woven body); None
+        takes the pattern's ``fabric_class``
     """
 
     name: str
@@ -428,10 +433,13 @@ class Piece:
     extra_text: Mapping[str, str] = field(default_factory=dict)
     role: Role | None = None
     role_confidence: float | None = None
+    fabric_class: FabricClass | None = None
 
     def __post_init__(self) -> None:
         if self.role is not None:
             object.__setattr__(self, "role", Role(self.role))
+        if self.fabric_class is not None:
+            object.__setattr__(self, "fabric_class", FabricClass(self.fabric_class))
         outline = as_float_array(self.outline, (None, 2), f"piece {self.name!r} outline")
         n = len(outline)
         if n < 3:
@@ -664,7 +672,12 @@ class MeasurementLink:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Pattern:
-    """A garment style: pieces in the sample size, grade rules and bridge data."""
+    """A garment style: pieces in the sample size, grade rules and bridge data.
+
+    fabric_class : the class of fabric the garment is cut from
+        (:mod:`.fabric`), woven unless the pattern or its sidecar says
+        otherwise ; fabric_why : the evidence for it (empty when a person set it)
+    """
 
     style: str
     pieces: tuple[Piece, ...]
@@ -676,9 +689,12 @@ class Pattern:
     description: str = ""
     seams: tuple[Seam, ...] = ()
     measurements: tuple[MeasurementLink, ...] = ()
+    fabric_class: FabricClass = FabricClass.WOVEN
+    fabric_why: str = ""
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "units", Units(self.units))
+        object.__setattr__(self, "fabric_class", FabricClass(self.fabric_class))
         object.__setattr__(self, "pieces", tuple(self.pieces))
         object.__setattr__(self, "sizes", tuple(str(s) for s in self.sizes))
         object.__setattr__(self, "seams", tuple(self.seams))

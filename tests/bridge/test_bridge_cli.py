@@ -28,7 +28,7 @@ def test_bridge_infer_writes_a_sidecar_that_applies_and_a_picture(aama_dir, tmp_
     assert main(["bridge", "infer", str(aama_dir / TANK), "-o", str(out), "--png", str(png)]) == 0
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     data = json.loads(out.read_text())
-    assert data["format_version"] == "1.1"
+    assert data["format_version"] == "1.2"
     roles = {p["name"]: p["role"] for p in data["pieces"]}
     assert roles == {
         "GLX0926S16SBK": "back",

@@ -57,15 +57,20 @@ def test_schema_names_every_field_the_writer_emits(validator):
     """No field is missing from the schema and no schema field is stale."""
     schema = validator.schema
     doc = pattern_to_dict(example_pattern())
-    assert set(doc) == set(schema["properties"])
+    fabric = {"fabric_class", "fabric_why"}  # written only when the fabric is stated or not woven
+    assert set(doc) == set(schema["properties"]) - fabric
     front = doc["pieces"][0]
-    optional = {"role", "role_confidence"}  # written only for a piece whose role is known
+    optional = {"role", "role_confidence", "fabric_class"}  # written only for a piece whose role/fabric is known
     assert set(front) == set(schema["$defs"]["piece"]["properties"]) - optional
     pattern = example_pattern()
-    with_role = dataclasses.replace(pattern.pieces[0], role="front", role_confidence=0.9)
-    typed = pattern_to_dict(dataclasses.replace(pattern, pieces=(with_role, *pattern.pieces[1:])))
-    assert optional <= set(typed["pieces"][0])
+    with_role = dataclasses.replace(pattern.pieces[0], role="front", role_confidence=0.9, fabric_class="knit")
+    typed = pattern_to_dict(
+        dataclasses.replace(pattern, pieces=(with_role, *pattern.pieces[1:]), fabric_class="stretch_knit")
+    )
+    assert optional <= set(typed["pieces"][0]) and fabric <= set(typed)
     assert _errors(validator, json.loads(json.dumps(typed))) == []
+    typed["fabric_class"] = "felt"
+    assert any("'felt' is not one of" in e for e in _errors(validator, typed))
     notch = front["notches"][0]
     assert set(notch) == set(schema["$defs"]["notch"]["properties"]) - {
         "source_angle_deg"

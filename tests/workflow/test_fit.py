@@ -134,6 +134,7 @@ def test_cli_exits_3_on_a_failed_drape_and_still_writes_the_files(inputs, tmp_pa
         (Path(out_dir) / "fit_front.png").write_bytes(b"png")
         return {"verdict": "failed", "seconds": 1.0, "max_seam_gap_before_weld_mm": 80.0,
                 "verdict_reasons": [{"check": "seam_gap", "message": "seams open before welding by up to 80.0 mm"}],
+                "fabric": {"class": "stretch_knit"},
                 "files": [str(Path(out_dir) / "fit_front.png")]}
 
     monkeypatch.setattr(workflow, "load_subject", lambda *a, **k: (subject, Report()))
@@ -143,7 +144,9 @@ def test_cli_exits_3_on_a_failed_drape_and_still_writes_the_files(inputs, tmp_pa
                  "--pop-size", "20", "--generations", "10"])
     assert code == 3
     last = capsys.readouterr().err.strip().splitlines()[-1]  # the verdict is said last, with its reasons
-    assert last.startswith("patternbridge: drape verdict failed: seams open before welding by up to 80.0 mm")
+    assert last.startswith(
+        "patternbridge: drape verdict failed (judged as a stretch knit): seams open before welding by up to 80.0 mm"
+    )
     rep = json.loads((out / "fit_report.json").read_text())
     assert rep["drape"]["verdict"] == "failed" and rep["drape"]["files"] == ["fit_front.png"]
     assert (out / "fit_front.png").is_file() and (out / "skirt_aama.dxf").is_file()
