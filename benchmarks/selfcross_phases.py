@@ -11,7 +11,8 @@ cleared). It prints one line per case with the counts, the widest seam gap
 before welding (mm) and the CPU seconds of the simulation (``time.process_time``,
 the measuring left out), and ``--json`` writes the rows.
 
-    .venv/bin/python benchmarks/selfcross_phases.py --graded-cache G [--shard 0/2] [--seeds 0 1] [--untangle]
+    .venv/bin/python benchmarks/selfcross_phases.py --graded-cache G [--shard 0/2] [--seeds 0 1]
+        [--untangle sew key settle]
 
 ``--shard K/N`` runs every N-th case from the K-th, so N processes share a
 grid.
@@ -46,15 +47,15 @@ def _welded_count(sim) -> int:
     return int(np.count_nonzero(self_crossing(wx, inv[cloth.faces])))
 
 
-def run_case(character, pattern, seed: int, *, untangle: bool = False, out: Path | None = None) -> dict:
+def run_case(character, pattern, seed: int, *, untangle: list[str] | None = None, out: Path | None = None) -> dict:
     """Counts after each phase, CPU seconds of the simulation and the report of the finished garment.
 
-    ``untangle`` runs the solver with ``DrapeSettings(untangle=True)``;
+    ``untangle`` (phase kinds ``sew``, ``key``, ``settle``) untangles in those phases instead of the plan's;
     ``out`` receives the pictures of the finished garment.
     """
     from dataclasses import replace
 
-    from patternbridge.assemble.phases import PoseKeyframe, Sew, run_phases
+    from patternbridge.assemble.phases import PoseKeyframe, Settle, Sew, run_phases
     from patternbridge.assemble.pipeline import finish, prepare, with_anchor_landmarks
     from patternbridge.assemble.strategy import choose_strategy
 
@@ -69,7 +70,10 @@ def run_case(character, pattern, seed: int, *, untangle: bool = False, out: Path
     keys = 0
     t0 = time.process_time()
     sim = prepare(posing, pattern, seed=seed)
-    sim.settings = replace(sim.settings, untangle=untangle)
+    if untangle is not None:  # the plan's untangling replaced: on in the phases of these kinds only
+        kinds = {"sew": Sew, "key": PoseKeyframe, "settle": Settle}
+        on = tuple(kinds[u] for u in untangle)
+        sim.phases = tuple(replace(p, untangle=isinstance(p, on)) for p in sim.phases)
 
     def observe(phase) -> None:
         nonlocal measured, keys
@@ -99,6 +103,7 @@ def run_case(character, pattern, seed: int, *, untangle: bool = False, out: Path
         "final": report.self_crossing_triangles,
         "pieces": dict(report.self_crossing_pieces),
         "gap0_mm": round(report.max_seam_gap_before_weld_mm, 2),
+        "skin_triangles": report.skin_triangles,
         "verdict": str(report.verdict),
         "cpu_s": round(cpu, 1),
         "vertices": len(sim.cloth.x),
@@ -115,7 +120,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seeds", nargs="*", type=int, default=[0])
     ap.add_argument("--shard", default="0/1", help="K/N: run every N-th case from the K-th")
     ap.add_argument("--json", help="write the rows to this JSON file")
-    ap.add_argument("--untangle", action="store_true", help="solve with DrapeSettings(untangle=True)")
+    ap.add_argument(
+        "--untangle",
+        nargs="*",
+        choices=["sew", "key", "settle"],
+        help="untangle in the phases of these kinds instead of the plan's (none given: nowhere)",
+    )
     ap.add_argument("--out", help="write the fit_*.png pictures of every case to OUT/<garment>_<character>_s<seed>")
     args = ap.parse_args(argv)
 
@@ -146,7 +156,8 @@ def main(argv: list[str] | None = None) -> int:
         phases = " ".join(f"{key}={v}" for key, v in row["counts"].items())
         print(
             f"{gname + ' on ' + path.stem + f' s{seed}':44s} {phases}  final={row['final']}  "
-            f"gap0={row['gap0_mm']:.1f}mm  cpu={row['cpu_s']:.1f}s  V={row['vertices']}  {row['verdict']}",
+            f"gap0={row['gap0_mm']:.1f}mm  skin={row['skin_triangles']}  cpu={row['cpu_s']:.1f}s  "
+            f"V={row['vertices']}  {row['verdict']}",
             flush=True,
         )
         if args.json:

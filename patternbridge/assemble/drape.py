@@ -124,6 +124,7 @@ def drape(
     sew_ramp: tuple[float, float] | None = None,
     inertia: np.ndarray | None = None,
     on_step: Callable[[int], None] | None = None,
+    untangle_steps: tuple[int, int] | None = None,
 ) -> ClothSolver:
     """Run the cloth for ``steps`` time steps against ``collider`` (in place).
 
@@ -141,6 +142,9 @@ def drape(
     lengths at the solver's last ``restart_seams`` and zero. ``inertia`` (N,)
     scales the vertices' masses in the solver for this call. ``on_step(k)``
     is called after step ``k`` (1-based), for measuring between phases.
+    ``untangle_steps`` = (first, stop): the untangling (:mod:`.cloth.untangle`)
+    acts in the steps first <= k < stop (0-based) of this call; None: in
+    every step when ``settings.untangle``.
     """
     settings = settings or DrapeSettings()
     solver = solver or ClothSolver(cloth, settings)
@@ -163,6 +167,7 @@ def drape(
             if sew_steps
             else GRAVITY_CM_S2 * gravity_scale
         )
+        solver.untangling = settings.untangle if untangle_steps is None else untangle_steps[0] <= k < untangle_steps[1]
         solver.step(collider, g, min(sew, 1.0))
         if k + 1 == sew_steps:
             solver.pin(hold, cloth.x)

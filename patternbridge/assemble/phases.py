@@ -66,12 +66,14 @@ class Sew:
     pin : hold the cloth far from the seams that start open (see
         :func:`~patternbridge.assemble.pipeline.anchor_weights`)
     arm_inertia : mass multiple of the arm pieces (1: none)
+    untangle : undo the crossings of the cloth through itself while sewing (:mod:`.cloth.untangle`)
     """
 
     steps: int
     open_arm_seams: bool = False
     pin: bool = False
     arm_inertia: float = 1.0
+    untangle: bool = False
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -80,6 +82,8 @@ class PoseKeyframe:
 
     The seams left open by :class:`Sew` close from ``sew_from`` to ``sew_to``
     of the way between their gaps at the first keyframe and zero.
+    ``untangle``: undo crossings in the keyframe's steps (planned off: see
+    :func:`plan_phases`).
     """
 
     share_from: float
@@ -88,6 +92,7 @@ class PoseKeyframe:
     gravity_scale: float
     sew_from: float
     sew_to: float
+    untangle: bool = False
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -95,11 +100,13 @@ class Settle:
     """Drape ``steps`` steps under ``gravity_scale`` × gravity (ramped up when it follows a :class:`Sew`).
 
     hold : keep what the strategy holds after sewing (bands, limb pieces) where the sewing left it
+    untangle : undo the crossings of the cloth through itself
     """
 
     steps: int
     gravity_scale: float = 1.0
     hold: bool = False
+    untangle: bool = False
 
 
 Phase = Sew | PoseKeyframe | Settle
@@ -114,6 +121,14 @@ def plan_phases(strategy: Strategy, *, posed: bool, steps: int = 160) -> tuple[P
     posed : whether the body was put into the dressing pose (arms raised)
     steps : the drape's step budget without keyframes: :data:`SEW_SHARE` of it
         sews, the rest settles (a posed body settles in its keyframes)
+
+    Sewing and settling in the rest pose untangle (the crossings the
+    placement left and those the seams make are undone: the trousers and
+    shorts). A drape in the dressing pose does not, in none of its phases:
+    there the untangling, which lets the layers round a crossing pass, made
+    more crossings than it undid, most while the arms come down and the cloth
+    is carried with the skin and folded between arm and torso
+    (docs/assembly.md, *Untangling by phase*).
 
     Examples
     --------
@@ -151,8 +166,8 @@ def plan_phases(strategy: Strategy, *, posed: bool, steps: int = 160) -> tuple[P
             tail = (Settle(steps=POSE_STEPS, gravity_scale=1.0, hold=True),)
         return (sew, *keys, *tail)
     return (
-        Sew(steps=sew_steps, pin=strategy.pin_far_from_open_seams),
-        Settle(steps=steps - sew_steps, hold=strategy.hold_after_sewing),
+        Sew(steps=sew_steps, pin=strategy.pin_far_from_open_seams, untangle=True),
+        Settle(steps=steps - sew_steps, hold=strategy.hold_after_sewing, untangle=True),
     )
 
 
@@ -227,6 +242,10 @@ def _sew(
         loose=limb_end_seams(sim.pattern, sim.pmesh)[sim.seam_ids] if phase.open_arm_seams else None,
         inertia=sewing_inertia(sim, phase.arm_inertia) if phase.arm_inertia != 1.0 else None,
         on_step=None if observe is None or settle is None else (lambda k: observe(phase) if k == phase.steps else None),
+        untangle_steps=(
+            0 if phase.untangle else phase.steps,
+            phase.steps + (settle.steps if settle is not None and settle.untangle else 0),
+        ),
     )
 
 
@@ -267,6 +286,7 @@ def _keyframe(sim: Simulation, phase: PoseKeyframe) -> None:
         settings=sim.settings,
         solver=sim.solver,
         stage="pose",
+        untangle_steps=(0, phase.steps if phase.untangle else 0),
     )
 
 
@@ -286,4 +306,5 @@ def _settle(sim: Simulation, phase: Settle, progress: Callable[[str, int, int], 
         stage="settle",
         solver=sim.solver,
         hold=hold_weights(sim, np.zeros(len(sim.cloth.x))) if phase.hold else None,
+        untangle_steps=(0, phase.steps if phase.untangle else 0),
     )

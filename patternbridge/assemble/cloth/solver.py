@@ -46,12 +46,14 @@ class DrapeSettings:
     contact_weight: float = 5000.0  # body contact
     self_weight: float = 2000.0  # self-contact
     edge_edge: bool = True  # self-contact also between edges (else vertex-triangle only)
-    # shrink the intersection contours of crossings that exist (:mod:`.untangle`); off by default: on the
-    # library grid it undoes most crossings of garments on the legs but adds to those of the tops (docs/assembly.md)
+    # shrink the intersection contours of crossings that exist (:mod:`.untangle`) in a drape call that does not
+    # say in which steps; the planned phases say it (``phases.plan_phases``: the sewing and settling of a garment
+    # in the rest pose, not a drape in the dressing pose, where it made more crossings than it undid)
     untangle: bool = False
     untangle_weight: float = 8000.0
     untangle_step_cm: float = 0.5  # relative motion of a crossing edge against its triangle per step
     untangle_rings: int = 2  # self-contact is off this many edges round a crossing (the layers must pass)
+    untangle_open_cm: float = 1.0  # no untangling within untangle_rings + 1 edges of a seam this wide open
     damping: float = 0.985  # velocity kept per step
     friction: float = 0.6  # Coulomb coefficient of the skin against the cloth
     offset_cm: float = 0.6  # distance kept from the skin
@@ -115,6 +117,7 @@ class ClothSolver:
         self.adjacency = vertex_adjacency(n, cloth.edges)
         self._base = None  # the constant part of the global matrix
         self._free = None  # its factorisation
+        self.untangling = settings.untangle  # the untangling acts in this step (``drape`` sets it per phase)
         self.stats = {"factorisations": 0, "contacts": 0, "self_pairs": 0, "crossings": 0}
 
     # -- the constant part of the system ---------------------------------------------------------
@@ -191,10 +194,16 @@ class ClothSolver:
         contour's shrinking decides).
         """
         none = np.zeros(0, np.int64)
-        if not self.s.untangle:
+        if not self.untangling:
             return none, np.zeros((0, 3)), pairs, epairs
         c, s = self.c, self.s
-        ids, moves, n = untangle_targets(x0, c.faces, c.edges, self.beside, self.weld, s.untangle_step_cm)
+        # the cloth round a seam still open is left to the seam: pulling it through the cloth there fights the
+        # seam's spring, which drags it back (and opened seams)
+        held = np.zeros(len(x), dtype=bool)
+        held[c.seams[seam_gaps(x0, c.seams) > s.untangle_open_cm].ravel()] = True
+        for _ in range(s.untangle_rings + 1):
+            held |= self.adjacency @ held
+        ids, moves, n = untangle_targets(x0, c.faces, c.edges, self.beside, self.weld, s.untangle_step_cm, held)
         self.stats["crossings"] += n
         if len(ids):
             around = np.zeros(len(x), dtype=bool)
@@ -202,7 +211,11 @@ class ClothSolver:
             for _ in range(s.untangle_rings):
                 around |= self.adjacency @ around
             pairs, epairs = _without(pairs, epairs, c.faces, np.flatnonzero(around), len(x))
-        return ids, x[ids] + moves, pairs, epairs
+        # the sides of a seam are one point: they aim at their common position (their mean), so a gap is
+        # closed and not held open by the untangling's weight, which exceeds the seam's
+        count = np.bincount(self.weld, minlength=len(x)).astype(np.float64)
+        mean = np.stack([np.bincount(self.weld, weights=x[:, k], minlength=len(x)) for k in range(3)], axis=1)
+        return ids, mean[self.weld[ids]] / count[self.weld[ids], None] + moves, pairs, epairs
 
     def _springs_rhs(self, x: np.ndarray, targets: np.ndarray) -> np.ndarray:
         return self.St @ (self.w_now[:, None] * project_springs(self.S @ x, targets))

@@ -165,6 +165,7 @@ def untangle_targets(
     beside: np.ndarray,
     label: np.ndarray,
     step_cm: float,
+    held: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray, int]:
     """Per-vertex moves that shrink every intersection contour of the cloth by about ``step_cm``.
 
@@ -174,6 +175,8 @@ def untangle_targets(
     beside : (E, 2) int64, the faces beside every edge (:func:`edge_faces`)
     label : (N,) int64, see :func:`find_crossings`
     step_cm : relative motion of an edge against the triangle it crosses
+    held : (N,) bool, vertices the untangling leaves alone: a crossing with an end or a corner there is
+        not moved (the cloth round a seam still open, which the seam's spring is pulling)
 
     Returns
     -------
@@ -182,6 +185,9 @@ def untangle_targets(
     n_crossings : the crossings found
     """
     c = find_crossings(x, faces, edges, label)
+    if held is not None and len(c):
+        free = ~(held[edges[c.edge]].any(axis=1) | held[faces[c.triangle]].any(axis=1))
+        c = Crossings(edge=c.edge[free], triangle=c.triangle[free], point=c.point[free], depth=c.depth[free])
     if len(c) == 0:
         return np.zeros(0, np.int64), np.zeros((0, 3)), 0
     e, t = edges[c.edge], faces[c.triangle]
@@ -205,5 +211,11 @@ def untangle_targets(
     for k in range(3):
         np.add.at(delta, t[:, k], move)
         np.add.at(count, t[:, k], 1.0)
-    ids = np.flatnonzero(count)
-    return ids, delta[ids] / count[ids, None], len(c)
+    # the sides of a seam are one point: they take one move (the mean of their crossings' moves), so the
+    # untangling carries a seam through the cloth whole and never pulls its two sides apart
+    gdelta = np.zeros((int(label.max(initial=0)) + 1, 3))
+    gcount = np.zeros(len(gdelta))
+    np.add.at(gdelta, label, delta)
+    np.add.at(gcount, label, count)
+    ids = np.flatnonzero(gcount[label])
+    return ids, gdelta[label[ids]] / gcount[label[ids], None], len(c)
