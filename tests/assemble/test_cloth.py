@@ -8,7 +8,7 @@ from cloth_fixtures import sheet
 
 from patternbridge.assemble.cloth import DrapeSettings, SpringKind, Springs
 from patternbridge.assemble.cloth.constraints import difference_operator, project_springs
-from patternbridge.assemble.cloth.selfcontact import find_pairs, near_keys, resolve_pairs
+from patternbridge.assemble.cloth.selfcontact import find_pairs, resolve_pairs, rest_near_keys
 from patternbridge.assemble.drape import build_cloth, drape, seam_gaps
 
 
@@ -60,10 +60,10 @@ def test_a_sheet_thrown_at_another_does_not_pass_through_it(no_body, speed):
     assert cloth.x[half:, 1].mean() > cloth.x[:half, 1].mean()  # and is still above
     cloth, _ = run(DrapeSettings(damping=1.0, self_weight=0.0))
     assert cloth.x[half:, 1].mean() < cloth.x[:half, 1].mean()  # passed through
-    # vertex-triangle pairs alone miss the edges crossing at the sheets' borders (and without
-    # the untangling the crossing they let through stays)
+    # vertex-triangle pairs by the true distance reach past the triangles' borders: they alone hold the
+    # sheets' borders too (by the distance to the plane over a triangle's inside only, a border passed through)
     _, crossed = run(DrapeSettings(damping=1.0, edge_edge=False, untangle=False))
-    assert crossed.any()
+    assert not crossed.any()
 
 
 def test_self_pairs_skip_neighbours_and_keep_the_side_they_started_on():
@@ -72,15 +72,14 @@ def test_self_pairs_skip_neighbours_and_keep_the_side_they_started_on():
     x = np.concatenate([low, low + [0.3, 0.2, 0.3]])
     faces = np.concatenate([f, f + len(pts)])
     edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]]])
-    pairs = find_pairs(x, faces, near_keys(len(x), edges), 0.5)
+    rest = np.linalg.norm(x[edges[:, 0]] - x[edges[:, 1]], axis=1)
+    pairs = find_pairs(x, faces, rest_near_keys(len(x), edges, rest, np.zeros((0, 2), np.int64), 0.35), 0.5)
     assert len(pairs) > 0
-    # a sheet's own vertices never pair with its own triangles here (flat: in its plane, or its neighbours)
+    # a sheet's own vertices never pair with its own triangles here (flat: a triangle's height from them at least)
     same = (pairs.vertex < len(pts)) == (faces[pairs.triangle, 0] < len(pts))
     assert not same.any()
-    # the side is the sign along the triangle's normal: the sheets' triangles all face one way
-    tri = x[faces[pairs.triangle]]
-    up = np.sign(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])[:, 1])
-    np.testing.assert_array_equal(pairs.side, np.where(pairs.vertex >= len(pts), 1.0, -1.0) * up)
+    # the direction leads from the triangle to the vertex: up for the upper sheet's vertices, down for the lower's
+    np.testing.assert_array_equal(np.sign(pairs.direction[:, 1]), np.where(pairs.vertex >= len(pts), 1.0, -1.0))
     # the upper sheet pushed 0.1 cm below the lower: every resolved target is back on its side
     y = x.copy()
     y[len(pts) :, 1] = -0.1

@@ -92,8 +92,8 @@ def test_self_contact_is_off_only_between_the_two_sides_of_a_crossing():
 
     faces = np.array([[0, 1, 2], [4, 5, 6]])
     tangled = np.array([0, 1, 2, 3])
-    pairs = SelfPairs(vertex=np.array([3, 6, 3]), triangle=np.array([0, 0, 1]), side=np.ones(3))
-    edges = EdgePairs(edges=np.array([[[0, 1], [2, 3]], [[0, 1], [5, 6]]]), direction=np.ones((2, 3)))
+    pairs = SelfPairs(vertex=np.array([3, 6, 3]), triangle=np.array([0, 0, 1]), direction=np.ones((3, 3)))
+    edges = EdgePairs(edges=np.array([[[0, 1], [2, 3]], [[0, 1], [5, 6]]]), direction=np.ones((2, 3)), key=np.arange(2))
     kept, kept_edges = _without(pairs, edges, faces, tangled, 7)
     # a tangled vertex over a tangled triangle is let through; a third layer on either side still holds
     np.testing.assert_array_equal(kept.vertex, [6, 3])

@@ -1,17 +1,38 @@
 """Self-contact of the cloth: vertex-triangle and edge-edge pairs that keep their sides, as solver constraints.
 
-At every time step the pairs of a vertex and a cloth triangle it lies over,
-closer than ``thickness_cm`` plus a margin, are found from the step's start
-(a k-d tree of the vertices against the triangle centres) and remember on
-which side of the triangle the vertex was. While the solver iterates, a pair
-whose vertex has come closer than ``thickness_cm`` (or gone through) gives
-the vertex and the triangle's corners targets that restore the distance on
-the remembered side (shared by barycentric weight, as a point-triangle
-constraint of position-based dynamics); a vertex in several pairs takes the
-mean. Edge-edge pairs do the same along the direction that joined their
-closest points at the step's start (two edges crossing like the threads of
-a weave, which no vertex-triangle pair sees). Vertices near each other on the sewn cloth (within two edges, across
-seams) never form a pair: they touch by construction.
+At every time step the pairs of a vertex and a cloth triangle closer than
+``thickness_cm`` plus a margin are found from the step's start (a k-d tree of
+the vertices against the triangle centres), by the **true** distance from the
+vertex to the triangle's closest point (inside, on an edge or at a corner).
+Each pair remembers the direction from that closest point to the vertex: the
+side of the triangle it is on, or the way it lies beside an edge. While the
+solver iterates, a pair whose vertex has come closer than ``thickness_cm``
+along that direction (or gone through) gives the vertex and the triangle's
+corners targets that restore the distance (shared by the closest point's
+barycentric weights, as a point-triangle constraint of position-based
+dynamics); a vertex in several pairs takes the mean. Edge-edge pairs do the
+same along the direction that joined their closest points at the step's
+start (two edges crossing like the threads of a weave, which no
+vertex-triangle pair sees).
+
+A pair is never formed between parts of the cloth that are close **in the
+rest state of the sewn cloth** (:func:`rest_near_keys`: the shortest path
+over the mesh edges at their pattern lengths, seam links counting 0, below a
+radius): a vertex and a triangle it is a corner of, or whose corner it is
+sewn to, touch by construction, while a vertex one edge away from a triangle
+lies a triangle's height from it at rest and is held off it when the cloth
+folds. Because the distance is the true one, a neighbour in the same flat
+sheet is never within the thickness and the sheet is not pushed out of its
+plane.
+
+Given the step's expected motion, a pair is kept only when closer than
+the thickness (and a margin) plus how far its two sides move against each
+other: a vertex moving with its own layer needs no pair.
+
+Side memory (:func:`keep_sides`): a pair found again at the next step keeps
+the direction it had when its direction turns round in one step (the vertex
+or edge went through during the step), so a crossing a soft constraint let
+through is pulled back instead of being held on the wrong side.
 """
 
 from __future__ import annotations
@@ -20,36 +41,66 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["EdgePairs", "SelfPairs", "find_edge_pairs", "find_pairs", "near_keys", "resolve_pairs"]
+__all__ = [
+    "EdgePairs",
+    "SelfPairs",
+    "closest_on_triangles",
+    "find_edge_pairs",
+    "find_pairs",
+    "keep_sides",
+    "resolve_pairs",
+    "rest_near_keys",
+]
 
 
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)
 class SelfPairs:
     """Vertex-triangle pairs of one step.
 
-    vertex : (k,) int64 ; triangle : (k,) int64 face id ; side : (k,) float64, ±1 —
-    the side of the triangle the vertex was on at the step's start
+    vertex : (k,) int64 ; triangle : (k,) int64 face id ; direction : (k, 3) float64 —
+    the unit direction from the triangle's closest point to the vertex at the step's start
+    (± the normal for a vertex over the triangle's inside)
     """
 
     vertex: np.ndarray
     triangle: np.ndarray
-    side: np.ndarray
+    direction: np.ndarray
 
     def __len__(self) -> int:
         return len(self.vertex)
 
+    def keys(self, n_faces: int) -> np.ndarray:
+        """(k,) int64 key ``vertex * n_faces + triangle`` of every pair."""
+        return self.vertex * n_faces + self.triangle
 
-def near_keys(n: int, pairs: np.ndarray, rings: int = 2) -> np.ndarray:
-    """Sorted int64 keys ``i * n + j`` of vertex pairs within ``rings`` edges of each other along ``pairs`` (P, 2)."""
-    from scipy.sparse import coo_matrix, identity
 
-    a = coo_matrix((np.ones(2 * len(pairs)), (pairs.ravel(), pairs[:, ::-1].ravel())), shape=(n, n)).tocsr()
-    a = (a + identity(n, format="csr")).astype(bool).astype(np.float64)
-    r = a
-    for _ in range(rings - 1):
-        r = (r @ a).astype(bool).astype(np.float64)
-    r = r.tocoo()
-    return np.sort(r.row.astype(np.int64) * n + r.col.astype(np.int64))
+def rest_near_keys(n: int, edges: np.ndarray, lengths: np.ndarray, seams: np.ndarray, radius_cm: float) -> np.ndarray:
+    """Sorted int64 keys ``i * n + j`` of the vertex pairs closer than ``radius_cm`` on the sewn cloth at rest.
+
+    The distance is the shortest path over ``edges`` (E, 2) at their rest
+    ``lengths`` (E,) cm, the sewn pairs ``seams`` (S, 2) counting 0 (every
+    vertex is near itself and the vertices sewn to it).
+    """
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import dijkstra
+
+    lengths = np.asarray(lengths, dtype=np.float64)
+    short = np.asarray(edges, np.int64).reshape(-1, 2)[lengths < radius_cm]  # a path shorter than the radius
+    tiny = 1e-9 * max(radius_cm, 1.0)  # has only such edges; a seam link: a stored (not dropped) zero
+    w = np.concatenate([np.maximum(lengths[lengths < radius_cm], tiny), np.full(len(seams), tiny)])
+    ends = np.concatenate([short, np.asarray(seams, np.int64).reshape(-1, 2)])
+    own = np.arange(n, dtype=np.int64) * (n + 1)
+    if len(ends) == 0:
+        return own
+    ids, local = np.unique(ends, return_inverse=True)
+    local = local.reshape(-1, 2)
+    g = coo_matrix((w, (local[:, 0], local[:, 1])), shape=(len(ids), len(ids))).tocsr()
+    keys = [own]
+    for lo in range(0, len(ids), 512):
+        rows = np.arange(lo, min(len(ids), lo + 512))
+        r, c = np.nonzero(dijkstra(g, directed=False, indices=rows, limit=radius_cm) < radius_cm)
+        keys.append(ids[rows[r]] * n + ids[c])
+    return np.unique(np.concatenate(keys))
 
 
 def _is_in(keys: np.ndarray, sorted_keys: np.ndarray) -> np.ndarray:
@@ -57,28 +108,77 @@ def _is_in(keys: np.ndarray, sorted_keys: np.ndarray) -> np.ndarray:
     return sorted_keys[pos] == keys if len(sorted_keys) else np.zeros(len(keys), dtype=bool)
 
 
-def _normals(tri: np.ndarray) -> np.ndarray:
-    n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    return n / np.maximum(np.linalg.norm(n, axis=1), 1e-12)[:, None]
+def closest_on_triangles(p: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    """(k, 3) barycentric weights of the points of the triangles ``tri`` (k, 3, 3) closest to ``p`` (k, 3).
+
+    The region tests of Ericson (Real-Time Collision Detection, 5.1.5): the
+    closest point is a corner, a point of an edge or the foot inside.
+    """
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+    ab, ac = b - a, c - a
+
+    def dot(u, v):
+        return np.einsum("ij,ij->i", u, v)
+
+    ap, bp, cp = p - a, p - b, p - c
+    d1, d2, d3, d4, d5, d6 = dot(ab, ap), dot(ac, ap), dot(ab, bp), dot(ac, bp), dot(ab, cp), dot(ac, cp)
+    va, vb, vc = d3 * d6 - d5 * d4, d5 * d2 - d1 * d6, d1 * d4 - d3 * d2
+
+    def ratio(num, den):
+        return num / np.where(np.abs(den) > 1e-18, den, 1e-18)
+
+    v, w = ratio(vb, va + vb + vc), ratio(vc, va + vb + vc)
+    out = np.stack([1.0 - v - w, v, w], axis=1)
+    one, zero = np.ones(len(p)), np.zeros(len(p))
+    t_bc, t_ac, t_ab = ratio(d4 - d3, (d4 - d3) + (d5 - d6)), ratio(d2, d2 - d6), ratio(d1, d1 - d3)
+    regions = (  # lowest priority first: a later region overrides an earlier one
+        ((va <= 0) & (d4 - d3 >= 0) & (d5 - d6 >= 0), (zero, 1.0 - t_bc, t_bc)),  # edge bc
+        ((vb <= 0) & (d2 >= 0) & (d6 <= 0), (1.0 - t_ac, zero, t_ac)),  # edge ac
+        ((d6 >= 0) & (d5 <= d6), (zero, zero, one)),  # corner c
+        ((vc <= 0) & (d1 >= 0) & (d3 <= 0), (1.0 - t_ab, t_ab, zero)),  # edge ab
+        ((d3 >= 0) & (d4 <= d3), (zero, one, zero)),  # corner b
+        ((d1 <= 0) & (d2 <= 0), (one, zero, zero)),  # corner a
+    )
+    for mask, weights in regions:
+        out[mask] = np.stack(weights, axis=1)[mask]
+    return np.clip(out, 0.0, 1.0)
 
 
-def _barycentric(p: np.ndarray, tri: np.ndarray) -> np.ndarray:
-    """(n, 3) barycentric weights of the feet of ``p`` (n, 3) on the planes of ``tri`` (n, 3, 3)."""
-    e1, e2, w = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0], p - tri[:, 0]
-    d11, d12, d22 = (np.einsum("ij,ij->i", a, b) for a, b in ((e1, e1), (e1, e2), (e2, e2)))
-    w1, w2 = np.einsum("ij,ij->i", w, e1), np.einsum("ij,ij->i", w, e2)
-    den = np.maximum(d11 * d22 - d12 * d12, 1e-18)
-    b1 = (d22 * w1 - d12 * w2) / den
-    b2 = (d11 * w2 - d12 * w1) / den
-    return np.stack([1.0 - b1 - b2, b1, b2], axis=1)
+def keep_sides(keys: np.ndarray, direction: np.ndarray, old_keys: np.ndarray, old_direction: np.ndarray) -> np.ndarray:
+    """``direction`` (k, 3) with the pairs found at the last step whose direction turned round there keeping theirs.
+
+    ``keys`` (k,) and ``old_keys`` (m,) identify the pairs (``old_keys``
+    sorted); a pair whose new direction points against its old one went
+    through within the step (a continuous slide round an edge turns the
+    direction a little at every step) and is held to the old side.
+    """
+    if len(keys) == 0 or len(old_keys) == 0:
+        return direction
+    pos = np.clip(np.searchsorted(old_keys, keys), 0, len(old_keys) - 1)
+    hit = old_keys[pos] == keys
+    turned = hit & (np.einsum("ij,ij->i", direction, old_direction[pos]) < 0.0)
+    if not turned.any():
+        return direction
+    out = direction.copy()
+    out[turned] = old_direction[pos[turned]]
+    return out
 
 
-def find_pairs(x: np.ndarray, faces: np.ndarray, near: np.ndarray, reach_cm: float) -> SelfPairs:
+def find_pairs(
+    x: np.ndarray,
+    faces: np.ndarray,
+    near: np.ndarray,
+    reach_cm: float,
+    moved: np.ndarray | None = None,
+    gap_cm: float | None = None,
+) -> SelfPairs:
     """The vertex-triangle pairs of the cloth ``x`` (N, 3) / ``faces`` (F, 3) closer than ``reach_cm``.
 
-    Only a vertex over a triangle's inside (its foot within the triangle,
-    with a small tolerance) pairs with it; pairs whose vertex is within two
-    edges of a corner (``near``, see :func:`near_keys`) are left out.
+    The distance is to the triangle's closest point; pairs whose vertex is
+    near a corner at rest (``near``, see :func:`rest_near_keys`) are left out.
+    With the step's expected motion ``moved`` (N, 3), a pair is kept only when
+    closer than ``gap_cm`` plus how far its vertex moves against the closest
+    point (a vertex moving with its own layer needs no pair).
     """
     from scipy.spatial import cKDTree
 
@@ -93,32 +193,57 @@ def find_pairs(x: np.ndarray, faces: np.ndarray, near: np.ndarray, reach_cm: flo
     v, t = v[keep], t[keep]
     keep = ~(_is_in(v[:, None] * n + faces[t], near).any(axis=1))
     v, t = v[keep], t[keep]
-    nrm = _normals(tri[t])
-    d = np.einsum("ij,ij->i", x[v] - tri[t, 0], nrm)
-    bary = _barycentric(x[v], tri[t])
-    keep = (np.abs(d) < reach_cm) & (np.abs(d) > 1e-9) & np.all(bary > -0.05, axis=1)
-    return SelfPairs(vertex=v[keep], triangle=t[keep], side=np.sign(d[keep]))
+    bary = closest_on_triangles(x[v], tri[t])
+    d = x[v] - np.einsum("ij,ijk->ik", bary, tri[t])
+    dist = np.linalg.norm(d, axis=1)
+    close = dist < reach_cm
+    if moved is not None and gap_cm is not None:
+        rel = np.linalg.norm(moved[v] - np.einsum("ij,ijk->ik", bary, moved[faces[t]]), axis=1)
+        close &= dist < gap_cm + rel
+    keep = np.flatnonzero(close & (dist > 1e-9))
+    keep = keep[_one_per_feature(v[keep], t[keep], faces, bary[keep])]
+    return SelfPairs(vertex=v[keep], triangle=t[keep], direction=d[keep] / dist[keep, None])
+
+
+def _one_per_feature(v: np.ndarray, t: np.ndarray, faces: np.ndarray, bary: np.ndarray) -> np.ndarray:
+    """Indices of the pairs left when a vertex keeps one pair per closest feature (inside, edge or corner).
+
+    The triangles round a corner (or the two beside an edge) that a vertex is
+    closest to there give the same constraint: one of them is kept.
+    """
+    on = bary > 0.0
+    corners = np.where(on, faces[t], -1)
+    kind = on.sum(axis=1)
+    lo, hi = np.sort(corners, axis=1)[:, 1:].T  # an edge's two corners, a corner's one (after -1s)
+    feature = np.stack([v, kind, np.where(kind == 3, t, hi), np.where(kind == 2, lo, -1)], axis=1)
+    return np.unique(feature, axis=0, return_index=True)[1]
 
 
 def _accumulate(
     x: np.ndarray, faces: np.ndarray, pairs: SelfPairs, thickness_cm: float, delta: np.ndarray, count: np.ndarray
 ) -> None:
-    """Add the corrections of the violated vertex-triangle pairs to ``delta`` (N, 3) and ``count`` (N,)."""
+    """Add the corrections of the violated vertex-triangle pairs to ``delta`` (N, 3) and ``count`` (N,).
+
+    A pair is violated when its vertex is closer than ``thickness_cm`` to the
+    triangle's closest point along the pair's direction while lying within
+    ``thickness_cm`` of that line (a vertex gone round the triangle's border
+    is free).
+    """
     if len(pairs) == 0:
         return
     f = faces[pairs.triangle]
     tri = x[f]
-    nrm = _normals(tri)
-    d = np.einsum("ij,ij->i", x[pairs.vertex] - tri[:, 0], nrm)
-    depth = thickness_cm - pairs.side * d
-    bary = _barycentric(x[pairs.vertex], tri)
-    bad = (depth > 0) & np.all(bary > -0.05, axis=1)
+    p = x[pairs.vertex]
+    bary = closest_on_triangles(p, tri)
+    d = p - np.einsum("ij,ijk->ik", bary, tri)
+    sep = np.einsum("ij,ij->i", d, pairs.direction)
+    aside = np.linalg.norm(d - sep[:, None] * pairs.direction, axis=1)
+    depth = thickness_cm - sep
+    bad = (depth > 0) & (aside < thickness_cm)
     if not bad.any():
         return
-    v, f, side, depth, bary, nrm = pairs.vertex[bad], f[bad], pairs.side[bad], depth[bad], bary[bad], nrm[bad]
-    bary = np.clip(bary, 0.0, 1.0)
-    bary /= bary.sum(axis=1, keepdims=True)
-    push = (side * depth / (1.0 + np.sum(bary**2, axis=1)))[:, None] * nrm
+    v, f, depth, bary, u = pairs.vertex[bad], f[bad], depth[bad], bary[bad], pairs.direction[bad]
+    push = (depth / (1.0 + np.sum(bary**2, axis=1)))[:, None] * u
     np.add.at(delta, v, push)
     np.add.at(count, v, 1.0)
     for k in range(3):
@@ -131,11 +256,13 @@ class EdgePairs:
     """Edge-edge pairs of one step.
 
     edges : (k, 2, 2) int64 — the two edges of every pair ; direction : (k, 3) float64 —
-    the unit direction from the second edge's closest point to the first's at the step's start
+    the unit direction from the second edge's closest point to the first's at the step's start ;
+    key : (k,) int64 — ``i * E + j`` of the pair's edge ids ``i < j`` among the cloth's ``E`` edges
     """
 
     edges: np.ndarray
     direction: np.ndarray
+    key: np.ndarray
 
     def __len__(self) -> int:
         return len(self.edges)
@@ -156,8 +283,18 @@ def _segment_params(p1, p2, q1, q2) -> tuple[np.ndarray, np.ndarray]:
     return s, t
 
 
-def find_edge_pairs(x: np.ndarray, edges: np.ndarray, near: np.ndarray, reach_cm: float) -> EdgePairs:
-    """The pairs of cloth edges (E, 2) closer than ``reach_cm`` at ``x`` (N, 3), not within two edges of each other."""
+def find_edge_pairs(
+    x: np.ndarray,
+    edges: np.ndarray,
+    near: np.ndarray,
+    reach_cm: float,
+    moved: np.ndarray | None = None,
+    gap_cm: float | None = None,
+) -> EdgePairs:
+    """The pairs of cloth edges (E, 2) closer than ``reach_cm`` at ``x`` (N, 3) whose ends are not ``near`` at rest.
+
+    ``moved`` and ``gap_cm`` as in :func:`find_pairs`, for the closest points of the two edges.
+    """
     from scipy.spatial import cKDTree
 
     n = len(x)
@@ -167,18 +304,26 @@ def find_edge_pairs(x: np.ndarray, edges: np.ndarray, near: np.ndarray, reach_cm
     r = 2 * float(np.percentile(half, 99)) + reach_cm if len(half) else reach_cm
     found = cKDTree(mid).query_pairs(r, output_type="ndarray")
     if len(found) == 0:
-        return EdgePairs(edges=np.zeros((0, 2, 2), np.int64), direction=np.zeros((0, 3)))
-    i, j = found[:, 0], found[:, 1]
+        return EdgePairs(edges=np.zeros((0, 2, 2), np.int64), direction=np.zeros((0, 3)), key=np.zeros(0, np.int64))
+    i, j = np.sort(found, axis=1).astype(np.int64).T
     ei, ej = edges[i], edges[j]
     keys = ei[:, :, None] * n + ej[:, None, :]
     keep = ~_is_in(keys.reshape(-1), near).reshape(-1, 4).any(axis=1)
-    ei, ej = ei[keep], ej[keep]
+    i, j, ei, ej = i[keep], j[keep], ei[keep], ej[keep]
     p1, p2, q1, q2 = x[ei[:, 0]], x[ei[:, 1]], x[ej[:, 0]], x[ej[:, 1]]
     s, t = _segment_params(p1, p2, q1, q2)
     d = (p1 + s[:, None] * (p2 - p1)) - (q1 + t[:, None] * (q2 - q1))
     dist = np.linalg.norm(d, axis=1)
     keep = (dist < reach_cm) & (dist > 1e-6) & (s > 0.0) & (s < 1.0) & (t > 0.0) & (t < 1.0)
-    return EdgePairs(edges=np.stack([ei[keep], ej[keep]], axis=1), direction=d[keep] / dist[keep, None])
+    if moved is not None and gap_cm is not None:
+        m1, m2, n1, n2 = moved[ei[:, 0]], moved[ei[:, 1]], moved[ej[:, 0]], moved[ej[:, 1]]
+        rel = (m1 + s[:, None] * (m2 - m1)) - (n1 + t[:, None] * (n2 - n1))
+        keep &= dist < gap_cm + np.linalg.norm(rel, axis=1)
+    return EdgePairs(
+        edges=np.stack([ei[keep], ej[keep]], axis=1),
+        direction=d[keep] / dist[keep, None],
+        key=i[keep] * len(edges) + j[keep],
+    )
 
 
 def _accumulate_edges(

@@ -26,7 +26,7 @@ import numpy as np
 
 from .constraints import SpringKind, Springs, difference_operator, project_springs
 from .contact import contact_targets, signed_distances, slide_budgets, swept_hits
-from .selfcontact import EdgePairs, SelfPairs, find_edge_pairs, find_pairs, near_keys, resolve_pairs
+from .selfcontact import EdgePairs, SelfPairs, find_edge_pairs, find_pairs, keep_sides, resolve_pairs, rest_near_keys
 from .untangle import edge_faces, untangle_targets
 
 __all__ = ["ClothSolver", "DrapeSettings", "seam_gaps", "vertex_adjacency", "weld_groups"]
@@ -59,6 +59,9 @@ class DrapeSettings:
     offset_cm: float = 0.6  # distance kept from the skin
     contact_margin_cm: float = 0.1  # a vertex this much beyond the offset after the free solve is in contact
     thickness_cm: float = 0.35  # distance kept between layers
+    # no self-contact between parts of the cloth closer than this at rest (path over the pattern's edges,
+    # seams counting 0): a vertex and the triangles it is, or is sewn to, a corner of, and the ends of slivers
+    self_rest_cm: float = 0.35
     density_kg_cm2: float = 1.5e-5  # 150 g/m²
     max_speed_cm_s: float = 150.0
     # seams left unsewn for now (``loose``) hold their starting gaps with this share of the seam weight
@@ -112,7 +115,10 @@ class ClothSolver:
         self.loose: np.ndarray | None = None
         self.seam_start = seam_gaps(cloth.x, cloth.seams)
         self.weld = weld_groups(n, cloth.seams)
-        self.near = near_keys(n, np.concatenate([cloth.edges, cloth.seams]).reshape(-1, 2))
+        self.near = rest_near_keys(n, cloth.edges, cloth.rest, cloth.seams, settings.self_rest_cm)
+        self._sides = (np.zeros(0, np.int64), np.zeros((0, 3)))  # the last step's vertex-triangle pairs
+        self._edge_sides = (np.zeros(0, np.int64), np.zeros((0, 3)))  # and edge-edge pairs: key, direction
+        self._last_x: np.ndarray | None = None  # the cloth at the last step's end
         self.beside = edge_faces(cloth.faces, cloth.edges)
         self.adjacency = vertex_adjacency(n, cloth.edges)
         self._base = None  # the constant part of the global matrix
@@ -217,6 +223,26 @@ class ClothSolver:
         mean = np.stack([np.bincount(self.weld, weights=x[:, k], minlength=len(x)) for k in range(3)], axis=1)
         return ids, mean[self.weld[ids]] / count[self.weld[ids], None] + moves, pairs, epairs
 
+    def _remember(self, pairs: SelfPairs, epairs: EdgePairs | None) -> tuple[SelfPairs, EdgePairs | None]:
+        """The step's pairs with the sides of the last step's kept where they turned round (:func:`keep_sides`).
+
+        The cloth moved between two steps (a pose applied by skinning) starts
+        without memory: a side turned round there was not turned by a step.
+        """
+        if self._last_x is None or not np.array_equal(self._last_x, self.c.x):  # moved between steps: forget
+            self._sides = self._edge_sides = (np.zeros(0, np.int64), np.zeros((0, 3)))
+        keys = pairs.keys(len(self.c.faces))
+        direction = keep_sides(keys, pairs.direction, *self._sides)
+        order = np.argsort(keys)
+        self._sides = (keys[order], direction[order])
+        pairs = SelfPairs(vertex=pairs.vertex, triangle=pairs.triangle, direction=direction)
+        if epairs is not None:
+            direction = keep_sides(epairs.key, epairs.direction, *self._edge_sides)
+            order = np.argsort(epairs.key)
+            self._edge_sides = (epairs.key[order], direction[order])
+            epairs = EdgePairs(edges=epairs.edges, direction=direction, key=epairs.key)
+        return pairs, epairs
+
     def _springs_rhs(self, x: np.ndarray, targets: np.ndarray) -> np.ndarray:
         return self.St @ (self.w_now[:, None] * project_springs(self.S @ x, targets))
 
@@ -243,9 +269,12 @@ class ClothSolver:
         # pairs within reach of the step's motion: a layer moving fast toward another is caught before it passes
         motion = float(np.percentile(np.linalg.norm(x - x0, axis=1), 99)) if len(x) else 0.0
         reach = s.thickness_cm + 2 * s.contact_margin_cm + min(motion, s.max_speed_cm_s * h)
-        pairs = find_pairs(x0, c.faces, self.near, reach)
-        epairs = find_edge_pairs(x0, c.edges, self.near, reach) if s.edge_edge else None
+        # a pair whose two sides move together (one layer) is left out: only the motion against each other counts
+        gap = s.thickness_cm + 2 * s.contact_margin_cm
+        pairs = find_pairs(x0, c.faces, self.near, reach, x - x0, gap)
+        epairs = find_edge_pairs(x0, c.edges, self.near, reach, x - x0, gap) if s.edge_edge else None
         tangled, tangle_x, pairs, epairs = self._untangle(x0, x, pairs, epairs)
+        pairs, epairs = self._remember(pairs, epairs)
         tangle_w = np.zeros(len(x))
         tangle_w[tangled] = s.untangle_weight * self.unit
         selfv = np.zeros(len(x), dtype=bool)
@@ -296,6 +325,7 @@ class ClothSolver:
             v[bi] -= np.maximum(vn, 0.0)[:, None] * normals[bi]
         c.v = v * s.damping
         c.x = x
+        self._last_x = x.copy()
 
 
 def _without(
@@ -310,11 +340,11 @@ def _without(
     out = np.zeros(n, dtype=bool)
     out[vertices] = True
     keep = ~(out[pairs.vertex] & out[faces[pairs.triangle]].any(axis=1))
-    pairs = SelfPairs(vertex=pairs.vertex[keep], triangle=pairs.triangle[keep], side=pairs.side[keep])
+    pairs = SelfPairs(vertex=pairs.vertex[keep], triangle=pairs.triangle[keep], direction=pairs.direction[keep])
     if epairs is not None:
         ends = out[epairs.edges.reshape(len(epairs), 4)]
         keep = ~(ends[:, :2].any(axis=1) & ends[:, 2:].any(axis=1))
-        epairs = EdgePairs(edges=epairs.edges[keep], direction=epairs.direction[keep])
+        epairs = EdgePairs(edges=epairs.edges[keep], direction=epairs.direction[keep], key=epairs.key[keep])
     return pairs, epairs
 
 
