@@ -15,9 +15,11 @@ import numpy as np
 import pytest
 
 from patternbridge.grade.bands import band_axes, band_widths, strip_width
+from patternbridge.grade.checks import MIN_EXTENT_RATIO, design_checks, piece_extents
 from patternbridge.grade.grid import build_grid
 from patternbridge.grade.objectives import objective_data
 from patternbridge.grade.refine import straight_edges
+from patternbridge.grade.run import axis_scaling
 
 pytestmark = pytest.mark.shared
 
@@ -59,3 +61,13 @@ def test_the_final_step_keeps_the_bands_widths(polo, final_step_from_scaling):
     bands = band_axes(data)
     widths = band_widths(data, bands, grid.outlines(res.x[None]))[0]
     assert np.abs(widths - bands.width0).max() < 0.2  # every band within 2 mm of its sample width
+    # the design checks against proportional scaling: without the band term the collar stand came out
+    # at 0.65 of its proportional height (piece-collapsed); with it 0.81 x 0.77 (shorter with B's
+    # neckline, its width kept), and no piece turns and no girth's split between pieces moves
+    pts, ref = grid.outlines(res.x[None])[0], grid.outlines(axis_scaling(grid, data)[None])[0]
+    names = tuple(p.name for p in grid.pieces)
+    stand = names.index("GMG1016S19-CO ST 2")
+    ratio = piece_extents(data, pts[None])[0, stand] / piece_extents(data, ref[None])[0, stand]
+    assert ratio.min() > MIN_EXTENT_RATIO
+    findings = design_checks(data, pts, ref, piece_names=names)
+    assert not [f for f in findings if f.code in ("piece-collapsed", "piece-turned", "share-moved")]
