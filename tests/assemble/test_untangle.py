@@ -200,8 +200,8 @@ def test_the_untangling_aims_the_sides_of_a_seam_at_one_point():
     x[right, 0] += 0.3  # the seam 3 mm open (under untangle_open_cm: not held)
     cloth.x = x
     solver = ClothSolver(cloth, DrapeSettings(untangle=True))
-    none = SelfPairs(vertex=np.zeros(0, np.int64), triangle=np.zeros(0, np.int64), side=np.zeros(0))
-    enone = EdgePairs(edges=np.zeros((0, 2, 2), np.int64), direction=np.zeros((0, 3)))
+    none = SelfPairs(vertex=np.zeros(0, np.int64), triangle=np.zeros(0, np.int64), direction=np.zeros((0, 3)))
+    enone = EdgePairs(edges=np.zeros((0, 2, 2), np.int64), direction=np.zeros((0, 3)), key=np.zeros(0, np.int64))
     ids, targets, _, _ = solver._untangle(x, x, none, enone)
     target = np.full((len(x), 3), np.nan)
     target[ids] = targets
