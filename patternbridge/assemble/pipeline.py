@@ -441,22 +441,40 @@ def finish(sim: Simulation, limits: VerdictLimits | None = None) -> Garment:
 
 
 def _clear_skin(collider, wx: np.ndarray, wf: np.ndarray, offset_cm: float) -> np.ndarray:
-    """The welded cloth ``wx`` moved out of the skin (vertices, then triangles, then skin tips)."""
+    """The welded cloth ``wx`` moved out of the skin (vertices, then triangles, then skin tips).
+
+    Every push carries the cloth layers over the pushed vertices along
+    (:func:`~patternbridge.assemble.collision.carry_layers`): a fold lying on
+    the skin is lifted as a whole instead of its inner layer pushed through
+    the outer one.
+    """
+    from .collision import carry_layers
+
+    gap = 0.5 * offset_cm
+
+    def carried(y: np.ndarray) -> np.ndarray:
+        nonlocal wx
+        wx = carry_layers(wx, y, wf, gap)
+        return wx
+
     for _ in range(3):
-        wx, moved = collider.push_out(wx, 0.5 * offset_cm, robust=True)
+        y, moved = collider.push_out(wx, 0.5 * offset_cm, robust=True)
+        carried(y)
         if not moved.any():
             break
     # no triangle may cut the skin either (a long edge over a thin limb)
-    wx = collider.clear_triangles(wx, wf, offset_cm)
-    wx, _ = collider.push_out(wx, 0.5 * offset_cm, robust=True)
+    carried(collider.clear_triangles(wx, wf, offset_cm))
+    carried(collider.push_out(wx, 0.5 * offset_cm, robust=True)[0])
     inside = collider.inside(wx)
     if inside.any():  # caught where two body parts touch: out the shortest straight way
-        wx[inside] = collider.escape(wx[inside], 0.5 * offset_cm)
+        y = wx.copy()
+        y[inside] = collider.escape(wx[inside], 0.5 * offset_cm)
+        carried(y)
     # pushing single vertices out can leave an edge between them grazing the
     # skin where two body parts meet (an armpit): clear the triangles again
-    wx = collider.clear_triangles(wx, wf, 0.5 * offset_cm)
+    carried(collider.clear_triangles(wx, wf, 0.5 * offset_cm))
     # and no tip of the skin may poke through a triangle between its corners
-    return collider.lift_over_skin(wx, wf, offset_cm)
+    return carried(collider.lift_over_skin(wx, wf, offset_cm))
 
 
 def _measure(
