@@ -29,7 +29,13 @@ def triangle_scene(vertices: np.ndarray, faces: np.ndarray):
 
 
 def carry_layers(
-    before: np.ndarray, after: np.ndarray, faces: np.ndarray, gap_cm: float, *, rounds: int = 4
+    before: np.ndarray,
+    after: np.ndarray,
+    faces: np.ndarray,
+    gap_cm: float,
+    *,
+    rounds: int = 4,
+    body: BodyCollider | None = None,
 ) -> np.ndarray:
     """The cloth moved from ``before`` to ``after`` (V, 3) with the layers over each moved vertex carried along.
 
@@ -41,7 +47,8 @@ def carry_layers(
     the move plus ``gap_cm`` is carried: its corners move at least so far
     along that direction that they stay ``gap_cm`` beyond the pushed vertex.
     Carried corners push the layers above them in the next round (up to
-    ``rounds`` layers).
+    ``rounds`` layers). With a ``body``, a corner the carry would put inside
+    it (the layer over an armpit is against the arm) stays.
 
     Returns
     -------
@@ -84,7 +91,11 @@ def carry_layers(
         order = np.argsort(np.linalg.norm(push, axis=1), kind="stable")
         corners, push = corners[order], push[order]
         last = len(corners) - 1 - np.unique(corners[::-1], return_index=True)[1]
-        out[corners[last]] += push[last]
+        moved = out[corners[last]] + push[last]
+        if body is not None:
+            free = ~body.inside(moved)
+            last, moved = last[free], moved[free]
+        out[corners[last]] = moved
     return out
 
 

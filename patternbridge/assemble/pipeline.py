@@ -448,13 +448,11 @@ def _clear_skin(collider, wx: np.ndarray, wf: np.ndarray, offset_cm: float) -> n
     the skin is lifted as a whole instead of its inner layer pushed through
     the outer one.
     """
-    from .collision import carry_layers
-
     gap = 0.5 * offset_cm
 
     def carried(y: np.ndarray) -> np.ndarray:
         nonlocal wx
-        wx = carry_layers(wx, y, wf, gap)
+        wx = _keep_layers(collider, wx, y, wf, gap)
         return wx
 
     for _ in range(3):
@@ -475,6 +473,46 @@ def _clear_skin(collider, wx: np.ndarray, wf: np.ndarray, offset_cm: float) -> n
     carried(collider.clear_triangles(wx, wf, 0.5 * offset_cm))
     # and no tip of the skin may poke through a triangle between its corners
     return carried(collider.lift_over_skin(wx, wf, offset_cm))
+
+
+def _keep_layers(collider, x: np.ndarray, y: np.ndarray, wf: np.ndarray, gap_cm: float) -> np.ndarray:
+    """The clean-up move of the welded cloth from ``x`` to ``y``, kept from passing the cloth through itself.
+
+    The layers over each moved vertex are carried along
+    (:func:`~patternbridge.assemble.collision.carry_layers`); the corners of
+    triangles that then cross the cloth and did not before go back where
+    they were (up to 3 rounds), unless that leaves them inside the body; the
+    round with the fewest crossing triangles is kept. The skin comes first:
+    triangles through it that the move had cleared get their corners' moves
+    back.
+    """
+    from .collision import carry_layers
+    from .selfcross import self_crossing
+
+    was = self_crossing(x, wf)
+    z0 = carry_layers(x, y, wf, gap_cm, body=collider)
+    z, best = z0.copy(), z0
+    crossed = self_crossing(z, wf)
+    fewest = np.count_nonzero(crossed)
+    for _ in range(3):
+        back = np.unique(wf[crossed & ~was])
+        back = back[np.any(z[back] != x[back], axis=1)]
+        back = back[~collider.inside(x[back])]
+        if len(back) == 0:
+            break
+        z[back] = x[back]
+        crossed = self_crossing(z, wf)
+        if np.count_nonzero(crossed) < fewest:
+            best, fewest = z.copy(), np.count_nonzero(crossed)
+    z = best.copy()
+    allowed = int(np.count_nonzero(_crossing(collider, y, wf)))
+    for ref in (z0, y):  # through the skin: the carried move back, else the plain one
+        skin = _crossing(collider, z, wf)
+        if np.count_nonzero(skin) <= allowed:
+            break
+        corners = np.unique(wf[skin])
+        z[corners] = ref[corners]
+    return z if np.count_nonzero(_crossing(collider, z, wf)) <= allowed else y
 
 
 def _measure(
