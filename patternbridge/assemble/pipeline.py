@@ -40,6 +40,7 @@ if TYPE_CHECKING:
 __all__ = [
     "Simulation",
     "assemble",
+    "clear_skin",
     "dress",
     "finish",
     "limb_end_seams",
@@ -413,7 +414,7 @@ def finish(sim: Simulation, limits: VerdictLimits | None = None) -> Garment:
     wx = np.zeros((len(ids), 3))
     np.add.at(wx, inv, cloth.x)
     wx /= cnt
-    wx = _clear_skin(collider, wx, wf, settings.offset_cm)
+    wx = clear_skin(collider, wx, wf, settings.offset_cm)
     inside = collider.inside(wx)
     x = wx[inv]
 
@@ -440,7 +441,7 @@ def finish(sim: Simulation, limits: VerdictLimits | None = None) -> Garment:
     )
 
 
-def _clear_skin(collider, wx: np.ndarray, wf: np.ndarray, offset_cm: float) -> np.ndarray:
+def clear_skin(collider, wx: np.ndarray, wf: np.ndarray, offset_cm: float) -> np.ndarray:
     """The welded cloth ``wx`` moved out of the skin (vertices, then triangles, then skin tips).
 
     Every push carries the cloth layers over the pushed vertices along

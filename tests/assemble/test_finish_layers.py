@@ -7,7 +7,7 @@ import pytest
 import trimesh
 
 from patternbridge.assemble.collision import BodyCollider, carry_layers
-from patternbridge.assemble.pipeline import _clear_skin
+from patternbridge.assemble.pipeline import clear_skin
 from patternbridge.assemble.selfcross import self_crossing
 
 
@@ -43,7 +43,7 @@ def limb() -> BodyCollider:
 def test_clearing_the_skin_does_not_push_one_layer_through_the_other(limb, r_in, r_out, dip, offset):
     v, f = _two_sheets(r_in, r_out, dip)
     assert limb.inside(v).any() and not self_crossing(v, f).any()
-    out = _clear_skin(limb, v, f, offset)
+    out = clear_skin(limb, v, f, offset)
     assert not limb.inside(out).any()
     assert not limb.crossing_triangles(out, f).any()
     assert not self_crossing(out, f).any()
