@@ -13,7 +13,7 @@ from functools import cached_property
 
 import numpy as np
 
-__all__ = ["BodyCollider", "hand_mitts", "thigh_fill", "triangle_scene"]
+__all__ = ["BodyCollider", "carry_layers", "hand_mitts", "thigh_fill", "triangle_scene"]
 
 
 def triangle_scene(vertices: np.ndarray, faces: np.ndarray):
@@ -26,6 +26,77 @@ def triangle_scene(vertices: np.ndarray, faces: np.ndarray):
         o3d.core.Tensor(np.asarray(faces, dtype=np.uint32)),
     )
     return scene
+
+
+def carry_layers(
+    before: np.ndarray,
+    after: np.ndarray,
+    faces: np.ndarray,
+    gap_cm: float,
+    *,
+    rounds: int = 4,
+    body: BodyCollider | None = None,
+) -> np.ndarray:
+    """The cloth moved from ``before`` to ``after`` (V, 3) with the layers over each moved vertex carried along.
+
+    A clean-up push moves single vertices (out of the skin, along its
+    normal); where the cloth lies folded over itself (hems piled on the
+    feet), the pushed layer would pass through the layer above it. Each
+    moving vertex casts a ray along its move against the cloth as it was
+    (``before``, triangles not round the vertex); a triangle hit closer than
+    the move plus ``gap_cm`` is carried: its corners move at least so far
+    along that direction that they stay ``gap_cm`` beyond the pushed vertex.
+    Carried corners push the layers above them in the next round (up to
+    ``rounds`` layers). With a ``body``, a corner the carry would put inside
+    it (the layer over an armpit is against the arm) stays.
+
+    Returns
+    -------
+    (V, 3) float64, ``after`` with the carried corners moved
+    """
+    import open3d as o3d
+
+    x0 = np.asarray(before, dtype=np.float64)
+    out = np.array(after, dtype=np.float64)
+    f = np.asarray(faces, dtype=np.int64)
+    if len(f) == 0:
+        return out
+    scene = triangle_scene(x0, f)
+    checked = np.zeros(len(x0))  # move length already cast per vertex
+    for _ in range(rounds):
+        d = out - x0
+        ln = np.linalg.norm(d, axis=1)
+        cast = np.flatnonzero((ln > 1e-4) & (ln > checked + 1e-4))
+        if len(cast) == 0:
+            break
+        checked[cast] = ln[cast]
+        u = d[cast] / ln[cast, None]
+        rays = np.concatenate([x0[cast] + 1e-3 * u, u], axis=1).astype(np.float32)
+        hit = scene.cast_rays(o3d.core.Tensor(rays))
+        t = hit["t_hit"].numpy().astype(np.float64) + 1e-3
+        prim = hit["primitive_ids"].numpy().astype(np.int64)
+        reach = ln[cast] + gap_cm
+        ok = np.isfinite(t) & (t < reach)
+        ok[ok] &= ~(f[prim[ok]] == cast[ok, None]).any(axis=1)  # not a triangle round the vertex itself
+        if not ok.any():
+            break
+        src, tri = np.flatnonzero(ok), prim[ok]
+        corners = f[tri].ravel()
+        target = np.repeat(x0[cast[src]] + reach[src, None] * u[src], 3, axis=0)  # (k*3, 3)
+        uu = np.repeat(u[src], 3, axis=0)
+        # how far each corner has to go along the push to lie at the target's level
+        need = np.einsum("ij,ij->i", target - out[corners], uu)
+        push = np.where(need > 0, need, 0.0)[:, None] * uu
+        # a corner carried by several pushes takes the largest
+        order = np.argsort(np.linalg.norm(push, axis=1), kind="stable")
+        corners, push = corners[order], push[order]
+        last = len(corners) - 1 - np.unique(corners[::-1], return_index=True)[1]
+        moved = out[corners[last]] + push[last]
+        if body is not None:
+            free = ~body.inside(moved)
+            last, moved = last[free], moved[free]
+        out[corners[last]] = moved
+    return out
 
 
 class BodyCollider:

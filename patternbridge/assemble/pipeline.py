@@ -40,6 +40,7 @@ if TYPE_CHECKING:
 __all__ = [
     "Simulation",
     "assemble",
+    "clear_skin",
     "dress",
     "finish",
     "limb_end_seams",
@@ -413,7 +414,7 @@ def finish(sim: Simulation, limits: VerdictLimits | None = None) -> Garment:
     wx = np.zeros((len(ids), 3))
     np.add.at(wx, inv, cloth.x)
     wx /= cnt
-    wx = _clear_skin(collider, wx, wf, settings.offset_cm)
+    wx = clear_skin(collider, wx, wf, settings.offset_cm)
     inside = collider.inside(wx)
     x = wx[inv]
 
@@ -440,23 +441,79 @@ def finish(sim: Simulation, limits: VerdictLimits | None = None) -> Garment:
     )
 
 
-def _clear_skin(collider, wx: np.ndarray, wf: np.ndarray, offset_cm: float) -> np.ndarray:
-    """The welded cloth ``wx`` moved out of the skin (vertices, then triangles, then skin tips)."""
+def clear_skin(collider, wx: np.ndarray, wf: np.ndarray, offset_cm: float) -> np.ndarray:
+    """The welded cloth ``wx`` moved out of the skin (vertices, then triangles, then skin tips).
+
+    Every push carries the cloth layers over the pushed vertices along
+    (:func:`~patternbridge.assemble.collision.carry_layers`): a fold lying on
+    the skin is lifted as a whole instead of its inner layer pushed through
+    the outer one.
+    """
+    gap = 0.5 * offset_cm
+
+    def carried(y: np.ndarray) -> np.ndarray:
+        nonlocal wx
+        wx = _keep_layers(collider, wx, y, wf, gap)
+        return wx
+
     for _ in range(3):
-        wx, moved = collider.push_out(wx, 0.5 * offset_cm, robust=True)
+        y, moved = collider.push_out(wx, 0.5 * offset_cm, robust=True)
+        carried(y)
         if not moved.any():
             break
     # no triangle may cut the skin either (a long edge over a thin limb)
-    wx = collider.clear_triangles(wx, wf, offset_cm)
-    wx, _ = collider.push_out(wx, 0.5 * offset_cm, robust=True)
+    carried(collider.clear_triangles(wx, wf, offset_cm))
+    carried(collider.push_out(wx, 0.5 * offset_cm, robust=True)[0])
     inside = collider.inside(wx)
     if inside.any():  # caught where two body parts touch: out the shortest straight way
-        wx[inside] = collider.escape(wx[inside], 0.5 * offset_cm)
+        y = wx.copy()
+        y[inside] = collider.escape(wx[inside], 0.5 * offset_cm)
+        carried(y)
     # pushing single vertices out can leave an edge between them grazing the
     # skin where two body parts meet (an armpit): clear the triangles again
-    wx = collider.clear_triangles(wx, wf, 0.5 * offset_cm)
+    carried(collider.clear_triangles(wx, wf, 0.5 * offset_cm))
     # and no tip of the skin may poke through a triangle between its corners
-    return collider.lift_over_skin(wx, wf, offset_cm)
+    return carried(collider.lift_over_skin(wx, wf, offset_cm))
+
+
+def _keep_layers(collider, x: np.ndarray, y: np.ndarray, wf: np.ndarray, gap_cm: float) -> np.ndarray:
+    """The clean-up move of the welded cloth from ``x`` to ``y``, kept from passing the cloth through itself.
+
+    The layers over each moved vertex are carried along
+    (:func:`~patternbridge.assemble.collision.carry_layers`); the corners of
+    triangles that then cross the cloth and did not before go back where
+    they were (up to 3 rounds), unless that leaves them inside the body; the
+    round with the fewest crossing triangles is kept. The skin comes first:
+    triangles through it that the move had cleared get their corners' moves
+    back.
+    """
+    from .collision import carry_layers
+    from .selfcross import self_crossing
+
+    was = self_crossing(x, wf)
+    z0 = carry_layers(x, y, wf, gap_cm, body=collider)
+    z, best = z0.copy(), z0
+    crossed = self_crossing(z, wf)
+    fewest = np.count_nonzero(crossed)
+    for _ in range(3):
+        back = np.unique(wf[crossed & ~was])
+        back = back[np.any(z[back] != x[back], axis=1)]
+        back = back[~collider.inside(x[back])]
+        if len(back) == 0:
+            break
+        z[back] = x[back]
+        crossed = self_crossing(z, wf)
+        if np.count_nonzero(crossed) < fewest:
+            best, fewest = z.copy(), np.count_nonzero(crossed)
+    z = best.copy()
+    allowed = int(np.count_nonzero(_crossing(collider, y, wf)))
+    for ref in (z0, y):  # through the skin: the carried move back, else the plain one
+        skin = _crossing(collider, z, wf)
+        if np.count_nonzero(skin) <= allowed:
+            break
+        corners = np.unique(wf[skin])
+        z[corners] = ref[corners]
+    return z if np.count_nonzero(_crossing(collider, z, wf)) <= allowed else y
 
 
 def _measure(
