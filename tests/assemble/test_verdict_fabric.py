@@ -6,28 +6,12 @@ import dataclasses
 
 import numpy as np
 import pytest
-from test_verdict import _radius_for, _seam_welded, _tube
+from test_verdict import _measured, _radius_for, _seam_welded, _tube
 
 from patternbridge.assemble.defects import girth_strain, grain_directions, hem_rise_cm
 from patternbridge.assemble.mesh2d import mesh_pattern
-from patternbridge.assemble.verdict import Check, Measured, Verdict, VerdictLimits, edge_limits, judge, limits_for
+from patternbridge.assemble.verdict import Check, Verdict, VerdictLimits, edge_limits, judge, limits_for
 from patternbridge.pattern.fabric import FABRIC_STRETCH, FabricClass
-
-
-def _measured(**kw) -> Measured:
-    base = dict(
-        seam_gaps_mm={},
-        seam_excess_cm={},
-        self_crossing={},
-        skin_depth_mm=0.0,
-        skin_share=0.0,
-        skin_pieces=(),
-        stretch_share=0.0,
-        torn_share=0.0,
-        stretch_pieces=(),
-        levels_cm={},
-    )
-    return Measured(**{**base, **kw})
 
 
 def _tube_strain(strain: float) -> float:
