@@ -10,6 +10,16 @@ for the file's sample size is known to about half a size step (a size adds
 4 cm to an 84-100 cm girth, 4-5 %), so a pattern 1 % under the chart's body
 says nothing about its fabric.
 
+A **pullover** (no placket, every front and back closed at its centre line:
+on a fold, drawn whole or sewn to its mirror copy) goes on over the head. A
+woven neck opening gives only its limit stretch across the grain
+(:data:`~patternbridge.pattern.fabric.FABRIC_STRETCH`, 5 %), so a neck
+opening that even stretched that far is smaller than the head girth of the
+file's size system (:data:`~.size_chart.HEAD_GIRTH_CM`) is cut from a knit:
+the crew necks of the shared T-shirts (48.7 and 51.9 cm against the men's
+57 cm head) are; the tanks' scoops (55.5-61.1 cm against the women's 55 cm)
+and the CLO shirt's neck (57.3 cm) say nothing.
+
 The words a file writes on a piece (its category and material annotation,
 ``1XRIB``, ``JERSEY``, ``DENIM``, in several languages) are hints: they
 name the fabric of that piece, and the garment's when they are written on its
@@ -24,11 +34,20 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from types import MappingProxyType
 
-from ..pattern.fabric import FabricClass
+from ..pattern.fabric import FABRIC_STRETCH, FabricClass
 from ..pattern.model import MeasurementLink, Pattern, Piece
-from .model import Role, RoleGuess, is_band
+from .bands import side_parts
+from .model import BridgeInference, Role, RoleGuess, is_band
+from .openings import openings
 
-__all__ = ["KNIT_AT_MOST", "NEGATIVE_EASE_SHARE", "FabricInference", "infer_fabric", "word_fabric"]
+__all__ = [
+    "KNIT_AT_MOST",
+    "NEGATIVE_EASE_SHARE",
+    "FabricInference",
+    "infer_fabric",
+    "pullover_neck_cm",
+    "word_fabric",
+]
 
 NEGATIVE_EASE_SHARE = 0.025
 """A girth's ease below minus this share of the body girth says the fabric stretches."""
@@ -78,6 +97,46 @@ def word_fabric(piece: Piece) -> tuple[FabricClass, str] | None:
     return None
 
 
+def pullover_neck_cm(pattern: Pattern, inference: BridgeInference) -> float | None:
+    """The neck opening (cm, every copy counted) of a garment that goes on over the head, or None.
+
+    None when the garment opens: a placket among its pieces, or a front or back
+    whose centre line is neither a fold, nor drawn whole, nor sewn to its
+    mirror copy; or when it has no neckline. The opening is the neckline's free
+    edge before any band is sewn to it (a band only makes it smaller).
+    """
+    chosen = set(inference.chosen)
+    roles = {n: inference.roles[n].role for n in chosen}
+    if Role.PLACKET in roles.values():
+        return None
+    centred = {side.piece for j in inference.joins if j.kind in ("centre", "fold") for side in (j.a, j.b)}
+    for name, role in roles.items():
+        o = inference.orientations[name]
+        if role in (Role.FRONT, Role.BACK) and o.fold is None and not o.whole and name not in centred:
+            return None
+    used = {
+        (side.piece, part)
+        for j in inference.joins
+        if j.kind != "band"
+        for side in (j.a, j.b)
+        for part in side_parts(pattern, side)
+    }
+    necks = [o for o in openings(pattern, used, dict(inference.roles), inference.orientations, chosen)]
+    whole = [o.length_cm for o in necks if o.kind == "neck" and not o.part]
+    return whole[0] if whole else None
+
+
+def _over_the_head(neck_cm: float | None, body: Mapping[str, float]) -> str | None:
+    """Why a woven could not go over the head through a neck opening of ``neck_cm``, or None."""
+    head, give = body.get("head_girth"), FABRIC_STRETCH[FabricClass.WOVEN].across_limit
+    if neck_cm is None or head is None or neck_cm * (1.0 + give) >= head:
+        return None
+    return (
+        f"a pullover whose neck opening of {neck_cm:.1f} cm, stretched {100 * give:g} % as a woven gives, "
+        f"is under the head girth of {head:g} cm: it goes over the head only by stretching"
+    )
+
+
 def _tightest(links: Sequence[MeasurementLink], body: Mapping[str, float]) -> tuple[float, MeasurementLink] | None:
     """The girth link with the most negative ease as a share of its body girth, or None."""
     girths = [
@@ -94,14 +153,17 @@ def infer_fabric(
     chosen: Sequence[str],
     links: Sequence[MeasurementLink],
     body: Mapping[str, float],
+    *,
+    neck_cm: float | None = None,
 ) -> FabricInference:
-    """The fabric of the chosen garment from its links' ease against ``body`` and the pieces' fabric words.
+    """The fabric of the chosen garment from its links' ease against ``body``, its neck and the pieces' words.
 
     Parameters
     ----------
     roles : piece -> inferred role ; chosen : the garment's pieces
     links : the measurement links read off the pattern (:mod:`.links`), ease in cm
-    body : the sample body the ease was read against, measurement id -> cm
+    body : the sample body the ease was read against, measurement id -> cm (``head_girth`` among them)
+    neck_cm : the neck opening of a pullover (:func:`pullover_neck_cm`), None for a garment that opens
     """
     words = {name: word_fabric(pattern.piece(name)) for name in chosen}
     body_pieces = [n for n in chosen if not is_band(roles[n].role) and roles[n].role is not Role.INTERLINING]
@@ -110,6 +172,9 @@ def infer_fabric(
     if said:
         name, (fabric, word) = max(said, key=lambda s: _STRETCH_ORDER[s[1][0]])
         why = f"{name} says {word!r}"
+    head = _over_the_head(neck_cm, body)
+    if head is not None and _STRETCH_ORDER[FabricClass.KNIT] > _STRETCH_ORDER[fabric]:
+        fabric, why = FabricClass.KNIT, head
     tight = _tightest(links, body)
     if tight is not None and tight[0] < -NEGATIVE_EASE_SHARE:
         share, link = tight

@@ -22,7 +22,7 @@ from ..pattern.json import measurement_link_to_dict
 from ..pattern.model import Pattern
 from .alternatives import copies_cut
 from .band_spans import split_bands
-from .fabric import infer_fabric
+from .fabric import infer_fabric, pullover_neck_cm
 from .landmarks import piece_landmarks, worn_side
 from .links import measurement_links
 from .model import BridgeInference, Join
@@ -143,6 +143,7 @@ def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str,
     a joint between two of the band's vertices is written with ``"insert": true``
     and becomes a vertex when the sidecar is applied.
     """
+    neck = pullover_neck_cm(pattern, inference)  # before the bands become ordinary seams
     pattern, inference, inserted = split_bands(pattern, inference)
     marks: dict[str, set[int]] = {p.name: set() for p in pattern.pieces}
     for j in inference.joins:
@@ -154,7 +155,7 @@ def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str,
         for leg in link.legs:
             marks[leg.piece] |= {int(leg.start[1:]), int(leg.end[1:])}
     found = piece_landmarks(pattern, inference)
-    fabric = infer_fabric(pattern, inference.roles, inference.chosen, links, chart.body_cm)
+    fabric = infer_fabric(pattern, inference.roles, inference.chosen, links, chart.body_cm, neck_cm=neck)
     pieces = []
     for p in pattern.pieces:
         o = inference.orientations[p.name]

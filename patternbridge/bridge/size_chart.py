@@ -20,6 +20,12 @@ control dimension and a chart of body measurements:
   not state, labels that are the girth itself as the library's own DXFs
   write them): the reference body, the library men's sample size (chest 96).
 
+**Head girth.** Neither library chart gives it, and it hardly changes with
+the size: every system's body gets its adult mean, ``HEAD_GIRTH_CM`` (men
+57 cm, women 55 cm, rounded means of the large adult anthropometric
+surveys such as ANSUR II), which says whether a pullover's neck opening
+goes over the head without stretching (:mod:`.fabric`).
+
 A chart read at a girth outside its five sizes is extended linearly with its
 own steps. A dimension the women's chart lacks (the outside leg, the inside
 leg, the ankle) is the men's sample value in proportion to the height
@@ -52,7 +58,15 @@ import numpy as np
 
 from ..library.sizes import MEN, WOMEN, SizeChart
 
-__all__ = ["CALF_UNDER_KNEE_CM", "LEG_LEVELS", "REFERENCE_BODY_CM", "ChartChoice", "SizeSystem", "choose_chart"]
+__all__ = [
+    "CALF_UNDER_KNEE_CM",
+    "HEAD_GIRTH_CM",
+    "LEG_LEVELS",
+    "REFERENCE_BODY_CM",
+    "ChartChoice",
+    "SizeSystem",
+    "choose_chart",
+]
 
 
 class SizeSystem(enum.Enum):
@@ -62,6 +76,9 @@ class SizeSystem(enum.Enum):
     MEN_EU = "men_eu"
     REFERENCE = "reference"
 
+
+#: the adult mean head girth of each size system (module docstring: no chart states it)
+HEAD_GIRTH_CM = MappingProxyType({"women": 55.0, "men": 57.0})
 
 #: the calf girth under the knee girth of the same size, per library chart (module docstring: no chart states it)
 CALF_UNDER_KNEE_CM = MappingProxyType({"men": 0.0, "women": 1.0})
@@ -74,8 +91,9 @@ LEG_LEVELS = MappingProxyType(
 
 
 def with_leg_girths(body: Mapping[str, float], chart: SizeChart) -> dict[str, float]:
-    """``body`` with the calf girth of :data:`CALF_UNDER_KNEE_CM` added (it keeps one it has)."""
+    """``body`` with the calf girth of :data:`CALF_UNDER_KNEE_CM` and the head girth added (it keeps those it has)."""
     out = dict(body)
+    out.setdefault("head_girth", HEAD_GIRTH_CM[chart.name])
     if "knee_girth_right" in out:
         out.setdefault("calf_girth_right", out["knee_girth_right"] - CALF_UNDER_KNEE_CM[chart.name])
     return out

@@ -8,7 +8,7 @@ import json
 import pytest
 
 from patternbridge.bridge import infer_bridge
-from patternbridge.bridge.fabric import infer_fabric, word_fabric
+from patternbridge.bridge.fabric import infer_fabric, pullover_neck_cm, word_fabric
 from patternbridge.bridge.sidecar import inference_sidecar
 from patternbridge.errors import InputError
 from patternbridge.io.dxf_aama import read_dxf
@@ -19,8 +19,10 @@ from patternbridge.testing import assert_patterns_equal
 
 # file -> (garment fabric, pieces of another fabric): the leggings are drafted 15.6 % under the calf, the
 # relaxed tank 3.8 % under the bust, the crew-neck top 2.8 % under the hips at its hem; the polo's collar and
-# cuffs are written "1XRIB" on a body whose fabric the file does not say
+# cuffs are written "1XRIB" on a body whose fabric the file does not say; the classic tee's crew neck (51.9 cm)
+# does not go over a man's head (57 cm) unless it stretches
 EXPECTED = {
+    "MEN CLASSIC TEE.DXF": (FabricClass.KNIT, {}),
     "GLX4802S19_AAMA.DXF": (FabricClass.STRETCH_KNIT, {}),
     "WM LOOSE SHAPE TANK.DXF": (FabricClass.KNIT, {}),
     "GMH1004F15-2.DXF": (FabricClass.KNIT, {}),
@@ -119,3 +121,37 @@ def test_fabric_words_are_hints_on_the_body_and_name_a_trims_own_fabric():
     assert got.fabric is FabricClass.KNIT
     assert word_fabric(_piece("x", annotation="1XFABRIC")) is None
     assert word_fabric(_piece("x", category="LEGGING", annotation="LYCRA")) == (FabricClass.STRETCH_KNIT, "LYCRA")
+
+
+def test_a_pullover_neck_smaller_than_the_head_makes_a_knit():
+    pattern = Pattern(style="s", pieces=(_piece("fr", category="POPLIN FRONT"),))
+    body = {"head_girth": 57.0}
+    infer = lambda neck: infer_fabric(pattern, _roles("fr"), ("fr",), (), body, neck_cm=neck)  # noqa: E731
+    # 54 cm stretched the woven's 5 % is 56.7 cm, under the head: it must be a knit, whatever the words say
+    assert infer(54.0).fabric is FabricClass.KNIT and "57 cm" in infer(54.0).why
+    # 54.3 cm stretched 5 % reaches 57.0 cm: a woven goes over the head
+    assert infer(54.3).fabric is FabricClass.WOVEN
+    assert infer(None).fabric is FabricClass.WOVEN  # a garment that opens
+    assert infer_fabric(pattern, _roles("fr"), ("fr",), (), {}, neck_cm=40.0).fabric is FabricClass.WOVEN
+
+
+# file -> the neck opening of a pullover (cm, both halves of the fold counted) or None for one that opens:
+# the tees' crew necks, the CLO shirt's centre fronts sewn to each other, the polo's placket
+PULLOVER_NECKS = {
+    "MEN CLASSIC TEE.DXF": 51.9,
+    "GMH1004F15-2.DXF": 48.7,
+    "clo-pattern.dxf": 57.3,
+    "WM LOOSE SHAPE TANK.DXF": 61.1,
+    "GMX1016S18_AAMA.DXF": None,
+    "annotation.DXF": None,
+    "GLX4802S19_AAMA.DXF": None,
+}
+
+
+@pytest.mark.shared
+@pytest.mark.parametrize("name", sorted(PULLOVER_NECKS))
+def test_the_neck_opening_of_the_real_pullovers(aama_dir, name):
+    pattern, _ = read_dxf(aama_dir / name)
+    got = pullover_neck_cm(pattern, infer_bridge(pattern))
+    want = PULLOVER_NECKS[name]
+    assert got is None if want is None else got == pytest.approx(want, abs=0.1)
