@@ -17,8 +17,9 @@ rule that placed it and a confidence:
   the side of the neck down the arm).
 * :func:`detect_neck` — the narrowest section between the shoulders and the
   head; the front neck point deepest behind the chord of the front midline
-  profile from the upper chest up to the chin, the back neck point on the back midline where the section has grown
-  by 30 % (the neck base), the side neck points at the neck/shoulder corner of
+  profile from the upper chest up to the chin, the back neck point where the back midline crosses the level
+  2 % of S above the mid-height of the neck base (the section 30 % wider than the neck) and the notch (a
+  surface point between the vertex rows), the side neck points at the neck/shoulder corner of
   the frontal section's contour, walked from the narrowest neck to the shoulder point.
 * :func:`detect_torso_points` — the waist (narrowest torso section), chest
   (widest above) and hip (widest below) levels of the girth search, and their
