@@ -102,10 +102,7 @@ def _from_skin(character: Character) -> np.ndarray:
 
 
 def _from_landmarks(character: Character, vertices: np.ndarray) -> np.ndarray:
-    lm = {
-        name: vertices[mark.vertex] if mark.vertex is not None else mark.position
-        for name, mark in character.landmarks.items()
-    }
+    lm = {name: mark.at(vertices, character.faces) for name, mark in character.landmarks.items()}
     need = (
         "crotch_point",
         "armpit_point_left",
@@ -169,12 +166,12 @@ def segment_body(character: Character, *, vertices: np.ndarray | None = None) ->
 def crotch_height(character: Character, vertices: np.ndarray, parts: BodyParts) -> float | None:
     """Height (y, cm) of the crotch in ``vertices`` (V, 3), or None.
 
-    The ``crotch_point`` landmark's vertex, else the top of the legs; None
-    when the landmark has no vertex and no vertex is labelled a leg.
+    The ``crotch_point`` landmark's surface point, else the top of the legs;
+    None when the landmark has no vertex and no vertex is labelled a leg.
     """
     lm = character.landmarks.get("crotch_point")
-    if lm is not None and lm.vertex is not None:
-        return float(vertices[lm.vertex][1])
+    if lm is not None and (lm.vertex is not None or lm.face is not None):
+        return float(lm.at(vertices, character.faces)[1])
     legs = parts.mask(BodyPart.LEFT_LEG) | parts.mask(BodyPart.RIGHT_LEG)
     return float(vertices[legs, 1].max()) if legs.any() else None
 

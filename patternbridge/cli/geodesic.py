@@ -56,8 +56,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def _resolve(spec: str, character, what: str) -> int:
-    """Vertex id for a vertex-id string or a landmark name."""
+def _resolve(spec: str, character, what: str):
+    """(path end, nearest vertex id) for a vertex-id string or a landmark name.
+
+    A landmark between vertices is a path end inside its face
+    (:class:`~patternbridge.geodesic.SurfacePoint`), else its vertex id.
+    """
     import numpy as np
 
     from ..errors import LandmarkError
@@ -71,7 +75,7 @@ def _resolve(spec: str, character, what: str) -> int:
                 f"--{what} {spec}: vertex id out of range (the loaded mesh has "
                 f"{n} vertices); pass 0..{n - 1} or a landmark name"
             )
-        return v
+        return v, v
     lm = character.landmarks.get(text)
     if lm is None:
         known = ", ".join(sorted(character.landmarks)) or "none"
@@ -79,10 +83,14 @@ def _resolve(spec: str, character, what: str) -> int:
             f"--{what} {spec}: no such landmark (known: {known}); "
             "pass a vertex id, a known name, or --landmarks FILE"
         )
+    if lm.face is not None:
+        from ..geodesic import SurfacePoint
+
+        return SurfacePoint(face=lm.face, bary=lm.bary), int(lm.vertex)
     if lm.vertex is not None:
-        return int(lm.vertex)
+        return int(lm.vertex), int(lm.vertex)
     d = np.linalg.norm(character.vertices - lm.position, axis=1)
-    return int(np.argmin(d))
+    return int(np.argmin(d)), int(np.argmin(d))
 
 
 def run(args: argparse.Namespace) -> int:
@@ -96,8 +104,8 @@ def run(args: argparse.Namespace) -> int:
         args.mesh, units=args.units, up=args.up, landmarks=args.landmarks
     )
     print_findings(report)
-    a = _resolve(args.source, character, "from")
-    b = _resolve(args.target, character, "to")
+    a, a_vertex = _resolve(args.source, character, "from")
+    b, b_vertex = _resolve(args.target, character, "to")
     t0 = time.perf_counter()
     mesh = SurfaceMesh(character.vertices, character.faces)
     path = geodesic_path(mesh, a, b, tape=not args.no_tape, method=args.method)
@@ -108,8 +116,8 @@ def run(args: argparse.Namespace) -> int:
                 "mesh": str(args.mesh),
                 "from": args.source,
                 "to": args.target,
-                "from_vertex": a,
-                "to_vertex": b,
+                "from_vertex": a_vertex,
+                "to_vertex": b_vertex,
                 "length_cm": round(path.length, 6),
                 "surface_length_cm": round(path.surface_length, 6),
                 "tape": not args.no_tape,

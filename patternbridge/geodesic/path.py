@@ -61,7 +61,24 @@ class GeodesicPath:
             getattr(self, name).flags.writeable = False
 
 
+#: a face point on an edge of its face is moved this share of the way to the face's centre
+_OFF_EDGE = 1e-6
+
+
 def _endpoint(mesh: SurfaceMesh, p: SurfacePoint) -> tuple[Endpoint, int]:
+    """The path end and the vertex its edge path starts from.
+
+    A face point lying on (or within :data:`_OFF_EDGE` / 3 of) an edge of its
+    face (a weight of 0: a plane section's point) is moved
+    :data:`_OFF_EDGE` of the way into the face
+    (1e-6 cm on a 1 cm face): exactly on the edge, it lay on the strip's
+    first portal whenever the path left through that edge, the funnel opened
+    to a straight angle there and the path was bent round a far corner (a back
+    width between two section points came out 2 cm long).
+    """
+    if p.vertex_id is None and min(p.bary) < _OFF_EDGE / 3.0:
+        b = (np.asarray(p.bary) + _OFF_EDGE / 3.0) / (1.0 + _OFF_EDGE)
+        p = SurfacePoint(face=p.face, bary=tuple(b))
     xyz = mesh.point_position(p)
     if p.vertex_id is not None:
         return Endpoint(

@@ -81,13 +81,17 @@ HEIGHTS: dict[str, str] = {
 }
 
 
-def _vertex_of(lm: Landmark, mesh) -> int:
-    if lm.vertex is None:
-        from ..mesh.load import snap_to_surface
+def _surface_point(lm: Landmark, mesh):
+    """The landmark as a path end: its face and weights when it lies between vertices, else its vertex."""
+    from ..geodesic import SurfacePoint
 
-        _, vid = snap_to_surface(mesh.vertices, mesh.faces, lm.position[None])
-        return int(vid[0])
-    return int(lm.vertex)
+    if lm.face is not None:
+        return SurfacePoint(face=lm.face, bary=lm.bary)
+    if lm.vertex is not None:
+        return SurfacePoint.vertex(lm.vertex)
+    from ..mesh.surface_point import locate_on_surface
+
+    return _surface_point(locate_on_surface(mesh.vertices, mesh.faces, lm.position).landmark(0, lm.name), mesh)
 
 
 def measure_lengths(
@@ -106,7 +110,7 @@ def measure_lengths(
     ----------
     vertices : (V, 3) float64, cm, +Y up
     faces : (F, 3) int64
-    landmarks : name -> Landmark (vertex ids are used as path ends)
+    landmarks : name -> Landmark (their surface points are the path ends)
     ids : which lengths (default: all of :data:`PATHS` and :data:`HEIGHTS`)
     tape : apply the tape correction
     errors : when given, failures are recorded there (id -> reason) instead of raised
@@ -155,9 +159,9 @@ def measure_lengths(
                 "tape correction is not available in this build; lengths follow the skin"
             )
             tape = False
-    cache: dict[tuple[int, int, bool], object] = {}
+    cache: dict[tuple[object, object, bool], object] = {}
 
-    def leg(a: int, b: int, taut: bool):
+    def leg(a, b, taut: bool):
         key = (a, b, taut)
         if key not in cache:
             if (b, a, taut) in cache:
@@ -181,7 +185,7 @@ def measure_lengths(
         try:
             values, polylines, legs = [], [], []
             for chain in chains:
-                vids = [_vertex_of(landmarks[n], mesh) for n in chain]
+                vids = [_surface_point(landmarks[n], mesh) for n in chain]
                 total, pts = 0.0, []
                 skin = ON_SKIN.get(mid, frozenset())
                 for j, (a, b) in enumerate(itertools.pairwise(vids)):

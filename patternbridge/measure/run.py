@@ -89,11 +89,8 @@ def measure(
     body_c = rest.character if rest is not None else character
     marks = resolve_landmarks(body_c, detect=detect)
     positions = {k: lm.position for k, lm in marks.items()}  # in the measuring pose
-    if rest is not None:  # back to the given pose by vertex id
-        marks = {
-            k: replace(lm, position=character.vertices[lm.vertex]) if lm.vertex is not None else lm
-            for k, lm in marks.items()
-        }
+    if rest is not None:  # back to the given pose: the same face and weights (or vertex id)
+        marks = {k: lm.moved_to(character.vertices, character.faces) for k, lm in marks.items()}
         log.info("%s: measured girths with the upper arms lowered by %s", character.name, rest.lowered_deg)
     errors: dict[str, str] = {}
     needed = {n for d in DEFINITIONS.values() for n in d.landmarks} | {"top_of_head"}

@@ -8,7 +8,7 @@ skeleton, skin weights and datum points (landmarks). Loaders in
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from enum import StrEnum
 from types import MappingProxyType
 
@@ -113,8 +113,14 @@ class LandmarkEvidence:
 class Landmark:
     """A datum point on the body surface.
 
-    position : (3,) float64, cm
-    vertex : nearest mesh vertex id, or None when the point lies inside a face
+    position : (3,) float64, cm, on the surface: a vertex, or a point inside a
+        face where a rule defines a level or a point between vertices
+    vertex : the nearest mesh vertex id (for code that needs an id), or None
+        when unknown (a position given for a mesh without ids)
+    face, bary : the face holding ``position`` and its barycentric weights of
+        ``faces[face]``, when the point lies between vertices; None when it
+        is the vertex itself. They carry the point to another pose of the same
+        mesh (:meth:`at`) and start geodesics there (:meth:`surface_point`).
     source : :class:`LandmarkSource` (or its string): ``"file"``, ``"skeleton"``
         or ``"detected"``
     confidence : 0..1; 1 for a point given in a file, lower for projected or
@@ -127,12 +133,22 @@ class Landmark:
     name: str
     position: np.ndarray
     vertex: int | None = None
+    face: int | None = None
+    bary: tuple[float, float, float] | None = None
     source: LandmarkSource = LandmarkSource.FILE
     confidence: float | None = None
     evidence: LandmarkEvidence = LandmarkEvidence()
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "position", frozen(as_float_array(self.position, (3,), self.name)))
+        if (self.face is None) != (self.bary is None):
+            raise ValueError(f"landmark {self.name}: give both face and bary, or neither")
+        if self.face is not None:
+            b = tuple(float(x) for x in self.bary)
+            if len(b) != 3 or not np.all(np.isfinite(b)) or abs(sum(b) - 1.0) > 1e-6:
+                raise ValueError(f"landmark {self.name}: bary {self.bary!r} is not three weights summing to 1")
+            object.__setattr__(self, "face", int(self.face))
+            object.__setattr__(self, "bary", b)
         src = LandmarkSource(self.source)
         object.__setattr__(self, "source", src)
         conf = BASE_CONFIDENCE[src] if self.confidence is None else float(self.confidence)
@@ -143,6 +159,22 @@ class Landmark:
     @property
     def is_low_confidence(self) -> bool:
         return self.confidence < LOW_CONFIDENCE
+
+    def at(self, vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+        """(3,) this surface point on ``vertices``: the same mesh (same ids) in another pose.
+
+        A point inside a face keeps its barycentric weights, a vertex its id;
+        a point with neither is returned as it is.
+        """
+        if self.face is not None:
+            return np.asarray(self.bary) @ np.asarray(vertices, dtype=np.float64)[faces[self.face]]
+        if self.vertex is not None:
+            return np.array(vertices[self.vertex], dtype=np.float64)
+        return np.array(self.position)
+
+    def moved_to(self, vertices: np.ndarray, faces: np.ndarray) -> Landmark:
+        """This landmark carried to ``vertices`` (:meth:`at`), face and weights kept."""
+        return replace(self, position=self.at(vertices, faces))
 
 
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)

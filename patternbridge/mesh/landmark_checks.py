@@ -76,13 +76,13 @@ def _mirror(p: np.ndarray, c: float) -> np.ndarray:
     return np.array([2.0 * c - p[0], p[1], p[2]])
 
 
-def _snap(v: np.ndarray, p: np.ndarray) -> int:
-    return int(np.argmin(np.sum((v - p) ** 2, axis=1)))
+def _moved(lm: Landmark, sym: _Symmetry, p: np.ndarray, text: str, confidence: float) -> Landmark:
+    """``lm`` moved to the surface point closest to ``p``."""
+    from .surface_point import locate_on_surface
 
-
-def _moved(lm: Landmark, v: np.ndarray, vid: int, text: str, confidence: float) -> Landmark:
-    return replace(lm, position=v[vid], vertex=vid, confidence=float(np.clip(confidence, 0.0, 1.0)),
-                   evidence=lm.evidence.with_check(text))
+    at = locate_on_surface(sym.v, sym.f, p).landmark(0, lm.name)
+    return replace(lm, position=at.position, vertex=at.vertex, face=at.face, bary=at.bary,
+                   confidence=float(np.clip(confidence, 0.0, 1.0)), evidence=lm.evidence.with_check(text))
 
 
 class _Symmetry:
@@ -125,7 +125,7 @@ def _check_midline(marks: dict[str, Landmark], v: np.ndarray, sym: _Symmetry) ->
         idx = np.flatnonzero(band)
         target = np.array([c, lm.position[1], lm.position[2]])
         vid = int(idx[np.argmin(np.sum((v[idx] - target) ** 2, axis=1))])
-        marks[name] = _moved(lm, v, vid, f"moved to the midline of the symmetric body (was {off:+.1f} cm off)",
+        marks[name] = _moved(lm, sym, v[vid], f"moved to the midline of the symmetric body (was {off:+.1f} cm off)",
                              lm.confidence * 0.9)
 
 
@@ -146,13 +146,13 @@ def _check_pairs(marks: dict[str, Landmark], v: np.ndarray, sym: _Symmetry, name
         if file_side or abs(a.confidence - b.confidence) > 0.05:
             keep, fix = (a, b) if (a.source == LandmarkSource.FILE
                                    or (b.source != LandmarkSource.FILE and a.confidence > b.confidence)) else (b, a)
-            vid = _snap(v, _mirror(keep.position, c))
-            marks[fix.name] = _moved(fix, v, vid, f"{text}: mirrored from {keep.name}", keep.confidence * 0.9)
+            marks[fix.name] = _moved(fix, sym, _mirror(keep.position, c), f"{text}: mirrored from {keep.name}",
+                                     keep.confidence * 0.9)
         else:
             pa = 0.5 * (a.position + _mirror(b.position, c))
             conf = min(a.confidence, b.confidence) * 0.7
-            marks[left] = _moved(a, v, _snap(v, pa), f"{text}: mirror-averaged with {right}", conf)
-            marks[right] = _moved(b, v, _snap(v, _mirror(pa, c)), f"{text}: mirror-averaged with {left}", conf)
+            marks[left] = _moved(a, sym, pa, f"{text}: mirror-averaged with {right}", conf)
+            marks[right] = _moved(b, sym, _mirror(pa, c), f"{text}: mirror-averaged with {left}", conf)
         log.warning("%s: %s and %s were %s; corrected", name, left, right, text)
 
 

@@ -36,6 +36,7 @@ from ..report import Report
 from ..units import unit_factor
 from .character import Character, Landmark, LandmarkEvidence, Skeleton, Skin
 from .frame import STATURE_RANGE_CM, detect_facing, facing_matrix, main_component
+from .surface_point import locate_on_surface
 from .validate import check_landmark_table, check_sidecar, check_vertices
 
 __all__ = [
@@ -427,11 +428,11 @@ def _place_landmarks(
             snap_names.append(name)
             snap_points.append(transform(p[None])[0])
     if snap_names:
-        pts, vids = snap_to_surface(vertices, faces, np.array(snap_points))
-        moved = np.linalg.norm(pts - np.asarray(snap_points), axis=1)
-        for name, p, v, d in zip(snap_names, pts, vids, moved, strict=True):
-            out[name] = Landmark(
-                name=name, position=p, vertex=int(v), source=source,
+        at = locate_on_surface(vertices, faces, np.array(snap_points))
+        moved = np.linalg.norm(at.positions - np.asarray(snap_points), axis=1)
+        for i, (name, d) in enumerate(zip(snap_names, moved, strict=True)):
+            out[name] = at.landmark(
+                i, name, source=source,
                 evidence=LandmarkEvidence(
                     rule=f"{Path(where).name}: position, snapped {d:.2g} cm to the surface"
                 ),
@@ -439,86 +440,16 @@ def _place_landmarks(
     return out
 
 
-def closest_point_on_triangles(
-    p: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray
-) -> np.ndarray:
-    """Closest points of triangles (a, b, c) to points p, all (n, 3); vectorised region test."""
-    ab, ac, ap = b - a, c - a, p - a
-    d1, d2 = np.einsum("ij,ij->i", ab, ap), np.einsum("ij,ij->i", ac, ap)
-    bp = p - b
-    d3, d4 = np.einsum("ij,ij->i", ab, bp), np.einsum("ij,ij->i", ac, bp)
-    cp = p - c
-    d5, d6 = np.einsum("ij,ij->i", ab, cp), np.einsum("ij,ij->i", ac, cp)
-    va = d3 * d6 - d5 * d4
-    vb = d5 * d2 - d1 * d6
-    vc = d1 * d4 - d3 * d2
-    denom = va + vb + vc
-    denom = np.where(np.abs(denom) < 1e-300, 1e-300, denom)
-    v = vb / denom
-    w = vc / denom
-    out = a + ab * v[:, None] + ac * w[:, None]  # inside the face
-    with np.errstate(divide="ignore", invalid="ignore"):
-        # edges
-        t_ab = d1 / (d1 - d3)
-        m = (vc <= 0) & (d1 >= 0) & (d3 <= 0)
-        out[m] = (a + ab * t_ab[:, None])[m]
-        t_ac = d2 / (d2 - d6)
-        m = (vb <= 0) & (d2 >= 0) & (d6 <= 0)
-        out[m] = (a + ac * t_ac[:, None])[m]
-        t_bc = (d4 - d3) / ((d4 - d3) + (d5 - d6))
-        m = (va <= 0) & ((d4 - d3) >= 0) & ((d5 - d6) >= 0)
-        out[m] = (b + (c - b) * t_bc[:, None])[m]
-    # corners
-    m = (d1 <= 0) & (d2 <= 0)
-    out[m] = a[m]
-    m = (d3 >= 0) & (d4 <= d3)
-    out[m] = b[m]
-    m = (d6 >= 0) & (d5 <= d6)
-    out[m] = c[m]
-    return out
-
-
 def snap_to_surface(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray):
-    """Closest surface points and their nearest vertex.
-
-    The closest point is searched on the faces around the 16 nearest vertices
-    of each query point (exact for points near the surface).
-
-    Parameters
-    ----------
-    vertices : (V, 3) float64, cm
-    faces : (F, 3) int64
-    points : (n, 3) float64, cm
+    """Closest surface points and their nearest vertex (:func:`locate_on_surface`).
 
     Returns
     -------
     positions : (n, 3) float64, on the surface
     vertex : (n,) int64, the nearest vertex of the face the point lies on
     """
-    from scipy.spatial import cKDTree
-
-    points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
-    k = min(16, len(vertices))
-    _, near = cKDTree(vertices).query(points, k=k)
-    near = np.asarray(near).reshape(len(points), -1)
-    order = np.argsort(faces.ravel(), kind="stable")
-    vf_face = order // 3
-    starts = np.searchsorted(faces.ravel()[order], np.arange(len(vertices) + 1))
-    positions = np.zeros_like(points)
-    vids = np.zeros(len(points), dtype=np.int64)
-    for i, p in enumerate(points):
-        cand = np.unique(
-            np.concatenate([vf_face[starts[v] : starts[v + 1]] for v in near[i]])
-        )
-        tri = vertices[faces[cand]]
-        q = closest_point_on_triangles(
-            np.broadcast_to(p, (len(cand), 3)).copy(), tri[:, 0], tri[:, 1], tri[:, 2]
-        )
-        j = int(np.argmin(np.sum((q - p) ** 2, axis=1)))
-        positions[i] = q[j]
-        corners = faces[cand[j]]
-        vids[i] = corners[np.argmin(np.sum((vertices[corners] - q[j]) ** 2, axis=1))]
-    return positions, vids
+    where = locate_on_surface(vertices, faces, points)
+    return where.positions, where.vertex
 
 
 def _sidecar_rig(sidecar: dict | None, raw: dict) -> tuple[dict | None, dict | None]:

@@ -108,10 +108,7 @@ def arms_down(character: Character) -> RestPose | None:
     if not rotations:
         return None
     v = pose_vertices(character, rotations)
-    marks = {
-        k: replace(lm, position=v[lm.vertex]) if lm.vertex is not None else lm
-        for k, lm in character.landmarks.items()
-    }
+    marks = {k: lm.moved_to(v, character.faces) for k, lm in character.landmarks.items()}
     posed = replace(
         character,
         vertices=v,

@@ -32,3 +32,31 @@ def test_arms_already_down_or_no_rig_is_left_alone(characters_dir):
     assert arms_down(a) is None
     bare, _ = load_character(characters_dir / "variants" / "C_heavy_male_tpose_remesh.obj")
     assert bare.skeleton is None and arms_down(bare) is None
+
+
+def test_surface_landmarks_ride_their_faces_down_and_back(characters_dir):
+    """A landmark inside a face keeps its face and weights through the re-pose: it stays on the skin
+    (at the same place of it) and comes back to the given pose exactly; one on a vertex stays on it."""
+    from dataclasses import replace
+
+    from patternbridge.mesh.character import Landmark
+    from patternbridge.mesh.surface_point import locate_on_surface
+
+    t, _ = load_character(characters_dir / "variants" / "B_slim_female_tpose.glb")
+    v, f = t.vertices, t.faces
+    shoulder = int(np.argmax(v[:, 0] - 0.2 * np.abs(v[:, 1] - 140.0)))  # on the raised left arm
+    face = int(np.flatnonzero((f == shoulder).any(axis=1))[0])
+    bary = (0.2, 0.3, 0.5)
+    at = locate_on_surface(v, f, np.asarray(bary) @ v[f[face]])
+    marks = {
+        "inside": at.landmark(0, "inside"),
+        "vertex": Landmark(name="vertex", position=v[shoulder], vertex=shoulder),
+    }
+    assert marks["inside"].face == face and marks["inside"].bary == pytest.approx(bary)
+    rest = arms_down(replace(t, landmarks=marks))
+    down = rest.character
+    for name, lm in down.landmarks.items():
+        assert np.linalg.norm(lm.position - marks[name].position) > 5.0  # the arm came down
+        np.testing.assert_allclose(lm.position, marks[name].at(down.vertices, f), atol=1e-12)
+        np.testing.assert_allclose(lm.moved_to(v, f).position, marks[name].position, atol=1e-9)
+    np.testing.assert_allclose(down.landmarks["vertex"].position, down.vertices[shoulder])

@@ -199,7 +199,7 @@ def landmark_position(character, vertices: np.ndarray, name: str, mirrored: bool
     if name not in lm:
         return None
     mark = lm[name]
-    return vertices[mark.vertex] if mark.vertex is not None else np.asarray(mark.position)
+    return mark.at(vertices, character.faces)
 
 
 def place_instances(
