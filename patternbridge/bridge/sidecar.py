@@ -105,11 +105,12 @@ def _with_twins(pattern: Pattern, inference: BridgeInference, seams: list[dict[s
 
     A sleeve's underarm or a pair of fronts and backs is sewn on both copies; the
     seam inferred on the drawn pieces is written once per body side. A piece's
-    seam to itself (a band's closure) is twinned only when its mirror copy is
-    sewn to another piece: closing a neck binding's mirror copy added a second
-    binding, sewn to nothing else, that was draped as a loose loop at the
-    shoulder (a band the file cuts more often than the garment wears it is
-    written with ``worn_copies``, :func:`_worn_copies`).
+    seam to itself (a one-piece leg's inseam) is twinned when its mirror copy is
+    sewn to another piece or cut anyway; a band's closure only when its mirror
+    copy is sewn to another piece: closing a neck binding's mirror copy added a
+    second binding, sewn to nothing else, that was draped as a loose loop at the
+    neck (a band the file cuts more often than the garment wears it is written
+    with ``worn_copies``, :func:`_worn_copies`).
     """
     swap = {"primary": "mirror", "mirror": "primary"}
     out = list(seams)
@@ -132,7 +133,13 @@ def _with_twins(pattern: Pattern, inference: BridgeInference, seams: list[dict[s
                 }
             )
     placed = {(e["piece"], e["copy"]) for s in out if s["a"]["piece"] != s["b"]["piece"] for e in (s["a"], s["b"])}
-    return out + [c for c in closures if (c["a"]["piece"], c["a"]["copy"]) in placed]
+    # a piece cut twice is worn twice (a one-piece leg's inseam on both legs), but a band only where it binds
+    cut = {
+        c["a"]["piece"]
+        for c in closures
+        if copies_cut(pattern.piece(c["a"]["piece"])) > 1 and not is_band(inference.roles[c["a"]["piece"]].role)
+    }
+    return out + [c for c in closures if (c["a"]["piece"], c["a"]["copy"]) in placed or c["a"]["piece"] in cut]
 
 
 def _worn_copies(pattern: Pattern, inference: BridgeInference, seams: list[dict[str, Any]]) -> dict[str, list[str]]:

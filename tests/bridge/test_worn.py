@@ -110,3 +110,16 @@ def test_a_neck_binding_cut_twice_is_worn_once(worn, aama_dir, name):
             assert {(p["name"], Copy.PRIMARY), (p["name"], Copy.MIRROR)} <= draped
     # the designer's quantity is kept in the pattern the grader and the DXF writer see
     assert applied.piece(binding).quantity == read_dxf(aama_dir / name)[0].piece(binding).quantity
+
+
+def test_a_piece_cut_twice_that_is_not_a_band_is_closed_on_both_copies(aama_dir):
+    """The leggings' one-piece legs are sewn to themselves (the inseam) and to their mirror copies only: each
+    leg is still closed on both legs (only a band's spare copy is left out)."""
+    pattern, _ = read_dxf(aama_dir / "GLX4802S19_AAMA.DXF")
+    data = inference_sidecar(pattern, infer_bridge(pattern))
+    assert not [p["name"] for p in data["pieces"] if "worn_copies" in p or "trim" in p]
+    inseams = [s for s in data["seams"] if s["a"]["piece"] == s["b"]["piece"] and s["a"]["copy"] == s["b"]["copy"]]
+    legs = {s["a"]["piece"] for s in inseams}
+    assert len(legs) == 3
+    for leg in legs:
+        assert {s["a"]["copy"] for s in inseams if s["a"]["piece"] == leg} == {"primary", "mirror"}, leg
