@@ -19,7 +19,7 @@ import numpy as np
 from ..library.seams import sew_line
 from ..library.sidecar import SIDECAR_FORMAT
 from ..pattern.json import measurement_link_to_dict
-from ..pattern.model import Pattern
+from ..pattern.model import Pattern, Role
 from .alternatives import copies_cut
 from .band_spans import split_bands
 from .fabric import infer_fabric
@@ -163,6 +163,10 @@ def _worn_copies(pattern: Pattern, inference: BridgeInference, seams: list[dict[
     return out
 
 
+#: a binding is folded over the edge it binds, half outside and half inside: the drape wears its outer half
+BINDING_FOLD = 0.5
+
+
 def _trim_dict(t: Trim) -> dict[str, str]:
     """A band applied flat as the sidecar writes it: the marks of its two cut lines."""
     return {
@@ -197,6 +201,8 @@ def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str,
     found = piece_landmarks(pattern, inference)
     seams = _with_twins(pattern, inference, [_seam(pattern, inference, j) for j in inference.joins])
     worn = _worn_copies(pattern, inference, seams)
+    sewn_to_others = {e["piece"] for s in seams if s["a"]["piece"] != s["b"]["piece"] for e in (s["a"], s["b"])}
+    bound = {n for n in sewn_to_others if inference.roles[n].role in (Role.NECK_BINDING, Role.ARMHOLE_BINDING)}
     fabric = infer_fabric(pattern, inference.roles, inference.chosen, links, chart.body_cm)
     pieces = []
     for p in pattern.pieces:
@@ -237,6 +243,7 @@ def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str,
                 "placement": found[p.name].placement,
                 **({"trim": _trim_dict(trims[p.name])} if p.name in trims else {}),
                 **({"worn_copies": worn[p.name]} if p.name in worn else {}),
+                **({"worn_width_share": BINDING_FOLD} if p.name in bound else {}),
                 **({"fabric_class": str(fabric.pieces[p.name])} if p.name in fabric.pieces else {}),
             }
         )

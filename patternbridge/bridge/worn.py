@@ -23,6 +23,7 @@ import os
 import numpy as np
 
 from ..io.json_file import read_json
+from ..library.seams import range_indices
 from ..pattern.model import Copy, EdgeRange, Pattern, Piece, Quantity, Seam
 
 __all__ = ["trim_piece", "worn_pattern"]
@@ -75,6 +76,64 @@ def trim_piece(piece: Piece, start: int, start_across: int, end: int, end_across
     return trimmed, index
 
 
+def fold_piece(piece: Piece, sewn: np.ndarray, share: float) -> Piece:
+    """``piece`` with every vertex off its sewn edge moved toward it, to ``share`` of its distance (outline and
+    paired sew line alike): a binding folded over the edge it binds, worn at its finished width.
+
+    ``sewn`` : the vertex indices of the sewn edge, in outline order (consecutive vertices form its segments).
+
+    Examples
+    --------
+    >>> strip = Piece(name="b", outline=[[0, 0], [10, 0], [10, 4], [0, 4]])
+    >>> fold_piece(strip, np.array([0, 1]), 0.5).outline.tolist()
+    [[0.0, 0.0], [10.0, 0.0], [10.0, 2.0], [0.0, 2.0]]
+    """
+    sewn = np.asarray(sewn, dtype=np.int64)
+
+    def fold(points: np.ndarray) -> np.ndarray:
+        pts = np.asarray(points, dtype=np.float64)
+        a, b = pts[sewn[:-1]], pts[sewn[1:]]
+        d = b - a
+        rel = pts[:, None, :] - a[None, :, :]
+        t = np.clip(np.einsum("nkj,kj->nk", rel, d) / np.maximum(np.einsum("kj,kj->k", d, d), 1e-12), 0.0, 1.0)
+        foot = a[None, :, :] + t[:, :, None] * d[None, :, :]
+        dist = np.linalg.norm(pts[:, None, :] - foot, axis=2)
+        near = foot[np.arange(len(pts)), np.argmin(dist, axis=1)]
+        out = near + share * (pts - near)
+        out[sewn] = pts[sewn]
+        return out
+
+    n = len(piece.outline)
+    sew = list(piece.sew_lines)
+    if sew and sew[0].closed and len(sew[0].points) == n:
+        sew[0] = dataclasses.replace(sew[0], points=fold(sew[0].points))
+    return dataclasses.replace(piece, outline=fold(piece.outline), sew_lines=tuple(sew))
+
+
+def _folded(pattern: Pattern, shares: dict[str, float]) -> Pattern:
+    """``pattern`` with each piece of ``shares`` folded over the edge its seams to other pieces sew."""
+    pieces = []
+    for p in pattern.pieces:
+        ranges = [
+            range_indices(p, r.start, r.end)
+            for s in pattern.seams
+            for r, other in ((s.a, s.b), (s.b, s.a))
+            if r.piece == p.name and other.piece != p.name and r.copy is Copy.PRIMARY
+        ]
+        if p.name not in shares or not ranges:
+            pieces.append(p)
+            continue
+        n = len(p.outline)
+        on = np.zeros(n, dtype=bool)
+        for idx in ranges:
+            on[idx] = True
+        start = int(np.flatnonzero(on & ~np.roll(on, 1))[0]) if not on.all() else 0
+        order = np.mod(np.arange(start, start + n), n)
+        sewn = order[on[order]]
+        pieces.append(fold_piece(p, sewn, shares[p.name]))
+    return dataclasses.replace(pattern, pieces=tuple(pieces))
+
+
 def _worn_copies(pattern: Pattern, worn: dict[str, list[str]]) -> Pattern:
     """``pattern`` cutting each piece of ``worn`` only in the copies listed, without seams on the others."""
     pieces = tuple(
@@ -102,8 +161,13 @@ def worn_pattern(pattern: Pattern, sidecar: str | os.PathLike) -> Pattern:
     worn = {e["name"]: [Copy(c) for c in e["worn_copies"]] for e in entries if e.get("worn_copies")}
     pattern = _worn_copies(pattern, worn) if worn else pattern
     trims = {e["name"]: e["trim"] for e in entries if e.get("trim")}
-    if not trims:
-        return pattern
+    shares = {e["name"]: float(e["worn_width_share"]) for e in entries if e.get("worn_width_share")}
+    pattern = _trimmed(pattern, trims) if trims else pattern
+    return _folded(pattern, shares) if shares else pattern
+
+
+def _trimmed(pattern: Pattern, trims: dict) -> Pattern:
+    """``pattern`` with every band of ``trims`` cut at its two cut lines and closed there."""
     pieces, seams, dropped = [], list(pattern.seams), set()
     for piece in pattern.pieces:
         t = trims.get(piece.name)

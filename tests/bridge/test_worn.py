@@ -71,12 +71,15 @@ def test_a_flat_applied_binding_is_worn_cut_to_its_opening_and_closed(worn, band
     opening = _opening_cm(applied, band, Copy.PRIMARY)
     sewn = _length(drawn, entry["trim"]["start"], entry["trim"]["end"])
     assert sewn == pytest.approx(opening, abs=0.1)  # the sewn range between the cuts is the opening's length
-    # drawn: two long edges 72.0 / 80.8 cm and 5 cm less, ends 3.8 and 6.3 cm; worn: a rectangle round the opening
+    # drawn: two long edges 72.0 / 80.8 cm and 5 cm less, ends 3.8 and 6.3 cm; worn: a rectangle round the
+    # opening, folded over the edge it binds (its outer half, 1.9 cm wide)
+    width = 3.8 * entry["worn_width_share"]
+    assert entry["worn_width_share"] == 0.5
     assert _perimeter(drawn) > 2 * opening + 2 * 3.8 + 20.0
-    assert _perimeter(cut) == pytest.approx(2 * opening + 2 * 3.8, abs=0.2)
+    assert _perimeter(cut) == pytest.approx(2 * opening + 2 * width, abs=0.2)
     for start, across in (("end", "end_across"), ("start_across", "start")):
         a, b = entry["trim"][start], entry["trim"][across]
-        assert _length(cut, a, b) == pytest.approx(3.8, abs=0.05)  # a cut straight across the strip
+        assert _length(cut, a, b) == pytest.approx(width, abs=0.05)  # a cut straight across the strip
     closures = [s for s in as_worn.seams if s.a.piece == band and s.b.piece == band]
     copies = {s.b.copy for s in applied.seams if s.b.piece == band}
     assert {s.a.copy for s in closures} == copies  # closed on every copy sewn (both armholes)
@@ -123,3 +126,31 @@ def test_a_piece_cut_twice_that_is_not_a_band_is_closed_on_both_copies(aama_dir)
     assert len(legs) == 3
     for leg in legs:
         assert {s["a"]["copy"] for s in inseams if s["a"]["piece"] == leg} == {"primary", "mirror"}, leg
+
+
+def test_a_binding_is_worn_folded_over_the_edge_it_binds(worn):
+    """GLX0926S16's bindings (3.2 cm strips) are worn at half their width, their sewn edge unchanged."""
+    data, applied, as_worn = worn["GLX0926S16.DXF"]
+    bindings = [p for p in data["pieces"] if p["role"] in ("neck_binding", "armhole_binding")]
+    assert len(bindings) == 2
+    for entry in bindings:
+        assert entry["worn_width_share"] == 0.5
+        drawn, folded = applied.piece(entry["name"]), as_worn.piece(entry["name"])
+        sewn = [s for s in applied.seams if s.b.piece == entry["name"] and s.a.piece != entry["name"]]
+        for s in sewn:
+            assert _length(folded, s.b.start, s.b.end) == pytest.approx(_length(drawn, s.b.start, s.b.end), abs=1e-6)
+        # each of its two short ends (3.2 cm drawn) is half as long worn
+        ends = [s for s in applied.seams if s.a.piece == entry["name"] and s.b.piece == entry["name"]]
+        assert ends
+        for s in ends:
+            for r in (s.a, s.b):
+                assert _length(drawn, r.start, r.end) == pytest.approx(3.2, abs=0.05)
+                assert _length(folded, r.start, r.end) == pytest.approx(1.6, abs=0.05)
+
+
+def test_rib_neckbands_are_worn_as_drawn(aama_dir):
+    """A T-shirt's rib neckband stands round the neck as drawn: nothing is trimmed, folded or left out."""
+    for name in ("GMH1004F15-2.DXF", "MEN CLASSIC TEE.DXF"):
+        pattern, _ = read_dxf(aama_dir / name)
+        data = inference_sidecar(pattern, infer_bridge(pattern))
+        assert not [p["name"] for p in data["pieces"] if {"trim", "worn_copies", "worn_width_share"} & set(p)]
