@@ -17,12 +17,15 @@ fall, the one whose joints meet the band's own marks (a collar's shoulder
 notches) is taken; joints within ``SNAP`` of a mark are moved onto it. A strip
 longer than its opening by more than ``FLAT_APPLIED`` is applied flat: it is
 sewn at its own length along the opening and the excess is left free at its
-two ends, half at each, where the next seam catches them.
+two ends, half at each: in the workroom it is sewn from one end and the
+excess cut off where the sewing meets its start, so the drape wears it cut
+straight across the strip at both ends of its sewn range (:class:`.model.Trim`,
+:mod:`.worn`).
 
 :func:`split_bands` turns the placed band joins into one-to-one seams,
 inserting a vertex on the band wherever a joint falls between two
-(:mod:`..pattern.insert`), and renumbers everything that names the band's
-vertices.
+(:mod:`..pattern.insert`), and at the two cut lines of a band applied flat,
+and renumbers everything that names the band's vertices.
 """
 
 from __future__ import annotations
@@ -35,7 +38,7 @@ from ..library.seams import sew_line
 from ..pattern.insert import insert_vertices
 from ..pattern.model import Pattern
 from .edges import Run
-from .model import BridgeInference, Join, Side
+from .model import BridgeInference, Join, Side, Trim
 from .openings import Opening
 
 __all__ = ["SNAP", "opening_units", "place_band", "split_bands"]
@@ -48,6 +51,8 @@ FLAT_APPLIED = 1.05
 MIN_SPAN = 0.02
 #: a joint this close (cm, along the edge) to a band vertex uses the vertex
 VERTEX_TOL_CM = 0.05
+#: a band whose sewn range leaves more than this share of its edge free at both ends is applied flat (trimmed)
+FLAT_TAIL = 0.01
 
 
 def opening_units(op: Opening) -> list[tuple[Side, str]] | None:
@@ -206,11 +211,51 @@ def _remap(side: Side, index: np.ndarray | None) -> Side:
     return dataclasses.replace(side, start=int(index[side.start]), end=int(index[side.end]))
 
 
+def _flat_ends(placed: list[Join], ends: dict[str, list[tuple[float, float]]]) -> dict[str, tuple[float, float]]:
+    """Band piece -> perimeter positions (cm from vertex 0) of the start and end of its sewn range, for each band
+    applied flat: sewn along its whole edge with more than :data:`FLAT_TAIL` of the edge free at both ends."""
+    by_piece: dict[str, list[tuple[float, float]]] = {}
+    edges: dict[str, set] = {}
+    for j in placed:
+        edges.setdefault(j.b.piece, set()).add(j.b.key)
+        for (_, f0, f1), (p0, p1) in zip(j.spans, ends[j.id], strict=True):
+            by_piece.setdefault(j.b.piece, []).extend([(f0, p0), (f1, p1)])
+    out = {}
+    for name, marks in by_piece.items():
+        lo, hi = min(marks), max(marks)
+        if len(edges[name]) == 1 and lo[0] > FLAT_TAIL and hi[0] < 1.0 - FLAT_TAIL:
+            out[name] = (lo[1], hi[1])
+    return out
+
+
+def _across(pts: np.ndarray, arc: np.ndarray, total: float, p: float) -> float | None:
+    """Perimeter position of the point straight across the strip from perimeter position ``p`` (the first
+    crossing of the outline by the inward normal there; the outline runs counter-clockwise), or None."""
+    seg_vec = np.roll(pts, -1, axis=0) - pts
+    seg = np.linalg.norm(seg_vec, axis=1)
+    k = int(np.searchsorted(arc, np.mod(p, total), side="right") - 1) % len(pts)
+    t = seg_vec[k] / max(seg[k], 1e-12)
+    origin = pts[k] + (np.mod(p, total) - arc[k]) * t
+    normal = np.array([-t[1], t[0]])
+    # origin + s * normal = pts[i] + u * seg_vec[i]
+    det = normal[0] * (-seg_vec[:, 1]) - normal[1] * (-seg_vec[:, 0])
+    rel = pts - origin
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = (rel[:, 0] * (-seg_vec[:, 1]) - rel[:, 1] * (-seg_vec[:, 0])) / det
+        u = (normal[0] * rel[:, 1] - normal[1] * rel[:, 0]) / det
+    ok = (np.abs(det) > 1e-12) & (s > 1e-3) & (u >= 0.0) & (u <= 1.0)
+    if not ok.any():
+        return None
+    i = int(np.argmin(np.where(ok, s, np.inf)))
+    return float(np.mod(arc[i] + u[i] * seg[i], total))
+
+
 def split_bands(pattern: Pattern, inference: BridgeInference) -> tuple[Pattern, BridgeInference, dict[str, set[int]]]:
     """Each placed band join as one-to-one seams, with a vertex on the band at every joint.
 
     Returns the pattern with the new band vertices, the inference with the
-    placed band joins replaced and every index on a band renumbered, and the
+    placed band joins replaced, every index on a band renumbered and the
+    :attr:`~.model.BridgeInference.trims` of the bands applied flat, and the
     new vertices per piece. Strips binding parts of one opening (the CLO
     shirt's neck strips, :mod:`.strips`) stay ``band`` joins.
     """
@@ -220,6 +265,14 @@ def split_bands(pattern: Pattern, inference: BridgeInference) -> tuple[Pattern, 
     for j in placed:
         ends[j.id] = _band_ends(pattern, j, j.spans)
         wanted.setdefault(j.b.piece, []).extend(p for pair in ends[j.id] for p in pair)
+    cuts: dict[str, list[tuple[float, float]]] = {}
+    for name, (lo, hi) in _flat_ends(placed, ends).items():
+        arc, total = _arc(pattern, name, 0)
+        pts = sew_line(pattern.piece(name))[0]
+        across = [_across(pts, arc, total, p) for p in (lo, hi)]
+        if all(a is not None for a in across):
+            cuts[name] = [(lo, across[0]), (hi, across[1])]
+            wanted[name].extend(across)
     pieces, maps, inserted = {}, {}, {}
     for name, positions in wanted.items():
         arc, total = _arc(pattern, name, 0)
@@ -241,13 +294,29 @@ def split_bands(pattern: Pattern, inference: BridgeInference) -> tuple[Pattern, 
             joins.append(dataclasses.replace(j, a=_remap(j.a, maps.get(j.a.piece)), b=_remap(j.b, maps.get(j.b.piece))))
             continue
         joins += _span_seams(out, mine, ends[mine.id])
+    trims = []
+    for name, ((s0, a0), (s1, a1)) in cuts.items():
+        at = _vertex_at(out, name)
+        trims.append(Trim(piece=name, start=at(s0), start_across=at(a0), end=at(s1), end_across=at(a1)))
     orientations = {
         name: o
         if name not in maps or o.fold is None
         else dataclasses.replace(o, fold=(int(maps[name][o.fold[0]]), int(maps[name][o.fold[1]])))
         for name, o in inference.orientations.items()
     }
-    return out, dataclasses.replace(inference, joins=tuple(joins), orientations=orientations), inserted
+    new = dataclasses.replace(inference, joins=tuple(joins), orientations=orientations, trims=tuple(trims))
+    return out, new, inserted
+
+
+def _vertex_at(pattern: Pattern, piece: str):
+    """The function: perimeter position (cm from vertex 0 of the piece before insertion, the same on its
+    sew line after) -> the nearest vertex of ``piece`` in ``pattern``."""
+    arc, total = _arc(pattern, piece, 0)
+
+    def at(p: float) -> int:
+        return int(np.argmin(np.abs(np.mod(arc - p + 0.5 * total, total) - 0.5 * total)))
+
+    return at
 
 
 def _span_seams(pattern: Pattern, j: Join, ends: list[tuple[float, float]]) -> list[Join]:

@@ -123,6 +123,25 @@ class Join:
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
+class Trim:
+    """A band applied flat, worn trimmed to the opening it binds (:mod:`.band_spans`).
+
+    A strip cut longer than its opening is sewn from one end and the excess cut
+    off where the sewing meets its start; the drape wears it so
+    (:mod:`.worn`). ``start`` and ``end`` are the band vertices where the sewn
+    range begins and ends on the sewn edge (outline order), ``start_across`` and
+    ``end_across`` the vertices straight across the strip from them: the two
+    cut lines. The designer's file keeps the whole strip.
+    """
+
+    piece: str
+    start: int
+    start_across: int
+    end: int
+    end_across: int
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
 class BridgeInference:
     """Everything inferred for one pattern.
 
@@ -133,6 +152,7 @@ class BridgeInference:
     alternatives : groups of interchangeable piece sets; the first set of each
         group is the default
     chosen : the pieces of the default consistent garment
+    trims : bands applied flat, worn cut to their opening (set by :func:`.band_spans.split_bands`)
     """
 
     roles: dict[str, RoleGuess]
@@ -142,6 +162,7 @@ class BridgeInference:
     chosen: tuple[str, ...] = ()
     seconds: float = 0.0
     notes: tuple[str, ...] = field(default_factory=tuple)
+    trims: tuple[Trim, ...] = ()
 
     @property
     def lowest_confidence(self) -> float:

@@ -19,13 +19,13 @@ import numpy as np
 from ..library.seams import sew_line
 from ..library.sidecar import SIDECAR_FORMAT
 from ..pattern.json import measurement_link_to_dict
-from ..pattern.model import Pattern
+from ..pattern.model import Pattern, Role
 from .alternatives import copies_cut
 from .band_spans import split_bands
 from .fabric import infer_fabric, pullover_neck_cm
 from .landmarks import piece_landmarks, worn_side
 from .links import measurement_links
-from .model import BridgeInference, Join
+from .model import BridgeInference, Join, Trim, is_band
 from .size_chart import choose_chart
 
 __all__ = ["SIDECAR_VERSION", "inference_sidecar", "runs_against"]
@@ -105,10 +105,12 @@ def _with_twins(pattern: Pattern, inference: BridgeInference, seams: list[dict[s
 
     A sleeve's underarm or a pair of fronts and backs is sewn on both copies; the
     seam inferred on the drawn pieces is written once per body side. A piece's
-    seam to itself (a band's closure) is twinned only when its mirror copy is
-    sewn to another piece or is cut anyway: closing a neck binding cut once on
-    a mirror copy added a second binding, sewn to nothing else, that was draped
-    as a loose loop at the shoulder.
+    seam to itself (a one-piece leg's inseam) is twinned when its mirror copy is
+    sewn to another piece or cut anyway; a band's closure only when its mirror
+    copy is sewn to another piece: closing a neck binding's mirror copy added a
+    second binding, sewn to nothing else, that was draped as a loose loop at the
+    neck (a band the file cuts more often than the garment wears it is written
+    with ``worn_copies``, :func:`_worn_copies`).
     """
     swap = {"primary": "mirror", "mirror": "primary"}
     out = list(seams)
@@ -131,8 +133,48 @@ def _with_twins(pattern: Pattern, inference: BridgeInference, seams: list[dict[s
                 }
             )
     placed = {(e["piece"], e["copy"]) for s in out if s["a"]["piece"] != s["b"]["piece"] for e in (s["a"], s["b"])}
-    cut = {c["a"]["piece"] for c in closures if copies_cut(pattern.piece(c["a"]["piece"])) > 1}
+    # a piece cut twice is worn twice (a one-piece leg's inseam on both legs), but a band only where it binds
+    cut = {
+        c["a"]["piece"]
+        for c in closures
+        if copies_cut(pattern.piece(c["a"]["piece"])) > 1 and not is_band(inference.roles[c["a"]["piece"]].role)
+    }
     return out + [c for c in closures if (c["a"]["piece"], c["a"]["copy"]) in placed or c["a"]["piece"] in cut]
+
+
+def _worn_copies(pattern: Pattern, inference: BridgeInference, seams: list[dict[str, Any]]) -> dict[str, list[str]]:
+    """Band -> the copies the garment wears, for each band cut more often than it is sewn to other pieces.
+
+    A neck binding cut twice (``2XFABRIC``, or a pair) binds the one neckline
+    with one copy; the other has no opening to bind (it is the file's spare,
+    or a second layer the file does not sew) and is not draped.
+    """
+    sewn: dict[str, set[str]] = {}
+    for s in seams:
+        if s["a"]["piece"] != s["b"]["piece"]:
+            for e in (s["a"], s["b"]):
+                sewn.setdefault(e["piece"], set()).add(e["copy"])
+    out = {}
+    for name in inference.chosen:
+        if not is_band(inference.roles[name].role) or name not in sewn:
+            continue
+        if copies_cut(pattern.piece(name)) > len(sewn[name]):
+            out[name] = sorted(sewn[name])
+    return out
+
+
+#: a binding is folded over the edge it binds, half outside and half inside: the drape wears its outer half
+BINDING_FOLD = 0.5
+
+
+def _trim_dict(t: Trim) -> dict[str, str]:
+    """A band applied flat as the sidecar writes it: the marks of its two cut lines."""
+    return {
+        "start": f"v{t.start}",
+        "start_across": f"v{t.start_across}",
+        "end": f"v{t.end}",
+        "end_across": f"v{t.end_across}",
+    }
 
 
 def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str, Any]:
@@ -149,12 +191,19 @@ def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str,
     for j in inference.joins:
         for side in (j.a, j.b):
             marks[side.piece] |= {side.start, side.end}
+    trims = {t.piece: t for t in inference.trims}
+    for t in trims.values():
+        marks[t.piece] |= {t.start, t.start_across, t.end, t.end_across}
     chart = choose_chart(pattern.sizes, pattern.sample_size)
     links = measurement_links(pattern, inference, chart)
     for link in links:
         for leg in link.legs:
             marks[leg.piece] |= {int(leg.start[1:]), int(leg.end[1:])}
     found = piece_landmarks(pattern, inference)
+    seams = _with_twins(pattern, inference, [_seam(pattern, inference, j) for j in inference.joins])
+    worn = _worn_copies(pattern, inference, seams)
+    sewn_to_others = {e["piece"] for s in seams if s["a"]["piece"] != s["b"]["piece"] for e in (s["a"], s["b"])}
+    bound = {n for n in sewn_to_others if inference.roles[n].role in (Role.NECK_BINDING, Role.ARMHOLE_BINDING)}
     fabric = infer_fabric(pattern, inference.roles, inference.chosen, links, chart.body_cm, neck_cm=neck)
     pieces = []
     for p in pattern.pieces:
@@ -193,6 +242,9 @@ def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str,
                 },
                 "landmarks": dict(found[p.name].landmarks),
                 "placement": found[p.name].placement,
+                **({"trim": _trim_dict(trims[p.name])} if p.name in trims else {}),
+                **({"worn_copies": worn[p.name]} if p.name in worn else {}),
+                **({"worn_width_share": BINDING_FOLD} if p.name in bound else {}),
                 **({"fabric_class": str(fabric.pieces[p.name])} if p.name in fabric.pieces else {}),
             }
         )
@@ -209,6 +261,6 @@ def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str,
         "garment_pieces": list(inference.chosen),
         "alternatives": [[list(option) for option in group] for group in inference.alternatives],
         "pieces": pieces,
-        "seams": _with_twins(pattern, inference, [_seam(pattern, inference, j) for j in inference.joins]),
+        "seams": seams,
         "measurements": [measurement_link_to_dict(m) for m in links],
     }

@@ -80,8 +80,9 @@ def write_outputs(
         draped = grading.pattern
         if drape_sidecar is not None:
             from ..bridge.upright import upright_pattern
+            from ..bridge.worn import worn_pattern
 
-            draped = upright_pattern(draped, drape_sidecar)
+            draped = worn_pattern(upright_pattern(draped, drape_sidecar), drape_sidecar)
         drape_names, drape_report = _write_drape(tmp, subject, draped, seed, progress)
         names += drape_names
         rep["drape"] = drape_report

@@ -32,7 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import InputError
-from ...pattern.model import BodyPart, Copy, Pattern, Side
+from ...pattern.model import BodyPart, Copy, Pattern, Role, Side
 from ...report import Report
 from ..bodyparts import HAND_SHARE, PARTS, BodyParts, crotch_height, limb_axis
 from ..mesh2d import Instance, PatternMesh
@@ -304,9 +304,49 @@ def place_instances(
             x_ref = np.broadcast_to(np.asarray(x_ref, dtype=np.float64), (len(p2),))
             both = _mirror_seam_count(pmesh, inst, p2) >= 2
             seat.append((inst, p2, x_ref, part, float(a2[1]), p2[: pmesh.pieces[inst.piece].n_boundary], both))
+    _bindings_way_up(pattern, pmesh, rows, shared, out, scene)
     if seat:
         _seat_on_hips(character, vertices, parts, cylinders[BodyPart.TORSO], seat, out, scene)
     return out
+
+
+#: a binding turned end over end must start its seams closer than this share of the summed squared gaps as drawn
+TURNED_GAIN = 0.8
+
+
+def _bindings_way_up(pattern: Pattern, pmesh: PatternMesh, rows: list, shared: dict, out: dict, scene) -> None:
+    """Each binding wrapped the way up its seams meet the pieces it binds (``out`` updated in place).
+
+    A binding's drawing says nothing of which long edge is up: wrapped with the
+    edge it sews on top, a strip sewn face to face along a neckline runs round
+    the neck against it, and every seam starts across the neck (20-36 cm on
+    ``simple.DXF``'s neck binding on E_average_male). So each binding is also
+    wrapped turned end over end (its pattern turned 180° in its plane, the same
+    cloth) and kept so when the summed squared gaps of its seams to other pieces
+    fall below :data:`TURNED_GAIN` of those as drawn.
+    """
+    for inst, pl, part, cyl, p2, R, th_a, h_a, a2 in rows:
+        if pattern.piece(inst.piece).role not in (Role.NECK_BINDING, Role.ARMHOLE_BINDING) or inst.key in shared:
+            continue
+        sides = [
+            (va, out[other.key][vb])
+            for me, va, other, vb in _seam_sides(pmesh)
+            if me.key == inst.key and other.piece != inst.piece
+        ]
+        if not sides:
+            continue
+        Rv = _row_radii(pmesh, inst, part, pl.side, R)
+        q, b = -p2, -a2
+        theta = th_a + (q[:, 0] - b[0]) / Rv
+        h = h_a + (q[:, 1] - b[1])
+        r = Rv.copy() if np.ndim(Rv) else np.full(len(q), float(Rv))
+        if scene is not None:
+            r = scene.radial_clearance(cyl, theta, h, r, CLEARANCE_CM)
+        turned = cyl.points(theta, h, r)
+
+        as_drawn = sum(float(np.sum((out[inst.key][va] - t) ** 2)) for va, t in sides)
+        if sum(float(np.sum((turned[va] - t) ** 2)) for va, t in sides) < TURNED_GAIN * as_drawn:
+            out[inst.key] = turned
 
 
 SIDE_SEAM_CM = 10.0  # a seam to a front running farther than this down a piece is a side seam, not a shoulder
