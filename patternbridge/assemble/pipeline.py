@@ -595,7 +595,9 @@ def _measure(
     over = {names[g]: int(c) for g, c in zip(*np.unique(egroup[beyond], return_counts=True), strict=True)}
     gaps = {r["seam"]: r["max_mm"] for r in table}
     levels = anchor_levels_cm(sim.character, body, sim.pattern, sim.pmesh, x, cloth.group)
-    rises = {k: max(0.0, r) for k, r in hem_rise_cm(sim.pattern, sim.pmesh, x, cloth.group, grain).items()}
+    rises = {
+        k: max(0.0, r) for k, r in hem_rise_cm(sim.pattern, sim.pmesh, x, cloth.group, grain, sim.stretches).items()
+    }
     heights, girths, girth_faces = girth_strain(x, cloth.uv, cloth.faces, weld_groups(len(x), cloth.seams))
     tight = int(np.argmax(girths)) if len(girths) else -1
     measured_defects = Measured(

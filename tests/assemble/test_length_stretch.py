@@ -139,3 +139,32 @@ def test_library_trousers_and_shorts_are_not_stretched(character_e):
         stretches, _, _ = _placed(character_e, pattern)
         assert pattern.fabric_class is FabricClass.WOVEN
         assert not any(ls.stretched for ls in stretches.values()), name
+
+
+@pytest.mark.shared
+def test_the_hem_rise_of_a_copy_worn_stretched_is_measured_against_its_worn_length(character_e, leggings):
+    # placed on its landmark the hem has not risen; against the pattern's
+    # length it would read as hanging lower (a rise below 0) and a hem that
+    # rode up from the ankle to the calf would be hidden by the stretch
+    from patternbridge.assemble.defects import grain_directions, hem_rise_cm
+
+    stretches, placed, pm = _placed(character_e, leggings)
+    x = np.concatenate([placed[inst.key] for inst in pm.instances])
+    group = np.repeat(np.arange(len(pm.instances)), [len(placed[inst.key]) for inst in pm.instances])
+    grain = grain_directions(leggings, pm)
+    plain = hem_rise_cm(leggings, pm, x, group, grain)
+    worn = hem_rise_cm(leggings, pm, x, group, grain, stretches)
+    for key, ls in stretches.items():
+        gained = (ls.scale - 1.0) * (ls.pivot_y - ls.hem_y)
+        assert plain[key] < -0.5 * gained, (key, plain[key], gained)
+        assert abs(worn[key]) < 3.0, (key, worn[key])
+        assert worn[key] - plain[key] == pytest.approx(gained, abs=2.0)
+    # the same copy drawn 8 cm up the leg rises by about that much
+    lifted = x.copy()
+    for i, inst in enumerate(pm.instances):
+        p2y = pm.pieces[inst.piece].points[:, 1]
+        low = p2y < p2y.min() + 30.0
+        lifted[(group == i).nonzero()[0][low], 1] += 8.0 * (1.0 - (p2y[low] - p2y.min()) / 30.0)
+    up = hem_rise_cm(leggings, pm, lifted, group, grain, stretches)
+    for key in stretches:
+        assert up[key] - worn[key] == pytest.approx(8.0, abs=1.5), (key, up[key], worn[key])
