@@ -29,6 +29,9 @@ def test_worn_lengths_stretch_along_the_axis_below_the_pivot_only():
     # along the axis × 1.2, across it unchanged, at 45° × 1.1 (cos² = ½), above the pivot unchanged
     np.testing.assert_allclose(got / rest, [1.2, 1.0, 1.1, 1.0])
     np.testing.assert_allclose(worn_lengths(_stretch(1.0), uv, edges, rest), rest)
+    # a copy not stretched keeps its heights bit for bit (a woven garment places exactly as before)
+    y = np.array([0.1, 3.3, 59.7, 61.0]) * np.pi
+    np.testing.assert_array_equal(_stretch(1.0).heights(y), y)
 
 
 def test_the_held_hem_is_the_boundary_next_to_the_hem_mark():

@@ -69,6 +69,8 @@ class LengthStretch:
     def heights(self, y: np.ndarray) -> np.ndarray:
         """(n,) the pattern heights ``y`` (cm) as worn: stretched by ``scale`` below ``pivot_y``."""
         y = np.asarray(y, dtype=np.float64)
+        if not self.stretched:
+            return y.copy()  # bit for bit: pivot + (y - pivot) need not be y
         return np.where(y < self.pivot_y, self.pivot_y + self.scale * (y - self.pivot_y), y)
 
 

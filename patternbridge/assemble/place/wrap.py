@@ -298,7 +298,7 @@ def place_instances(
             # row: grading can move it off x = 0
             theta = (0.0 if pl.side is Side.FRONT else np.pi) + (p2[:, 0] - _centre_line(pmesh, inst, p2)) / Rv
         ls = stretches.get(inst.key)
-        h = h_a + ((p2[:, 1] if ls is None else ls.heights(p2[:, 1])) - a2[1])
+        h = h_a + ((ls.heights(p2[:, 1]) if ls is not None and ls.stretched else p2[:, 1]) - a2[1])
         r = Rv.copy() if np.ndim(Rv) else np.full(len(p2), float(Rv))
         if scene is not None:
             r = scene.radial_clearance(cyl, theta, h, r, CLEARANCE_CM)
