@@ -6,11 +6,17 @@ verdict (:mod:`.verdict`) judges what they measure.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ..pattern.model import Pattern
 from .mesh2d import PatternMesh
 from .place.wrap import landmark_position
+
+if TYPE_CHECKING:
+    from .place.length import LengthStretch
 
 __all__ = [
     "anchor_levels_cm",
@@ -83,7 +89,12 @@ def grain_directions(pattern: Pattern, pmesh: PatternMesh) -> np.ndarray:
 
 
 def hem_rise_cm(
-    pattern: Pattern, pmesh: PatternMesh, x: np.ndarray, group: np.ndarray, grain: np.ndarray
+    pattern: Pattern,
+    pmesh: PatternMesh,
+    x: np.ndarray,
+    group: np.ndarray,
+    grain: np.ndarray,
+    worn: Mapping[str, LengthStretch] | None = None,
 ) -> dict[str, float]:
     """Instance key -> how much nearer its hem hangs to its anchor mark than the pattern has it, cm.
 
@@ -100,6 +111,8 @@ def hem_rise_cm(
     ----------
     x : (N, 3) float64, cm — the garment ; group : (N,) instance of each vertex
     grain : (G, 2) float64 — :func:`grain_directions`
+    worn : instance key -> how a copy worn stretched to its hem's landmark was stretched
+        (:mod:`.place.length`): its hem's distance is the worn one, the hem on its landmark
     """
     offsets = np.searchsorted(group, np.arange(len(pmesh.instances)))
     out: dict[str, float] = {}
@@ -109,11 +122,14 @@ def hem_rise_cm(
         if pl is None or pl.anchor_mark not in mesh.marks:
             continue
         uv = mesh.points[: mesh.n_boundary]
+        ls = (worn or {}).get(inst.key)
+        if ls is not None:  # the worn pattern: stretched along the placement's axis below its pivot
+            uv = np.stack([uv[:, 0], ls.heights(uv[:, 1])], axis=1)
         anchor = mesh.marks[pl.anchor_mark]
-        along = uv @ grain[i] - mesh.points[anchor] @ grain[i]
+        along = uv @ grain[i] - uv[anchor] @ grain[i]
         down = along if along.max() > -along.min() else -along  # the grain's end away from the anchor
         hem = np.flatnonzero(down >= down.max() - HEM_BAND_CM)
-        flat = uv[hem].mean(axis=0) - mesh.points[anchor]
+        flat = uv[hem].mean(axis=0) - uv[anchor]
         length = float(np.linalg.norm(flat))
         if length < HANGING_MIN_CM or down[hem].mean() < HANGING_COS * length:
             continue

@@ -223,10 +223,13 @@ def _sew(
 ) -> None:
     """Sew (and settle, when ``settle`` follows) in one drape call; ``observe(phase)`` when the sewing ends."""
     from .drape import drape
-    from .pipeline import anchor_weights, hold_weights, limb_end_seams, sewing_inertia
+    from .pipeline import anchor_weights, hem_hold_weights, hold_weights, limb_end_seams, sewing_inertia
 
-    pins = anchor_weights(sim) if phase.pin else np.zeros(len(sim.cloth.x))
+    hem = hem_hold_weights(sim)
+    pins = np.maximum(anchor_weights(sim) if phase.pin else np.zeros(len(sim.cloth.x)), hem)
     hold = hold_weights(sim, pins) if settle is not None and settle.hold else None
+    if hold is not None or (settle is not None and hem.any()):
+        hold = np.maximum(hem, 0.0 if hold is None else hold)
     sim.solver = drape(
         sim.cloth,
         sim.cloth_collider,

@@ -12,7 +12,7 @@ from __future__ import annotations
 import logging
 import os
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -36,6 +36,7 @@ if TYPE_CHECKING:
     from .collision import BodyCollider
     from .drape import Cloth, DrapeSettings
     from .mesh2d import PatternMesh
+    from .place.length import LengthStretch
 
 __all__ = [
     "Simulation",
@@ -65,6 +66,7 @@ class Simulation:
     hands : (V,) bool masks of the hands (their mitts follow the pose)
     seam_ids : (S,) int64 index into ``pmesh.seams`` of every sewn pair
     x_placed : (N, 3) float64, cm — the cloth as placed
+    stretches : instance key -> how the copy was placed stretched to its hem's landmark (those stretched only)
     """
 
     character: Character
@@ -84,6 +86,7 @@ class Simulation:
     seam_ids: np.ndarray
     x_placed: np.ndarray
     settings: DrapeSettings
+    stretches: Mapping[str, LengthStretch] = field(default_factory=dict)
     findings: Report = field(default_factory=Report)
     solver: ClothSolver | None = None
     t0: float = 0.0
@@ -116,7 +119,8 @@ def prepare(
     from .drape import DrapeSettings, build_cloth
     from .mesh2d import mesh_pattern
     from .phases import plan_phases
-    from .place import place_garment
+    from .place import bounding_cylinders, place_garment
+    from .place.length import length_stretches, worn_lengths
 
     t0 = time.perf_counter()
     check_pattern(pattern)
@@ -149,6 +153,7 @@ def prepare(
     helpers = proxies + hand_mitts(body, hands)
     cloth_collider = BodyCollider(body, character.faces, proxies=helpers) if helpers else collider
     pmesh, placed = place_garment(character, body, pattern, pmesh, parts, findings, scene=collider)
+    stretches = length_stretches(character, body, pattern, pmesh, bounding_cylinders(body, parts))
     keys = [inst.key for inst in pmesh.instances]
     index = {k: i for i, k in enumerate(keys)}
     positions = [placed[k] + rng.normal(scale=1e-3, size=placed[k].shape) for k in keys]
@@ -160,6 +165,10 @@ def prepare(
     seams = [(index[s.a.key], index[s.b.key], s.a_vertices, s.b_vertices) for s in pmesh.seams]
     settings = DrapeSettings()
     cloth = build_cloth(positions, points2d, faces, seams, density_kg_cm2=settings.density_kg_cm2)
+    stretches = {k: v for k, v in stretches.items() if v.stretched}
+    for key, ls in stretches.items():  # worn pulled down to the landmark (see place.length)
+        mine = np.flatnonzero((cloth.group[cloth.edges] == index[key]).all(axis=1))
+        cloth.target[mine] = worn_lengths(ls, cloth.uv, cloth.edges[mine], cloth.target[mine])
     # seam of every sewn pair (build_cloth drops the pairs of a vertex with itself, the tip of a dart)
     offsets = np.concatenate([[0], np.cumsum([len(p) for p in positions])])
     seam_ids = np.concatenate(
@@ -186,6 +195,7 @@ def prepare(
         names=tuple(keys),
         seam_ids=seam_ids.astype(np.int64),
         x_placed=cloth.x.copy(),
+        stretches=stretches,
         findings=findings,
         settings=settings,
         t0=t0,
@@ -332,6 +342,33 @@ def anchor_weights(sim: Simulation) -> np.ndarray:
         dist[mine] = d
     lo, hi = ANCHOR_FREE_CM
     return ANCHOR_WEIGHT * np.clip((dist - lo) / (hi - lo), 0.0, 1.0)
+
+
+HEM_HOLD_WEIGHT = 5.0  # how firmly a hem stretched to its landmark is held there, in units of the vertex's mass / h²
+
+
+def hem_hold_weights(sim: Simulation) -> np.ndarray:
+    """(N,) weights holding the hem of every copy placed stretched to its landmark where it was placed.
+
+    A knit drafted short of its landmark (leggings) is worn pulled down to
+    it (:mod:`.place.length`): the placement lays it stretched, its springs
+    rest at that worn length (:func:`~.place.length.worn_lengths`), and the
+    hem is held there while the seams close and the cloth settles, as the
+    wearer's hand holds it (5 × mass / h², as a waistband: 30 gave E's
+    leggings a hem 0.6 cm lower).
+    """
+    from .place.length import hem_vertices
+    from .place.wrap import instance_points2d
+
+    w = np.zeros(len(sim.cloth.x))
+    offsets = np.searchsorted(sim.cloth.group, np.arange(len(sim.pmesh.instances)))
+    for i, inst in enumerate(sim.pmesh.instances):
+        ls = sim.stretches.get(inst.key)
+        if ls is None:
+            continue
+        hem = hem_vertices(ls, instance_points2d(sim.pmesh, inst), sim.pmesh.pieces[inst.piece].n_boundary)
+        w[offsets[i] + hem] = HEM_HOLD_WEIGHT
+    return w
 
 
 HOLD_SHARE = 1.0  # share of the sewing pins kept on leg pieces (at their sewn positions) while gravity acts
@@ -560,7 +597,9 @@ def _measure(
     over = {names[g]: int(c) for g, c in zip(*np.unique(egroup[beyond], return_counts=True), strict=True)}
     gaps = {r["seam"]: r["max_mm"] for r in table}
     levels = anchor_levels_cm(sim.character, body, sim.pattern, sim.pmesh, x, cloth.group)
-    rises = {k: max(0.0, r) for k, r in hem_rise_cm(sim.pattern, sim.pmesh, x, cloth.group, grain).items()}
+    rises = {
+        k: max(0.0, r) for k, r in hem_rise_cm(sim.pattern, sim.pmesh, x, cloth.group, grain, sim.stretches).items()
+    }
     heights, girths, girth_faces = girth_strain(x, cloth.uv, cloth.faces, weld_groups(len(x), cloth.seams))
     tight = int(np.argmax(girths)) if len(girths) else -1
     measured_defects = Measured(

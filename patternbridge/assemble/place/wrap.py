@@ -37,6 +37,7 @@ from ...report import Report
 from ..bodyparts import HAND_SHARE, PARTS, BodyParts, crotch_height, limb_axis
 from ..mesh2d import Instance, PatternMesh
 from ..strategy import LEGS, mirror_part
+from .length import length_stretches
 
 __all__ = ["Cylinder", "bounding_cylinders", "landmark_position", "mirror_name", "place_instances"]
 
@@ -237,6 +238,8 @@ def place_instances(
     """
     out: dict[str, np.ndarray] = {}
     rows = []
+    # a copy drafted short of its hem's landmark in a fabric worn stretched along the grain starts stretched to it
+    stretches = length_stretches(character, vertices, pattern, pmesh, cylinders)
     for inst in pmesh.instances:
         piece = pattern.piece(inst.piece)
         pl = piece.placement
@@ -294,7 +297,8 @@ def place_instances(
             # copy (a centre front seam) puts that seam on the centre, row by
             # row: grading can move it off x = 0
             theta = (0.0 if pl.side is Side.FRONT else np.pi) + (p2[:, 0] - _centre_line(pmesh, inst, p2)) / Rv
-        h = h_a + (p2[:, 1] - a2[1])
+        ls = stretches.get(inst.key)
+        h = h_a + ((ls.heights(p2[:, 1]) if ls is not None and ls.stretched else p2[:, 1]) - a2[1])
         r = Rv.copy() if np.ndim(Rv) else np.full(len(p2), float(Rv))
         if scene is not None:
             r = scene.radial_clearance(cyl, theta, h, r, CLEARANCE_CM)
