@@ -132,9 +132,7 @@ class _Breaks:
         return int(np.argmin(d))
 
 
-def _boundary_params(
-    b: list[float], total: float, counts: list[int], own: set[float]
-) -> tuple[np.ndarray, list[int]]:
+def _boundary_params(b: list[float], total: float, counts: list[int], own: set[float]) -> tuple[np.ndarray, list[int]]:
     """Arc parameters of a piece's boundary vertices and the index of every segment's first vertex.
 
     Segment ``j`` runs from cut ``b[j]`` to the next and gets ``counts[j]``
