@@ -6,7 +6,10 @@ carried across every seam (a cut at 40 % of one side of a seam makes a cut at
 of boundary segments. Sewn segments get one common vertex count, chosen from
 the longer side and the target edge length, and are resampled at equal arc
 length; vertex ``k`` of one side then faces vertex ``k`` of the other (or
-``n - k`` for a reversed seam). The interior is meshed by the triangle
+``n - k`` for a reversed seam). Sewn segments shorter than a tenth of an
+edge get no vertex: a cluster of cuts (carried round a loop of eased seams,
+they land a few hundredths of a mm apart) is one vertex, at the piece's own
+mark or corner when it has one. The interior is meshed by the triangle
 library (quality mesh, no Steiner points on the boundary), and the 2D pattern
 coordinates of each vertex are kept as its UV.
 """
