@@ -6,7 +6,10 @@ carried across every seam (a cut at 40 % of one side of a seam makes a cut at
 of boundary segments. Sewn segments get one common vertex count, chosen from
 the longer side and the target edge length, and are resampled at equal arc
 length; vertex ``k`` of one side then faces vertex ``k`` of the other (or
-``n - k`` for a reversed seam). The interior is meshed by the triangle
+``n - k`` for a reversed seam). Sewn segments shorter than a tenth of an
+edge get no vertex: a cluster of cuts (carried round a loop of eased seams,
+they land a few hundredths of a mm apart) is one vertex, at the piece's own
+mark or corner when it has one. The interior is meshed by the triangle
 library (quality mesh, no Steiner points on the boundary), and the 2D pattern
 coordinates of each vertex are kept as its UV.
 """
@@ -26,6 +29,7 @@ __all__ = ["Instance", "PatternMesh", "PieceMesh", "SeamPairs", "mesh_pattern"]
 log = logging.getLogger(__name__)
 
 _CORNER_ANGLE = np.deg2rad(30.0)  # turning angle above which a boundary vertex is a corner
+_MIN_SEGMENT_SHARE = 0.1  # boundary segments shorter than this share of the edge length get no vertex
 
 
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)
@@ -131,6 +135,34 @@ class _Breaks:
         return int(np.argmin(d))
 
 
+def _boundary_params(b: list[float], total: float, counts: list[int], own: set[float]) -> tuple[np.ndarray, list[int]]:
+    """Arc parameters of a piece's boundary vertices and the index of every segment's first vertex.
+
+    Segment ``j`` runs from cut ``b[j]`` to the next and gets ``counts[j]``
+    vertices at equal arc length. A segment with none (shorter than a tenth
+    of an edge, see :data:`_MIN_SEGMENT_SHARE`) merges into the next: the
+    vertex that starts the next segment stands for the whole cluster of cuts,
+    at the piece's own cut (a mark or corner, ``own``) when the cluster has
+    one. Its index is the first vertex of every segment of the cluster.
+    """
+    k = len(b)
+    first = next(j for j in range(k) if counts[j - 1] > 0)  # a segment after one with vertices: no wrap
+    ts: list[float] = []
+    starts = [0] * k
+    cluster: list[float] = []
+    for j in (np.arange(k) + first) % k:
+        starts[j] = len(ts)
+        cluster.append(b[j])
+        if counts[j] == 0:
+            continue
+        length = float(np.mod(b[(j + 1) % k] - b[j], total)) or total
+        at = [t for t in cluster if t in own]
+        ts.append(at[0] if at else b[j])
+        ts.extend((b[j] + length * np.arange(1, counts[j]) / counts[j]).tolist())
+        cluster = []
+    return np.array(ts), starts
+
+
 def _instances(pattern: Pattern) -> tuple[Instance, ...]:
     out: list[Instance] = []
     for p in pattern.pieces:
@@ -215,6 +247,7 @@ def mesh_pattern(pattern: Pattern, *, max_edge_cm: float = 2.0) -> PatternMesh:
             breaks[n].add(s[v])
         if not breaks[n].values:
             breaks[n].add(0.0)
+    own = {n: set(breaks[n].values) for n in pieces}  # the pieces' own cuts (marks, corners), before carrying
 
     def rng(r):
         s, total = arcs[r.piece]
@@ -281,10 +314,16 @@ def mesh_pattern(pattern: Pattern, *, max_edge_cm: float = 2.0) -> PatternMesh:
         for x, y in zip(sa, sb_ordered, strict=True):
             parent[find(seg_keys[(seam.a.piece, x)])] = find(seg_keys[(seam.b.piece, y)])
         seam_segments.append((sa, sb))
-    counts_group: dict[int, int] = {}
+    # a group of sewn segments all shorter than a tenth of an edge gets no vertex of its own: its start merges
+    # into the next segment's (cuts carried round a loop of seams with ease, such as sleeve cap, armhole, side
+    # seam and underarm seam, land a few hundredths of a mm from each other)
+    longest: dict[int, float] = {}
     for i, length in enumerate(seg_len):
-        g = find(i)
-        counts_group[g] = max(counts_group.get(g, 1), int(np.ceil(length / max_edge_cm - 1e-9)))
+        longest[find(i)] = max(longest.get(find(i), 0.0), length)
+    counts_group = {
+        g: int(np.ceil(length / max_edge_cm - 1e-9)) if length >= _MIN_SEGMENT_SHARE * max_edge_cm else 0
+        for g, length in longest.items()
+    }
 
     # resample boundaries and triangulate
     meshes: dict[str, PieceMesh] = {}
@@ -293,12 +332,10 @@ def mesh_pattern(pattern: Pattern, *, max_edge_cm: float = 2.0) -> PatternMesh:
     for n, p in pieces.items():
         s, total = arcs[n]
         b = breaks[n].values
-        ts: list[float] = []
-        for j in range(len(b)):
-            c = counts_group[find(seg_keys[(n, j)])]
-            seg_start[(n, j)] = len(ts)
-            ts.extend((b[j] + seg_len[seg_keys[(n, j)]] * np.arange(c) / c).tolist())
-        boundary = _point_at(p.outline, s, np.array(ts), total)
+        counts = [counts_group[find(seg_keys[(n, j)])] for j in range(len(b))]
+        ts, starts = _boundary_params(b, total, counts, own[n])
+        seg_start.update({(n, j): k for j, k in enumerate(starts)})
+        boundary = _point_at(p.outline, s, ts, total)
         m = len(boundary)
         segs = np.stack([np.arange(m), (np.arange(m) + 1) % m], axis=1)
         try:

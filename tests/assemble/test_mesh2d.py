@@ -101,3 +101,27 @@ def test_only_the_cuffs_wait_for_the_arms_to_come_down():
     assert sorted(sp.seam for sp, lt in zip(pm.seams, late, strict=True) if lt) == ["cuff_left", "cuff_right"]
     trousers = load_garment("trousers")
     assert not limb_end_seams(trousers, mesh_pattern(trousers, max_edge_cm=3.0)).any()
+
+
+@pytest.mark.parametrize("name", ["tshirt", "shirt"])
+def test_cuts_carried_round_a_loop_of_seams_leave_no_sliver(name):
+    # the sleeve cap is eased into the armhole, so a cut carried round the loop of seams at the underarm
+    # (armhole front, underarm seam, armhole back, side seam) comes back a few hundredths of a mm from where
+    # it started; meshed as they were, those cuts made boundary vertices 0.003 cm apart and a fan of
+    # triangles from 0.003 to 2 cm round each underarm corner, which crumpled through itself
+    from patternbridge.assemble.mesh2d import _on_sew_line
+    from patternbridge.library.catalogue import load_garment
+
+    garment = load_garment(name)
+    pm = mesh_pattern(garment, max_edge_cm=2.5)
+    for piece in garment.pieces:
+        m = pm.pieces[piece.name]
+        b = m.points[: m.n_boundary]
+        assert np.linalg.norm(np.roll(b, -1, axis=0) - b, axis=1).min() >= 0.1 * 2.5
+        e = np.linalg.norm(m.points[m.faces] - m.points[np.roll(m.faces, 1, axis=1)], axis=2)
+        assert e.min() > 0.05 * 2.5
+        sew_line = _on_sew_line(piece).outline
+        for mark, v in piece.marks.items():  # the marks keep their vertices
+            np.testing.assert_allclose(m.points[m.marks[mark]], sew_line[v], atol=1e-9)
+    for sp in pm.seams:
+        assert len(sp.a_vertices) == len(sp.b_vertices) >= 2
