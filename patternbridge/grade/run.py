@@ -72,6 +72,7 @@ __all__ = [
     "repair",
     "score_points",
     "shape_standing",
+    "split_ladder",
     "standing",
     "uniform_scaling",
     "within_tolerance",
@@ -400,6 +401,27 @@ def continuation_stages(all_levels, design_levels) -> list[tuple[float, float]]:
             + [(a, d) for a in alls[2:] for d in lower])
 
 
+def split_ladder(stages: list[tuple[float, float]], hold_split: bool) -> list[tuple[float, float, float]]:
+    """The continuation with and without the design's split of the girth reductions held, in the order run.
+
+    ``(split factor, all-vertex factor, grid-interval factor)``: with
+    ``hold_split`` (the pattern has a reduction a dart takes part in and the
+    suppression term has a weight), every stage of ``stages``
+    (:func:`continuation_stages`) whose grid-interval factor is above 0 runs
+    first with the term and the dart-length ceiling on (split factor 1),
+    then every stage without them (0), the same ladder again: where holding
+    the split costs shape at every level (the slim female's trousers, whose
+    waist is 8.3 cm under scaling's, so that the back's reduction grows to
+    1.34 of the sample's), the gradings without it compete on the same
+    standing rule. At grid-interval factor 0 the term is off anyway, so
+    those stages run once, in the second half. Decreasing tuples, like
+    ``stages``: the order ``st < first`` relies on.
+    """
+    if not hold_split:
+        return [(0.0, a, d) for a, d in stages]
+    return [(1.0, a, d) for a, d in stages if d > 0] + [(0.0, a, d) for a, d in stages]
+
+
 def choose(F: np.ndarray, *, tol_measure_cm: float, tol_seam: float, within: np.ndarray | None = None,
            standing: np.ndarray | None = None) -> int:
     """Row of ``F`` with the least shape error among those within tolerance.
@@ -619,7 +641,7 @@ def fit_pattern(
     w_fit: float = 0.02,
     w_design: float = 0.7,
     w_share: float = 3.0,
-    w_suppress: float = 0.0,
+    w_suppress: float = 3.0,
     design_levels: tuple[float, ...] = (1.0, 1.0 / 3.0, 1.0 / 9.0, 0.0),
     w_all: float = 1.0,
     all_levels: tuple[float, ...] = (3.0, 1.0, 0.5),
@@ -666,9 +688,11 @@ def fit_pattern(
         came out with the back rise shorter than the front's.
     w_suppress : weight of the design's split of every reduction between
         two girth levels of a piece among its darts and seams
-        (:mod:`.suppression`); it steps down with ``w_design``'s levels.
-        0 (off) by default: the dart-length ceiling it brings lets the
-        trousers' dart points move (docs/grading.md)
+        (:mod:`.suppression`); it steps down with ``w_design``'s levels,
+        and the continuation runs its stages first with the term (and the
+        dart-length ceiling it brings) and then without it
+        (:func:`split_ladder`), so that a grading where holding the split
+        costs shape is not kept for it. 0: never held
     w_all, all_levels : weight of the every-vertex angle term of the final
         step (:func:`~.refine.refine`) and its factors, tried in turn when no
         ``design_levels`` factor brings the shape error below proportional
@@ -870,6 +894,7 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
     from .operators import GridCrossover, GridMutation, SeedSampling
     from .problem import GradingProblem
     from .refine import grain_constraints, refine, row_basis, straight_constraints, straight_edges
+    from .suppression import suppression
     from .symmetry import mirror_symmetries, symmetry_constraints
 
     t0 = time.perf_counter()
@@ -921,21 +946,24 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
     # the continuation's stages in order: the grid-interval weight steps
     # down first; only when no level of it passes does the all-vertex angle
     # weight step down, and the grid-interval levels run again
-    stages = continuation_stages(all_levels, design_levels)
-    start_stage = [stages[0]]
+    stages = split_ladder(continuation_stages(all_levels, design_levels),
+                          w_suppress > 0 and suppression(grid, data).n_parts > 0)
+    halves = sorted({st[0] for st in stages}, reverse=True)  # the split held (1), then not (0)
+    start_stage = {h: next(st for st in stages if st[0] == h) for h in halves}  # where later starts begin
+    settled = [stages[0]]  # the last stage that passed
     closest_run: list[Solution | None] = [None]  # the first passing run of the last start, else its closest
-    later: list[tuple] = [()]  # no stage passed on the first start: the stages later starts run
-    stage_of: dict[bytes, tuple[float, float]] = {}  # the stage every refined solution ran at
+    later: dict[float, tuple] = {}  # no stage of a half passed on the first start: the stages later starts run
+    stage_of: dict[bytes, tuple[float, float, float]] = {}  # the stage every refined solution ran at
 
-    def settings_at(stage: tuple[float, float]) -> dict:
-        w_all_level, level = stage
+    def settings_at(stage: tuple[float, float, float]) -> dict:
+        split, w_all_level, level = stage
         return {"measure_tol_cm": measure_band_cm, "straight": straight, "max_iter": refine_iter,
                 "x_design": x_axis, "w_design": w_design * level, "w_share": w_share, "w_fit": w_fit,
-                "w_suppress": w_suppress * level, "dart_cap": w_suppress * level > 0,
+                "w_suppress": w_suppress * split * level, "dart_cap": w_suppress * split * level > 0,
                 "w_all": w_all * w_all_level, "symmetric": symmetric}
 
-    def finish_at(start_name: str, x_start: np.ndarray, stage: tuple[float, float]) -> Solution:
-        w_all_level, level = stage
+    def finish_at(start_name: str, x_start: np.ndarray, stage: tuple[float, float, float]) -> Solution:
+        split, w_all_level, level = stage
         res = refine(grid, data, x_start, **settings_at(stage), progress=progress)
         if res.max_violation_cm > 1e-3:
             log.info("%s: final step from the %s (design weight x%.3g) left a violation of %.3g cm",
@@ -944,33 +972,67 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
                 f"design weight x{level:.3g}")
         if w_all_level != 1.0:
             note += f", all-vertex weight x{w_all_level:.3g}"
+        if w_suppress > 0 and split == 0 and level > 0:
+            note += ", the split of the girth reductions not held"
         return _solution(grid, data, "nsga2+refine", res.x, size, note)
 
     def finish(start_name: str, x_start: np.ndarray) -> Solution | None:
         """The constrained final step from ``x_start`` with the continuation on its tie-break weights.
 
-        Stages run in order of decreasing weights (:func:`continuation_stages`).
+        Stages run in order of decreasing weights (:func:`continuation_stages`),
+        with the split of the girth reductions held and then without it
+        (:func:`split_ladder`).
         Each stage starts from ``x_start``, not from the last stage's result:
         warm-started, the slim female's trousers settled at 0.0030 rad against
         scaling's 0.0027 (cold: 0.0019). Lower weights trade the all-vertex
         measure for the critical-point one, so the ladder stops at the first
         stage whose shape error at the critical points is below scaling's: a
         later stage could only bend more curves. When a level passes after
-        one that did not (at the same all-vertex weight), the geometric mean
+        one that did not (at the same all-vertex weight and split), the geometric mean
         of the two is tried once. Of the stages run, the result is the one
         that stands best against scaling on both measures
         (:func:`shape_standing`). Later starts begin at the stage that passed;
         when none did, later starts run only the stage that came closest at
         the critical points when it came within :data:`CLOSE_RATIO` of
         scaling's (another start may pass there), else only the stage that
-        stood best. None when no run meets the fit.
+        stood best. With the split of the girth reductions held, the ladder
+        runs in two halves (:func:`split_ladder`), each on these rules: the
+        stages with the split held, and only when their result does not keep
+        both measures at or below scaling's, the stages without it; the
+        result stands best of all the runs of both. When one half passes and
+        the other passed nowhere, later starts skip the other; when neither
+        passed, later starts run the one stage of both that came closest (or
+        stood best). None when no run meets the fit.
         """
-        todo = list(later[0]) if later[0] else [start_stage[0]] + [st for st in stages if st < start_stage[0]]
+        todos = [list(later[h]) if h in later
+                 else [start_stage[h]] + [st for st in stages if st[0] == h and st < start_stage[h]]
+                 for h in halves]
         closest_run[0] = None
-        done: dict[tuple[float, float], Solution] = {}
-        best: list = [None, todo[0]]  # solution, stage
+        done: dict[tuple[float, float, float], Solution] = {}
+        best: list = [None, None]  # solution, stage
 
-        def run(stage: tuple[float, float]) -> Solution | None:
+        def ladder(todo: list, run: Callable) -> tuple[float, float, float] | None:
+            """Run ``todo`` in order until a stage passes at the critical points; that stage, or None."""
+            failed: tuple[float, float, float] | None = None
+            for stage in todo:
+                cand = run(stage)
+                if cand is None:
+                    continue
+                if closest_run[0] is None or cand.scores.shape_error < closest_run[0].scores.shape_error:
+                    closest_run[0] = cand
+                if cand.scores.shape_error < shape_ref:
+                    if failed is not None and failed[:2] == stage[:2]:
+                        level = stage[2]
+                        mid = float(np.sqrt(failed[2] * level)) if level > 0 else failed[2] / 3.0
+                        between = run((*stage[:2], mid))
+                        if between is not None and between.scores.shape_error < shape_ref:
+                            stage, closest_run[0] = (*stage[:2], mid), between
+                    start_stage[stage[0]] = settled[0] = stage
+                    return stage
+                failed = stage
+            return None
+
+        def run(stage: tuple[float, float, float]) -> Solution | None:
             cand = finish_at(start_name, x_start, stage)
             stage_of[cand.x.tobytes()] = stage
             if not _meets(cand, **accept):
@@ -981,28 +1043,22 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
                 best[:] = [cand, stage]
             return cand
 
-        failed: tuple[float, float] | None = None
-        for stage in todo:
-            cand = run(stage)
-            if cand is None:
-                continue
-            if closest_run[0] is None or cand.scores.shape_error < closest_run[0].scores.shape_error:
-                closest_run[0] = cand
-            if cand.scores.shape_error < shape_ref:
-                closest_run[0] = cand
-                if failed is not None and failed[0] == stage[0]:
-                    level = stage[1]
-                    mid = float(np.sqrt(failed[1] * level)) if level > 0 else failed[1] / 3.0
-                    between = run((stage[0], mid))
-                    if between is not None and between.scores.shape_error < shape_ref:
-                        stage, closest_run[0] = (stage[0], mid), between
-                start_stage[0] = stage
-                return best[0]
-            failed = stage
-        if len(todo) > 1 and done:
-            closest = min(done, key=lambda st: done[st].scores.shape_error)
-            near = done[closest].scores.shape_error <= CLOSE_RATIO * shape_ref
-            later[0] = (closest,) if near else (best[1],)
+        passed, failed = set(), []  # the halves that passed at the critical points, that ran every stage and did not
+        for todo in (t for t in todos if t):
+            if ladder(todo, run) is not None:
+                passed.add(todo[0][0])
+            elif len(todo) > 1:
+                failed.append(todo[0][0])
+            if best[0] is not None and shape_standing(best[0].scores, ref_scores)[0] == -2:
+                break  # both measures at or below scaling's: the split stays held
+        if failed and done:
+            if passed:  # later starts skip the half that passed nowhere
+                later.update({h: () for h in failed})
+            else:  # later starts run one stage of all: the closest at the critical points, else the best
+                closest = min(done, key=lambda st: done[st].scores.shape_error)
+                near = done[closest].scores.shape_error <= CLOSE_RATIO * shape_ref
+                one = closest if near else best[1]
+                later.update({h: (one,) if one[0] == h else () for h in halves})
         return best[0]
 
     refined: list[Solution] = []
@@ -1050,7 +1106,7 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
     if do_repair and n_trade:
         fitted = [r for r in refined if _meets(r, **accept)]
         base_stage = stage_of.get(min(fitted, key=lambda r: r.scores.shape_error).x.tobytes(),
-                                  start_stage[0]) if fitted else start_stage[0]
+                                  settled[0]) if fitted else settled[0]
         refined += _trade_offs(grid, data, refined, settings_at(base_stage), n_trade, size, accept,
                                progress)
     # the final Pareto front: NSGA-II's front and the refined solutions, the
@@ -1087,7 +1143,7 @@ def _fit_pattern(pattern, measurements, *, seed, pop_size, n_gen, max_lines, max
     findings = _checks(grid, data, chosen, baselines["proportional"])
     for f in findings:
         log.warning("%s: %s", source, f)
-    chosen_stage = stage_of.get(chosen.x.tobytes(), start_stage[0]) if chosen.x is not None else start_stage[0]
+    chosen_stage = stage_of.get(chosen.x.tobytes(), settled[0]) if chosen.x is not None else settled[0]
     forcing = None
     if do_repair:
         def release_finish(d: ObjectiveData, x_start: np.ndarray) -> np.ndarray:

@@ -17,6 +17,7 @@ from patternbridge.grade.run import (
     fit_pattern,
     non_dominated,
     refine_members,
+    split_ladder,
     standing,
     within_tolerance,
 )
@@ -193,3 +194,16 @@ def test_a_member_off_grain_is_not_within_tolerance(skirt_result):
     X = np.stack([r.chosen.x, turned.ravel()])
     np.testing.assert_array_equal(within_tolerance(r.grid, r.data, X, grain_deg=None, symmetry_cm=None), [True, True])
     np.testing.assert_array_equal(within_tolerance(r.grid, r.data, X, grain_deg=0.5, symmetry_cm=None), [True, False])
+
+
+def test_split_ladder_runs_every_stage_with_the_split_held_then_the_ladder_without_it():
+    stages = continuation_stages((3.0, 1.0, 0.5), (1.0, 1 / 3, 0.0))
+    ladder = split_ladder(stages, True)
+    # held first, at every stage whose grid-interval factor lets the term act (the term is
+    # w_suppress x that factor: at 0 it is off, so those stages run once, without it)
+    assert ladder[:5] == [(1.0, 3.0, 1.0), (1.0, 1.0, 1.0), (1.0, 1.0, 1 / 3), (1.0, 0.5, 1 / 3), (0.0, 3.0, 1.0)]
+    assert [st[1:] for st in ladder if st[0] == 1.0] == [st for st in stages if st[1] > 0]
+    assert [st[1:] for st in ladder if st[0] == 0.0] == stages
+    assert ladder == sorted(ladder, reverse=True)  # decreasing: later starts run `st < first`
+    # nothing to hold (no dart in a reduction, or w_suppress = 0): the continuation as it is
+    assert split_ladder(stages, False) == [(0.0, *st) for st in stages]

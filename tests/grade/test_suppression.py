@@ -76,7 +76,7 @@ def test_the_dress_skirt_takes_its_waist_over_the_waist_seam_and_a_neck_is_no_le
 
 @pytest.mark.shared
 @pytest.mark.slow
-def test_a_skirt_graded_to_the_superhero_keeps_the_split_and_its_hip_curve(measured):
+def test_a_skirt_graded_to_the_superhero_keeps_the_split_and_its_hip_curve_by_default(measured):
     """Her waist-to-hip reduction is about 0.7 of scaling's: held, every dart and seam takes its share of it.
 
     Without the term the whole grading's back side seam took 0.06 of it
@@ -90,8 +90,9 @@ def test_a_skirt_graded_to_the_superhero_keeps_the_split_and_its_hip_curve(measu
     one_stage = {"pop_size": 24, "n_gen": 12, "n_refine": 1, "design_levels": (1.0,), "all_levels": (3.0,)}
     body = measured("A_superhero")
     out = {}
-    for w in (3.0, 0.0):
-        result = fit_pattern(load_garment("skirt"), body, seed=0, size="A", w_suppress=w, **one_stage)
+    for w in (None, 0.0):  # the default holds the split
+        held = {} if w is None else {"w_suppress": w}
+        result = fit_pattern(load_garment("skirt"), body, seed=0, size="A", **held, **one_stage)
         grid, data, x = result.grid, result.data, result.chosen.x
         ours, scaling = result.chosen.scores, result.baselines["proportional"].scores
         assert ours.measurement_error <= 0.5 and ours.max_seam_mismatch_cm <= 0.1
@@ -107,7 +108,7 @@ def test_a_skirt_graded_to_the_superhero_keeps_the_split_and_its_hip_curve(measu
             dart_lengths(data, pts)[0] / dart_lengths(data, grid.outlines(result.baselines["proportional"].x[None]))[0]
         )
         out[w] = (np.abs(parts[0] / r[0, pair] - sup.share0).max(), depth, darts, ours, scaling)
-    share_err, depth, darts, ours, scaling = out[3.0]
+    share_err, depth, darts, ours, scaling = out[None]
     assert share_err <= 0.05  # every dart and seam within 5 points of its share
     assert depth >= 0.9  # the back's hip curve keeps its depth
     assert darts.max() <= 1.01  # no dart reaches past its proportional length; they shorten with their intake
@@ -117,3 +118,34 @@ def test_a_skirt_graded_to_the_superhero_keeps_the_split_and_its_hip_curve(measu
     _, _, _, ours0, scaling0 = out[0.0]
     assert out[0.0][0] > 0.2
     assert ours0.shape_error > scaling0.shape_error
+
+
+@pytest.mark.shared
+@pytest.mark.slow
+def test_where_holding_the_split_costs_shape_the_grading_without_it_is_kept(measured):
+    """The slim female's waist is 8.3 cm under scaling's: her trousers' back reduction grows to 1.34 of the sample's.
+
+    Held at the same stage, the split turns the dart points and the waists
+    (critical points 0.0095 rad against 0.0056 without it, every vertex
+    0.0113 against 0.0090): the same stage without the term competes on
+    the same standing against scaling (run.split_ladder), so the default
+    grading stands no worse than the one that never holds the split.
+    """
+    from patternbridge.grade.run import fit_pattern, shape_standing
+
+    one_level = {
+        "pop_size": 24,
+        "n_gen": 12,
+        "n_refine": 1,
+        "n_trade": 0,
+        "design_levels": (1 / 3,),
+        "all_levels": (1.0,),
+    }
+    body = measured("B_slim_female")
+    res = {w: fit_pattern(load_garment("trousers"), body, seed=0, w_suppress=w, **one_level) for w in (3.0, 0.0)}
+    held, free = res[3.0], res[0.0]
+    scaling = held.baselines["proportional"].scores
+    assert held.chosen.scores.measurement_error <= 0.5 and held.chosen.scores.max_seam_mismatch_cm <= 0.1
+    assert shape_standing(held.chosen.scores, scaling) <= shape_standing(free.chosen.scores, scaling)
+    # the split is let go where it costs shape: the chosen grading's settings have no term and no dart ceiling
+    assert held.finish_settings["w_suppress"] == 0.0 and not held.finish_settings["dart_cap"]
