@@ -251,7 +251,7 @@ def place_instances(
             )
         cyl = cylinders[part]
         mirrored = inst.copy is Copy.MIRROR
-        if part is BodyPart.TORSO and pl.side is Side.AROUND and parts is not None:
+        if part in (BodyPart.TORSO, BodyPart.HEAD) and pl.side is Side.AROUND and parts is not None:
             cyl = _band_cylinder(character, vertices, parts, cyl, pl.anchor, mirrored)
         p2 = instance_points2d(pmesh, inst)
         marks = pmesh.pieces[inst.piece].marks
@@ -629,7 +629,8 @@ def _band_cylinder(
 
     A band going round the waist or the neck is wrapped on its own length;
     round the torso's bounding-box centre it would sit off the body (a belly
-    pushes the box forward).
+    pushes the box forward), round the head's (a collar) behind the neck (the
+    face pushes the box forward and up).
     """
     import dataclasses
 
@@ -732,7 +733,9 @@ def _row_radii(pmesh: PatternMesh, inst: Instance, part: BodyPart, side: Side, r
     radius ``width(y) / 2π``, so its seam edges start side by side instead
     of across the limb. Rows beyond the widest row toward the body (a
     sleeve cap) keep the radius of the widest row below them, and sit on top
-    of the limb. Other pieces use the cylinder's ``radius_cm``.
+    of the limb. A band round the torso or the neck sewn to itself (a
+    waistband, a collar) goes once round on its full width. Other pieces use
+    the cylinder's ``radius_cm``.
     """
     pts = pmesh.pieces[inst.piece].points
     n = len(pts)
@@ -740,10 +743,11 @@ def _row_radii(pmesh: PatternMesh, inst: Instance, part: BodyPart, side: Side, r
     if not (closes and side is Side.AROUND):
         return np.full(n, float(radius_cm))
     b = pts[: pmesh.pieces[inst.piece].n_boundary]
-    if part is BodyPart.TORSO:
-        # a band round the waist (a waistband): once round on its full
-        # length, its closure edges side by side (a collar stays on the neck's
-        # cylinder: its rows follow the neckline's curve, not the axis)
+    if part in (BodyPart.TORSO, BodyPart.HEAD):
+        # a band round the waist or the neck (a waistband, a collar): once
+        # round on its full length, its closure edges side by side (on the
+        # head's radius a collar went a third again round, its side neck
+        # marks 6 cm behind the neck after the seam graph drew it in)
         return np.full(n, max(float(np.ptp(b[:, 0])) / (2 * np.pi), 1.0))
     if part not in LIMBS:
         return np.full(n, float(radius_cm))
