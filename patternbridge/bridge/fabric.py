@@ -121,8 +121,8 @@ def pullover_neck_cm(pattern: Pattern, inference: BridgeInference) -> float | No
         for side in (j.a, j.b)
         for part in side_parts(pattern, side)
     }
-    necks = [o for o in openings(pattern, used, dict(inference.roles), inference.orientations, chosen)]
-    whole = [o.length_cm for o in necks if o.kind == "neck" and not o.part]
+    opened = openings(pattern, used, dict(inference.roles), inference.orientations, chosen)
+    whole = [o.length_cm for o in opened if o.kind == "neck" and not o.part]
     return whole[0] if whole else None
 
 

@@ -299,10 +299,7 @@ def place_instances(
             theta = (0.0 if pl.side is Side.FRONT else np.pi) + (p2[:, 0] - _centre_line(pmesh, inst, p2)) / Rv
         ls = stretches.get(inst.key)
         h = h_a + ((ls.heights(p2[:, 1]) if ls is not None and ls.stretched else p2[:, 1]) - a2[1])
-        r = Rv.copy() if np.ndim(Rv) else np.full(len(p2), float(Rv))
-        if scene is not None:
-            r = scene.radial_clearance(cyl, theta, h, r, CLEARANCE_CM)
-        out[inst.key] = cyl.points(theta, h, r)
+        out[inst.key] = _on_cylinder(cyl, theta, h, Rv, scene)
         if part in LEGS and BodyPart.TORSO in cylinders and parts is not None:
             # any leg piece: the rows that rise above the crotch go round the hips (see _seat_on_hips)
             x_ref = np.broadcast_to(np.asarray(x_ref, dtype=np.float64), (len(p2),))
@@ -312,6 +309,14 @@ def place_instances(
     if seat:
         _seat_on_hips(character, vertices, parts, cylinders[BodyPart.TORSO], seat, out, scene)
     return out
+
+
+def _on_cylinder(cyl: Cylinder, theta: np.ndarray, h: np.ndarray, Rv, scene) -> np.ndarray:
+    """Points at angles ``theta`` and heights ``h`` on ``cyl`` at radius ``Rv`` (per row or one), clear of the scene."""
+    r = Rv.copy() if np.ndim(Rv) else np.full(len(theta), float(Rv))
+    if scene is not None:
+        r = scene.radial_clearance(cyl, theta, h, r, CLEARANCE_CM)
+    return cyl.points(theta, h, r)
 
 
 #: a binding turned end over end must start its seams closer than this share of the summed squared gaps as drawn
@@ -343,10 +348,7 @@ def _bindings_way_up(pattern: Pattern, pmesh: PatternMesh, rows: list, shared: d
         q, b = -p2, -a2
         theta = th_a + (q[:, 0] - b[0]) / Rv
         h = h_a + (q[:, 1] - b[1])
-        r = Rv.copy() if np.ndim(Rv) else np.full(len(q), float(Rv))
-        if scene is not None:
-            r = scene.radial_clearance(cyl, theta, h, r, CLEARANCE_CM)
-        turned = cyl.points(theta, h, r)
+        turned = _on_cylinder(cyl, theta, h, Rv, scene)
 
         as_drawn = sum(float(np.sum((out[inst.key][va] - t) ** 2)) for va, t in sides)
         if sum(float(np.sum((turned[va] - t) ** 2)) for va, t in sides) < TURNED_GAIN * as_drawn:
