@@ -251,6 +251,19 @@ def design_checks(
     """
     pts = np.asarray(points, dtype=np.float64)[None]
     ref = np.asarray(reference, dtype=np.float64)[None]
+    return (*_extent_findings(data, pts, ref, piece_names),
+            *_turn_findings(data, pts, ref, piece_names, cut_turn or {}),
+            *_curve_findings(data, pts, piece_names),
+            *_share_findings(data, pts),
+            *_symmetry_findings(symmetry_cm or {}))
+
+
+def _extent_findings(data: ObjectiveData, pts: np.ndarray, ref: np.ndarray,
+                     piece_names: tuple[str, ...]) -> list[Finding]:
+    """``piece-collapsed`` / ``piece-stretched``: a width or height off its proportional one.
+
+    ``pts``, ``ref`` : (1, N, 2) graded and proportional vertices, cm.
+    """
     out: list[Finding] = []
     ratio = piece_extents(data, pts)[0] / np.maximum(piece_extents(data, ref)[0], 1e-9)
     for p, name in enumerate(piece_names):
@@ -262,6 +275,17 @@ def design_checks(
             elif r > 1.0 / MIN_EXTENT_RATIO:
                 out.append(Finding(code="piece-stretched", where=name, message=(
                     f"{what} is {r:.2f} of its proportional {what} (limit {1.0 / MIN_EXTENT_RATIO:.2f})")))
+    return out
+
+
+def _turn_findings(data: ObjectiveData, pts: np.ndarray, ref: np.ndarray, piece_names: tuple[str, ...],
+                   cut_turn: dict[str, tuple[float, float]]) -> list[Finding]:
+    """``piece-turned`` (longest edge, then cut line) and ``piece-sheared`` against proportional scaling.
+
+    A cut line's turn is reported only for a piece whose reference line
+    does not already tell (neither turned nor sheared).
+    """
+    out: list[Finding] = []
     turn = np.degrees(np.abs(piece_turn(data, pts)[0] - piece_turn(data, ref)[0]))
     for p in np.flatnonzero(turn > MAX_TURN_DEG):
         out.append(Finding(code="piece-turned", where=piece_names[p], message=(
@@ -270,7 +294,7 @@ def design_checks(
     axes = piece_axes_turn(data, pts)[0] - piece_axes_turn(data, ref)[0]
     shear = np.degrees(np.abs(axes[:, 0] - axes[:, 1]))
     seen = (turn > MAX_TURN_DEG) | (shear > MAX_SHEAR_DEG)  # the reference line already tells
-    for name, (edge, skew) in (cut_turn or {}).items():
+    for name, (edge, skew) in cut_turn.items():
         edge, skew = float(np.degrees(abs(edge))), float(np.degrees(abs(skew)))
         if name in piece_names and not seen[piece_names.index(name)] and (
                 edge > MAX_TURN_DEG or skew > MAX_SHEAR_DEG):
@@ -281,6 +305,13 @@ def design_checks(
         out.append(Finding(code="piece-sheared", where=piece_names[p], message=(
             f"its drawing axes turned {shear[p]:.1f}° against each other beyond proportional scaling "
             f"(limit {MAX_SHEAR_DEG:.0f}°): slanted out of its design")))
+    return out
+
+
+def _curve_findings(data: ObjectiveData, pts: np.ndarray, piece_names: tuple[str, ...]) -> list[Finding]:
+    """``curve-flattened``: a span between critical points, then a whole curve run, under
+    :data:`MIN_CURVE_RATIO` of its design depth."""
+    out: list[Finding] = []
     depth0 = span_sagitta(data, data.points0[None])[0]
     depth = span_sagitta(data, pts)[0]
     curved = depth0 >= MIN_CURVE_DEPTH
@@ -299,13 +330,20 @@ def design_checks(
                 f"the curve from outline point {int(run[0]) - first} through {len(run) - 2} vertices to "
                 f"{int(run[-1]) - first} is {d / d0:.2f} as deep as in the design, as a whole "
                 f"(limit {MIN_CURVE_RATIO})")))
+    return out
+
+
+def _share_findings(data: ObjectiveData, pts: np.ndarray) -> list[Finding]:
+    """``share-moved``: a piece's share of a link over several pieces moved beyond :data:`MAX_SHARE_MOVE`."""
     move = share_move(data, pts)[0]
-    for k in np.flatnonzero(move > MAX_SHARE_MOVE):
-        out.append(Finding(code="share-moved", where=data.link_ids[k], message=(
-            f"a piece's share of it moved by {move[k]:.3f} (limit {MAX_SHARE_MOVE}): the pieces it spans "
-            "no longer keep the design's balance")))
-    for name, err in (symmetry_cm or {}).items():
-        if err > MAX_SYMMETRY_CM:
-            out.append(Finding(code="symmetry-lost", where=name, message=(
-                f"{err * 10:.1f} mm from its mirror image (limit {MAX_SYMMETRY_CM * 10:.0f} mm)")))
-    return tuple(out)
+    return [Finding(code="share-moved", where=data.link_ids[k], message=(
+                f"a piece's share of it moved by {move[k]:.3f} (limit {MAX_SHARE_MOVE}): the pieces it spans "
+                "no longer keep the design's balance"))
+            for k in np.flatnonzero(move > MAX_SHARE_MOVE)]
+
+
+def _symmetry_findings(symmetry_cm: dict[str, float]) -> list[Finding]:
+    """``symmetry-lost``: a symmetric piece farther than :data:`MAX_SYMMETRY_CM` from its mirror image."""
+    return [Finding(code="symmetry-lost", where=name, message=(
+                f"{err * 10:.1f} mm from its mirror image (limit {MAX_SYMMETRY_CM * 10:.0f} mm)"))
+            for name, err in symmetry_cm.items() if err > MAX_SYMMETRY_CM]

@@ -246,6 +246,47 @@ def objective_data(
         bridge data names unknown pieces or marks.
     """
     pattern: Pattern = grid.pattern
+    _check_links(pattern, measurements, source)
+    nxt, prv = _neighbours(grid)
+    points0 = grid.outlines(grid.x0[None, :])[0]
+    links = _link_arrays(grid, measurements, points0, nxt, source)
+    seams = _seam_arrays(grid, points0, n_samples, source)
+    notches = _notch_arrays(grid, source)
+    spans = _span_arrays(grid, points0, nxt)
+    data = ObjectiveData(
+        nxt=nxt, prv=prv,
+        span_edges=spans.edges, span_piece=spans.piece, span_len0=spans.len0, span_a=spans.a, span_b=spans.b,
+        link_ids=tuple(lk.id for lk in pattern.measurements),
+        link_measurements=tuple(lk.measurement for lk in pattern.measurements),
+        target_cm=links.target_cm, link_edges=links.link_edges,
+        at_least=np.array([lk.at_least for lk in pattern.measurements], dtype=bool),
+        chord_a=links.chord_a, chord_b=links.chord_b,
+        chord_across=links.chord_across, chord_level0=links.chord_level0,
+        link_chords=links.link_chords,
+        seam_ids=tuple(s.id for s in pattern.seams), seam_labels=seams.labels,
+        seam_ease_cm=np.array([s.ease_cm for s in pattern.seams], dtype=np.float64),
+        seam_a_edges=seams.a_edges, seam_b_edges=seams.b_edges,
+        sample_i0=seams.sample_i0, sample_i1=seams.sample_i1, sample_w=seams.sample_w,
+        interval_a=seams.interval_a, interval_b=seams.interval_b, interval_seam=seams.interval_seam,
+        turn_a=seams.turn_a, turn_b=seams.turn_b, turn_seam=seams.turn_seam, turn_sign_b=seams.turn_sign_b,
+        turn0=np.zeros(len(seams.turn_seam)),
+        notch_a=notches.a, notch_b=notches.b, notch_b_len=notches.b_len,
+        notch_b_sign=notches.b_sign, notch_offset0=notches.offset0, notch_seam=notches.seam,
+        critical=np.concatenate([grid.point_offsets[k] + g.critical
+                                 for k, g in enumerate(grid.pieces)]).astype(np.int64),
+        darts=_dart_array(grid), angle0=_angles(points0, prv, nxt), n_seams=len(pattern.seams),
+        piece_of_point=np.repeat(np.arange(len(grid.pieces)), np.diff(grid.point_offsets)).astype(np.int64),
+        points0=points0,
+        centre0=np.stack([points0[a:b].mean(axis=0)
+                          for a, b in zip(grid.point_offsets[:-1], grid.point_offsets[1:], strict=True)]),
+        extent_cm=np.array([g.extent_cm for g in grid.pieces]),
+    )
+    _set_design_references(data)
+    return data
+
+
+def _check_links(pattern: Pattern, measurements: Mapping[str, float], source: str) -> None:
+    """Raise :class:`InputError` when the pattern has no links or the character lacks a measurement they need."""
     if not pattern.measurements:
         raise InputError(
             f"{source}: the pattern has no landmark-to-measurement mapping (no measurement links); "
@@ -258,13 +299,27 @@ def objective_data(
             f"{source}: the character lacks measurements the garment needs ({', '.join(missing)}); "
             "measure them (patternbridge measure --all) or give them in the measurements JSON"
         )
-    nxt, prv = _neighbours(grid)
-    n = grid.n_points
-    points0 = grid.outlines(grid.x0[None, :])[0]
 
-    # --- measurement links
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class _LinkArrays:
+    """The measurement links as arrays (the fields of :class:`ObjectiveData` of the same names)."""
+
+    link_edges: np.ndarray  # (N, L)
+    chord_a: np.ndarray  # (C,)
+    chord_b: np.ndarray  # (C,)
+    chord_across: np.ndarray  # (C, 2)
+    chord_level0: np.ndarray  # (C,)
+    link_chords: np.ndarray  # (C, L)
+    target_cm: np.ndarray  # (L,)
+
+
+def _link_arrays(grid: PatternGrid, measurements: Mapping[str, float], points0: np.ndarray, nxt: np.ndarray,
+                 source: str) -> _LinkArrays:
+    """Every link's legs: edge factors for legs along the outline, chords for the straight and across ones."""
+    pattern = grid.pattern
     L = len(pattern.measurements)
-    link_edges = np.zeros((n, L))
+    link_edges = np.zeros((grid.n_points, L))
     chords: list[tuple[int, int, int, float]] = []
     chord_dirs: list[np.ndarray] = []  # across the grain, or 0 for a plain chord
     for j, link in enumerate(pattern.measurements):
@@ -281,26 +336,46 @@ def objective_data(
     chord_a = np.array([c[0] for c in chords], dtype=np.int64)
     chord_b = np.array([c[1] for c in chords], dtype=np.int64)
     chord_across = np.array(chord_dirs, dtype=np.float64).reshape(len(chords), 2)
-    chord_level0 = _rise(points0[None], chord_a, chord_b, chord_across)[0]
     link_chords = np.zeros((len(chords), L))
     for r, c in enumerate(chords):
         link_chords[r, c[2]] += c[3]
-    target = _link_targets(pattern, measurements, points0, nxt, link_edges, chord_a, chord_b, chord_across,
-                           link_chords, source)
+    return _LinkArrays(
+        link_edges=link_edges, chord_a=chord_a, chord_b=chord_b, chord_across=chord_across,
+        chord_level0=_rise(points0[None], chord_a, chord_b, chord_across)[0], link_chords=link_chords,
+        target_cm=_link_targets(pattern, measurements, points0, nxt, link_edges, chord_a, chord_b, chord_across,
+                                link_chords, source))
 
-    # --- seams
-    S = len(pattern.seams)
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class _SeamArrays:
+    """The seams' edges, stitch samples, intervals and turning triples (:class:`ObjectiveData`'s fields)."""
+
+    labels: tuple[tuple[str, str], ...]
+    a_edges: np.ndarray  # (N, S)
+    b_edges: np.ndarray  # (N, S)
+    sample_i0: np.ndarray  # (Q,)
+    sample_i1: np.ndarray  # (Q,)
+    sample_w: np.ndarray  # (Q,)
+    interval_a: np.ndarray  # (I, 2)
+    interval_b: np.ndarray  # (I, 2)
+    interval_seam: np.ndarray  # (I,)
+    turn_a: np.ndarray  # (T, 3)
+    turn_b: np.ndarray  # (T, 3)
+    turn_seam: np.ndarray  # (T,)
+    turn_sign_b: np.ndarray  # (T,)
+
+
+def _seam_arrays(grid: PatternGrid, points0: np.ndarray, n_samples: int, source: str) -> _SeamArrays:
+    """Both sides of every seam sampled at ``n_samples`` arc-length fractions, paired in sewing order."""
+    pattern = grid.pattern
+    n, S = grid.n_points, len(pattern.seams)
     a_edges = np.zeros((n, S))
     b_edges = np.zeros((n, S))
     i0s, i1s, ws = [], [], []
     int_a, int_b, int_s = [], [], []
     tr_a, tr_b, tr_s, tr_sign = [], [], [], []
-    n_a_cols, n_b_cols, nb_len_cols, n_sign, n_off, n_seam = [], [], [], [], [], []
     labels = []
     fractions = np.linspace(0.0, 1.0, n_samples)
-    notch_sets = {}
-    for piece in pattern.pieces:
-        notch_sets[piece.name] = {int(nt.vertex) for nt in piece.notches}
     q = 0
     for s_i, seam in enumerate(pattern.seams):
         where = f"{source}: seam {seam.id!r}"
@@ -329,7 +404,44 @@ def objective_data(
         tr_s.append(np.full(n_samples - 2, s_i))
         # b's turning measured in pairing order is the negative of its own-order turning
         tr_sign.append(np.full(n_samples - 2, -1.0 if seam.reverse else 1.0))
-        # notches strictly inside each side, paired in sewing order
+    return _SeamArrays(
+        labels=tuple(labels), a_edges=a_edges, b_edges=b_edges,
+        sample_i0=(np.concatenate(i0s) if i0s else np.zeros(0, np.int64)).astype(np.int64),
+        sample_i1=(np.concatenate(i1s) if i1s else np.zeros(0, np.int64)).astype(np.int64),
+        sample_w=np.concatenate(ws) if ws else np.zeros(0),
+        interval_a=(np.concatenate(int_a) if int_a else np.zeros((0, 2), np.int64)).astype(np.int64),
+        interval_b=(np.concatenate(int_b) if int_b else np.zeros((0, 2), np.int64)).astype(np.int64),
+        interval_seam=(np.concatenate(int_s) if int_s else np.zeros(0, np.int64)).astype(np.int64),
+        turn_a=(np.concatenate(tr_a) if tr_a else np.zeros((0, 3), np.int64)).astype(np.int64),
+        turn_b=(np.concatenate(tr_b) if tr_b else np.zeros((0, 3), np.int64)).astype(np.int64),
+        turn_seam=(np.concatenate(tr_s) if tr_s else np.zeros(0, np.int64)).astype(np.int64),
+        turn_sign_b=np.concatenate(tr_sign) if tr_sign else np.zeros(0))
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class _NotchArrays:
+    """The notch pairs of the seams (:class:`ObjectiveData`'s ``notch_*`` fields)."""
+
+    a: np.ndarray  # (N, M)
+    b: np.ndarray  # (N, M)
+    b_len: np.ndarray  # (N, M)
+    b_sign: np.ndarray  # (M,)
+    offset0: np.ndarray  # (M,) zeros until the design's offsets are set
+    seam: np.ndarray  # (M,)
+
+
+def _notch_arrays(grid: PatternGrid, source: str) -> _NotchArrays:
+    """Notches strictly inside each side of a seam, paired in sewing order when both sides have as many."""
+    pattern = grid.pattern
+    n = grid.n_points
+    n_a_cols, n_b_cols, nb_len_cols, n_sign, n_off, n_seam = [], [], [], [], [], []
+    notch_sets = {}
+    for piece in pattern.pieces:
+        notch_sets[piece.name] = {int(nt.vertex) for nt in piece.notches}
+    for s_i, seam in enumerate(pattern.seams):
+        where = f"{source}: seam {seam.id!r}"
+        ia = _range_points(grid, seam.a.piece, seam.a.start, seam.a.end, where)
+        ib = _range_points(grid, seam.b.piece, seam.b.start, seam.b.end, where)
         pa = grid.pattern.piece(seam.a.piece)
         pb = grid.pattern.piece(seam.b.piece)
         off_a = grid.point_offsets[grid.piece_index(pa.name)]
@@ -355,26 +467,36 @@ def objective_data(
                 n_sign.append(-1.0 if seam.reverse else 1.0)
                 n_seam.append(s_i)
                 n_off.append(0.0)
-    sample_i0 = np.concatenate(i0s) if i0s else np.zeros(0, np.int64)
-    sample_i1 = np.concatenate(i1s) if i1s else np.zeros(0, np.int64)
-    sample_w = np.concatenate(ws) if ws else np.zeros(0)
-    interval_a = np.concatenate(int_a) if int_a else np.zeros((0, 2), np.int64)
-    interval_b = np.concatenate(int_b) if int_b else np.zeros((0, 2), np.int64)
-    interval_seam = np.concatenate(int_s) if int_s else np.zeros(0, np.int64)
-    turn_a = np.concatenate(tr_a) if tr_a else np.zeros((0, 3), np.int64)
-    turn_b = np.concatenate(tr_b) if tr_b else np.zeros((0, 3), np.int64)
-    turn_seam = np.concatenate(tr_s) if tr_s else np.zeros(0, np.int64)
-    turn_sign = np.concatenate(tr_sign) if tr_sign else np.zeros(0)
     M = len(n_seam)
-    notch_a = np.stack(n_a_cols, axis=1) if M else np.zeros((n, 0))
-    notch_b = np.stack(n_b_cols, axis=1) if M else np.zeros((n, 0))
-    notch_bl = np.stack(nb_len_cols, axis=1) if M else np.zeros((n, 0))
+    return _NotchArrays(
+        a=np.stack(n_a_cols, axis=1) if M else np.zeros((n, 0)),
+        b=np.stack(n_b_cols, axis=1) if M else np.zeros((n, 0)),
+        b_len=np.stack(nb_len_cols, axis=1) if M else np.zeros((n, 0)),
+        b_sign=np.array(n_sign, dtype=np.float64), offset0=np.array(n_off, dtype=np.float64),
+        seam=np.array(n_seam, dtype=np.int64))
 
-    crit = np.concatenate([grid.point_offsets[k] + g.critical for k, g in enumerate(grid.pieces)])
-    # darts: (first rim, point, last rim) of every dart, global indices
+
+def _dart_array(grid: PatternGrid) -> np.ndarray:
+    """(D, 3) int64: first rim, point, last rim of every dart, global indices."""
     dart_idx = [grid.point_offsets[grid.piece_index(name)] + np.array(t)
-                for name, triples in pattern_darts(pattern).items() for t in triples]
-    darts = np.array(dart_idx, dtype=np.int64).reshape(-1, 3)
+                for name, triples in pattern_darts(grid.pattern).items() for t in triples]
+    return np.array(dart_idx, dtype=np.int64).reshape(-1, 3)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class _SpanArrays:
+    """The spans between consecutive critical points (:class:`ObjectiveData`'s ``span_*`` fields)."""
+
+    edges: np.ndarray  # (N, B)
+    piece: np.ndarray  # (B,)
+    len0: np.ndarray  # (B,)
+    a: np.ndarray  # (B,)
+    b: np.ndarray  # (B,)
+
+
+def _span_arrays(grid: PatternGrid, points0: np.ndarray, nxt: np.ndarray) -> _SpanArrays:
+    """Every span between consecutive critical points of a piece: its outline edges, ends and length."""
+    n = grid.n_points
     spans, span_piece, span_a, span_b = [], [], [], []
     for k, g in enumerate(grid.pieces):
         crit_k = np.asarray(g.critical)
@@ -388,37 +510,13 @@ def objective_data(
             span_b.append(grid.point_offsets[k] + int(b))
     span_edges = np.stack(spans, axis=1)
     edge_len0 = np.linalg.norm(points0[nxt] - points0, axis=1)
-    data = ObjectiveData(
-        nxt=nxt, prv=prv,
-        span_edges=span_edges, span_piece=np.array(span_piece, dtype=np.int64),
-        span_len0=edge_len0 @ span_edges,
-        span_a=np.array(span_a, dtype=np.int64), span_b=np.array(span_b, dtype=np.int64),
-        link_ids=tuple(lk.id for lk in pattern.measurements),
-        link_measurements=tuple(lk.measurement for lk in pattern.measurements),
-        target_cm=target, link_edges=link_edges,
-        at_least=np.array([lk.at_least for lk in pattern.measurements], dtype=bool), chord_a=chord_a, chord_b=chord_b,
-        chord_across=chord_across, chord_level0=chord_level0,
-        link_chords=link_chords,
-        seam_ids=tuple(s.id for s in pattern.seams), seam_labels=tuple(labels),
-        seam_ease_cm=np.array([s.ease_cm for s in pattern.seams], dtype=np.float64),
-        seam_a_edges=a_edges, seam_b_edges=b_edges,
-        sample_i0=sample_i0.astype(np.int64), sample_i1=sample_i1.astype(np.int64), sample_w=sample_w,
-        interval_a=interval_a.astype(np.int64), interval_b=interval_b.astype(np.int64),
-        interval_seam=interval_seam.astype(np.int64),
-        turn_a=turn_a.astype(np.int64), turn_b=turn_b.astype(np.int64),
-        turn_seam=turn_seam.astype(np.int64), turn_sign_b=turn_sign, turn0=np.zeros(len(turn_seam)),
-        notch_a=notch_a, notch_b=notch_b, notch_b_len=notch_bl,
-        notch_b_sign=np.array(n_sign, dtype=np.float64), notch_offset0=np.array(n_off, dtype=np.float64),
-        notch_seam=np.array(n_seam, dtype=np.int64),
-        critical=crit.astype(np.int64), darts=darts, angle0=_angles(points0, prv, nxt), n_seams=S,
-        piece_of_point=np.repeat(np.arange(len(grid.pieces)), np.diff(grid.point_offsets)).astype(np.int64),
-        points0=points0,
-        centre0=np.stack([points0[a:b].mean(axis=0)
-                          for a, b in zip(grid.point_offsets[:-1], grid.point_offsets[1:], strict=True)]),
-        extent_cm=np.array([g.extent_cm for g in grid.pieces]),
-    )
-    # reference values of the original design (turning-angle relation, notch offsets)
-    p0 = points0[None, :, :]
+    return _SpanArrays(edges=span_edges, piece=np.array(span_piece, dtype=np.int64), len0=edge_len0 @ span_edges,
+                       a=np.array(span_a, dtype=np.int64), b=np.array(span_b, dtype=np.int64))
+
+
+def _set_design_references(data: ObjectiveData) -> None:
+    """Set the original design's turning-angle relation and notch offsets on the freshly built ``data``."""
+    p0 = data.points0[None, :, :]
     samples = _samples(data, p0)
     ta = _turning(samples, data.turn_a)[0]
     tb = _turning(samples, data.turn_b)[0] * data.turn_sign_b
@@ -426,7 +524,6 @@ def objective_data(
     pos_a, pos_b = _notch_positions(data, edge0)
     object.__setattr__(data, "turn0", ta - tb)
     object.__setattr__(data, "notch_offset0", (pos_b - pos_a)[0])
-    return data
 
 
 def _link_targets(pattern, measurements, points0, nxt, link_edges, chord_a, chord_b, chord_across, link_chords,
@@ -803,7 +900,7 @@ def residuals(
     ``measure_slack_cm`` and ``seam_slack_cm`` are dead zones: errors within
     them cost nothing, so the shape terms may use the tolerance the fit
     allows. The least-squares form of the three objectives used by the repair step
-    (:func:`patternbridge.grade.run.repair`): measurement residuals (cm), seam
+    (:func:`patternbridge.grade.repair.repair`): measurement residuals (cm), seam
     length mismatches and notch offsets (cm, weighted up so they close to well
     under 1 mm), stitch-interval differences (cm), turning-angle disagreement
     along seams (rad), and inner-angle changes at critical points and at all

@@ -22,14 +22,25 @@ operators, which :func:`pymoo.optimize.minimize` derives from the run's seed.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from pymoo.core.crossover import Crossover
 from pymoo.core.mutation import Mutation
 from pymoo.core.sampling import Sampling
 
-from .grid import PatternGrid
+from .grid import PatternGrid, PieceGrid
 
-__all__ = ["GridCrossover", "GridMutation", "SeedSampling", "mutate", "mutation_rate", "non_uniform_delta"]
+__all__ = [
+    "GridCrossover",
+    "GridMutation",
+    "SeedSampling",
+    "StepLaw",
+    "mutate",
+    "mutated_pieces",
+    "mutation_rate",
+    "non_uniform_delta",
+]
 
 
 def non_uniform_delta(t: np.ndarray, gen: float, n_max_gen: float, r: float, lam: np.ndarray) -> np.ndarray:
@@ -90,52 +101,90 @@ def mutate(
     (n_pop, n_var) float64
     """
     X = np.array(X, dtype=np.float64)
-    n_pop = len(X)
-    n_pieces = len(grid.pieces)
-    chosen = rng.random(n_pop) < rate
-    piece_mask = rng.random((n_pop, n_pieces)) < piece_prob
-    forced = rng.integers(0, n_pieces, size=n_pop)
-    piece_mask[np.arange(n_pop), forced] = True
-    piece_mask &= chosen[:, None]
+    law = StepLaw(t_frac=t_frac, gen=gen, n_max_gen=n_max_gen, r=r, max_retries=max_retries,
+                  min_ratio=min_ratio)
+    piece_mask = mutated_pieces(rng, len(X), len(grid.pieces), rate=rate, piece_prob=piece_prob)
     for k, g in enumerate(grid.pieces):
         rows = np.flatnonzero(piece_mask[:, k])
         if len(rows) == 0:
             continue
-        c = X[rows, grid.var_offsets[k]:grid.var_offsets[k + 1]].reshape(len(rows), g.nv, g.nu, 2)
-        along_u = rng.random(len(rows)) < 0.5
-        t = t_frac * g.extent_cm
-        for use_u in (True, False):
-            sel = np.flatnonzero(along_u == use_u)
-            if len(sel) == 0:
-                continue
-            n_lines, n_along = (g.nv, g.nu) if use_u else (g.nu, g.nv)
-            base = np.diff(g.xs if use_u else g.ys)
-            line = rng.integers(0, n_lines, size=len(sel))
-            coord = 0 if use_u else 1
-            if use_u:
-                vals = c[sel, line, :, coord]  # (n, nu)
-            else:
-                vals = c[sel, :, line, coord]  # (n, nv)
-            new = vals.copy()
-            todo = np.ones(len(sel), dtype=bool)
-            for _ in range(max_retries):
-                idx = np.flatnonzero(todo)
-                if len(idx) == 0:
-                    break
-                lam = rng.random((len(idx), n_along))
-                sign = np.where(rng.random((len(idx), n_along)) >= 0.5, 1.0, -1.0)
-                step = sign * non_uniform_delta(t, gen, n_max_gen, r, lam)
-                cand = vals[idx] + step
-                ok = np.all(np.diff(cand, axis=1) > min_ratio * base, axis=1)
-                new[idx[ok]] = cand[ok]
-                todo[idx[ok]] = False
-            new[todo] = vals[todo]  # give up: keep the line as it was
-            if use_u:
-                c[sel, line, :, coord] = new
-            else:
-                c[sel, :, line, coord] = new
-        X[rows, grid.var_offsets[k]:grid.var_offsets[k + 1]] = c.reshape(len(rows), -1)
+        genes = slice(grid.var_offsets[k], grid.var_offsets[k + 1])
+        c = X[rows, genes].reshape(len(rows), g.nv, g.nu, 2)
+        X[rows, genes] = _mutate_piece(g, c, rng, law).reshape(len(rows), -1)
     return X
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class StepLaw:
+    """How one grid line's step is drawn (:func:`mutate`'s parameters of the step)."""
+
+    t_frac: float
+    gen: float
+    n_max_gen: float
+    r: float
+    max_retries: int
+    min_ratio: float
+
+
+def mutated_pieces(rng: np.random.Generator, n_pop: int, n_pieces: int, *, rate: float,
+                   piece_prob: float) -> np.ndarray:
+    """(n_pop, n_pieces) bool: which pieces of which individuals mutate.
+
+    An individual mutates with probability ``rate``; each piece of a
+    mutated individual with ``piece_prob``, and one drawn piece always does.
+    """
+    chosen = rng.random(n_pop) < rate
+    piece_mask = rng.random((n_pop, n_pieces)) < piece_prob
+    forced = rng.integers(0, n_pieces, size=n_pop)
+    piece_mask[np.arange(n_pop), forced] = True
+    return piece_mask & chosen[:, None]
+
+
+def _mutate_piece(g: PieceGrid, c: np.ndarray, rng: np.random.Generator, law: StepLaw) -> np.ndarray:
+    """One piece's control grids ``c (n, nv, nu, 2)`` with one row's x or one column's y moved each.
+
+    Returns a new array.
+    """
+    c = c.copy()
+    along_u = rng.random(len(c)) < 0.5
+    t = law.t_frac * g.extent_cm
+    for use_u in (True, False):
+        sel = np.flatnonzero(along_u == use_u)
+        if len(sel) == 0:
+            continue
+        n_lines = g.nv if use_u else g.nu
+        base = np.diff(g.xs if use_u else g.ys)
+        line = rng.integers(0, n_lines, size=len(sel))
+        if use_u:
+            c[sel, line, :, 0] = _mutate_lines(c[sel, line, :, 0], base, t, rng, law)  # (n, nu)
+        else:
+            c[sel, :, line, 1] = _mutate_lines(c[sel, :, line, 1], base, t, rng, law)  # (n, nv)
+    return c
+
+
+def _mutate_lines(vals: np.ndarray, base: np.ndarray, t: float, rng: np.random.Generator,
+                  law: StepLaw) -> np.ndarray:
+    """Coordinates ``vals (n, n_along)`` of one grid line each, moved by ``±Δ(gen, t)`` per point.
+
+    A draw that brings neighbours closer than ``min_ratio`` of their
+    original spacing ``base (n_along − 1,)`` is drawn again, up to
+    ``max_retries`` times; a line still out of order keeps its values.
+    """
+    new = vals.copy()
+    todo = np.ones(len(vals), dtype=bool)
+    for _ in range(law.max_retries):
+        idx = np.flatnonzero(todo)
+        if len(idx) == 0:
+            break
+        lam = rng.random((len(idx), vals.shape[1]))
+        sign = np.where(rng.random((len(idx), vals.shape[1])) >= 0.5, 1.0, -1.0)
+        step = sign * non_uniform_delta(t, law.gen, law.n_max_gen, law.r, lam)
+        cand = vals[idx] + step
+        ok = np.all(np.diff(cand, axis=1) > law.min_ratio * base, axis=1)
+        new[idx[ok]] = cand[ok]
+        todo[idx[ok]] = False
+    new[todo] = vals[todo]  # give up: keep the line as it was
+    return new
 
 
 class GridMutation(Mutation):

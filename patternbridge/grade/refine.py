@@ -499,32 +499,14 @@ def refine(
     RefineResult
     """
     x = np.asarray(x, dtype=np.float64).copy()
-    n_var = len(x)
     scale = np.concatenate([np.full(2 * g.n_control, g.extent_cm) for g in grid.pieces])
-    h = 1e-6 * scale
-    A_st = np.zeros((0, n_var)) if straight is None else np.asarray(straight, dtype=np.float64)
+    A_st = np.zeros((0, len(x))) if straight is None else np.asarray(straight, dtype=np.float64)
     A_sym = None if symmetric is None or not len(symmetric) else np.asarray(symmetric, dtype=np.float64)
-    P = len(data.centre0)
-    crit_piece = data.piece_of_point[data.critical]
-    per_piece = np.bincount(crit_piece, minlength=P).astype(np.float64)
-    n_pieces = max(int((per_piece > 0).sum()), 1)
-    # ½‖s‖² of the critical-point terms is the squared counterpart of the
-    # shape objective (per-piece means, pieces weighted alike)
-    wc0 = w_shape * np.sqrt(1.0 / (n_pieces * np.maximum(per_piece[crit_piece], 1.0)))
-    wa0 = w_all * np.sqrt(1.0 / max(len(data.points0), 1))
-    wm0 = np.sqrt(w_fit / max(len(data.target_cm), 1))
+    x_des = None if x_design is None else np.asarray(x_design, dtype=np.float64)
     x_ref = np.asarray(x if x_design is None else x_design, dtype=np.float64)
-    share_ref = shared = axes_ref = None
-    if x_design is not None:
-        # the design's own split of every girth over several pieces (a sum of
-        # positive legs), not proportional scaling's: per-axis factors per
-        # piece move it by themselves
-        shared = balanced_links(data)
-        share_ref = link_shares(data, data.points0[None])[0][:, :, shared]
-        axes_ref = piece_axes_turn(data, grid.outlines(np.asarray(x_design, dtype=np.float64)[None, :]))[0]
+    share_ref, shared, axes_ref = _design_shares(grid, data, x_des)
     terms = StepTerms.build(
-        grid, data, straight=A_st, symmetric=A_sym,
-        x_design=None if x_design is None else np.asarray(x_design, dtype=np.float64),
+        grid, data, straight=A_st, symmetric=A_sym, x_design=x_des,
         level=across_legs(data),
         dart_ref=dart_lengths(data, grid.outlines(x_ref[None, :]))[0] if keep_darts else None,
         share_ref=share_ref, shared=shared, axes_ref=axes_ref,
@@ -535,104 +517,211 @@ def refine(
         w_cell=w_cell, min_cell_ratio=min_cell_ratio, w_design=w_design, design_slack=design_slack,
         w_share=w_share, w_fit=w_fit, w_interval=w_interval, w_turn=w_turn, w_symmetry=w_symmetry,
         w_proportion=w_proportion, w_direction=w_direction)
-    parts = terms.evaluate
+    step = _StepProblem(grid=grid, data=data, terms=terms, measure_tol_cm=measure_tol_cm, scale=scale,
+                        h=1e-6 * scale, damp=np.diag((scale.mean() / scale) ** 2),
+                        weights=_base_weights(data, w_shape=w_shape, w_all=w_all, w_fit=w_fit),
+                        irls_eps=irls_eps, fit_eps_cm=fit_eps_cm)
+    return _gauss_newton(step, x, max_iter=max_iter, max_push_cm=max_push_cm, stall_window=stall_window,
+                         progress=progress)
 
-    def irls_weights(x):
-        # iteratively reweighted least squares: w = 1/sqrt(|d| + eps) makes
-        # the squared residual |d|, so ½‖s‖² follows the shape objective
-        # (a mean of |Δ angle|, which prefers a few clear changes to many
-        # small ones) rather than its square
-        pts = grid.outlines(x[None, :])
-        d = np.abs(angle_change(data, pts)[0])
-        e = np.abs(link_error(data, measurement_error(data, pts)[0][0]))
-        wm = wm0 / np.sqrt(e + fit_eps_cm)
-        if irls_eps <= 0:
-            return wc0, wa0, wm
-        return wc0 / np.sqrt(d[data.critical] + irls_eps), wa0 / np.sqrt(d + irls_eps), wm
 
-    def violation(c, m):
-        over = np.maximum(np.abs(link_error(data, m)) - measure_tol_cm, 0.0)
-        v = np.concatenate([np.abs(c), over])
-        return v
+def _design_shares(grid: PatternGrid, data: ObjectiveData, x_design: np.ndarray | None):
+    """``(share_ref, shared, axes_ref)`` the design terms hold, or three Nones without ``x_design``.
 
-    def band(m, alpha):
-        lo = data.target_cm - measure_tol_cm - m
-        hi = np.where(data.at_least, np.inf, data.target_cm + measure_tol_cm - m)
-        lo = np.where(lo > 0, alpha * lo, lo)  # below the band: move up by alpha of the way
-        hi = np.where(hi < 0, alpha * hi, hi)
-        return lo, hi
+    The design's own split of every girth over several pieces (a sum of
+    positive legs), not proportional scaling's: per-axis factors per piece
+    move it by themselves; the drawing axes' turn is ``x_design``'s.
+    """
+    if x_design is None:
+        return None, None, None
+    shared = balanced_links(data)
+    share_ref = link_shares(data, data.points0[None])[0][:, :, shared]
+    axes_ref = piece_axes_turn(data, grid.outlines(x_design[None, :]))[0]
+    return share_ref, shared, axes_ref
 
-    def merit(s, c, m, rho):
-        return 0.5 * float(s @ s) + rho * float(violation(c, m).sum())
 
-    wc, wa, wm = irls_weights(x)
-    s, c, m = (a[0] for a in parts(x[None, :], wc, wa, wm))
-    rho = 10.0 * max(1.0, float(np.sqrt(s @ s)))
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class _BaseWeights:
+    """Weights of the shape and fit terms before the reweighting.
+
+    critical : (K,) per critical point, so that ½‖s‖² of their terms is the
+    squared counterpart of the shape objective (per-piece means, pieces
+    weighted alike) ; every : every outline vertex's ; fit : the
+    measurement errors'
+    """
+
+    critical: np.ndarray
+    every: float
+    fit: float
+
+
+def _base_weights(data: ObjectiveData, *, w_shape: float, w_all: float, w_fit: float) -> _BaseWeights:
+    """:class:`_BaseWeights` from the step's ``w_shape``, ``w_all`` and ``w_fit``."""
+    P = len(data.centre0)
+    crit_piece = data.piece_of_point[data.critical]
+    per_piece = np.bincount(crit_piece, minlength=P).astype(np.float64)
+    n_pieces = max(int((per_piece > 0).sum()), 1)
+    return _BaseWeights(
+        critical=w_shape * np.sqrt(1.0 / (n_pieces * np.maximum(per_piece[crit_piece], 1.0))),
+        every=w_all * np.sqrt(1.0 / max(len(data.points0), 1)),
+        fit=np.sqrt(w_fit / max(len(data.target_cm), 1)))
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class _StepProblem:
+    """What every iteration of one :func:`refine` run shares.
+
+    scale : (n_var,) each gene's piece extent, cm ; h : (n_var,) its
+    finite-difference step ; damp : (n_var, n_var) the Levenberg–Marquardt
+    damping's metric
+    """
+
+    grid: PatternGrid
+    data: ObjectiveData
+    terms: StepTerms
+    measure_tol_cm: float
+    scale: np.ndarray
+    h: np.ndarray
+    damp: np.ndarray
+    weights: _BaseWeights
+    irls_eps: float
+    fit_eps_cm: float
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class _Point:
+    """An iterate: genes ``x (n_var,)`` with its shape terms ``s``, constraints ``c`` and measurements ``m``."""
+
+    x: np.ndarray
+    s: np.ndarray
+    c: np.ndarray
+    m: np.ndarray
+
+
+def _irls_weights(prob: _StepProblem, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(wc, wa, wm)``: the weights of the critical-point, every-vertex and fit terms at ``x``.
+
+    Iteratively reweighted least squares: ``w = 1/sqrt(|d| + eps)`` makes
+    the squared residual ``|d|``, so ½‖s‖² follows the shape objective (a
+    mean of |Δ angle|, which prefers a few clear changes to many small ones)
+    rather than its square.
+    """
+    grid, data, base = prob.grid, prob.data, prob.weights
+    pts = grid.outlines(x[None, :])
+    d = np.abs(angle_change(data, pts)[0])
+    e = np.abs(link_error(data, measurement_error(data, pts)[0][0]))
+    wm = base.fit / np.sqrt(e + prob.fit_eps_cm)
+    if prob.irls_eps <= 0:
+        return base.critical, base.every, wm
+    return base.critical / np.sqrt(d[data.critical] + prob.irls_eps), base.every / np.sqrt(d + prob.irls_eps), wm
+
+
+def _violation(prob: _StepProblem, c: np.ndarray, m: np.ndarray) -> np.ndarray:
+    """|seam and notch constraints| and how far every measurement lies outside its band, cm."""
+    over = np.maximum(np.abs(link_error(prob.data, m)) - prob.measure_tol_cm, 0.0)
+    return np.concatenate([np.abs(c), over])
+
+
+def _band(prob: _StepProblem, m: np.ndarray, alpha: float) -> tuple[np.ndarray, np.ndarray]:
+    """Bounds ``(lo, hi)`` on the change of the measurements ``m``; outside the band, ``alpha`` of the way in."""
+    data, tol = prob.data, prob.measure_tol_cm
+    lo = data.target_cm - tol - m
+    hi = np.where(data.at_least, np.inf, data.target_cm + tol - m)
+    lo = np.where(lo > 0, alpha * lo, lo)  # below the band: move up by alpha of the way
+    hi = np.where(hi < 0, alpha * hi, hi)
+    return lo, hi
+
+
+def _merit(prob: _StepProblem, p: _Point, rho: float) -> float:
+    """Exact-penalty merit: ½‖s‖² plus ``rho`` times the summed violation."""
+    return 0.5 * float(p.s @ p.s) + rho * float(_violation(prob, p.c, p.m).sum())
+
+
+def _point(prob: _StepProblem, x: np.ndarray, w: tuple) -> _Point | None:
+    """The iterate at ``x``, or None when a grid cell folds there."""
+    if prob.grid.fold_margin(x[None, :])[0] < FOLD_MARGIN:
+        return None
+    return _Point(x, *(a[0] for a in prob.terms.evaluate(x[None, :], *w)))
+
+
+def _line_search(prob: _StepProblem, cur: _Point, w: tuple, *, rho: float, mu: float,
+                 alpha: float) -> tuple[_Point, np.ndarray, float] | None:
+    """One damped SQP step from ``cur``: ``(new iterate, step d, damping μ)``, or None after 10 rejections.
+
+    A trial whose merit rises gets a second-order correction (pulled back
+    onto the constraints with the same linearisation: Maratos); a trial
+    still rejected, or one that folds a cell, damps the shape step (μ × 8)
+    and asks for half as much of the constraint correction (``alpha``).
+    """
+    Js, Jc, Jm = prob.terms.jacobian(cur.x, cur.s, cur.c, cur.m, prob.h, *w)
+    H = Js.T @ Js
+    gvec = Js.T @ cur.s
+    n_var = len(cur.x)
+    f0 = _merit(prob, cur, rho)
+    for _ in range(10):
+        Hd = H + (mu * float(np.trace(H) / n_var + 1e-12)) * prob.damp
+        b_eq = -alpha * cur.c
+        lo, hi = _band(prob, cur.m, alpha)
+        d = _solve_qp(Hd, gvec, Jc, b_eq, Jm, lo, hi)
+        trial = _point(prob, cur.x + d, w)
+        if trial is not None and not _accepts(prob, cur, trial, f0=f0, rho=rho, alpha=alpha):
+            lo2, hi2 = _band(prob, trial.m, 1.0)
+            d = d + _solve_qp(Hd, np.zeros(n_var), Jc, -trial.c, Jm, lo2, hi2)
+            trial = _point(prob, cur.x + d, w)
+        if trial is not None and _accepts(prob, cur, trial, f0=f0, rho=rho, alpha=alpha):
+            return trial, d, mu
+        mu *= 8.0
+        alpha *= 0.5
+    return None
+
+
+def _accepts(prob: _StepProblem, cur: _Point, trial: _Point, *, f0: float, rho: float, alpha: float) -> bool:
+    """The merit did not rise, or (at the full step) the fit is met and the shape cost fell."""
+    fn = _merit(prob, trial, rho)
+    return fn <= f0 + 1e-12 or (alpha == 1.0 and _violation(prob, trial.c, trial.m).max(initial=0.0) < 2e-4
+                                and trial.s @ trial.s < cur.s @ cur.s)
+
+
+def _stalled(history: list[float], window: int) -> bool:
+    """No shape cost of the last ``window`` iterations 1 % below the one before them."""
+    return len(history) > window and min(history[-window:]) > 0.99 * history[-window - 1]
+
+
+def _gauss_newton(prob: _StepProblem, x: np.ndarray, *, max_iter: int, max_push_cm: float, stall_window: int,
+                  progress: Progress | None) -> RefineResult:
+    """The constrained Gauss–Newton iterations of :func:`refine` from ``x``."""
+    w = _irls_weights(prob, x)
+    cur = _Point(x, *(a[0] for a in prob.terms.evaluate(x[None, :], *w)))
+    rho = 10.0 * max(1.0, float(np.sqrt(cur.s @ cur.s)))
     mu = 1e-4
-    damp = np.diag((scale.mean() / scale) ** 2)
     it = 0
     converged = False
     history: list[float] = []
     for it in range(1, max_iter + 1):
         if progress is not None:
             progress("refine", it, max_iter)
-        if irls_eps > 0 and it > 1:
-            wc, wa, wm = irls_weights(x)
-            s = parts(x[None, :], wc, wa, wm)[0][0]
-        Js, Jc, Jm = terms.jacobian(x, s, c, m, h, wc, wa, wm)
-        H = Js.T @ Js
-        gvec = Js.T @ s
-        A_eq = Jc
+        if prob.irls_eps > 0 and it > 1:
+            w = _irls_weights(prob, cur.x)
+            cur = _Point(cur.x, prob.terms.evaluate(cur.x[None, :], *w)[0][0], cur.c, cur.m)
         # continuation: far from feasible, ask the linear model for at most
         # max_push_cm of correction per iteration
-        v0 = violation(c, m)
+        v0 = _violation(prob, cur.c, cur.m)
         alpha = min(1.0, max_push_cm / max(float(v0.max(initial=0.0)), 1e-12))
-        f0 = merit(s, c, m, rho)
-        sn, cn, mn, xn = s, c, m, x
-        accepted = False
-        for _ in range(10):
-            Hd = H + (mu * float(np.trace(H) / n_var + 1e-12)) * damp
-            b_eq = -alpha * c
-            lo, hi = band(m, alpha)
-            d = _solve_qp(Hd, gvec, A_eq, b_eq, Jm, lo, hi)
-            for soc in (False, True):
-                if soc:
-                    # second-order correction: pull the trial point back onto
-                    # the constraints with the same linearisation (Maratos)
-                    lo2, hi2 = band(mn, 1.0)
-                    d = d + _solve_qp(Hd, np.zeros(n_var), A_eq, -cn, Jm, lo2, hi2)
-                xn = x + d
-                if grid.fold_margin(xn[None, :])[0] < FOLD_MARGIN:
-                    break
-                sn, cn, mn = (a[0] for a in parts(xn[None, :], wc, wa, wm))
-                fn = merit(sn, cn, mn, rho)
-                if fn <= f0 + 1e-12 or (alpha == 1.0 and violation(cn, mn).max(initial=0.0) < 2e-4
-                                        and sn @ sn < s @ s):
-                    accepted = True
-                    break
-            if accepted:
-                break
-            # rejected (merit up, or a cell folds): damp the shape step and
-            # ask for less of the constraint correction
-            mu *= 8.0
-            alpha *= 0.5
-        if not accepted:
+        found = _line_search(prob, cur, w, rho=rho, mu=mu, alpha=alpha)
+        if found is None:
             break
-        step = float(np.max(np.abs(d) / scale))
-        x, s, c, m = xn, sn, cn, mn
+        cur, d, mu = found
+        step = float(np.max(np.abs(d) / prob.scale))
         mu = max(mu / 4.0, 1e-8)
         log.debug("refine %d: shape cost %.3g, violation %.3g, mu %.2g, step %.2g",
-                  it, 0.5 * float(s @ s), violation(c, m).max(initial=0.0), mu, step)
-        history.append(0.5 * float(s @ s))
-        feasible = violation(c, m).max(initial=0.0) < 1e-4
-        # converged: a tiny step, or the shape cost has stopped falling (no
-        # value in the last ``stall_window`` iterations 1 % below the one
-        # before them; the reweighting makes single iterations noisy) with
-        # the fit met
-        if feasible and (step < 1e-7 or (len(history) > stall_window
-                                         and min(history[-stall_window:]) > 0.99 * history[-stall_window - 1])):
+                  it, 0.5 * float(cur.s @ cur.s), _violation(prob, cur.c, cur.m).max(initial=0.0), mu, step)
+        history.append(0.5 * float(cur.s @ cur.s))
+        feasible = _violation(prob, cur.c, cur.m).max(initial=0.0) < 1e-4
+        # converged: a tiny step, or the shape cost has stopped falling (the
+        # reweighting makes single iterations noisy) with the fit met
+        if feasible and (step < 1e-7 or _stalled(history, stall_window)):
             converged = True
             break
-    viol = violation(c, m)
-    return RefineResult(x=x, iterations=it, shape_cost=0.5 * float(s @ s),
+    viol = _violation(prob, cur.c, cur.m)
+    return RefineResult(x=cur.x, iterations=it, shape_cost=0.5 * float(cur.s @ cur.s),
                         max_violation_cm=float(viol.max(initial=0.0)), converged=converged)

@@ -7,6 +7,7 @@ import pytest
 from grade_fixtures import BODY, skirt_pattern
 
 from patternbridge.grade.blas import single_blas_thread
+from patternbridge.grade.continuation import FinishSettings
 from patternbridge.grade.grid import build_grid
 from patternbridge.grade.objectives import evaluate, objective_data
 from patternbridge.grade.refine import refine, straight_constraints, straight_edges
@@ -207,3 +208,21 @@ def test_split_ladder_runs_every_stage_with_the_split_held_then_the_ladder_witho
     assert ladder == sorted(ladder, reverse=True)  # decreasing: later starts run `st < first`
     # nothing to hold (no dart in a reduction, or w_suppress = 0): the continuation as it is
     assert split_ladder(stages, False) == [(0.0, *st) for st in stages]
+
+
+def test_finish_settings_scale_the_tie_break_weights_by_the_stage():
+    x = np.arange(4.0)
+    fs = FinishSettings(measure_band_cm=0.15, straight=None, refine_iter=40, x_design=x, w_design=0.7, w_share=3.0,
+                        w_fit=0.02, w_suppress=3.0, w_all=1.0, symmetric=None)
+    held = fs.at((1.0, 0.5, 1.0 / 3.0))
+    assert held["w_design"] == pytest.approx(0.7 / 3.0) and held["w_suppress"] == pytest.approx(1.0)
+    assert held["dart_cap"] is True and held["w_all"] == 0.5 and held["x_design"] is x
+    assert held["w_share"] == 3.0 and held["measure_tol_cm"] == 0.15 and held["max_iter"] == 40
+    free = fs.at((0.0, 3.0, 1.0))  # the split not held: no suppression term, no dart ceiling
+    assert free["w_suppress"] == 0.0 and free["dart_cap"] is False and free["w_all"] == 3.0
+    assert fs.at((1.0, 1.0, 0.0))["dart_cap"] is False  # at grid-interval level 0 the term is off anyway
+    # every key is a keyword of the final step
+    import inspect
+
+    assert set(held) <= set(inspect.signature(refine).parameters)
+

@@ -12,6 +12,7 @@ from patternbridge.grade.operators import (
     GridCrossover,
     SeedSampling,
     mutate,
+    mutated_pieces,
     mutation_rate,
     non_uniform_delta,
 )
@@ -83,3 +84,15 @@ def test_seed_sampling_starts_with_the_seeds():
     assert X.shape == (10, grid.n_var)
     np.testing.assert_array_equal(X[:2], seeds)
     assert np.any(X[2:] != seeds[np.arange(2, 10) % 2])
+
+
+def test_mutated_pieces_touch_one_piece_at_least_of_every_mutated_individual():
+    rng = np.random.default_rng(7)
+    every = mutated_pieces(rng, 200, 4, rate=1.0, piece_prob=0.5)
+    assert every.shape == (200, 4) and every.any(axis=1).all()
+    one = mutated_pieces(rng, 200, 4, rate=1.0, piece_prob=0.0)
+    np.testing.assert_array_equal(one.sum(axis=1), np.ones(200))  # only the forced piece
+    assert not mutated_pieces(rng, 200, 4, rate=0.0, piece_prob=1.0).any()
+    some = mutated_pieces(rng, 2000, 3, rate=0.3, piece_prob=0.0).any(axis=1).mean()
+    assert 0.25 < some < 0.35
+
