@@ -191,6 +191,38 @@ def _turn(loc: _Local, f: int, fv, u: int, toward) -> tuple[int, list] | None:
     return None if fan is None else (g, fan)
 
 
+@dataclass(frozen=True, slots=True, kw_only=True)
+class _Step:
+    """The walk's move out of a face: the face it enters, the faces it passes
+    on the way (for the strip), the edge it crosses ((-1, -1) through a
+    vertex), the edge it then came in through and the vertex it stands on."""
+
+    face: int
+    passed: list
+    edge: tuple[int, int]
+    entry: set | None
+    at_vertex: int | None
+
+
+def _step_across(loc: _Local, f: int, fv, best: tuple, toward) -> _Step | None:
+    """The move out of face ``f`` through the exit ``best`` of :func:`_exit`; None at a boundary.
+
+    Through a vertex the walk turns around it to the face that leads toward
+    ``toward``; across an edge it enters the face on the other side.
+    """
+    _, u, w, _point = best
+    if u == w:
+        turn = _turn(loc, f, fv, u, toward)
+        if turn is None:
+            return None
+        g, fan = turn
+        return _Step(face=g, passed=fan, edge=(-1, -1), entry=None, at_vertex=u)
+    g = loc.across(u, w, f)
+    if g is None:
+        return None
+    return _Step(face=g, passed=[g], edge=(u, w), entry={u, w}, at_vertex=None)
+
+
 def _walk(pts: list, fcs: list, eds: list, strip: list) -> Walk:
     return Walk(
         points=np.array(pts),
@@ -269,25 +301,12 @@ def project_walk(
                 i += 1
                 continue
             return None
-        _, u, w, cpt = best
-        if u == w:  # through a vertex: turn around it to the face ahead
-            turn = _turn(loc, f, fv, u, end.xyz if last else q)
-            if turn is None:
-                return None
-            g, fan = turn
-            strip.extend(fan)
-            pts.append(cpt)
-            fcs.append(g)
-            eds.append((-1, -1))
-            x, f, entry, at_vertex = cpt, g, None, u
-            continue
-        g = loc.across(u, w, f)
-        if g is None:
+        step = _step_across(loc, f, fv, best, end.xyz if last else q)
+        if step is None:
             return None
-        pts.append(cpt)
-        fcs.append(g)
-        eds.append((u, w))
-        strip.append(g)
-        entry = {u, w}
-        x, f, at_vertex = cpt, g, None
+        strip.extend(step.passed)
+        x, f, entry, at_vertex = best[3], step.face, step.entry, step.at_vertex
+        pts.append(x)
+        fcs.append(f)
+        eds.append(step.edge)
     return None
