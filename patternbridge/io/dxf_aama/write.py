@@ -755,6 +755,47 @@ def _layout(entries: Sequence[tuple[Piece, str, bool]], scale: float) -> dict[st
     return offsets
 
 
+def _file_entries(pattern: Pattern, nest_sizes: Sequence[str] | None) -> list[tuple[Piece, str, bool]]:
+    """(piece, size, full) in file order: the sample pieces, or per nest size every graded piece."""
+    if nest_sizes is None:
+        return [(p, p.size or pattern.sample_size, True) for p in pattern.pieces]
+    entries: list[tuple[Piece, str, bool]] = []
+    for size in nest_sizes:
+        entries += [(p, size, size == pattern.sample_size) for p in _graded_pieces(pattern, size)]
+    return entries
+
+
+def _blocks_section(
+    tags: _Tags,
+    ctx: _Context,
+    pattern: Pattern,
+    entries: list[tuple[Piece, str, bool]],
+    block_names: list[str],
+    validation: bool,
+) -> None:
+    """The BLOCKS section: one block per entry, notches placed on the graded pieces."""
+    tags.tag(0, "SECTION")
+    tags.tag(2, "BLOCKS")
+    samples = {p.name: p for p in pattern.pieces}
+    for (piece, size, full), block_name in zip(entries, block_names, strict=True):
+        at = notch_positions(samples[piece.name], piece, pattern.rules, size) if piece.notches else None
+        _block(tags, ctx, piece, size, block_name, full=full, validation=validation, notch_at=at)
+    tags.tag(0, "ENDSEC")
+
+
+def _entities_section(
+    tags: _Tags, ctx: _Context, pattern: Pattern, codes: dict[str, str], validation: bool, now: _dt.datetime
+) -> None:
+    """Open the ENTITIES section with the style text and the full names of coded sizes."""
+    tags.tag(0, "SECTION")
+    tags.tag(2, "ENTITIES")
+    for i, text in enumerate(_style_text_lines(pattern, ctx, validation, now)):
+        tags.text(1, (0.0, -(i + 2) * 1.6 * ctx.height), text, ctx.height)
+    for i, (name, code) in enumerate(codes.items()):  # the full names of coded sizes
+        text = _ascii(ctx, f"Size {code}: {name}", f"size {name}")
+        tags.text(15, (40.0 * ctx.height, -(i + 2) * 1.6 * ctx.height), text, ctx.height)
+
+
 def format_dxf(
     pattern: Pattern,
     *,
@@ -797,39 +838,15 @@ def format_dxf(
     )
     validation = flavor is Flavor.ASTM
     _report_long_names(pattern, report)
-    # (piece, size, full) in file order: per size, every piece
-    entries: list[tuple[Piece, str, bool]] = []
-    if nest_sizes is None:
-        entries = [(p, p.size or pattern.sample_size, True) for p in pattern.pieces]
-    else:
-        for size in nest_sizes:
-            entries += [(p, size, size == pattern.sample_size) for p in _graded_pieces(pattern, size)]
+    entries = _file_entries(pattern, nest_sizes)
     block_names = _unique_names(f"{p.name}_{size}" for p, size, _ in entries)
     offsets = _layout(entries, scale)
 
     tags = _Tags()
-    for code, value in (
-        (0, "SECTION"),
-        (2, "HEADER"),
-        (9, "$ACADVER"),
-        (1, "AC1009"),
-        (0, "ENDSEC"),
-        (0, "SECTION"),
-        (2, "BLOCKS"),
-    ):
+    for code, value in ((0, "SECTION"), (2, "HEADER"), (9, "$ACADVER"), (1, "AC1009"), (0, "ENDSEC")):
         tags.tag(code, value)
-    samples = {p.name: p for p in pattern.pieces}
-    for (piece, size, full), block_name in zip(entries, block_names, strict=True):
-        at = notch_positions(samples[piece.name], piece, pattern.rules, size) if piece.notches else None
-        _block(tags, ctx, piece, size, block_name, full=full, validation=validation, notch_at=at)
-    tags.tag(0, "ENDSEC")
-    tags.tag(0, "SECTION")
-    tags.tag(2, "ENTITIES")
-    for i, text in enumerate(_style_text_lines(pattern, ctx, validation, now)):
-        tags.text(1, (0.0, -(i + 2) * 1.6 * ctx.height), text, ctx.height)
-    for i, (name, code) in enumerate(codes.items()):  # the full names of coded sizes
-        text = _ascii(ctx, f"Size {code}: {name}", f"size {name}")
-        tags.text(15, (40.0 * ctx.height, -(i + 2) * 1.6 * ctx.height), text, ctx.height)
+    _blocks_section(tags, ctx, pattern, entries, block_names, validation)
+    _entities_section(tags, ctx, pattern, codes, validation, now)
     for (piece, _, _), block_name in zip(entries, block_names, strict=True):
         tags.tag(0, "INSERT")
         tags.tag(8, 1)
