@@ -74,9 +74,7 @@ def _project_into(loc: _Local, f: int, q, cache: dict, tol: float = 1e-9):
     for e, p in ((eab, a), (ebc, b), (eca, c)):
         s0, s1, s2 = q0 - p[0], q1 - p[1], q2 - p[2]
         e0, e1, e2 = e
-        if (e1 * s2 - e2 * s1) * n0 + (e2 * s0 - e0 * s2) * n1 + (
-            e0 * s1 - e1 * s0
-        ) * n2 < lim:
+        if (e1 * s2 - e2 * s1) * n0 + (e2 * s0 - e0 * s2) * n1 + (e0 * s1 - e1 * s0) * n2 < lim:
             return None
     d = ((q0 - a[0]) * n0 + (q1 - a[1]) * n1 + (q2 - a[2]) * n2) / nn
     return (q0 - d * n0, q1 - d * n1, q2 - d * n2)
@@ -98,6 +96,146 @@ def _start_face(loc: _Local, v: int, toward) -> int | None:
         if score > best_score:
             best, best_score = f, score
     return best
+
+
+def _face_plane(loc: _Local, f: int, planes: dict) -> tuple:
+    """:func:`_plane` of face ``f``, cached in ``planes``."""
+    g = planes.get(f)
+    if g is None:
+        g = planes[f] = _plane(loc, f)
+    return g
+
+
+def _ahead(p, x, d) -> float:
+    """(p - x) . d"""
+    return (p[0] - x[0]) * d[0] + (p[1] - x[1]) * d[1] + (p[2] - x[2]) * d[2]
+
+
+def _cutting_plane(g: tuple, x, q) -> tuple | None:
+    """The plane through ``x`` and ``q`` that holds the normal of face ``g`` (a :func:`_plane`).
+
+    Returns the signed distances of the face's corners from it, the tolerance
+    below which a corner lies on it, and the direction d = q - x; None when
+    d is along the face normal.
+    """
+    n0, n1, n2 = g[6]
+    x0, x1, x2 = x
+    d0, d1, d2 = q[0] - x0, q[1] - x1, q[2] - x2
+    N0 = d1 * n2 - d2 * n1
+    N1 = d2 * n0 - d0 * n2
+    N2 = d0 * n1 - d1 * n0
+    nn = math.sqrt(N0 * N0 + N1 * N1 + N2 * N2)
+    if nn == 0.0:
+        return None
+    N0, N1, N2 = N0 / nn, N1 / nn, N2 / nn
+    sd = [N0 * (pv[0] - x0) + N1 * (pv[1] - x1) + N2 * (pv[2] - x2) for pv in (g[0], g[1], g[2])]
+    tol = 1e-9 * math.sqrt(d0 * d0 + d1 * d1 + d2 * d2) + 1e-12
+    return sd, tol, (d0, d1, d2)
+
+
+def _exit(corners: tuple, fv, cut: tuple, x, entry: set | None, at_vertex: int | None) -> tuple | None:
+    """Where the cutting plane ``cut`` leaves the face farthest ahead of ``x``.
+
+    Returns ``(ahead, u, w, point)``: through corner ``u == w`` (not the one
+    the walk stands on), or across edge (u, w) (not the entry edge); None when
+    nothing lies ahead.
+    """
+    sd, tol, d = cut
+    best = None
+    for k in range(3):  # the plane through a vertex ahead
+        v = fv[k]
+        if v != at_vertex and abs(sd[k]) <= tol:
+            pv = corners[k]
+            ahead = _ahead(pv, x, d)
+            if ahead > 0 and (best is None or ahead > best[0]):
+                best = (ahead, v, v, pv)
+    for ku, kw in ((0, 1), (1, 2), (2, 0)):
+        u, w = fv[ku], fv[kw]
+        if entry is not None and {u, w} == entry:
+            continue
+        su, sw = sd[ku], sd[kw]
+        if abs(su) <= tol or abs(sw) <= tol or su * sw > 0:
+            continue
+        t = su / (su - sw)
+        pu, pw = corners[ku], corners[kw]
+        cpt = (
+            pu[0] + t * (pw[0] - pu[0]),
+            pu[1] + t * (pw[1] - pu[1]),
+            pu[2] + t * (pw[2] - pu[2]),
+        )
+        ahead = _ahead(cpt, x, d)
+        if ahead > 0 and (best is None or ahead > best[0]):
+            best = (ahead, u, w, cpt)
+    return best
+
+
+def _fan(loc: _Local, f: int, fv, u: int, g: int) -> list | None:
+    """The shortest run of faces around vertex ``u`` from face ``f`` to face ``g``, or None."""
+    fan = None
+    for xo in (x_ for x_ in fv if x_ != u):
+        cand = loc.walk(u, f, xo, lambda h, g=g: h == g)
+        if cand is not None and (fan is None or len(cand) < len(fan)):
+            fan = cand
+    return fan
+
+
+def _turn(loc: _Local, f: int, fv, u: int, toward) -> tuple[int, list] | None:
+    """The face around vertex ``u`` that leads toward ``toward``, and the faces
+    passed from face ``f`` to reach it; None when there is no way."""
+    g = _start_face(loc, u, toward)
+    if g is None:
+        return None
+    if g == f:
+        return g, []
+    fan = _fan(loc, f, fv, u, g)
+    return None if fan is None else (g, fan)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class _Step:
+    """The walk's move out of a face: the face it enters, the faces it passes
+    on the way (for the strip), the edge it crosses ((-1, -1) through a
+    vertex), the edge it then came in through and the vertex it stands on."""
+
+    face: int
+    passed: list
+    edge: tuple[int, int]
+    entry: set | None
+    at_vertex: int | None
+
+
+def _step_across(loc: _Local, f: int, fv, best: tuple, toward) -> _Step | None:
+    """The move out of face ``f`` through the exit ``best`` of :func:`_exit`; None at a boundary.
+
+    Through a vertex the walk turns around it to the face that leads toward
+    ``toward``; across an edge it enters the face on the other side.
+    """
+    _, u, w, _point = best
+    if u == w:
+        turn = _turn(loc, f, fv, u, toward)
+        if turn is None:
+            return None
+        g, fan = turn
+        return _Step(face=g, passed=fan, edge=(-1, -1), entry=None, at_vertex=u)
+    g = loc.across(u, w, f)
+    if g is None:
+        return None
+    return _Step(face=g, passed=[g], edge=(u, w), entry={u, w}, at_vertex=None)
+
+
+def _walk(pts: list, fcs: list, eds: list, strip: list) -> Walk:
+    return Walk(
+        points=np.array(pts),
+        faces=np.array(fcs, dtype=np.int64),
+        edges=np.array(eds, dtype=np.int64),
+        strip=np.array(strip, dtype=np.int64),
+    )
+
+
+def _arrived(loc: _Local, end: Endpoint, face: int) -> bool:
+    if end.vertex is not None:
+        return end.vertex in loc.face(face)
+    return face == end.face
 
 
 def project_walk(
@@ -136,111 +274,39 @@ def project_walk(
     entry = None  # edge we came in through
     at_vertex = start.vertex  # vertex the walk stands on, if any
     planes: dict = {}  # per-face corners, edges and normal
-    limit = max_steps or 40 * len(Q) + 2000
-
-    def arrived(face):
-        if end.vertex is not None:
-            return end.vertex in loc.face(face)
-        return face == end.face
-
-    for _ in range(limit):
-        if i >= len(Q) - 1 and arrived(f):
+    for _ in range(max_steps or 40 * len(Q) + 2000):
+        last = i >= len(Q) - 1
+        if last and _arrived(loc, end, f):
             pts.append(end.xyz)
             fcs.append(f)
             eds.append((-1, -1))
-            return Walk(
-                points=np.array(pts),
-                faces=np.array(fcs, dtype=np.int64),
-                edges=np.array(eds, dtype=np.int64),
-                strip=np.array(strip, dtype=np.int64),
-            )
+            return _walk(pts, fcs, eds, strip)
         q = Q[min(i, len(Q) - 1)]
-        inside = _project_into(loc, f, q, planes) if i < len(Q) - 1 else None
-        if inside is not None:
-            x = inside
+        inside = None if last else _project_into(loc, f, q, planes)
+        if inside is not None:  # the sample lies over this face: step to it
+            x, entry, at_vertex = inside, None, None
             pts.append(x)
             fcs.append(f)
             eds.append((-1, -1))
-            entry = None
-            at_vertex = None
             i += 1
             continue
-        fv = loc.face(f)
-        g = planes.get(f)
-        if g is None:
-            g = planes[f] = _plane(loc, f)
-        P3 = (g[0], g[1], g[2])
-        n0, n1, n2 = g[6]
-        x0, x1, x2 = x
-        d0, d1, d2 = q[0] - x0, q[1] - x1, q[2] - x2
-        # normal of the plane through x, the next sample and the face normal
-        N0 = d1 * n2 - d2 * n1
-        N1 = d2 * n0 - d0 * n2
-        N2 = d0 * n1 - d1 * n0
-        nn = math.sqrt(N0 * N0 + N1 * N1 + N2 * N2)
-        if nn == 0.0:
+        g = _face_plane(loc, f, planes)
+        cut = _cutting_plane(g, x, q)
+        if cut is None:
             return None
-        N0, N1, N2 = N0 / nn, N1 / nn, N2 / nn
-        sd = [
-            N0 * (pv[0] - x0) + N1 * (pv[1] - x1) + N2 * (pv[2] - x2) for pv in P3
-        ]
-        tol = 1e-9 * math.sqrt(d0 * d0 + d1 * d1 + d2 * d2) + 1e-12
-        best = None
-        for k in range(3):  # the plane through a vertex ahead
-            v = fv[k]
-            if v != at_vertex and abs(sd[k]) <= tol:
-                pv = P3[k]
-                ahead = (pv[0] - x0) * d0 + (pv[1] - x1) * d1 + (pv[2] - x2) * d2
-                if ahead > 0 and (best is None or ahead > best[0]):
-                    best = (ahead, v, v, pv)
-        for ku, kw in ((0, 1), (1, 2), (2, 0)):
-            u, w = fv[ku], fv[kw]
-            if entry is not None and {u, w} == entry:
-                continue
-            su, sw = sd[ku], sd[kw]
-            if abs(su) <= tol or abs(sw) <= tol or su * sw > 0:
-                continue
-            t = su / (su - sw)
-            pu, pw = P3[ku], P3[kw]
-            cpt = (
-                pu[0] + t * (pw[0] - pu[0]),
-                pu[1] + t * (pw[1] - pu[1]),
-                pu[2] + t * (pw[2] - pu[2]),
-            )
-            ahead = (cpt[0] - x0) * d0 + (cpt[1] - x1) * d1 + (cpt[2] - x2) * d2
-            if ahead > 0 and (best is None or ahead > best[0]):
-                best = (ahead, u, w, cpt)
+        fv = loc.face(f)
+        best = _exit((g[0], g[1], g[2]), fv, cut, x, entry, at_vertex)
         if best is None:
-            if i < len(Q) - 1:  # the sample is behind us: aim at the next one
+            if not last:  # the sample is behind us: aim at the next one
                 i += 1
                 continue
             return None
-        _, u, w, cpt = best
-        if u == w:  # through a vertex: turn around it to the face ahead
-            g = _start_face(loc, u, q if i < len(Q) - 1 else end.xyz)
-            if g is None:
-                return None
-            if g != f:
-                fan = None
-                for xo in (x_ for x_ in fv if x_ != u):
-                    cand = loc.walk(u, f, xo, lambda h, g=g: h == g)
-                    if cand is not None and (fan is None or len(cand) < len(fan)):
-                        fan = cand
-                if fan is None:
-                    return None
-                strip.extend(fan)
-            pts.append(cpt)
-            fcs.append(g)
-            eds.append((-1, -1))
-            x, f, entry, at_vertex = cpt, g, None, u
-            continue
-        g = loc.across(u, w, f)
-        if g is None:
+        step = _step_across(loc, f, fv, best, end.xyz if last else q)
+        if step is None:
             return None
-        pts.append(cpt)
-        fcs.append(g)
-        eds.append((u, w))
-        strip.append(g)
-        entry = {u, w}
-        x, f, at_vertex = cpt, g, None
+        strip.extend(step.passed)
+        x, f, entry, at_vertex = best[3], step.face, step.entry, step.at_vertex
+        pts.append(x)
+        fcs.append(f)
+        eds.append(step.edge)
     return None

@@ -311,6 +311,98 @@ def auto_window(mesh: SurfaceMesh) -> int:
     return int(min(_WINDOW_MAX, max(_WINDOW_MIN, n)))
 
 
+def _source_vertex(mesh: SurfaceMesh, source) -> int:
+    """The source as a vertex id; a face point snaps to its corner of largest weight."""
+    sp_ = mesh.check_point(source, "source")
+    if sp_.vertex_id is None:
+        sp_ = SurfacePoint.vertex(int(mesh.faces[sp_.face, int(np.argmax(sp_.bary))]))
+    return sp_.vertex_id
+
+
+def _check_options(window: int | str, flow: str, r_max: float | None) -> None:
+    """Raise MeshError for a window that is not ``"full"`` or >= 3, an unknown flow or a non-positive radius."""
+    full = isinstance(window, str)
+    if (full and window != "full") or (not full and int(window) < 3):
+        raise MeshError(
+            f"geodesic: window {window!r} is not a sample count >= 3 or 'full'; "
+            "pass window >= 3, 'full' for the full form, or None for automatic"
+        )
+    if flow not in FLOWS:
+        raise MeshError(
+            f"geodesic: flow {flow!r} is not one of {', '.join(FLOWS)}; pass flow='lateral' (default) or flow='lsq'"
+        )
+    if r_max is not None and not r_max > 0:
+        raise MeshError(f"geodesic: r_max {r_max} is not a positive length in cm; pass r_max > 0 or None")
+
+
+def _candidates(
+    tab: np.ndarray, front: np.ndarray, pending: np.ndarray, visited: np.ndarray, seen: np.ndarray
+) -> np.ndarray:
+    """The unvisited neighbours of ``front`` after those left ``pending``, each once.
+
+    ``seen`` is (V,) int64 scratch, overwritten.
+    """
+    cand = np.take(tab, front, axis=0).ravel()
+    cand = np.concatenate([pending, cand[~visited[cand]]])
+    seen[cand] = np.arange(len(cand))
+    return cand[seen[cand] == np.arange(len(cand))]
+
+
+def _band(
+    cand: np.ndarray,
+    tab: np.ndarray,
+    tab_len: np.ndarray,
+    dist: np.ndarray,
+    visited: np.ndarray,
+    reach: float,
+    limit: float,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
+    """The candidates accepted this round: those within ``reach`` of the nearest one's estimate.
+
+    The radius limit follows the slowest part of the wavefront: one band
+    beyond the nearest candidate (a limit that only grows by a band each round
+    lets the side where the triangulation's diagonals point the way run ahead
+    past the cut locus, on a cylinder by 45 %).
+
+    Returns
+    -------
+    acc : (n,) bool over ``cand``; and per accepted candidate its (k, d)
+    neighbours (padded with itself), their edge lengths, the estimates through
+    each visited neighbour (inf through the others) and the best of them.
+    None when the nearest candidate lies beyond ``limit``.
+    """
+    nbr = np.take(tab, cand, axis=0)
+    el = np.take(tab_len, cand, axis=0)
+    dest = np.where(visited[nbr], dist[nbr] + el, np.inf)
+    best = dest.min(axis=1)
+    lo = best.min()
+    if lo > limit:
+        return None
+    acc = best <= lo + reach  # holds for the nearest candidate at least
+    return acc, nbr[acc], el[acc], dest[acc], best[acc, None]
+
+
+def _straightest_parents(
+    V: np.ndarray,
+    tdir: np.ndarray,
+    src: int,
+    q: np.ndarray,
+    nbr: np.ndarray,
+    el: np.ndarray,
+    dest: np.ndarray,
+    best: np.ndarray,
+) -> np.ndarray:
+    """(n,) parent of each new vertex ``q``: among the neighbours whose estimate is
+    near the best, the one whose path's last direction continues straightest to it."""
+    near = dest <= best + _NEAR * el
+    edge = np.take(V, q, axis=0)[:, None, :] - np.take(V, nbr, axis=0)
+    cosang = np.einsum("ijk,ijk->ij", np.take(tdir, nbr, axis=0), edge)
+    cosang /= el
+    cosang[nbr == src] = 1.0
+    pick = np.where(near, cosang, -np.inf).argmax(axis=1)
+    return np.take(nbr.ravel(), np.arange(0, nbr.size, nbr.shape[1]) + pick)
+
+
 def geodesic_distances(
     mesh: SurfaceMesh,
     source,
@@ -348,34 +440,18 @@ def geodesic_distances(
             f"geodesic: expected a SurfaceMesh, got {type(mesh).__name__}; "
             "wrap the arrays with SurfaceMesh(vertices, faces)"
         )
-    sp_ = mesh.check_point(source, "source")
-    if sp_.vertex_id is None:
-        sp_ = SurfacePoint.vertex(int(mesh.faces[sp_.face, int(np.argmax(sp_.bary))]))
-    src = sp_.vertex_id
+    src = _source_vertex(mesh, source)
     if window is None:
         window = auto_window(mesh)
-    full = isinstance(window, str)
-    if (full and window != "full") or (not full and int(window) < 3):
-        raise MeshError(
-            f"geodesic: window {window!r} is not a sample count >= 3 or 'full'; "
-            "pass window >= 3, 'full' for the full form, or None for automatic"
-        )
-    if flow not in FLOWS:
-        raise MeshError(
-            f"geodesic: flow {flow!r} is not one of {', '.join(FLOWS)}; pass flow='lateral' (default) or flow='lsq'"
-        )
-    if r_max is not None and not r_max > 0:
-        raise MeshError(f"geodesic: r_max {r_max} is not a positive length in cm; pass r_max > 0 or None")
-    V = mesh.vertices
+    _check_options(window, flow, r_max)
     nv = mesh.n_vertices
-    step = mesh.edge_mean
     limit = np.inf if r_max is None else float(r_max)
     tab, tab_len = _padded_graph(mesh)
 
     dist = np.full(nv, np.inf)
     visited = np.zeros(nv, dtype=bool)
     tdir = np.zeros((nv, 3))  # unit direction of each path's last segment
-    if full:
+    if isinstance(window, str):
         solver = _FullSolver(mesh, dist, tdir)
     else:
         solver = _WindowSolver(mesh, src, int(window), flow, dist, tdir, visited)
@@ -386,38 +462,13 @@ def geodesic_distances(
     front = np.array([src], dtype=np.int64)
     pending = np.zeros(0, dtype=np.int64)
     done = 1
-    while True:
-        # candidates: unvisited neighbours of the last band, and those left over
-        cand = np.take(tab, front, axis=0).ravel()
-        cand = np.concatenate([pending, cand[~visited[cand]]])
-        seen[cand] = np.arange(len(cand))
-        cand = cand[seen[cand] == np.arange(len(cand))]
-        if len(cand) == 0:
+    while len(cand := _candidates(tab, front, pending, visited, seen)):
+        band = _band(cand, tab, tab_len, dist, visited, _BAND * mesh.edge_mean, limit)
+        if band is None:
             break
-        # one row per candidate: its neighbours (padded with itself, unvisited)
-        nbr = np.take(tab, cand, axis=0)
-        el = np.take(tab_len, cand, axis=0)
-        dest = np.where(visited[nbr], dist[nbr] + el, np.inf)
-        best = dest.min(axis=1)
-        lo = best.min()
-        if lo > limit:
-            break
-        # the radius limit follows the slowest part of the wavefront: one band
-        # beyond the nearest candidate (a limit that only grows by a band each
-        # round lets the side where the triangulation's diagonals point the way
-        # run ahead past the cut locus, on a cylinder by 45 %)
-        r = lo + _BAND * step
-        acc = best <= r  # holds for the nearest candidate at least
-        # straightest parent among neighbours whose estimate is near the best
+        acc, nbr, el, dest, best = band
         q = cand[acc]
-        nbr, el, dest = nbr[acc], el[acc], dest[acc]
-        near = dest <= best[acc, None] + _NEAR * el
-        edge = np.take(V, q, axis=0)[:, None, :] - np.take(V, nbr, axis=0)
-        cosang = np.einsum("ijk,ijk->ij", np.take(tdir, nbr, axis=0), edge)
-        cosang /= el
-        cosang[nbr == src] = 1.0
-        pick = np.where(near, cosang, -np.inf).argmax(axis=1)
-        p = np.take(nbr.ravel(), np.arange(0, nbr.size, nbr.shape[1]) + pick)
+        p = _straightest_parents(mesh.vertices, tdir, src, q, nbr, el, dest, best)
         visited[q] = True
         solver(q, p)
         done += len(q)

@@ -38,11 +38,7 @@ def exempt_mask(points: np.ndarray, exempt) -> np.ndarray:
                 "pass one flag per path point or (start, stop) fractions"
             )
         return arr.copy()
-    arr = (
-        np.asarray(exempt, dtype=np.float64).reshape(-1, 2)
-        if arr.size
-        else np.zeros((0, 2))
-    )
+    arr = np.asarray(exempt, dtype=np.float64).reshape(-1, 2) if arr.size else np.zeros((0, 2))
     if np.any(arr < 0) or np.any(arr > 1) or np.any(arr[:, 0] > arr[:, 1]):
         raise MeshError(
             f"tape: exempt sections {arr.tolist()} are not (start, stop) "
@@ -57,9 +53,84 @@ def exempt_mask(points: np.ndarray, exempt) -> np.ndarray:
     return mask
 
 
-def tape_correct(
-    points, normals, exempt=None, *, tol_cm: float = 1e-6, max_sweeps: int | None = None
-) -> np.ndarray:
+def _curve_normals(p: np.ndarray) -> np.ndarray:
+    """(k, 3) turning of the unit tangents at each point (zero at the ends): the curve normal, free of the spacing.
+
+    Examples
+    --------
+    >>> _curve_normals(np.array([[0.0, 0, 0], [1, -1, 0], [2, 0, 0]])).round(6).tolist()
+    [[0.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 0.0]]
+    """
+    d = np.diff(p, axis=0)
+    ln = np.linalg.norm(d, axis=1)
+    u = d / np.where(ln > 0, ln, 1.0)[:, None]
+    c = np.zeros_like(p)
+    c[1:-1] = (u[1:] - u[:-1]) * np.minimum(ln[1:], ln[:-1])[:, None]
+    return c
+
+
+def _runs(mask: np.ndarray) -> tuple[list[int], list[int]]:
+    """Starts and stops (exclusive) of the runs of True in ``mask``.
+
+    Examples
+    --------
+    >>> _runs(np.array([False, True, True, False, True]))
+    ([1, 4], [3, 5])
+    """
+    edge = np.diff(np.r_[0, mask.astype(np.int8), 0])
+    return np.flatnonzero(edge == 1).tolist(), np.flatnonzero(edge == -1).tolist()
+
+
+def _chord(p: np.ndarray, i: int, j: int) -> np.ndarray:
+    """(j - i, 3) points i..j-1 moved onto the chord between points i-1 and j, spaced as along the path."""
+    a, b = p[i - 1], p[j]
+    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p[i - 1 : j + 1], axis=0), axis=1))])
+    t = s[1:-1] / s[-1] if s[-1] > 0 else np.zeros(j - i)
+    return a + t[:, None] * (b - a)
+
+
+def _sweep(p: np.ndarray, n: np.ndarray, fixed: np.ndarray, moved: np.ndarray, tol_cm: float) -> bool:
+    """One sweep: each run of concave points becomes the chord between the points around it.
+
+    Runs grow over points already on a straight span, so that a span is
+    re-straightened as a whole when its ends turn concave. ``p`` and
+    ``moved`` are updated in place; False when no point is concave.
+    """
+    c = _curve_normals(p)
+    concave = (np.einsum("ij,ij->i", c, n) > tol_cm) & ~fixed
+    if not concave.any():
+        return False
+    flat = moved & (np.linalg.norm(c, axis=1) <= tol_cm) & ~fixed
+    for i, j in zip(*_runs(concave | flat), strict=True):
+        if not concave[i:j].any():
+            continue
+        p[i:j] = _chord(p, i, j)
+        moved[i:j] = True
+    return True
+
+
+def _on_straight_spans(p: np.ndarray, moved: np.ndarray, fixed: np.ndarray) -> np.ndarray:
+    """(k,) bool, the points to keep: a moved point on the straight span between its neighbours goes."""
+    k = len(p)
+    keep = np.ones(k, dtype=bool)
+    i = 1
+    last = 0
+    while i < k - 1:
+        if moved[i] and not fixed[i]:
+            a, b = p[last], p[i + 1]
+            d = b - a
+            dd = float(d @ d)
+            t = float((p[i] - a) @ d) / dd if dd > 0 else 0.0
+            if np.linalg.norm(a + t * d - p[i]) < 1e-9:
+                keep[i] = False
+                i += 1
+                continue
+        last = i
+        i += 1
+    return keep
+
+
+def tape_correct(points, normals, exempt=None, *, tol_cm: float = 1e-6, max_sweeps: int | None = None) -> np.ndarray:
     """Straighten the concave stretches of a path like a taut tape.
 
     Parameters
@@ -88,12 +159,9 @@ def tape_correct(
     p = np.array(points, dtype=np.float64)
     n = np.array(normals, dtype=np.float64)
     if p.ndim != 2 or p.shape[1] != 3 or n.shape != p.shape:
-        raise MeshError(
-            f"tape: points {p.shape} and normals {n.shape} must both be "
-            "(k, 3); pass one normal per point"
-        )
+        raise MeshError(f"tape: points {p.shape} and normals {n.shape} must both be (k, 3); pass one normal per point")
     fixed = exempt_mask(p, exempt)
-    step = np.ones(len(p), dtype=bool)
+    step = np.ones(len(p), dtype=bool)  # drop repeated points
     step[1:] = np.linalg.norm(np.diff(p, axis=0), axis=1) > 0
     step[-1] = True
     p, n, fixed = p[step], n[step], fixed[step]
@@ -101,54 +169,8 @@ def tape_correct(
     if k < 3:
         return p
     fixed[[0, -1]] = True
-    sweeps = max_sweeps or 4 * k
     moved = np.zeros(k, dtype=bool)
-    for _ in range(sweeps):
-        # turning of the unit tangents: the curve normal, free of the spacing
-        d = np.diff(p, axis=0)
-        ln = np.linalg.norm(d, axis=1)
-        u = d / np.where(ln > 0, ln, 1.0)[:, None]
-        c = np.zeros_like(p)
-        c[1:-1] = (u[1:] - u[:-1]) * np.minimum(ln[1:], ln[:-1])[:, None]
-        concave = (np.einsum("ij,ij->i", c, n) > tol_cm) & ~fixed
-        if not concave.any():
+    for _ in range(max_sweeps or 4 * k):
+        if not _sweep(p, n, fixed, moved, tol_cm):
             break
-        # each run of concave points becomes the chord between the points around it
-        # grow runs over points already on a straight span, so that a span is
-        # re-straightened as a whole when its ends turn concave
-        flat = moved & (np.linalg.norm(c, axis=1) <= tol_cm) & ~fixed
-        grow = concave | flat
-        edge = np.diff(np.r_[0, grow.astype(np.int8), 0])
-        starts, stops = np.flatnonzero(edge == 1), np.flatnonzero(edge == -1)
-        for i, j in zip(starts.tolist(), stops.tolist(), strict=True):
-            if not concave[i:j].any():
-                continue
-            a, b = p[i - 1], p[j]
-            s = np.concatenate(
-                [
-                    [0.0],
-                    np.cumsum(
-                        np.linalg.norm(np.diff(p[i - 1 : j + 1], axis=0), axis=1)
-                    ),
-                ]
-            )
-            t = s[1:-1] / s[-1] if s[-1] > 0 else np.zeros(j - i)
-            p[i:j] = a + t[:, None] * (b - a)
-            moved[i:j] = True
-    # drop moved points lying on the straight span between their neighbours
-    keep = np.ones(k, dtype=bool)
-    i = 1
-    last = 0
-    while i < k - 1:
-        if moved[i] and not fixed[i]:
-            a, b = p[last], p[i + 1]
-            d = b - a
-            dd = float(d @ d)
-            t = float((p[i] - a) @ d) / dd if dd > 0 else 0.0
-            if np.linalg.norm(a + t * d - p[i]) < 1e-9:
-                keep[i] = False
-                i += 1
-                continue
-        last = i
-        i += 1
-    return p[keep]
+    return p[_on_straight_spans(p, moved, fixed)]

@@ -50,15 +50,11 @@ def _laid_out(boxes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     offsets = layout_offsets(boxes)
     moved = boxes + np.hstack([offsets, offsets])
     margin = 0.03 * float(max(np.ptp(moved[:, [0, 2]]), np.ptp(moved[:, [1, 3]]), 1.0))
-    extent = np.concatenate(
-        [moved[:, :2].min(axis=0) - margin, moved[:, 2:].max(axis=0) + margin]
-    )
+    extent = np.concatenate([moved[:, :2].min(axis=0) - margin, moved[:, 2:].max(axis=0) + margin])
     return offsets, extent
 
 
-def layout_offsets(
-    boxes: np.ndarray, *, gap: float | None = None, aspect: float = 1.5
-) -> np.ndarray:
+def layout_offsets(boxes: np.ndarray, *, gap: float | None = None, aspect: float = 1.5) -> np.ndarray:
     """Shelf-pack axis-aligned boxes; return the translation of each box.
 
     Parameters
@@ -212,18 +208,10 @@ def _quantity_text(piece: Piece) -> str:
     return f"cut {q.total}"
 
 
-def _draw_piece(
-    ax,
-    piece: Piece,
-    offset: np.ndarray,
-    style: _Style,
-    *,
-    cm_to_pt: float,
-    label: str | None,
-) -> None:
-    from matplotlib.patches import FancyArrowPatch, Polygon
+def _draw_outline(ax, outline: np.ndarray, style: _Style) -> None:
+    """The cut line: a closed polygon, filled when the style has a fill."""
+    from matplotlib.patches import Polygon
 
-    outline = np.asarray(piece.outline) + offset
     ax.add_patch(
         Polygon(
             outline,
@@ -236,6 +224,10 @@ def _draw_piece(
             joinstyle="round",
         )
     )
+
+
+def _draw_sew_lines(ax, piece: Piece, offset: np.ndarray, style: _Style) -> None:
+    """The sew lines, dashed and thinner than the cut line."""
     for poly in piece.sew_lines:
         pts = np.asarray(poly.points) + offset
         pts = _closed(pts) if poly.closed else pts
@@ -248,8 +240,10 @@ def _draw_piece(
             alpha=style.alpha,
             zorder=style.zorder + 0.1,
         )
-    if not style.details:
-        return
+
+
+def _draw_internal_lines(ax, piece: Piece, offset: np.ndarray, style: _Style) -> None:
+    """Internal lines in blue, each with its label at its first point."""
     for poly in piece.internal_lines:
         pts = np.asarray(poly.points) + offset
         pts = _closed(pts) if poly.closed else pts
@@ -270,6 +264,10 @@ def _draw_piece(
                 xytext=(2, 2),
                 textcoords="offset points",
             )
+
+
+def _draw_cutouts(ax, piece: Piece, offset: np.ndarray, style: _Style) -> None:
+    """Cutouts as white holes edged in the piece's colour."""
     for poly in piece.cutouts:
         pts = _closed(np.asarray(poly.points) + offset)
         ax.fill(
@@ -280,72 +278,115 @@ def _draw_piece(
             linewidth=style.width * 0.8,
             zorder=style.zorder + 0.2,
         )
-    if piece.mirror_line is not None:
-        pts = np.asarray(piece.mirror_line.points) + offset
+
+
+def _draw_mirror_line(ax, piece: Piece, offset: np.ndarray, style: _Style) -> None:
+    """The mirror (fold) line dash-dotted, with ``FOLD`` written along it."""
+    if piece.mirror_line is None:
+        return
+    pts = np.asarray(piece.mirror_line.points) + offset
+    ax.plot(
+        pts[:, 0],
+        pts[:, 1],
+        color=_GRAIN,
+        linewidth=0.9,
+        linestyle="-.",
+        zorder=style.zorder + 0.3,
+    )
+    mid = pts.mean(axis=0)
+    ax.annotate(
+        "FOLD",
+        mid,
+        fontsize=6,
+        color=_GRAIN,
+        ha="center",
+        va="bottom",
+        rotation=math.degrees(math.atan2(*(pts[1] - pts[0])[::-1])) % 180 - 0,
+        rotation_mode="anchor",
+        zorder=style.zorder + 0.4,
+    )
+
+
+def _draw_grain_line(ax, piece: Piece, offset: np.ndarray, style: _Style) -> None:
+    """The grain line as an arrow from its first point to its second."""
+    from matplotlib.patches import FancyArrowPatch
+
+    if piece.grain_line is None:
+        return
+    pts = np.asarray(piece.grain_line.points) + offset
+    ax.add_patch(
+        FancyArrowPatch(
+            pts[0],
+            pts[1],
+            arrowstyle="-|>",
+            mutation_scale=9,
+            color=_GRAIN,
+            linewidth=1.0,
+            zorder=style.zorder + 0.5,
+            shrinkA=0,
+            shrinkB=0,
+        )
+    )
+
+
+def _notch_ticks(
+    outline: np.ndarray,
+    vertex: np.ndarray,
+    depth_cm: np.ndarray,
+    angle: np.ndarray,
+    shortest_cm: float,
+) -> tuple[np.ndarray, np.ndarray]:
+    """(n, 2) starts and ends of the notch ticks: from the outline vertex along
+    the notch angle, at least ``shortest_cm`` long.
+
+    Examples
+    --------
+    >>> sq = np.array([[0.0, 0.0], [4.0, 0.0], [4.0, 4.0]])
+    >>> a, b = _notch_ticks(sq, np.array([1]), np.array([0.2]), np.array([np.pi]), 0.5)
+    >>> a.tolist(), b.round(6).tolist()
+    ([[4.0, 0.0]], [[3.5, 0.0]])
+    """
+    starts = outline[vertex]
+    lengths = np.array([max(d, shortest_cm) for d in depth_cm])
+    ends = starts + lengths[:, None] * np.column_stack([np.cos(angle), np.sin(angle)])
+    return starts, ends
+
+
+def _draw_notches(ax, piece: Piece, outline: np.ndarray, style: _Style, cm_to_pt: float) -> None:
+    """Notches as ticks from the boundary into the piece; a T notch gets its cross bar."""
+    if not piece.notches:
+        return
+    starts, ends = _notch_ticks(
+        outline,
+        np.array([n.vertex for n in piece.notches], dtype=np.int64),
+        np.array([n.depth_cm for n in piece.notches], dtype=np.float64),
+        np.array([n.angle for n in piece.notches]),
+        _MIN_TICK_PT / cm_to_pt,
+    )
+    for notch, a, b in zip(piece.notches, starts, ends, strict=True):
+        lw = 1.1 if notch.type in (NotchType.SLIT, NotchType.V) else 1.6
         ax.plot(
-            pts[:, 0],
-            pts[:, 1],
-            color=_GRAIN,
-            linewidth=0.9,
-            linestyle="-.",
-            zorder=style.zorder + 0.3,
+            [a[0], b[0]],
+            [a[1], b[1]],
+            color=_NOTCH,
+            linewidth=lw,
+            solid_capstyle="butt",
+            zorder=style.zorder + 0.6,
         )
-        mid = pts.mean(axis=0)
-        ax.annotate(
-            "FOLD",
-            mid,
-            fontsize=6,
-            color=_GRAIN,
-            ha="center",
-            va="bottom",
-            rotation=math.degrees(math.atan2(*(pts[1] - pts[0])[::-1])) % 180 - 0,
-            rotation_mode="anchor",
-            zorder=style.zorder + 0.4,
-        )
-    if piece.grain_line is not None:
-        pts = np.asarray(piece.grain_line.points) + offset
-        ax.add_patch(
-            FancyArrowPatch(
-                pts[0],
-                pts[1],
-                arrowstyle="-|>",
-                mutation_scale=9,
-                color=_GRAIN,
-                linewidth=1.0,
-                zorder=style.zorder + 0.5,
-                shrinkA=0,
-                shrinkB=0,
-            )
-        )
-    # notches: a tick from the boundary into the piece
-    if piece.notches:
-        starts = outline[[n.vertex for n in piece.notches]]
-        shortest = _MIN_TICK_PT / cm_to_pt
-        lengths = np.array([max(n.depth_cm, shortest) for n in piece.notches])
-        angles = np.array([n.angle for n in piece.notches])
-        ends = starts + lengths[:, None] * np.column_stack(
-            [np.cos(angles), np.sin(angles)]
-        )
-        for notch, a, b in zip(piece.notches, starts, ends, strict=True):
-            lw = 1.1 if notch.type in (NotchType.SLIT, NotchType.V) else 1.6
+        if notch.type is NotchType.T:
+            d = (b - a) / max(float(np.hypot(*(b - a))), 1e-12)
+            t = np.array([-d[1], d[0]]) * 0.3
             ax.plot(
-                [a[0], b[0]],
-                [a[1], b[1]],
+                [b[0] - t[0], b[0] + t[0]],
+                [b[1] - t[1], b[1] + t[1]],
                 color=_NOTCH,
                 linewidth=lw,
-                solid_capstyle="butt",
                 zorder=style.zorder + 0.6,
             )
-            if notch.type is NotchType.T:
-                d = (b - a) / max(float(np.hypot(*(b - a))), 1e-12)
-                t = np.array([-d[1], d[0]]) * 0.3
-                ax.plot(
-                    [b[0] - t[0], b[0] + t[0]],
-                    [b[1] - t[1], b[1] + t[1]],
-                    color=_NOTCH,
-                    linewidth=lw,
-                    zorder=style.zorder + 0.6,
-                )
+
+
+def _draw_drill_holes(ax, piece: Piece, offset: np.ndarray, style: _Style) -> None:
+    """Drill holes as a cross with a circle, at least 0.3 cm in radius."""
     for hole in piece.drill_holes:
         c = np.asarray(hole.position) + offset
         r = max(hole.diameter_cm / 2.0, 0.3)
@@ -364,49 +405,92 @@ def _draw_piece(
             zorder=style.zorder + 0.6,
         )
         ax.add_patch(_circle(c, r * 0.6, style.colour, style.zorder + 0.6))
+
+
+def _label_fit(outline: np.ndarray, label: str, cm_to_pt: float) -> tuple[bool, float]:
+    """Whether the label reads upwards and its font size (pt) to fit the piece.
+
+    Tall narrow pieces (waistbands, plackets) read their label upwards; the
+    size fits the longest line along the piece and all lines across it,
+    between 4.5 and 11 pt.
+
+    Examples
+    --------
+    >>> strip = np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 40.0], [0.0, 40.0]])
+    >>> _label_fit(strip, "band", 28.35)
+    (True, 11.0)
+    """
+    width_cm = float(np.ptp(outline[:, 0]))
+    height_cm = float(np.ptp(outline[:, 1]))
+    upright = height_cm > 2.0 * width_cm
+    room_cm = height_cm if upright else width_cm
+    lines = label.split("\n")
+    longest = max(len(s) for s in lines)
+    across_cm = width_cm if upright else height_cm
+    fit = min(
+        room_cm * cm_to_pt / max(longest, 1) / 0.62 * 0.8,
+        across_cm * cm_to_pt / (1.3 * len(lines)),
+    )
+    return upright, float(np.clip(fit, 4.5, 11.0))
+
+
+def _draw_label(ax, outline: np.ndarray, label: str, style: _Style, cm_to_pt: float) -> None:
+    """The piece's label in a white box at a roomy spot inside the outline."""
+    label = _short(label)
+    at = _label_point(outline)
+    upright, size = _label_fit(outline, label, cm_to_pt)
+    ax.text(
+        at[0],
+        at[1],
+        label,
+        rotation=90 if upright else 0,
+        rotation_mode="anchor",
+        fontsize=size,
+        ha="center",
+        va="center",
+        color=_SAMPLE_COLOUR,
+        zorder=style.zorder + 1.0,
+        linespacing=1.25,
+        bbox={
+            "boxstyle": "round,pad=0.25",
+            "facecolor": "white",
+            "alpha": 0.75,
+            "edgecolor": "none",
+        },
+    )
+
+
+def _draw_piece(
+    ax,
+    piece: Piece,
+    offset: np.ndarray,
+    style: _Style,
+    *,
+    cm_to_pt: float,
+    label: str | None,
+) -> None:
+    """Draw ``piece`` moved by ``offset``: its cut and sew lines, then (with
+    ``style.details``) its internal lines, cutouts, fold, grain, notches,
+    drill holes and label."""
+    outline = np.asarray(piece.outline) + offset
+    _draw_outline(ax, outline, style)
+    _draw_sew_lines(ax, piece, offset, style)
+    if not style.details:
+        return
+    _draw_internal_lines(ax, piece, offset, style)
+    _draw_cutouts(ax, piece, offset, style)
+    _draw_mirror_line(ax, piece, offset, style)
+    _draw_grain_line(ax, piece, offset, style)
+    _draw_notches(ax, piece, outline, style, cm_to_pt)
+    _draw_drill_holes(ax, piece, offset, style)
     if label:
-        label = _short(label)
-        at = _label_point(outline)
-        width_cm = float(np.ptp(outline[:, 0]))
-        height_cm = float(np.ptp(outline[:, 1]))
-        # tall narrow pieces (waistbands, plackets) read their label upwards
-        upright = height_cm > 2.0 * width_cm
-        room_cm = height_cm if upright else width_cm
-        lines = label.split("\n")
-        longest = max(len(s) for s in lines)
-        across_cm = width_cm if upright else height_cm
-        fit = min(
-            room_cm * cm_to_pt / max(longest, 1) / 0.62 * 0.8,
-            across_cm * cm_to_pt / (1.3 * len(lines)),
-        )
-        size = float(np.clip(fit, 4.5, 11.0))
-        ax.text(
-            at[0],
-            at[1],
-            label,
-            rotation=90 if upright else 0,
-            rotation_mode="anchor",
-            fontsize=size,
-            ha="center",
-            va="center",
-            color=_SAMPLE_COLOUR,
-            zorder=style.zorder + 1.0,
-            linespacing=1.25,
-            bbox={
-                "boxstyle": "round,pad=0.25",
-                "facecolor": "white",
-                "alpha": 0.75,
-                "edgecolor": "none",
-            },
-        )
+        _draw_label(ax, outline, label, style, cm_to_pt)
 
 
 def _circle(centre, radius, colour, zorder):
     from matplotlib.patches import Circle
 
-    return Circle(
-        centre, radius, facecolor="none", edgecolor=colour, linewidth=0.8, zorder=zorder
-    )
+    return Circle(centre, radius, facecolor="none", edgecolor=colour, linewidth=0.8, zorder=zorder)
 
 
 # ---------------------------------------------------------------------------
@@ -417,9 +501,7 @@ def _circle(centre, radius, colour, zorder):
 def _format_for(path: Path) -> str:
     fmt = _FORMATS.get(path.suffix.lower())
     if fmt is None:
-        raise InputError(
-            f"{path}: unknown picture type {path.suffix!r}; give a .svg or .png file name"
-        )
+        raise InputError(f"{path}: unknown picture type {path.suffix!r}; give a .svg or .png file name")
     return fmt
 
 
@@ -430,11 +512,7 @@ def _figure(extent: np.ndarray, *, legend_rows: int = 0):
     w_cm = float(extent[2] - extent[0])
     h_cm = float(extent[3] - extent[1])
     width_in = 12.0
-    height_in = (
-        float(np.clip(width_in * h_cm / max(w_cm, 1e-9), 3.0, 30.0))
-        + 0.9
-        + 0.2 * legend_rows
-    )
+    height_in = float(np.clip(width_in * h_cm / max(w_cm, 1e-9), 3.0, 30.0)) + 0.9 + 0.2 * legend_rows
     fig = Figure(figsize=(width_in, height_in), layout="constrained")
     FigureCanvasAgg(fig)
     ax = fig.add_subplot()
@@ -456,9 +534,7 @@ def _save(fig, path: Path) -> Path:
     fmt = _format_for(path)
     # SVG keeps text as text: searchable and editable in a drawing program
     with (
-        matplotlib.rc_context(
-            {"svg.fonttype": "none", "svg.hashsalt": "patternbridge"}
-        ),
+        matplotlib.rc_context({"svg.fonttype": "none", "svg.hashsalt": "patternbridge"}),
         atomic_path(path) as tmp,
     ):
         fig.savefig(tmp, format=fmt, dpi=150, metadata=_metadata(fmt))
@@ -503,9 +579,7 @@ def _resolve_sizes(pattern: Pattern, sizes) -> list[str]:
     return [s for s in size_list if s in set(wanted)]
 
 
-def _pieces_by_size(
-    pattern: Pattern, sizes: Sequence[str]
-) -> dict[str, tuple[Piece, ...]]:
+def _pieces_by_size(pattern: Pattern, sizes: Sequence[str]) -> dict[str, tuple[Piece, ...]]:
     out: dict[str, tuple[Piece, ...]] = {}
     for size in sizes:
         if size == pattern.sample_size:
@@ -518,16 +592,56 @@ def _pieces_by_size(
 
 
 def _piece_label(piece: Piece, size: str) -> str:
-    return (
-        f"{piece.name}\n{size}  {_quantity_text(piece)}"
-        if size
-        else f"{piece.name}\n{_quantity_text(piece)}"
-    )
+    return f"{piece.name}\n{size}  {_quantity_text(piece)}" if size else f"{piece.name}\n{_quantity_text(piece)}"
 
 
 # ---------------------------------------------------------------------------
 # public
 # ---------------------------------------------------------------------------
+
+
+_SAMPLE_STYLE = _Style(colour=_SAMPLE_COLOUR, width=1.4, fill=_FILL, details=True, zorder=2.0)
+
+
+def _size_style(colour, *, outline_only: bool) -> _Style:
+    """The sample size in black with its details; another size of an overlay as a coloured outline."""
+    if outline_only:
+        return _Style(colour=colour, width=0.9, fill=None, details=False, zorder=3.0)
+    return _SAMPLE_STYLE
+
+
+def _size_legend(fig, size_list: Sequence[str], sample: str, colours: dict) -> None:
+    """One legend entry per size below the drawing; the sample size is marked."""
+    from matplotlib.lines import Line2D
+
+    handles = [
+        Line2D(
+            [],
+            [],
+            color=_SAMPLE_COLOUR if s == sample else colours[s],
+            linewidth=1.4 if s == sample else 1.0,
+            label=_short(f"{s} (sample)" if s == sample else s),
+        )
+        for s in size_list
+    ]
+    fig.legend(
+        handles=handles,
+        loc="outside lower center",
+        ncols=min(len(handles), 10),
+        frameon=False,
+        fontsize=8,
+        title="sizes",
+        title_fontsize=8,
+    )
+
+
+def _pattern_title(pattern: Pattern, size_list: Sequence[str], *, overlay: bool) -> str:
+    """``"<style> — <n> pieces, size(s) <sizes>"``; more than six sizes show as a range."""
+    n = len(pattern.piece_names)
+    shown = ", ".join(size_list) if len(size_list) <= 6 else f"{size_list[0]} to {size_list[-1]}"
+    if not overlay:
+        return f"{pattern.style} — {n} pieces, size {shown}"
+    return f"{pattern.style} — {n} pieces, sizes {shown} (sample {pattern.sample_size})"
 
 
 def plot_pattern(
@@ -561,87 +675,47 @@ def plot_pattern(
     _format_for(path)
     size_list = _resolve_sizes(pattern, sizes)
     by_size = _pieces_by_size(pattern, size_list)
-    overlay = len(size_list) > 1 or size_list[0] != pattern.sample_size
+    sample = pattern.sample_size
+    overlay = len(size_list) > 1 or size_list[0] != sample
+
+    def piece_in(size: str, name: str) -> Piece:
+        return next(p for p in by_size[size] if p.name == name)
 
     names = pattern.piece_names
-    boxes = np.array(
-        [
-            _bbox([next(p for p in by_size[s] if p.name == name) for s in size_list])
-            for name in names
-        ]
-    ).reshape(-1, 4)
+    boxes = np.array([_bbox([piece_in(s, name) for s in size_list]) for name in names]).reshape(-1, 4)
     offsets, extent = _laid_out(boxes)
     fig, ax, cm_to_pt = _figure(extent, legend_rows=1 if overlay else 0)
     colours = dict(zip(size_list, _size_colours(len(size_list)), strict=True))
-
     for k, name in enumerate(names):
         for size in size_list:
-            piece = next(p for p in by_size[size] if p.name == name)
-            is_sample = size == pattern.sample_size
-            if overlay and not is_sample:
-                style = _Style(
-                    colour=colours[size],
-                    width=0.9,
-                    fill=None,
-                    details=False,
-                    zorder=3.0,
-                )
-                label = None
-            else:
-                style = _Style(
-                    colour=_SAMPLE_COLOUR,
-                    width=1.4,
-                    fill=_FILL,
-                    details=True,
-                    zorder=2.0,
-                )
-                label = _piece_label(piece, size)
+            piece = piece_in(size, name)
+            outline_only = overlay and size != sample
+            style = _size_style(colours[size], outline_only=outline_only)
+            label = None if outline_only else _piece_label(piece, size)
             _draw_piece(ax, piece, offsets[k], style, cm_to_pt=cm_to_pt, label=label)
-        if overlay and pattern.sample_size not in size_list:
-            first = next(p for p in by_size[size_list[0]] if p.name == name)
-            ax.text(
-                *_label_point(np.asarray(first.outline) + offsets[k]),
-                _short(first.name),
-                fontsize=8,
-                ha="center",
-                va="center",
-            )
-
+        if overlay and sample not in size_list:  # no sample drawn: name the piece
+            first = piece_in(size_list[0], name)
+            at = _label_point(np.asarray(first.outline) + offsets[k])
+            ax.text(*at, _short(first.name), fontsize=8, ha="center", va="center")
     if overlay:
-        from matplotlib.lines import Line2D
-
-        handles = [
-            Line2D(
-                [],
-                [],
-                color=_SAMPLE_COLOUR if s == pattern.sample_size else colours[s],
-                linewidth=1.4 if s == pattern.sample_size else 1.0,
-                label=_short(f"{s} (sample)" if s == pattern.sample_size else s),
-            )
-            for s in size_list
-        ]
-        ax.figure.legend(
-            handles=handles,
-            loc="outside lower center",
-            ncols=min(len(handles), 10),
-            frameon=False,
-            fontsize=8,
-            title="sizes",
-            title_fontsize=8,
-        )
+        _size_legend(ax.figure, size_list, sample, colours)
     if title is None:
-        shown = (
-            ", ".join(size_list)
-            if len(size_list) <= 6
-            else f"{size_list[0]} to {size_list[-1]}"
-        )
-        title = (
-            f"{pattern.style} — {len(names)} pieces, size {shown}"
-            if not overlay
-            else f"{pattern.style} — {len(names)} pieces, sizes {shown} (sample {pattern.sample_size})"
-        )
+        title = _pattern_title(pattern, size_list, overlay=overlay)
     ax.set_title(_short(title, 2 * MAX_LABEL), fontsize=11, loc="left")
     return _save(fig, path)
+
+
+def _change_text(a: Piece, b: Piece) -> str:
+    """Name of ``a`` and the change of area and perimeter from ``a`` to ``b``."""
+    from ..pattern.geometry import area, perimeter
+
+    da = float(area(np.asarray(b.outline))) - float(area(np.asarray(a.outline)))
+    dp = float(perimeter(np.asarray(b.outline))) - float(perimeter(np.asarray(a.outline)))
+    return f"{a.name}\nΔarea {da:+.1f} cm²\nΔperimeter {dp:+.1f} cm"
+
+
+_BEFORE = _Style(colour="#8c8c8c", width=1.0, fill="#ececec", details=False, zorder=2.0)
+_AFTER = _Style(colour="#c0392b", width=1.2, fill=None, details=True, zorder=3.0)
 
 
 def plot_overlay(
@@ -669,56 +743,26 @@ def plot_overlay(
     -------
     The path written.
     """
-    from ..pattern.geometry import area, perimeter
+    from matplotlib.lines import Line2D
 
     path = Path(path)
     _format_for(path)
     original_pieces = tuple(original_pieces)
     graded_pieces = tuple(graded_pieces)
     if len(original_pieces) != len(graded_pieces):
-        raise ValueError(
-            f"plot_overlay: {len(original_pieces)} original pieces but "
-            f"{len(graded_pieces)} graded pieces"
-        )
+        raise ValueError(f"plot_overlay: {len(original_pieces)} original pieces but {len(graded_pieces)} graded pieces")
     by_name = {p.name: p for p in graded_pieces}
-    pairs = [
-        (a, by_name.get(a.name, b))
-        for a, b in zip(original_pieces, graded_pieces, strict=True)
-    ]
+    pairs = [(a, by_name.get(a.name, b)) for a, b in zip(original_pieces, graded_pieces, strict=True)]
     boxes = np.array([_bbox(pair) for pair in pairs]).reshape(-1, 4)
     offsets, extent = _laid_out(boxes)
     fig, ax, cm_to_pt = _figure(extent, legend_rows=1)
-    colour = "#c0392b"
     for (a, b), off in zip(pairs, offsets, strict=True):
-        _draw_piece(
-            ax,
-            a,
-            off,
-            _Style(
-                colour="#8c8c8c", width=1.0, fill="#ececec", details=False, zorder=2.0
-            ),
-            cm_to_pt=cm_to_pt,
-            label=None,
-        )
-        da = float(area(np.asarray(b.outline))) - float(area(np.asarray(a.outline)))
-        dp = float(perimeter(np.asarray(b.outline))) - float(
-            perimeter(np.asarray(a.outline))
-        )
-        text = f"{a.name}\nΔarea {da:+.1f} cm²\nΔperimeter {dp:+.1f} cm"
-        _draw_piece(
-            ax,
-            b,
-            off,
-            _Style(colour=colour, width=1.2, fill=None, details=True, zorder=3.0),
-            cm_to_pt=cm_to_pt,
-            label=text,
-        )
-    from matplotlib.lines import Line2D
-
+        _draw_piece(ax, a, off, _BEFORE, cm_to_pt=cm_to_pt, label=None)
+        _draw_piece(ax, b, off, _AFTER, cm_to_pt=cm_to_pt, label=_change_text(a, b))
     fig.legend(
         handles=[
-            Line2D([], [], color="#8c8c8c", linewidth=1.0, label=_short(labels[0])),
-            Line2D([], [], color=colour, linewidth=1.2, label=_short(labels[1])),
+            Line2D([], [], color=_BEFORE.colour, linewidth=_BEFORE.width, label=_short(labels[0])),
+            Line2D([], [], color=_AFTER.colour, linewidth=_AFTER.width, label=_short(labels[1])),
         ],
         loc="outside lower center",
         ncols=2,

@@ -95,9 +95,7 @@ def set_in_sleeve(net: NetOutline, grain: tuple) -> PieceDraft:
     )
 
 
-def fold_front_skirt(
-    name: str, net: NetOutline, y_hem: float, y_hip: float
-) -> PieceDraft:
+def fold_front_skirt(name: str, net: NetOutline, y_hem: float, y_hip: float) -> PieceDraft:
     """A skirt front cut once on the fold (drawn whole), hung from the centre-front waist.
 
     ``net`` must name ``cf_waist``, ``side_waist_*`` and ``side_hip_*``; the grain
@@ -140,12 +138,8 @@ def seam(
     outside, outlines CCW): two copies of the same handedness meet running
     opposite ways, a primary and a mirror copy run the same way.
     """
-    ea = EdgeRange(
-        piece=a[0], start=a[1], end=a[2], copy=a[3] if len(a) > 3 else Copy.PRIMARY
-    )
-    eb = EdgeRange(
-        piece=b[0], start=b[1], end=b[2], copy=b[3] if len(b) > 3 else Copy.PRIMARY
-    )
+    ea = EdgeRange(piece=a[0], start=a[1], end=a[2], copy=a[3] if len(a) > 3 else Copy.PRIMARY)
+    eb = EdgeRange(piece=b[0], start=b[1], end=b[2], copy=b[3] if len(b) > 3 else Copy.PRIMARY)
     return Seam(
         id=seam_id,
         a=ea,
@@ -156,15 +150,17 @@ def seam(
     )
 
 
-def leg(
-    piece: str, start: str, end: str, along: str = "chord", factor: float = 1.0
-) -> Leg:
+def leg(piece: str, start: str, end: str, along: str = "chord", factor: float = 1.0) -> Leg:
     """Shorthand for :class:`Leg`."""
     return Leg(piece=piece, start=start, end=end, along=along, factor=factor)
 
 
 def link(
-    measurement: str, ease_cm: float | None, *legs: Leg, link_id: str = "", at_least: bool = False,
+    measurement: str,
+    ease_cm: float | None,
+    *legs: Leg,
+    link_id: str = "",
+    at_least: bool = False,
     proportional: bool = False,
 ) -> tuple:
     """A measurement link; ``ease_cm=None`` takes the ease the sample size realises.
@@ -187,18 +183,141 @@ def _inward_angle(cut: np.ndarray, i: int) -> float:
     return float(np.arctan2(v[1], v[0]))
 
 
-def _piece_geometry(d: PieceDraft) -> dict[str, np.ndarray]:
-    cut = offset_outline(d.net.points, d.net.allowance, d.net.darts)
-    geo = {
-        "outline": cut,
-        "sew": d.net.points,
-        "grain": np.asarray(d.grain, dtype=np.float64),
-    }
-    for k, (pts, _label) in enumerate(d.internal):
-        geo[f"internal{k}"] = np.asarray(pts, dtype=np.float64)
-    if d.mirror_line is not None:
-        geo["mirror"] = np.asarray(d.mirror_line, dtype=np.float64)
-    return geo
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class _PieceGeometry:
+    """The points of one drafted piece in one size, cm.
+
+    outline : (n, 2) cut line ; sew : (n, 2) sew line ; grain : (2, 2)
+    internal : (k_i, 2) per internal line ; mirror : (2, 2) or None
+    """
+
+    outline: np.ndarray
+    sew: np.ndarray
+    grain: np.ndarray
+    internal: tuple[np.ndarray, ...]
+    mirror: np.ndarray | None
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class _PieceRules:
+    """Grade rule ids of every point of a piece's geometry, in the order of :class:`_PieceGeometry`."""
+
+    outline: tuple[str, ...]
+    sew: tuple[str, ...]
+    grain: tuple[str, ...]
+    internal: tuple[tuple[str, ...], ...]
+    mirror: tuple[str, ...] | None
+
+
+def _piece_geometry(d: PieceDraft) -> _PieceGeometry:
+    return _PieceGeometry(
+        outline=offset_outline(d.net.points, d.net.allowance, d.net.darts),
+        sew=d.net.points,
+        grain=np.asarray(d.grain, dtype=np.float64),
+        internal=tuple(np.asarray(pts, dtype=np.float64) for pts, _label in d.internal),
+        mirror=None if d.mirror_line is None else np.asarray(d.mirror_line, dtype=np.float64),
+    )
+
+
+def _size_geometries(style: str, sample: PieceDraft, per_size: Sequence[PieceDraft], sizes) -> list[_PieceGeometry]:
+    """The geometry of a piece in every size, which must keep the sample's vertex count and marks."""
+    geos = []
+    for size, other in zip(sizes, per_size, strict=True):
+        if len(other.net.points) != len(sample.net.points) or other.net.marks != sample.net.marks:
+            raise ValueError(
+                f"{style}/{sample.name}: size {size} has {len(other.net.points)} vertices or other "
+                f"marks than the sample ({len(sample.net.points)})"
+            )
+        geos.append(_piece_geometry(other))
+    return geos
+
+
+def _number_rules(per_size: list[np.ndarray], k_sample: int, first: int) -> dict[str, np.ndarray]:
+    """One rule per point, numbered from ``first``: rule id -> (n_sizes, 2) displacement from the sample size."""
+    stack = np.stack(per_size)  # (n_sizes, m, 2)
+    rel = stack - stack[k_sample]
+    return {str(first + j): rel[:, j, :] for j in range(stack.shape[1])}
+
+
+def _piece_rules(geos: list[_PieceGeometry], k_sample: int, first: int) -> tuple[_PieceRules, dict[str, np.ndarray]]:
+    """Rule ids for every point of a piece (numbered from ``first``) and their displacements."""
+    deltas: dict[str, np.ndarray] = {}
+
+    def ids(per_size: list[np.ndarray]) -> tuple[str, ...]:
+        new = _number_rules(per_size, k_sample, first + len(deltas))
+        deltas.update(new)
+        return tuple(new)
+
+    rules = _PieceRules(
+        outline=ids([g.outline for g in geos]),
+        sew=ids([g.sew for g in geos]),
+        grain=ids([g.grain for g in geos]),
+        internal=tuple(ids([g.internal[k] for g in geos]) for k in range(len(geos[0].internal))),
+        mirror=None if geos[0].mirror is None else ids([g.mirror for g in geos]),
+    )
+    return rules, deltas
+
+
+def _notches(d: PieceDraft, outline: np.ndarray, outline_rules: tuple[str, ...]) -> tuple[Notch, ...]:
+    """Slit notches at the draft's notch marks, pointing inward, sorted by vertex."""
+    notches = tuple(
+        Notch(
+            vertex=d.net.marks[m],
+            type=NotchType.SLIT,
+            depth_cm=NOTCH_DEPTH_CM,
+            angle=_inward_angle(outline, d.net.marks[m]),
+            rule=outline_rules[d.net.marks[m]],
+        )
+        for m in d.net.notches
+    )
+    return tuple(sorted(notches, key=lambda n: n.vertex))
+
+
+def _graded_piece(d: PieceDraft, g0: _PieceGeometry, rules: _PieceRules, sample_size: str) -> Piece:
+    """The sample-size piece of draft ``d`` with geometry ``g0`` and its rule ids."""
+    internal = tuple(
+        Polyline(points=pts, rules=ids, label=label)
+        for pts, ids, (_pts, label) in zip(g0.internal, rules.internal, d.internal, strict=True)
+    )
+    mirror = None if g0.mirror is None else Line(points=g0.mirror, rules=rules.mirror)
+    return Piece(
+        name=d.name,
+        size=sample_size,
+        outline=g0.outline,
+        kinds=tuple(d.net.kinds),
+        rules=rules.outline,
+        quantity=d.quantity,
+        category=d.category or d.name,
+        annotation=d.annotation,
+        fabric=d.fabric,
+        notches=_notches(d, g0.outline, rules.outline),
+        grain_line=Line(points=g0.grain, rules=rules.grain),
+        mirror_line=mirror,
+        internal_lines=internal,
+        sew_lines=(Polyline(points=g0.sew, kinds=tuple(d.net.kinds), rules=rules.sew, closed=True),),
+        marks=d.net.marks,
+        landmarks=d.landmarks,
+        placement=d.placement,
+    )
+
+
+def _measurement_links(
+    pattern: Pattern, links: Sequence[tuple], body: dict[str, float], k_sample: int
+) -> tuple[MeasurementLink, ...]:
+    """The links of :func:`link`; an ease of None becomes what the sample size achieves over ``body``."""
+    from .seams import link_lengths
+
+    provisional = tuple(
+        MeasurementLink(measurement=m, legs=legs_, ease_cm=0.0, id=lid or m, at_least=least, proportional=prop)
+        for m, _e, legs_, lid, least, prop in links
+    )
+    achieved = link_lengths(replace(pattern, measurements=provisional))
+    measurements = []
+    for (m, ease, *_rest), ml in zip(links, provisional, strict=True):
+        if ease is None:
+            ease = round(float(achieved[ml.id][k_sample]) - body[m], 1)
+        measurements.append(replace(ml, ease_cm=float(ease)))
+    return tuple(measurements)
 
 
 def build_pattern(
@@ -221,107 +340,21 @@ def build_pattern(
     ValueError
         When a piece changes vertex count or marks between sizes (a drafting bug).
     """
-    drafts = {
-        size: {d.name: d for d in draft(chart.body(size))} for size in chart.sizes
-    }
-    sample = drafts[chart.sample_size]
+    drafts = {size: {d.name: d for d in draft(chart.body(size))} for size in chart.sizes}
     k_sample = chart.sizes.index(chart.sample_size)
     deltas: dict[str, np.ndarray] = {}
-    next_rule = [1]
-
-    def new_rules(key_arrays: list[np.ndarray]) -> tuple[str, ...]:
-        stack = np.stack(key_arrays)  # (n_sizes, m, 2)
-        rel = stack - stack[k_sample]
-        ids = []
-        for j in range(stack.shape[1]):
-            rid = str(next_rule[0])
-            next_rule[0] += 1
-            deltas[rid] = rel[:, j, :]
-            ids.append(rid)
-        return tuple(ids)
-
     pieces = []
-    for name, d in sample.items():
-        geos = []
-        for size in chart.sizes:
-            other = drafts[size][name]
-            if (
-                len(other.net.points) != len(d.net.points)
-                or other.net.marks != d.net.marks
-            ):
-                raise ValueError(
-                    f"{style}/{name}: size {size} has {len(other.net.points)} vertices or other "
-                    f"marks than the sample ({len(d.net.points)})"
-                )
-            geos.append(_piece_geometry(other))
-        g0 = geos[k_sample]
-        outline_rules = new_rules([g["outline"] for g in geos])
-        sew_rules = new_rules([g["sew"] for g in geos])
-        grain_rules = new_rules([g["grain"] for g in geos])
-        internal = []
-        for k, (_pts, label) in enumerate(d.internal):
-            key = f"internal{k}"
-            internal.append(
-                Polyline(
-                    points=g0[key], rules=new_rules([g[key] for g in geos]), label=label
-                )
-            )
-        mirror = None
-        if d.mirror_line is not None:
-            mirror = Line(
-                points=g0["mirror"], rules=new_rules([g["mirror"] for g in geos])
-            )
-        notches = tuple(
-            Notch(
-                vertex=d.net.marks[m],
-                type=NotchType.SLIT,
-                depth_cm=NOTCH_DEPTH_CM,
-                angle=_inward_angle(g0["outline"], d.net.marks[m]),
-                rule=outline_rules[d.net.marks[m]],
-            )
-            for m in d.net.notches
-        )
-        notches = tuple(sorted(notches, key=lambda n: n.vertex))
-        pieces.append(
-            Piece(
-                name=name,
-                size=chart.sample_size,
-                outline=g0["outline"],
-                kinds=tuple(d.net.kinds),
-                rules=outline_rules,
-                quantity=d.quantity,
-                category=d.category or name,
-                annotation=d.annotation,
-                fabric=d.fabric,
-                notches=notches,
-                grain_line=Line(points=g0["grain"], rules=grain_rules),
-                mirror_line=mirror,
-                internal_lines=tuple(internal),
-                sew_lines=(
-                    Polyline(
-                        points=g0["sew"],
-                        kinds=tuple(d.net.kinds),
-                        rules=sew_rules,
-                        closed=True,
-                    ),
-                ),
-                marks=d.net.marks,
-                landmarks=d.landmarks,
-                placement=d.placement,
-            )
-        )
-    rules = GradeRuleTable(
-        name=style.upper(),
-        sizes=chart.sizes,
-        sample_size=chart.sample_size,
-        deltas=deltas,
-    )
+    for name, d in drafts[chart.sample_size].items():
+        geos = _size_geometries(style, d, [drafts[size][name] for size in chart.sizes], chart.sizes)
+        rules, piece_deltas = _piece_rules(geos, k_sample, first=len(deltas) + 1)
+        deltas.update(piece_deltas)
+        pieces.append(_graded_piece(d, geos[k_sample], rules, chart.sample_size))
     pattern = Pattern(
         style=style,
         pieces=tuple(pieces),
         sample_size=chart.sample_size,
         sizes=chart.sizes,
-        rules=rules,
+        rules=GradeRuleTable(name=style.upper(), sizes=chart.sizes, sample_size=chart.sample_size, deltas=deltas),
         provenance=Provenance(
             producer="PATTERNBRIDGE",
             product="patternbridge garment library",
@@ -333,20 +366,8 @@ def build_pattern(
         fabric_class=fabric_class,
         fabric_why=fabric_why,
     )
-    from .seams import link_lengths
-
-    body = chart.body(chart.sample_size)
-    measurements = []
-    provisional = tuple(
-        MeasurementLink(measurement=m, legs=legs_, ease_cm=0.0, id=lid or m, at_least=least, proportional=prop)
-        for m, _e, legs_, lid, least, prop in links
-    )
-    achieved = link_lengths(replace(pattern, measurements=provisional))
-    for (m, ease, *_rest), ml in zip(links, provisional, strict=True):
-        if ease is None:
-            ease = round(float(achieved[ml.id][k_sample]) - body[m], 1)
-        measurements.append(replace(ml, ease_cm=float(ease)))
-    return replace(pattern, measurements=tuple(measurements))
+    measurements = _measurement_links(pattern, links, chart.body(chart.sample_size), k_sample)
+    return replace(pattern, measurements=measurements)
 
 
 def band_draft(

@@ -49,9 +49,7 @@ SIDECAR_VERSION = "1.0"
 MATCH_TOL_CM = 0.05
 
 
-def sidecar_dict(
-    pattern: Pattern, *, proposals: list[dict[str, Any]] | None = None
-) -> dict[str, Any]:
+def sidecar_dict(pattern: Pattern, *, proposals: list[dict[str, Any]] | None = None) -> dict[str, Any]:
     """The sidecar content of ``pattern`` as a JSON-ready dict.
 
     proposals : extra seam proposals (from ``seams infer``) written with their
@@ -64,10 +62,7 @@ def sidecar_dict(
             "n_vertices": p.n_vertices,
             **({"role": str(p.role)} if p.role is not None else {}),
             **({"fabric_class": str(p.fabric_class)} if p.fabric_class is not None else {}),
-            "marks": {
-                m: {"vertex": i, "xy": [round(float(v), 4) for v in p.outline[i]]}
-                for m, i in p.marks.items()
-            },
+            "marks": {m: {"vertex": i, "xy": [round(float(v), 4) for v in p.outline[i]]} for m, i in p.marks.items()},
             "landmarks": dict(p.landmarks),
             "placement": placement_to_dict(p.placement),
         }
@@ -95,12 +90,7 @@ def write_sidecar(
     proposals: list[dict[str, Any]] | None = None,
 ) -> Path:
     """Write the bridge-data sidecar of ``pattern`` to ``path`` atomically."""
-    text = (
-        json.dumps(
-            sidecar_dict(pattern, proposals=proposals), indent=1, ensure_ascii=False
-        )
-        + "\n"
-    )
+    text = json.dumps(sidecar_dict(pattern, proposals=proposals), indent=1, ensure_ascii=False) + "\n"
     return write_text(path, text)
 
 
@@ -176,10 +166,7 @@ def _match_marks(path: Path, piece, entry: dict[str, Any]) -> dict[str, int]:
         xy = m.get("xy")
         if xy is not None:
             xy = np.asarray(xy, dtype=np.float64)
-            if (
-                not (0 <= vertex < len(outline))
-                or np.hypot(*(outline[vertex] - xy)) > MATCH_TOL_CM
-            ):
+            if not (0 <= vertex < len(outline)) or np.hypot(*(outline[vertex] - xy)) > MATCH_TOL_CM:
                 dist = np.hypot(*(outline - xy).T)
                 vertex = int(np.argmin(dist))
                 if dist[vertex] > MATCH_TOL_CM:
@@ -197,9 +184,88 @@ def _match_marks(path: Path, piece, entry: dict[str, Any]) -> dict[str, int]:
     return marks
 
 
-def apply_sidecar(
-    pattern: Pattern, path: str | os.PathLike, *, confirmed_only: bool = False
-) -> Pattern:
+def _piece_entries(path: Path, data: dict[str, Any], names: set[str]) -> dict[str, dict[str, Any]]:
+    """The sidecar's piece entries by name; each must name a piece of the pattern."""
+    entries = {}
+    for entry in data.get("pieces", []):
+        if entry.get("name") not in names:
+            raise InputError(
+                f"{path}: piece {entry.get('name')!r} is not in the pattern (pieces: {sorted(names)}); fix the sidecar"
+            )
+        entries[entry["name"]] = entry
+    return entries
+
+
+def _with_entry(path: Path, piece, entry: dict[str, Any]):
+    """``piece`` with the marks, landmarks, placement, role and fabric class of its sidecar entry."""
+    piece = insert_marked_vertices(piece, entry)
+    marks = _match_marks(path, piece, entry)
+    pl = entry.get("placement")
+    return replace(
+        piece,
+        marks=marks,
+        landmarks=entry.get("landmarks", {}),
+        placement=None if pl is None else Placement(**pl),
+        role=entry.get("role", piece.role),
+        role_confidence=entry.get("role_confidence", piece.role_confidence),
+        fabric_class=entry.get("fabric_class", piece.fabric_class),
+    )
+
+
+def _applied_seams(data: dict[str, Any], confirmed_only: bool) -> list:
+    """The sidecar's seams to apply: not bands, and only confirmed ones when ``confirmed_only``."""
+    seams = []
+    for s in data.get("seams", []):
+        status = s.get("status", "confirmed")
+        if status == "band" or (confirmed_only and status != "confirmed"):
+            continue
+        seams.append(seam_from_dict(s))
+    return seams
+
+
+def _check_seams(path: Path, seams: list, pattern: Pattern) -> None:
+    """Every seam end must name a piece of ``pattern`` and marks that piece has."""
+    names = set(pattern.piece_names)
+    for s in seams:
+        for e in (s.a, s.b):
+            if e.piece not in names:
+                raise InputError(f"{path}: seam {s.id!r} names piece {e.piece!r}, not in the pattern; fix the sidecar")
+            piece = pattern.piece(e.piece)
+            for m in (e.start, e.end):
+                if m not in piece.marks:
+                    raise InputError(
+                        f"{path}: seam {s.id!r} names mark {m!r} that piece {e.piece!r} does not "
+                        "have; add it under the piece's marks"
+                    )
+
+
+def _check_links(path: Path, links: tuple, pattern: Pattern) -> None:
+    """Every leg of every measurement link must name a piece of ``pattern`` and two of its marks."""
+    names = set(pattern.piece_names)
+    for m in links:
+        for g in m.legs:
+            if (
+                g.piece not in names
+                or g.start not in pattern.piece(g.piece).marks
+                or g.end not in pattern.piece(g.piece).marks
+            ):
+                raise InputError(
+                    f"{path}: measurement {m.id!r} leg {g.piece}:{g.start}-{g.end} names an "
+                    "unknown piece or mark; fix the sidecar"
+                )
+
+
+def _fabric_class(path: Path, data: dict[str, Any], default: FabricClass) -> FabricClass:
+    try:
+        return FabricClass(data.get("fabric_class", default))
+    except ValueError:
+        raise InputError(
+            f"{path}: fabric_class {data.get('fabric_class')!r} is none of "
+            f"{[str(f) for f in FabricClass]}; fix the sidecar"
+        ) from None
+
+
+def apply_sidecar(pattern: Pattern, path: str | os.PathLike, *, confirmed_only: bool = False) -> Pattern:
     """Return ``pattern`` with the bridge data of the sidecar at ``path``.
 
     Marks, landmarks, placement and role replace the pieces' own; seams and
@@ -215,87 +281,21 @@ def apply_sidecar(
     """
     path = Path(path)
     data = read_sidecar(path)
-    names = set(pattern.piece_names)
-    entries = {}
-    for entry in data.get("pieces", []):
-        if entry.get("name") not in names:
-            raise InputError(
-                f"{path}: piece {entry.get('name')!r} is not in the pattern "
-                f"(pieces: {sorted(names)}); fix the sidecar"
-            )
-        entries[entry["name"]] = entry
-    pieces = []
+    entries = _piece_entries(path, data, set(pattern.piece_names))
     try:
-        for p in pattern.pieces:
-            e = entries.get(p.name)
-            if e is None:
-                pieces.append(p)
-                continue
-            p = insert_marked_vertices(p, e)
-            marks = _match_marks(path, p, e)
-            pl = e.get("placement")
-            pieces.append(
-                replace(
-                    p,
-                    marks=marks,
-                    landmarks=e.get("landmarks", {}),
-                    placement=None if pl is None else Placement(**pl),
-                    role=e.get("role", p.role),
-                    role_confidence=e.get("role_confidence", p.role_confidence),
-                    fabric_class=e.get("fabric_class", p.fabric_class),
-                )
-            )
+        pieces = [p if p.name not in entries else _with_entry(path, p, entries[p.name]) for p in pattern.pieces]
         out = replace(pattern, pieces=tuple(pieces))
-        seams = []
-        for s in data.get("seams", []):
-            status = s.get("status", "confirmed")
-            if status == "band" or (confirmed_only and status != "confirmed"):
-                continue
-            seams.append(seam_from_dict(s))
-        links = tuple(
-            measurement_link_from_dict(m) for m in data.get("measurements", [])
-        )
+        seams = _applied_seams(data, confirmed_only)
+        links = tuple(measurement_link_from_dict(m) for m in data.get("measurements", []))
     except (KeyError, TypeError, ValueError) as exc:
-        raise InputError(
-            f"{path}: malformed sidecar ({exc}); see formats/bridge.md"
-        ) from None
-    for s in seams:
-        for e in (s.a, s.b):
-            if e.piece not in names:
-                raise InputError(
-                    f"{path}: seam {s.id!r} names piece {e.piece!r}, not in the pattern; fix the sidecar"
-                )
-            piece = out.piece(e.piece)
-            for m in (e.start, e.end):
-                if m not in piece.marks:
-                    raise InputError(
-                        f"{path}: seam {s.id!r} names mark {m!r} that piece {e.piece!r} does not "
-                        "have; add it under the piece's marks"
-                    )
-    for m in links:
-        for g in m.legs:
-            if (
-                g.piece not in names
-                or g.start not in out.piece(g.piece).marks
-                or g.end not in out.piece(g.piece).marks
-            ):
-                raise InputError(
-                    f"{path}: measurement {m.id!r} leg {g.piece}:{g.start}-{g.end} names an "
-                    "unknown piece or mark; fix the sidecar"
-                )
-    description = data.get("description") or out.description
-    try:
-        fabric = FabricClass(data.get("fabric_class", out.fabric_class))
-    except ValueError:
-        raise InputError(
-            f"{path}: fabric_class {data.get('fabric_class')!r} is none of "
-            f"{[str(f) for f in FabricClass]}; fix the sidecar"
-        ) from None
+        raise InputError(f"{path}: malformed sidecar ({exc}); see formats/bridge.md") from None
+    _check_seams(path, seams, out)
+    _check_links(path, links, out)
     return replace(
         out,
         seams=tuple(seams),
         measurements=links,
-        description=description,
-        fabric_class=fabric,
+        description=data.get("description") or out.description,
+        fabric_class=_fabric_class(path, data, out.fabric_class),
         fabric_why=data.get("fabric_why", out.fabric_why) if "fabric_class" in data else out.fabric_why,
     )

@@ -31,9 +31,7 @@ log = logging.getLogger(__name__)
 PATHS: dict[str, tuple[tuple[str, ...], ...]] = {
     "back_length": (("back_neck_point", "waist_back"),),
     "front_length": (("front_neck_point", "waist_front"),),
-    "shoulder_width": (
-        ("shoulder_point_left", "back_neck_point", "shoulder_point_right"),
-    ),
+    "shoulder_width": (("shoulder_point_left", "back_neck_point", "shoulder_point_right"),),
     "back_width": (("axilla_back_left", "axilla_back_right"),),
     "front_width": (("axilla_front_left", "axilla_front_right"),),
     "waist_to_hip": (
@@ -94,6 +92,120 @@ def _surface_point(lm: Landmark, mesh):
     return _surface_point(locate_on_surface(mesh.vertices, mesh.faces, lm.position).landmark(0, lm.name), mesh)
 
 
+def _fail(errors: dict[str, str] | None, mid: str, exc: Exception) -> None:
+    """Record ``exc`` as why ``mid`` failed, or raise it when failures are not collected."""
+    if errors is None:
+        raise exc
+    errors[mid] = str(exc)
+
+
+def _heights(
+    ids: Sequence[str], landmarks: Mapping[str, Landmark], floor: float, errors: dict[str, str] | None
+) -> dict[str, Measurement]:
+    """The :data:`HEIGHTS` among ``ids``: vertical distance of the landmark above ``floor``."""
+    out: dict[str, Measurement] = {}
+    for mid in [m for m in ids if m in HEIGHTS]:
+        name = HEIGHTS[mid]
+        if name not in landmarks:
+            _fail(errors, mid, LandmarkError(f"{mid}: landmark {name!r} is missing"))
+            continue
+        p = landmarks[name].position
+        poly = np.array([p, [p[0], floor, p[2]]])
+        out[mid] = Measurement(
+            id=mid,
+            value_cm=float(p[1] - floor),
+            kind="length",
+            method="vertical",
+            polyline=poly,
+            landmarks=(name,),
+            details={"floor_y_cm": floor},
+        )
+    return out
+
+
+def _has_tape() -> bool:
+    import importlib.util
+
+    if importlib.util.find_spec("patternbridge.geodesic.tape") is None:
+        log.warning("tape correction is not available in this build; lengths follow the skin")
+        return False
+    return True
+
+
+class _Legs:
+    """Geodesic legs between surface points, each computed once (a reversed leg reuses its twin)."""
+
+    def __init__(self, mesh) -> None:
+        self.mesh = mesh
+        self.cache: dict[tuple[object, object, bool], tuple[np.ndarray, float]] = {}
+
+    def __call__(self, a, b, taut: bool) -> tuple[np.ndarray, float]:
+        """(k, 3) points from ``a`` to ``b`` and the length, cm; ``taut`` applies the tape correction."""
+        from ..geodesic import geodesic_path
+
+        key = (a, b, taut)
+        if key not in self.cache:
+            if (b, a, taut) in self.cache:
+                p = self.cache[(b, a, taut)]
+                self.cache[key] = (p[0][::-1], p[1])
+            else:
+                path = geodesic_path(self.mesh, a, b, tape=taut)
+                self.cache[key] = (np.asarray(path.points, dtype=np.float64), float(path.length))
+        return self.cache[key]
+
+
+def _chain(
+    chain: tuple[str, ...], landmarks: Mapping[str, Landmark], legs: _Legs, skin: frozenset[int], tape: bool
+) -> tuple[float, np.ndarray, list[float]]:
+    """Length (cm) and (k, 3) path of a chain of landmarks, and the length of each leg.
+
+    Legs whose index is in ``skin`` follow the skin; the others are taut when
+    ``tape``. A leg between coincident points is skipped.
+    """
+    vids = [_surface_point(landmarks[n], legs.mesh) for n in chain]
+    total, pts, lengths = 0.0, [], []
+    for j, (a, b) in enumerate(itertools.pairwise(vids)):
+        if a == b:
+            continue
+        p, length = legs(a, b, tape and j not in skin)
+        total += length
+        lengths.append(length)
+        pts.append(p if not pts else p[1:])
+    return total, (np.concatenate(pts) if pts else landmarks[chain[0]].position[None]), lengths
+
+
+def _path_length(mid: str, landmarks: Mapping[str, Landmark], legs: _Legs, tape: bool) -> Measurement:
+    """The geodesic length ``mid`` of :data:`PATHS`: the mean of its chains, drawn along the first.
+
+    Raises
+    ------
+    InputError
+        When a leg cannot be found on the surface.
+    """
+    chains = PATHS[mid]
+    values, polylines, leg_lengths = [], [], []
+    for chain in chains:
+        total, polyline, lengths = _chain(chain, landmarks, legs, ON_SKIN.get(mid, frozenset()), tape)
+        values.append(total)
+        polylines.append(polyline)
+        leg_lengths += lengths
+    ends = (landmarks[chains[0][0]].position, landmarks[chains[0][-1]].position)
+    return Measurement(
+        id=mid,
+        value_cm=float(np.mean(values)),
+        kind="length",
+        method="geodesic",
+        polyline=polylines[0],
+        landmarks=tuple(DEFINITIONS[mid].landmarks),
+        details={
+            "legs_cm": leg_lengths,
+            "straight_cm": float(np.linalg.norm(ends[1] - ends[0])),
+            "tape": tape,
+            **({"per_side_cm": values} if len(values) > 1 else {}),
+        },
+    )
+
+
 def measure_lengths(
     vertices: np.ndarray,
     faces: np.ndarray,
@@ -121,102 +233,24 @@ def measure_lengths(
     every leg and the straight-line distance between the end points).
     """
     ids = list(ids) if ids is not None else [*HEIGHTS, *PATHS]
-    out: dict[str, Measurement] = {}
-    floor = float(vertices[:, 1].min())
-
-    def fail(mid: str, exc: Exception) -> None:
-        if errors is None:
-            raise exc
-        errors[mid] = str(exc)
-
-    for mid in [m for m in ids if m in HEIGHTS]:
-        name = HEIGHTS[mid]
-        if name not in landmarks:
-            fail(mid, LandmarkError(f"{mid}: landmark {name!r} is missing"))
-            continue
-        p = landmarks[name].position
-        poly = np.array([p, [p[0], floor, p[2]]])
-        out[mid] = Measurement(
-            id=mid,
-            value_cm=float(p[1] - floor),
-            kind="length",
-            method="vertical",
-            polyline=poly,
-            landmarks=(name,),
-            details={"floor_y_cm": floor},
-        )
+    out = _heights(ids, landmarks, float(vertices[:, 1].min()), errors)
     todo = [m for m in ids if m in PATHS]
     if not todo:
         return out
-    from ..geodesic import SurfaceMesh, geodesic_path
+    from ..geodesic import SurfaceMesh
 
-    mesh = SurfaceMesh(vertices, faces)
-    if tape:
-        import importlib.util
-
-        if importlib.util.find_spec("patternbridge.geodesic.tape") is None:
-            log.warning(
-                "tape correction is not available in this build; lengths follow the skin"
-            )
-            tape = False
-    cache: dict[tuple[object, object, bool], object] = {}
-
-    def leg(a, b, taut: bool):
-        key = (a, b, taut)
-        if key not in cache:
-            if (b, a, taut) in cache:
-                p = cache[(b, a, taut)]
-                cache[key] = (p[0][::-1], p[1])
-            else:
-                path = geodesic_path(mesh, a, b, tape=taut)
-                cache[key] = (
-                    np.asarray(path.points, dtype=np.float64),
-                    float(path.length),
-                )
-        return cache[key]
-
+    legs = _Legs(SurfaceMesh(vertices, faces))
+    tape = tape and _has_tape()
     for i, mid in enumerate(todo):
-        chains = PATHS[mid]
-        needed = sorted({n for chain in chains for n in chain})
-        missing = [n for n in needed if n not in landmarks]
+        missing = sorted({n for chain in PATHS[mid] for n in chain if n not in landmarks})
         if missing:
-            fail(mid, LandmarkError(f"{mid}: landmark(s) {', '.join(missing)} missing"))
+            _fail(errors, mid, LandmarkError(f"{mid}: landmark(s) {', '.join(missing)} missing"))
             continue
         try:
-            values, polylines, legs = [], [], []
-            for chain in chains:
-                vids = [_surface_point(landmarks[n], mesh) for n in chain]
-                total, pts = 0.0, []
-                skin = ON_SKIN.get(mid, frozenset())
-                for j, (a, b) in enumerate(itertools.pairwise(vids)):
-                    if a == b:
-                        continue
-                    p, length = leg(a, b, tape and j not in skin)
-                    total += length
-                    legs.append(length)
-                    pts.append(p if not pts else p[1:])
-                values.append(total)
-                polylines.append(
-                    np.concatenate(pts) if pts else landmarks[chain[0]].position[None]
-                )
+            out[mid] = _path_length(mid, landmarks, legs, tape)
         except InputError as exc:
-            fail(mid, exc)
+            _fail(errors, mid, exc)
             continue
-        ends = (landmarks[chains[0][0]].position, landmarks[chains[0][-1]].position)
-        out[mid] = Measurement(
-            id=mid,
-            value_cm=float(np.mean(values)),
-            kind="length",
-            method="geodesic",
-            polyline=polylines[0],
-            landmarks=tuple(DEFINITIONS[mid].landmarks),
-            details={
-                "legs_cm": legs,
-                "straight_cm": float(np.linalg.norm(ends[1] - ends[0])),
-                "tape": tape,
-                **({"per_side_cm": values} if len(values) > 1 else {}),
-            },
-        )
         if progress is not None:
             progress("lengths", i + 1, len(todo))
     return out

@@ -40,10 +40,35 @@ def _carried_back(
         if len(poly):
             _, near = tree.query(poly)
             poly = poly + (vertices[near] - rest_vertices[near])
-        out[mid] = replace(
-            m, polyline=poly, details={**m.details, "rest_pose_lowered_deg": dict(lowered_deg)}
-        )
+        out[mid] = replace(m, polyline=poly, details={**m.details, "rest_pose_lowered_deg": dict(lowered_deg)})
     return out
+
+
+def _check_landmarks(character: Character, marks: dict) -> None:
+    """Raise LandmarkError naming the measurements that missing landmarks block."""
+    needed = {n for d in DEFINITIONS.values() for n in d.landmarks} | {"top_of_head"}
+    absent = sorted(n for n in needed if n not in marks)
+    if absent:
+        blocked = [d.id for d in DEFINITIONS.values() if set(d.landmarks) & set(absent)]
+        raise LandmarkError(
+            f"{character.name}: landmarks {', '.join(absent)} are missing, so {len(blocked)} measurements "
+            f"({', '.join(blocked[:6])}{'...' if len(blocked) > 6 else ''}) cannot be taken; "
+            "give them with --landmarks FILE or pass --partial"
+        )
+
+
+def _with_top_of_head(body: Character, positions: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """``positions`` (name -> (3,) cm) with the top of the head, by default the highest vertex of ``body``."""
+    if "top_of_head" in positions:
+        return positions
+    return {**positions, "top_of_head": body.vertices[int(np.argmax(body.vertices[:, 1]))]}
+
+
+def _ordered(found: dict[str, Measurement], errors: dict[str, str]) -> tuple[dict, dict]:
+    """The measurements in the order of :data:`MEASUREMENT_IDS`, and why each absent one is missing."""
+    ordered = {mid: found[mid] for mid in MEASUREMENT_IDS if mid in found}
+    missing = {mid: errors.get(mid, "not measured") for mid in MEASUREMENT_IDS if mid not in found}
+    return ordered, missing
 
 
 def measure(
@@ -93,37 +118,14 @@ def measure(
         marks = {k: lm.moved_to(character.vertices, character.faces) for k, lm in marks.items()}
         log.info("%s: measured girths with the upper arms lowered by %s", character.name, rest.lowered_deg)
     errors: dict[str, str] = {}
-    needed = {n for d in DEFINITIONS.values() for n in d.landmarks} | {"top_of_head"}
-    absent = sorted(n for n in needed if n not in marks)
-    if absent and not partial:
-        blocked = [d.id for d in DEFINITIONS.values() if set(d.landmarks) & set(absent)]
-        raise LandmarkError(
-            f"{character.name}: landmarks {', '.join(absent)} are missing, so {len(blocked)} measurements "
-            f"({', '.join(blocked[:6])}{'...' if len(blocked) > 6 else ''}) cannot be taken; "
-            "give them with --landmarks FILE or pass --partial"
-        )
-    if "top_of_head" not in positions:
-        top = body_c.vertices[int(np.argmax(body_c.vertices[:, 1]))]
-        positions["top_of_head"] = top
-    body = BodyFrame(body_c.vertices, body_c.faces, positions)
+    if not partial:
+        _check_landmarks(character, marks)
+    body = BodyFrame(body_c.vertices, body_c.faces, _with_top_of_head(body_c, positions))
     girths = measure_girths(body, progress=progress, errors=errors)
     if rest is not None:
         girths = _carried_back(girths, body_c.vertices, character.vertices, rest.lowered_deg)
-    lengths = measure_lengths(
-        character.vertices,
-        character.faces,
-        marks,
-        tape=tape,
-        progress=progress,
-        errors=errors,
-    )
-    found = {**girths, **lengths}
-    ordered = {mid: found[mid] for mid in MEASUREMENT_IDS if mid in found}
-    missing = {
-        mid: errors.get(mid, "not measured")
-        for mid in MEASUREMENT_IDS
-        if mid not in found
-    }
+    lengths = measure_lengths(character.vertices, character.faces, marks, tape=tape, progress=progress, errors=errors)
+    ordered, missing = _ordered({**girths, **lengths}, errors)
     if missing and not partial:
         first = next(iter(missing.items()))
         raise LandmarkError(

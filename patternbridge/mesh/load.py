@@ -22,9 +22,11 @@ Blender convention) faces +Z afterwards.
 
 from __future__ import annotations
 
+import functools
 import logging
 import os
 from collections.abc import Mapping
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -74,9 +76,7 @@ def read_mesh_arrays(path: str | os.PathLike) -> dict[str, Any]:
     path = Path(path)
     suffix = path.suffix.lower()
     if not path.is_file():
-        raise MeshError(
-            f"{path}: no such file; give the path of an OBJ, PLY, STL, GLB or glTF mesh"
-        )
+        raise MeshError(f"{path}: no such file; give the path of an OBJ, PLY, STL, GLB or glTF mesh")
     if suffix not in MESH_SUFFIXES:
         raise MeshError(
             f"{path}: unsupported mesh format {suffix or '(no suffix)'!r} "
@@ -147,11 +147,7 @@ def mesh_defects(faces: np.ndarray) -> dict[str, int]:
     faces = np.asarray(faces, dtype=np.int64)
     edges = np.sort(faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
     _, counts = np.unique(edges, axis=0, return_counts=True)
-    degenerate = (
-        (faces[:, 0] == faces[:, 1])
-        | (faces[:, 1] == faces[:, 2])
-        | (faces[:, 0] == faces[:, 2])
-    )
+    degenerate = (faces[:, 0] == faces[:, 1]) | (faces[:, 1] == faces[:, 2]) | (faces[:, 0] == faces[:, 2])
     return {
         "boundary_edges": int(np.count_nonzero(counts == 1)),
         "nonmanifold_edges": int(np.count_nonzero(counts > 2)),
@@ -166,9 +162,7 @@ def _components(n_vertices: int, faces: np.ndarray) -> np.ndarray:
 
     a = faces[:, [0, 1, 2]].ravel()
     b = faces[:, [1, 2, 0]].ravel()
-    graph = coo_matrix(
-        (np.ones(a.size, dtype=np.int8), (a, b)), shape=(n_vertices, n_vertices)
-    )
+    graph = coo_matrix((np.ones(a.size, dtype=np.int8), (a, b)), shape=(n_vertices, n_vertices))
     _, labels = connected_components(graph, directed=False)
     used = np.zeros(n_vertices, dtype=bool)
     used[faces.ravel()] = True
@@ -179,9 +173,7 @@ def _components(n_vertices: int, faces: np.ndarray) -> np.ndarray:
 
 def _face_areas(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     tri = vertices[faces]
-    return 0.5 * np.linalg.norm(
-        np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1
-    )
+    return 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
 
 
 # --------------------------------------------------------------------------- frame
@@ -200,9 +192,7 @@ def _normalise_up(up: str, path: Path) -> str:
     if not key.startswith(("+", "-")):
         key = "+" + key
     if key not in _UP_CHOICES:
-        raise InputError(
-            f"{path}: unknown up axis {up!r} (known: {', '.join(_UP_CHOICES)}); pass --up Y or --up Z"
-        )
+        raise InputError(f"{path}: unknown up axis {up!r} (known: {', '.join(_UP_CHOICES)}); pass --up Y or --up Z")
     return key
 
 
@@ -223,9 +213,7 @@ def _detect_up(vertices: np.ndarray, skeleton: dict | None) -> tuple[str, str]:
     return "+Y", f"extents (y {ext[1]:.4g} >= z {ext[2]:.4g})"
 
 
-def _detect_units(
-    height: float, preferred: str | None, path: Path, report: Report
-) -> str:
+def _detect_units(height: float, preferred: str | None, path: Path, report: Report) -> str:
     lo, hi = STATURE_RANGE_CM
     order = list(_UNIT_ORDER)
     if preferred in order:
@@ -233,9 +221,7 @@ def _detect_units(
         order.insert(0, preferred)
     fits = [u for u in order if lo <= height * unit_factor(u) <= hi]
     if not fits:
-        tried = ", ".join(
-            f"{height * unit_factor(u):.4g} cm as {u}" for u in _UNIT_ORDER
-        )
+        tried = ", ".join(f"{height * unit_factor(u):.4g} cm as {u}" for u in _UNIT_ORDER)
         raise UnitsError(
             f"{path}: no unit gives a stature between {lo:g} and {hi:g} cm (height {height:.4g} "
             f"file units: {tried}); pass --units or check the mesh is one standing character"
@@ -261,9 +247,7 @@ def _frame_up(
     return _detect_up(body_v, skel_raw)
 
 
-def _frame_units(
-    units: str | None, sidecar: dict | None, height: float, path: Path, report: Report
-) -> tuple[str, str]:
+def _frame_units(units: str | None, sidecar: dict | None, height: float, path: Path, report: Report) -> tuple[str, str]:
     """The unit of the file and why; a given or sidecar unit must give a plausible stature."""
     lo, hi = STATURE_RANGE_CM
     if units is not None or (sidecar is not None and sidecar.get("units")):
@@ -292,8 +276,7 @@ def _frame_units(
     unit = _detect_units(height, None, path, report)
     report.add(
         "units-assumed",
-        f"units assumed {unit} from the stature of the main component "
-        f"({height * unit_factor(unit):.4g} cm)",
+        f"units assumed {unit} from the stature of the main component ({height * unit_factor(unit):.4g} cm)",
         where=str(path),
     )
     return unit, "detected from stature"
@@ -365,9 +348,7 @@ def load_landmark_file(path: str | os.PathLike) -> dict[str, dict[str, Any]]:
     return _check_landmark_table(table, str(path))
 
 
-def _check_landmark_table(
-    table: Mapping[str, Any], where: str
-) -> dict[str, dict[str, Any]]:
+def _check_landmark_table(table: Mapping[str, Any], where: str) -> dict[str, dict[str, Any]]:
     from .landmarks import LANDMARK_NAMES
 
     check_landmark_table(table, where)
@@ -377,9 +358,7 @@ def _check_landmark_table(
             raise LandmarkError(
                 f"{where}: unknown landmark {name!r} (known: {', '.join(LANDMARK_NAMES)}); rename or remove it"
             )
-        if not isinstance(entry, dict) or (
-            "vertex" not in entry and "position" not in entry
-        ):
+        if not isinstance(entry, dict) or ("vertex" not in entry and "position" not in entry):
             raise LandmarkError(
                 f"{where}: landmark {name!r} has neither 'vertex' nor 'position' ({entry!r}); "
                 'give {"vertex": id} or {"position": [x, y, z]}'
@@ -416,7 +395,10 @@ def _place_landmarks(
                     "use ids of the body or pass --landmarks with positions"
                 )
             out[name] = Landmark(
-                name=name, position=vertices[new], vertex=new, source=source,
+                name=name,
+                position=vertices[new],
+                vertex=new,
+                source=source,
                 evidence=LandmarkEvidence(rule=f"{Path(where).name}: vertex {int(vid)}"),
             )
         else:
@@ -432,10 +414,10 @@ def _place_landmarks(
         moved = np.linalg.norm(at.positions - np.asarray(snap_points), axis=1)
         for i, (name, d) in enumerate(zip(snap_names, moved, strict=True)):
             out[name] = at.landmark(
-                i, name, source=source,
-                evidence=LandmarkEvidence(
-                    rule=f"{Path(where).name}: position, snapped {d:.2g} cm to the surface"
-                ),
+                i,
+                name,
+                source=source,
+                evidence=LandmarkEvidence(rule=f"{Path(where).name}: position, snapped {d:.2g} cm to the surface"),
             )
     return out
 
@@ -462,17 +444,13 @@ def _sidecar_rig(sidecar: dict | None, raw: dict) -> tuple[dict | None, dict | N
         index = {n: i for i, n in enumerate(names)}
         skel_raw = {
             "names": names,
-            "parents": [
-                index.get(b.get("parent"), -1) if b.get("parent") else -1 for b in bones
-            ],
+            "parents": [index.get(b.get("parent"), -1) if b.get("parent") else -1 for b in bones],
             "heads": [b["head"] for b in bones],
             "tails": [b["tail"] for b in bones],
         }
         if "skinning" in sidecar:
             s = sidecar["skinning"]
-            remap = np.array(
-                [index.get(n, -1) for n in s["bone_names"]] + [-1], dtype=np.int64
-            )
+            remap = np.array([index.get(n, -1) for n in s["bone_names"]] + [-1], dtype=np.int64)
             idx = np.asarray(s["indices"], dtype=np.int64)
             skin_raw = {
                 "indices": remap[idx],
@@ -552,9 +530,7 @@ def _landmark_tables(sidecar: dict | None, landmarks, path: Path) -> list[tuple[
             lm_where = "landmarks"
             table = landmarks.get("landmarks", landmarks)
             if not isinstance(table, Mapping):
-                raise LandmarkError(
-                    "landmarks: no 'landmarks' object; give {name: {'vertex': id}}"
-                )
+                raise LandmarkError("landmarks: no 'landmarks' object; give {name: {'vertex': id}}")
             table = _check_landmark_table(table, lm_where)
         else:
             lm_where = str(landmarks)
@@ -571,6 +547,178 @@ def _landmark_tables(sidecar: dict | None, landmarks, path: Path) -> list[tuple[
 
 
 # --------------------------------------------------------------------------- main
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class _FileFrame:
+    """How the file's coordinates map to the internal frame, and why.
+
+    rotation : (3, 3) float64, file axes to +Y up facing +Z
+    factor : file unit to cm
+    unit, up, facing : the file's unit, up axis and facing (in the +Y-up frame)
+    *_why : the evidence for each
+    """
+
+    rotation: np.ndarray
+    factor: float
+    unit: str
+    unit_why: str
+    up: str
+    up_why: str
+    facing: str
+    facing_why: str
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class _Body:
+    """The body component in the internal frame (before standing it on the floor).
+
+    vertices : (n, 3) float64, cm ; faces : (F, 3) int64 into ``vertices``
+    keep : (V,) bool, the file's vertices that belong to the body
+    old_to_new : (V,) int64, file vertex id to body vertex id (-1 = dropped)
+    component : which component was kept, in words
+    """
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    keep: np.ndarray
+    old_to_new: np.ndarray
+    component: str
+
+
+def _read_checked(path: Path) -> dict[str, Any]:
+    """The file's arrays, with finite vertices and face indices in range."""
+    raw = read_mesh_arrays(path)
+    vertices, faces = raw["vertices"], raw["faces"]
+    check_vertices(vertices, path)
+    if faces.min() < 0 or faces.max() >= len(vertices):
+        raise MeshError(
+            f"{path}: face indices out of range "
+            f"(0..{len(vertices) - 1} expected, got {faces.min()}..{faces.max()}); repair the mesh"
+        )
+    return raw
+
+
+def _usable_sidecar(path: Path, n_vertices: int, report: Report) -> dict | None:
+    """The sidecar beside ``path`` when there is one for a mesh of ``n_vertices``."""
+    where = str(path)
+    sidecar, not_sidecar = _read_sidecar(path)
+    if not_sidecar is not None:
+        report.add("sidecar-ignored", not_sidecar, where=where)
+    if sidecar is not None and int(sidecar.get("vertex_count", n_vertices)) != n_vertices:
+        report.add(
+            "sidecar-mismatch",
+            f"sidecar {sidecar['_path']} is for {sidecar.get('vertex_count')} vertices, the mesh has "
+            f"{n_vertices}: its skeleton, skin and landmarks were ignored",
+            where=where,
+        )
+        return None
+    return sidecar
+
+
+def _file_frame(
+    body_v: np.ndarray,
+    path: Path,
+    report: Report,
+    *,
+    up: str | None,
+    units: str | None,
+    sidecar: dict | None,
+    skel_raw: dict | None,
+) -> _FileFrame:
+    """Up axis, unit and facing, each given, from the sidecar or detected on the body's vertices."""
+    up_key, up_why = _frame_up(up, sidecar, body_v, skel_raw, path)
+    rot = _up_matrix(up_key)
+    height = float(np.ptp(body_v @ rot.T[:, 1]))
+    unit, units_why = _frame_units(units, sidecar, height, path, report)
+    factor = unit_factor(unit)
+    facing, facing_why = _frame_facing(sidecar, rot, (body_v @ rot.T) * factor, path, report)
+    return _FileFrame(
+        rotation=facing_matrix(facing) @ rot,
+        factor=factor,
+        unit=unit,
+        unit_why=units_why,
+        up=up_key,
+        up_why=up_why,
+        facing=facing,
+        facing_why=facing_why,
+    )
+
+
+def _to_frame(frame: _FileFrame, p: np.ndarray) -> np.ndarray:
+    """(n, 3) file points in the internal frame (cm, +Y up, facing +Z)."""
+    return (np.asarray(p, dtype=np.float64) @ frame.rotation.T) * frame.factor
+
+
+def _body_mesh(
+    v_all: np.ndarray, faces: np.ndarray, labels: np.ndarray, body: int, path: Path, report: Report
+) -> _Body:
+    """Component ``body`` of the mesh (``labels`` per vertex); the others become a finding."""
+    where = str(path)
+    n_comp = int(labels.max()) + 1
+    if n_comp > 1:
+        areas = np.bincount(labels[faces[:, 0]], weights=_face_areas(v_all, faces), minlength=n_comp)
+        counts = np.bincount(labels[labels >= 0], minlength=n_comp)
+        component = f"{body} of {n_comp} (largest by area, {counts[body]} vertices, {areas[body]:.4g} cm²)"
+        report.add(
+            "components",
+            f"{n_comp} connected components; measured the largest by area ({counts[body]} vertices), "
+            f"ignored {n_comp - 1} (eyes, teeth, props...)",
+            where=where,
+        )
+    else:
+        component = f"0 of 1 ({int(np.count_nonzero(labels == 0))} vertices)"
+    keep = labels == body
+    old_to_new = np.full(len(v_all), -1, dtype=np.int64)
+    old_to_new[keep] = np.arange(int(np.count_nonzero(keep)))
+    new_faces = old_to_new[faces[keep[faces[:, 0]]]]
+    if len(new_faces) < 4:
+        raise MeshError(f"{path}: the body component has only {len(new_faces)} triangles; give a body mesh")
+    if n_comp == 1 and not np.all(keep):
+        report.add(
+            "unused-vertices",
+            f"{int(np.count_nonzero(~keep))} vertices belong to no face and were dropped",
+            where=where,
+        )
+    return _Body(vertices=v_all[keep], faces=new_faces, keep=keep, old_to_new=old_to_new, component=component)
+
+
+def _floor_shift(vertices: np.ndarray, path: Path, report: Report) -> np.ndarray:
+    """(3,) the move that stands the body on y = 0; zero when it is within 0.5 cm already."""
+    floor = float(vertices[:, 1].min())
+    shift = np.zeros(3)
+    if abs(floor) > 0.5:
+        shift[1] = -floor
+        report.add(
+            "floor-moved",
+            f"moved the body by {-floor:+.4g} cm in y to stand on y = 0",
+            where=str(path),
+            fixed=True,
+        )
+    return shift
+
+
+def _file_landmarks(
+    tables: list[tuple[Mapping[str, Any], str]], body: _Body, vertices: np.ndarray, place
+) -> dict[str, Landmark]:
+    """The landmarks of the tables on the body (later tables override earlier ones)."""
+    marks: dict[str, Landmark] = {}
+    for table, lm_where in tables:
+        marks.update(_place_landmarks(table, vertices, body.faces, body.old_to_new, place, lm_where, "file"))
+    return marks
+
+
+def _assumed(path: Path, frame: _FileFrame, body: _Body, shift: np.ndarray, rig: str) -> dict[str, str]:
+    """``Character.assumed``: what the loader found or assumed, in words."""
+    return {
+        "source": path.name,
+        "units": f"{frame.unit} ({frame.unit_why})",
+        "up": f"{frame.up} ({frame.up_why})",
+        "facing": f"{frame.facing} ({frame.facing_why})",
+        "component": body.component,
+        "floor": f"y = 0 (moved {shift[1]:+.4g} cm)" if shift[1] else "y = 0",
+        "rig": rig,
+    }
+
+
 def load_character(
     path: str | os.PathLike,
     *,
@@ -607,140 +755,39 @@ def load_character(
     """
     path = Path(path)
     report = Report()
-    where = str(path)
-    raw = read_mesh_arrays(path)
-    vertices = raw["vertices"]
-    faces = raw["faces"]
-    check_vertices(vertices, path)
-    if faces.min() < 0 or faces.max() >= len(vertices):
-        raise MeshError(
-            f"{path}: face indices out of range "
-            f"(0..{len(vertices) - 1} expected, got {faces.min()}..{faces.max()}); repair the mesh"
-        )
-    sidecar, not_sidecar = _read_sidecar(path)
-    if not_sidecar is not None:
-        report.add("sidecar-ignored", not_sidecar, where=where)
-    if sidecar is not None and int(sidecar.get("vertex_count", len(vertices))) != len(
-        vertices
-    ):
-        report.add(
-            "sidecar-mismatch",
-            f"sidecar {sidecar['_path']} is for {sidecar.get('vertex_count')} vertices, the mesh has "
-            f"{len(vertices)}: its skeleton, skin and landmarks were ignored",
-            where=where,
-        )
-        sidecar = None
-
+    raw = _read_checked(path)
+    vertices, faces = raw["vertices"], raw["faces"]
+    sidecar = _usable_sidecar(path, len(vertices), report)
     skel_raw, skin_raw = _sidecar_rig(sidecar, raw)
 
-    # -- the main component first: the frame and units are read from the body, not strays
+    # the main component first: the frame and units are read from the body, not strays
     labels = _components(len(vertices), faces)
-    n_comp = int(labels.max()) + 1
-    body = main_component(labels, faces, _face_areas(vertices, faces)) if n_comp > 1 else 0
-    body_v = vertices[labels == body]
+    body_id = main_component(labels, faces, _face_areas(vertices, faces)) if labels.max() > 0 else 0
+    frame = _file_frame(
+        vertices[labels == body_id], path, report, up=up, units=units, sidecar=sidecar, skel_raw=skel_raw
+    )
+    transform = functools.partial(_to_frame, frame)
+    body = _body_mesh(transform(vertices), faces, labels, body_id, path, report)
+    shift = _floor_shift(body.vertices, path, report)
+    new_vertices = body.vertices + shift if shift[1] else body.vertices
+    _mesh_checks(body.faces, path, report)
 
-    up_key, up_why = _frame_up(up, sidecar, body_v, skel_raw, path)
-    rot = _up_matrix(up_key)
-    height = float(np.ptp(body_v @ rot.T[:, 1]))
-    unit, units_why = _frame_units(units, sidecar, height, path, report)
-    factor = unit_factor(unit)
-    facing, facing_why = _frame_facing(sidecar, rot, (body_v @ rot.T) * factor, path, report)
-    rot = facing_matrix(facing) @ rot
-
-    def transform(p: np.ndarray) -> np.ndarray:
-        return (np.asarray(p, dtype=np.float64) @ rot.T) * factor
-
-    v_all = transform(vertices)
-
-    # -- body component
-    if n_comp > 1:
-        areas = np.bincount(
-            labels[faces[:, 0]], weights=_face_areas(v_all, faces), minlength=n_comp
-        )
-        counts = np.bincount(labels[labels >= 0], minlength=n_comp)
-        component = f"{body} of {n_comp} (largest by area, {counts[body]} vertices, {areas[body]:.4g} cm²)"
-        report.add(
-            "components",
-            f"{n_comp} connected components; measured the largest by area ({counts[body]} vertices), "
-            f"ignored {n_comp - 1} (eyes, teeth, props...)",
-            where=where,
-        )
-    else:
-        component = f"0 of 1 ({int(np.count_nonzero(labels == 0))} vertices)"
-    keep = labels == body
-    old_to_new = np.full(len(v_all), -1, dtype=np.int64)
-    old_to_new[keep] = np.arange(int(np.count_nonzero(keep)))
-    kept_faces_mask = keep[faces[:, 0]]
-    new_faces = old_to_new[faces[kept_faces_mask]]
-    new_vertices = v_all[keep]
-    if len(new_faces) < 4:
-        raise MeshError(
-            f"{path}: the body component has only {len(new_faces)} triangles; give a body mesh"
-        )
-    if n_comp == 1 and not np.all(keep):
-        report.add(
-            "unused-vertices",
-            f"{int(np.count_nonzero(~keep))} vertices belong to no face and were dropped",
-            where=where,
-        )
-
-    # -- floor at y = 0
-    floor = float(new_vertices[:, 1].min())
-    shift = np.zeros(3)
-    if abs(floor) > 0.5:
-        shift[1] = -floor
-        new_vertices = new_vertices + shift
-        report.add(
-            "floor-moved",
-            f"moved the body by {-floor:+.4g} cm in y to stand on y = 0",
-            where=where,
-            fixed=True,
-        )
-
-    _mesh_checks(new_faces, path, report)
-
-    skeleton, skin = _rig_in_frame(skel_raw, skin_raw, transform, shift, keep, report, path)
-
-    tables = _landmark_tables(sidecar, landmarks, path)
-    marks: dict[str, Landmark] = {}
-    for table, lm_where in tables:
-        marks.update(
-            _place_landmarks(
-                table,
-                new_vertices,
-                new_faces,
-                old_to_new,
-                lambda p: transform(p) + shift,
-                lm_where,
-                "file",
-            )
-        )
-
-    assumed = {
-        "source": path.name,
-        "units": f"{unit} ({units_why})",
-        "up": f"{up_key} ({up_why})",
-        "facing": f"{facing} ({facing_why})",
-        "component": component,
-        "floor": f"y = 0 (moved {-floor:+.4g} cm)" if shift[1] else "y = 0",
-        "rig": "sidecar"
-        if sidecar is not None and skeleton is not None
-        else ("gltf skin" if skeleton is not None else "none"),
-    }
+    skeleton, skin = _rig_in_frame(skel_raw, skin_raw, transform, shift, body.keep, report, path)
+    marks = _file_landmarks(
+        _landmark_tables(sidecar, landmarks, path), body, new_vertices, lambda p: transform(p) + shift
+    )
+    rig = (
+        "sidecar" if sidecar is not None and skeleton is not None else ("gltf skin" if skeleton is not None else "none")
+    )
+    assumed = _assumed(path, frame, body, shift, rig)
     character = Character(
         vertices=new_vertices,
-        faces=new_faces,
+        faces=body.faces,
         name=path.stem,
         skeleton=skeleton,
         skin=skin,
         landmarks=marks,
         assumed=assumed,
     )
-    log.info(
-        "loaded %s: %d vertices, %d faces, %s",
-        path.name,
-        len(new_vertices),
-        len(new_faces),
-        assumed,
-    )
+    log.info("loaded %s: %d vertices, %d faces, %s", path.name, len(new_vertices), len(body.faces), assumed)
     return character, report

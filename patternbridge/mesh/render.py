@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -61,9 +62,7 @@ def _vertex_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     fn = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     idx = faces.ravel()
     w = np.repeat(fn, 3, axis=0)
-    vn = np.column_stack(
-        [np.bincount(idx, weights=w[:, k], minlength=len(vertices)) for k in range(3)]
-    )
+    vn = np.column_stack([np.bincount(idx, weights=w[:, k], minlength=len(vertices)) for k in range(3)])
     norm = np.linalg.norm(vn, axis=1, keepdims=True)
     return vn / np.where(norm > 0, norm, 1.0)
 
@@ -108,29 +107,15 @@ def _rasterise(p: np.ndarray, faces: np.ndarray, width: int, height: int):
             py = lo[f, 1][:, None] + oy[None]
             cx, cy = px + 0.5, py + 0.5
             a = area[f][:, None]
-            w0 = (
-                (x1[f][:, None] - cx) * (y2[f][:, None] - cy)
-                - (x2[f][:, None] - cx) * (y1[f][:, None] - cy)
-            ) / a
-            w1 = (
-                (x2[f][:, None] - cx) * (y0[f][:, None] - cy)
-                - (x0[f][:, None] - cx) * (y2[f][:, None] - cy)
-            ) / a
+            w0 = ((x1[f][:, None] - cx) * (y2[f][:, None] - cy) - (x2[f][:, None] - cx) * (y1[f][:, None] - cy)) / a
+            w1 = ((x2[f][:, None] - cx) * (y0[f][:, None] - cy) - (x0[f][:, None] - cx) * (y2[f][:, None] - cy)) / a
             w2 = 1.0 - w0 - w1
             inside = (
-                (w0 >= -1e-9)
-                & (w1 >= -1e-9)
-                & (w2 >= -1e-9)
-                & (px <= hi[f, 0][:, None])
-                & (py <= hi[f, 1][:, None])
+                (w0 >= -1e-9) & (w1 >= -1e-9) & (w2 >= -1e-9) & (px <= hi[f, 0][:, None]) & (py <= hi[f, 1][:, None])
             )
             if not inside.any():
                 continue
-            z = (
-                w0 * tri[f, 0, 2][:, None]
-                + w1 * tri[f, 1, 2][:, None]
-                + w2 * tri[f, 2, 2][:, None]
-            )
+            z = w0 * tri[f, 0, 2][:, None] + w1 * tri[f, 1, 2][:, None] + w2 * tri[f, 2, 2][:, None]
             rows, cols = np.nonzero(inside)
             pix = py[rows, cols] * width + px[rows, cols]
             depth = z[rows, cols]
@@ -155,6 +140,237 @@ def _font(size: int):
         return ImageFont.load_default(size=size)
     except TypeError:  # Pillow < 10.1
         return ImageFont.load_default()
+
+
+_SS = 2  # supersampling factor: the picture is drawn at twice its size, then reduced
+_MARGIN = 0.06  # blank border, as a fraction of the picture
+_LIGHT = np.array([-0.35, 0.45, 1.0])
+_DENSIFY_CM = 0.5  # polylines are depth-tested at about this spacing
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class _Camera:
+    """An orthographic camera framing a world box on a (width, height) px canvas.
+
+    basis : (3, 3) rows: screen right, screen up, toward the viewer
+    centre : (2,) the framed box's centre in (right, up), cm
+    scale : px per cm
+    """
+
+    basis: np.ndarray
+    centre: np.ndarray
+    scale: float
+    width: int
+    height: int
+
+
+def _framing_box(vertices: np.ndarray, polylines: Sequence[np.ndarray]) -> np.ndarray:
+    """(2, 3) min and max corner of the mesh and the polylines together."""
+    pts = [vertices] + [np.asarray(pl, dtype=np.float64).reshape(-1, 3) for pl in polylines]
+    allp = np.concatenate(pts)
+    return np.array([allp.min(axis=0), allp.max(axis=0)])
+
+
+def _frame(basis: np.ndarray, bounds: np.ndarray, width: int, height: int) -> _Camera:
+    """The camera that fits the eight corners of ``bounds`` inside the margin."""
+    corners = np.array([[bounds[i][0], bounds[j][1], bounds[k][2]] for i in (0, 1) for j in (0, 1) for k in (0, 1)])
+    cc = corners @ basis.T
+    lo2, hi2 = cc[:, :2].min(axis=0), cc[:, :2].max(axis=0)
+    span = np.maximum(hi2 - lo2, 1e-9)
+    scale = min(width * (1 - 2 * _MARGIN) / span[0], height * (1 - 2 * _MARGIN) / span[1])
+    return _Camera(basis=basis, centre=(lo2 + hi2) / 2, scale=scale, width=width, height=height)
+
+
+def _to_screen(cam: _Camera, q: np.ndarray) -> np.ndarray:
+    """(n, 3) screen coordinates of world points: x px, y px down, depth (larger = nearer)."""
+    c = q @ cam.basis.T
+    return np.column_stack(
+        [
+            cam.width / 2 + (c[:, 0] - cam.centre[0]) * cam.scale,
+            cam.height / 2 - (c[:, 1] - cam.centre[1]) * cam.scale,
+            c[:, 2],
+        ]
+    )
+
+
+def _pixel_normals(
+    cam: _Camera,
+    screen: np.ndarray,
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    hit: np.ndarray,
+    fid: np.ndarray,
+) -> np.ndarray:
+    """(n, 3) unit camera-space normals at the pixels ``hit`` of faces ``fid``, toward the viewer.
+
+    The vertex normals are interpolated barycentrically at the pixel centres;
+    a normal facing away is flipped (two-sided lighting).
+    """
+    tri = screen[faces[fid]]
+    cx = (hit % cam.width) + 0.5
+    cy = (hit // cam.width) + 0.5
+    x0, y0 = tri[:, 0, 0], tri[:, 0, 1]
+    x1, y1 = tri[:, 1, 0], tri[:, 1, 1]
+    x2, y2 = tri[:, 2, 0], tri[:, 2, 1]
+    a = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0)
+    w0 = ((x1 - cx) * (y2 - cy) - (x2 - cx) * (y1 - cy)) / a
+    w1 = ((x2 - cx) * (y0 - cy) - (x0 - cx) * (y2 - cy)) / a
+    w2 = 1.0 - w0 - w1
+    vn = _vertex_normals(vertices, faces) @ cam.basis.T
+    n = w0[:, None] * vn[faces[fid, 0]] + w1[:, None] * vn[faces[fid, 1]] + w2[:, None] * vn[faces[fid, 2]]
+    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-12)
+    n *= np.where(np.sum(n * np.array([0, 0, 1.0]), axis=1, keepdims=True) < 0, -1.0, 1.0)
+    return n
+
+
+def _shade(normals: np.ndarray) -> np.ndarray:
+    """(n,) brightness of unit camera-space normals: ambient + Lambert + a rim toward the viewer."""
+    light = _LIGHT / np.linalg.norm(_LIGHT)
+    lambert = np.clip(normals @ light, 0.0, 1.0)
+    rim = np.clip(normals[:, 2], 0.0, 1.0)
+    return 0.28 + 0.62 * lambert + 0.10 * rim
+
+
+def _base_colours(face_colors: np.ndarray | None, fid: np.ndarray) -> np.ndarray:
+    """(n, 3) float64 RGB of the faces ``fid``: per face, one for all, or skin."""
+    if face_colors is None:
+        return np.broadcast_to(_SKIN, (fid.size, 3))
+    fc = np.asarray(face_colors, dtype=np.float64)
+    return np.broadcast_to(fc, (fid.size, 3)) if fc.ndim == 1 else fc[fid]
+
+
+def _shaded_image(
+    cam: _Camera,
+    screen: np.ndarray,
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    fbuf: np.ndarray,
+    face_colors: np.ndarray | None,
+) -> np.ndarray:
+    """(height, width, 3) uint8: the faces of the z-buffer ``fbuf`` shaded, on white."""
+    image = np.full((cam.height * cam.width, 3), 255.0)
+    hit = np.flatnonzero(fbuf >= 0)
+    if hit.size:
+        fid = fbuf[hit]
+        n = _pixel_normals(cam, screen, vertices, faces, hit, fid)
+        base = _base_colours(face_colors, fid)
+        image[hit] = np.clip(base * _shade(n)[:, None], 0, 255)
+    return image.reshape(cam.height, cam.width, 3).astype(np.uint8)
+
+
+def _densify(points: np.ndarray, step: float) -> np.ndarray:
+    """(m, 3) the polyline with points inserted so no segment is longer than ``step``."""
+    seg = np.linalg.norm(np.diff(points, axis=0), axis=1)
+    n_sub = np.maximum(1, np.ceil(seg / step).astype(np.int64))
+    t = np.concatenate([np.arange(k) / k for k in n_sub])
+    rep = np.repeat(np.arange(len(seg)), n_sub)
+    dense = points[rep] + t[:, None] * (points[rep + 1] - points[rep])
+    return np.vstack([dense, points[-1:]])
+
+
+def _visible(sp: np.ndarray, zimg: np.ndarray, tolerance_cm: float) -> np.ndarray:
+    """(n,) bool: screen points no farther than ``tolerance_cm`` behind the surface.
+
+    The surface depth is the nearest in a 5x5 neighbourhood, so lines lying
+    on the skin stay visible.
+    """
+    h, w = zimg.shape
+    ix = np.clip(sp[:, 0].astype(np.int64), 0, w - 1)
+    iy = np.clip(sp[:, 1].astype(np.int64), 0, h - 1)
+    best = np.full(len(sp), -np.inf)
+    for dy in (-2, 0, 2):
+        for dx in (-2, 0, 2):
+            best = np.maximum(best, zimg[np.clip(iy + dy, 0, h - 1), np.clip(ix + dx, 0, w - 1)])
+    return sp[:, 2] >= best - tolerance_cm
+
+
+def _visible_runs(sp: np.ndarray, visible: np.ndarray) -> list[list[tuple[float, float]]]:
+    """The (x, y) runs of consecutive visible screen points, two points or more."""
+    runs = []
+    run: list[tuple[float, float]] = []
+    for k in range(len(sp)):
+        if visible[k]:
+            run.append((float(sp[k, 0]), float(sp[k, 1])))
+        if (not visible[k] or k == len(sp) - 1) and run:
+            if len(run) > 1:
+                runs.append(run)
+            run = []
+    return runs
+
+
+def _overlaps(box: tuple[float, float, float, float], boxes) -> bool:
+    x0, y0, x1, y1 = box
+    return any(x0 < b[2] and x1 > b[0] and y0 < b[3] and y1 > b[1] for b in boxes)
+
+
+def _label_position(
+    anchor: np.ndarray,
+    text_size: tuple[float, float],
+    width: int,
+    boxes: Sequence[tuple[float, float, float, float]],
+) -> tuple[float, float]:
+    """Top left of a label beside ``anchor``: right of it unless that leaves the
+    picture, then nudged down until it does not overlap an earlier label."""
+    tw, th = text_size
+    x = float(anchor[0]) + 4 * _SS
+    y = float(anchor[1]) - th / 2
+    if x + tw > width - 2:
+        x = float(anchor[0]) - tw - 4 * _SS
+    for _ in range(12):
+        if not _overlaps((x, y, x + tw, y + th), boxes):
+            break
+        y += th + 2 * _SS
+    return x, y
+
+
+def _draw_label(draw, font, text: str, anchor: np.ndarray, color, width: int, boxes: list) -> None:
+    """Write ``text`` in a framed white box beside ``anchor``; append the box to ``boxes``."""
+    bbox = draw.textbbox((0, 0), text, font=font)
+    tw, th = bbox[2] - bbox[0], bbox[3] - bbox[1]
+    x, y = _label_position(anchor, (tw, th), width, boxes)
+    box = (x - 2 * _SS, y - 1 * _SS, x + tw + 2 * _SS, y + th + 2 * _SS)
+    boxes.append(box)
+    draw.rectangle(box, fill=(255, 255, 255), outline=color, width=_SS)
+    draw.text((x - bbox[0], y - bbox[1]), text, fill=color, font=font)
+
+
+def _polyline_colour(i: int, polyline_colors) -> tuple[int, ...]:
+    return tuple(int(c) for c in (polyline_colors[i] if polyline_colors is not None else _PALETTE[i % len(_PALETTE)]))
+
+
+def _draw_polylines(
+    img,
+    cam: _Camera,
+    zimg: np.ndarray,
+    polylines: Sequence[np.ndarray],
+    labels: Sequence[str],
+    polyline_colors,
+    *,
+    line_width_px: float,
+    occlusion_tolerance_cm: float,
+    label_leftmost: bool,
+) -> None:
+    """Draw the visible runs of each polyline and its label on ``img`` (in place)."""
+    from PIL import ImageDraw
+
+    draw = ImageDraw.Draw(img)
+    font = _font(int(11 * _SS))
+    lw = max(1, round(line_width_px * _SS))
+    label_boxes: list[tuple[float, float, float, float]] = []
+    for i, pl in enumerate(polylines):
+        pts3 = np.asarray(pl, dtype=np.float64).reshape(-1, 3)
+        if len(pts3) < 2:
+            continue
+        sp = _to_screen(cam, _densify(pts3, _DENSIFY_CM))
+        visible = _visible(sp, zimg, occlusion_tolerance_cm)
+        color = _polyline_colour(i, polyline_colors)
+        for run in _visible_runs(sp, visible):
+            draw.line(run, fill=color, width=lw, joint="curve")
+        if i < len(labels) and labels[i] and visible.any():
+            vis = sp[visible]
+            pick = np.argmin if label_leftmost else np.argmax
+            anchor = vis[pick(vis[:, 0])]
+            _draw_label(draw, font, str(labels[i]), anchor, color, cam.width, label_boxes)
 
 
 def render(
@@ -198,158 +414,29 @@ def render(
     """
     from PIL import Image, ImageDraw
 
-    ss = 2
     v = np.asarray(vertices, dtype=np.float64)
     f = np.asarray(faces, dtype=np.int64)
     width, height = int(size[0]), int(size[1])
-    W, H = width * ss, height * ss
-    basis = _camera(view, up)
+    W, H = width * _SS, height * _SS
     if bounds is None:
-        pts = [v] + [
-            np.asarray(pl, dtype=np.float64).reshape(-1, 3) for pl in polylines
-        ]
-        allp = np.concatenate(pts)
-        bounds = np.array([allp.min(axis=0), allp.max(axis=0)])
-    corners = np.array(
-        [
-            [bounds[i][0], bounds[j][1], bounds[k][2]]
-            for i in (0, 1)
-            for j in (0, 1)
-            for k in (0, 1)
-        ]
-    )
-    cc = corners @ basis.T
-    lo2, hi2 = cc[:, :2].min(axis=0), cc[:, :2].max(axis=0)
-    span = np.maximum(hi2 - lo2, 1e-9)
-    margin = 0.06
-    scale = min(W * (1 - 2 * margin) / span[0], H * (1 - 2 * margin) / span[1])
-    centre = (lo2 + hi2) / 2
-
-    def to_screen(q: np.ndarray) -> np.ndarray:
-        c = q @ basis.T
-        return np.column_stack(
-            [
-                W / 2 + (c[:, 0] - centre[0]) * scale,
-                H / 2 - (c[:, 1] - centre[1]) * scale,
-                c[:, 2],
-            ]
-        )
-
-    screen = to_screen(v)
+        bounds = _framing_box(v, polylines)
+    cam = _frame(_camera(view, up), bounds, W, H)
+    screen = _to_screen(cam, v)
     fbuf, zbuf = _rasterise(screen, f, W, H)
-
-    # shading: per-pixel interpolated normals
-    image = np.full((H * W, 3), 255.0)
-    hit = np.flatnonzero(fbuf >= 0)
-    if hit.size:
-        fid = fbuf[hit]
-        tri = screen[f[fid]]
-        cx = (hit % W) + 0.5
-        cy = (hit // W) + 0.5
-        x0, y0 = tri[:, 0, 0], tri[:, 0, 1]
-        x1, y1 = tri[:, 1, 0], tri[:, 1, 1]
-        x2, y2 = tri[:, 2, 0], tri[:, 2, 1]
-        a = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0)
-        w0 = ((x1 - cx) * (y2 - cy) - (x2 - cx) * (y1 - cy)) / a
-        w1 = ((x2 - cx) * (y0 - cy) - (x0 - cx) * (y2 - cy)) / a
-        w2 = 1.0 - w0 - w1
-        vn = _vertex_normals(v, f) @ basis.T
-        n = (
-            w0[:, None] * vn[f[fid, 0]]
-            + w1[:, None] * vn[f[fid, 1]]
-            + w2[:, None] * vn[f[fid, 2]]
-        )
-        fn = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-        n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-12)
-        # face the viewer (two-sided lighting)
-        n *= np.where(
-            np.sum(n * np.array([0, 0, 1.0]), axis=1, keepdims=True) < 0, -1.0, 1.0
-        )
-        del fn
-        light = np.array([-0.35, 0.45, 1.0])
-        light /= np.linalg.norm(light)
-        lambert = np.clip(n @ light, 0.0, 1.0)
-        rim = np.clip(n[:, 2], 0.0, 1.0)
-        shade = 0.28 + 0.62 * lambert + 0.10 * rim
-        if face_colors is None:
-            base = np.broadcast_to(_SKIN, (hit.size, 3))
-        else:
-            fc = np.asarray(face_colors, dtype=np.float64)
-            base = np.broadcast_to(fc, (hit.size, 3)) if fc.ndim == 1 else fc[fid]
-        image[hit] = np.clip(base * shade[:, None], 0, 255)
-    img = Image.fromarray(image.reshape(H, W, 3).astype(np.uint8))
-
-    # polylines: depth-tested visible runs
-    draw = ImageDraw.Draw(img)
-    font = _font(int(11 * ss))
-    zimg = zbuf.reshape(H, W)
-    label_boxes: list[tuple[float, float, float, float]] = []
-    for i, pl in enumerate(polylines):
-        pts3 = np.asarray(pl, dtype=np.float64).reshape(-1, 3)
-        if len(pts3) < 2:
-            continue
-        # densify so occlusion is tested every ~0.5 cm
-        seg = np.linalg.norm(np.diff(pts3, axis=0), axis=1)
-        n_sub = np.maximum(1, np.ceil(seg / 0.5).astype(np.int64))
-        t = np.concatenate([np.arange(k) / k for k in n_sub])
-        rep = np.repeat(np.arange(len(seg)), n_sub)
-        dense = pts3[rep] + t[:, None] * (pts3[rep + 1] - pts3[rep])
-        dense = np.vstack([dense, pts3[-1:]])
-        sp = to_screen(dense)
-        ix = np.clip(sp[:, 0].astype(np.int64), 0, W - 1)
-        iy = np.clip(sp[:, 1].astype(np.int64), 0, H - 1)
-        # nearest surface in a 5x5 neighbourhood, so lines lying on the skin stay visible
-        best = np.full(len(sp), -np.inf)
-        for dy in (-2, 0, 2):
-            for dx in (-2, 0, 2):
-                best = np.maximum(
-                    best, zimg[np.clip(iy + dy, 0, H - 1), np.clip(ix + dx, 0, W - 1)]
-                )
-        visible = sp[:, 2] >= best - occlusion_tolerance_cm
-        color = tuple(
-            int(c)
-            for c in (
-                polyline_colors[i]
-                if polyline_colors is not None
-                else _PALETTE[i % len(_PALETTE)]
-            )
-        )
-        lw = max(1, round(line_width_px * ss))
-        run: list[tuple[float, float]] = []
-        for k in range(len(sp)):
-            if visible[k]:
-                run.append((float(sp[k, 0]), float(sp[k, 1])))
-            if (not visible[k] or k == len(sp) - 1) and run:
-                if len(run) > 1:
-                    draw.line(run, fill=color, width=lw, joint="curve")
-                run = []
-        if i < len(labels) and labels[i] and visible.any():
-            vis = sp[visible]
-            anchor = (
-                vis[np.argmax(vis[:, 0])]
-                if view != "back"
-                else vis[np.argmin(vis[:, 0])]
-            )
-            text = str(labels[i])
-            bbox = draw.textbbox((0, 0), text, font=font)
-            tw, th = bbox[2] - bbox[0], bbox[3] - bbox[1]
-            x = float(anchor[0]) + 4 * ss
-            y = float(anchor[1]) - th / 2
-            if x + tw > W - 2:
-                x = float(anchor[0]) - tw - 4 * ss
-            for _ in range(12):  # nudge down until the label does not overlap another
-                if not any(
-                    x < b[2] and x + tw > b[0] and y < b[3] and y + th > b[1]
-                    for b in label_boxes
-                ):
-                    break
-                y += th + 2 * ss
-            box = (x - 2 * ss, y - 1 * ss, x + tw + 2 * ss, y + th + 2 * ss)
-            label_boxes.append(box)
-            draw.rectangle(box, fill=(255, 255, 255), outline=color, width=ss)
-            draw.text((x - bbox[0], y - bbox[1]), text, fill=color, font=font)
+    img = Image.fromarray(_shaded_image(cam, screen, v, f, fbuf, face_colors))
+    _draw_polylines(
+        img,
+        cam,
+        zbuf.reshape(H, W),
+        polylines,
+        labels,
+        polyline_colors,
+        line_width_px=line_width_px,
+        occlusion_tolerance_cm=occlusion_tolerance_cm,
+        label_leftmost=view == "back",
+    )
     if title:
-        draw.text((8 * ss, 6 * ss), title, fill=(40, 40, 40), font=_font(int(14 * ss)))
+        ImageDraw.Draw(img).text((8 * _SS, 6 * _SS), title, fill=(40, 40, 40), font=_font(int(14 * _SS)))
     img = img.resize((width, height), Image.LANCZOS)
     return np.asarray(img, dtype=np.uint8)
 

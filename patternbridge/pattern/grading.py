@@ -21,8 +21,9 @@ Everything here is pure: no file I/O, inputs are never modified.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import re
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 
 import numpy as np
 
@@ -383,10 +384,7 @@ def graded_outlines(pattern: Pattern) -> dict[str, dict[str, np.ndarray]]:
     if not table.sizes:
         return {pattern.sample_size: {p.name: p.outline.copy() for p in pattern.pieces}}
     disp = {p.name: piece_displacements(p, table)["outline"] for p in pattern.pieces}
-    return {
-        size: {p.name: p.outline + disp[p.name][k] for p in pattern.pieces}
-        for k, size in enumerate(table.sizes)
-    }
+    return {size: {p.name: p.outline + disp[p.name][k] for p in pattern.pieces} for k, size in enumerate(table.sizes)}
 
 
 # --------------------------------------------------------------------------- rules from a nest
@@ -489,6 +487,78 @@ def _stack(sample_pts: np.ndarray, per_size: list) -> np.ndarray | None:
     return np.stack(out) if out else None
 
 
+def _nest_entries(piece: Piece, nest: Mapping, sizes: Sequence[str], sample_size: str) -> list:
+    """The piece in every size of the nest (an outline or a Piece); None for a sample size the nest lacks."""
+    per_size = []
+    for size in sizes:
+        if size == sample_size and size not in nest:
+            per_size.append(None)
+            continue
+        try:
+            per_size.append(nest[size][piece.name])
+        except KeyError:
+            raise ValueError(f"graded nest: piece {piece.name!r} missing in size {size!r}") from None
+    return per_size
+
+
+def _outline_stack(piece: Piece, per_size: list, sizes: Sequence[str]) -> np.ndarray:
+    """(n_sizes, n, 2) the piece's outline in every size; ValueError when a vertex count differs."""
+    outlines = [v.outline if isinstance(v, Piece) else v for v in per_size]
+    stack = _stack(piece.outline, outlines)
+    if stack is None:
+        counts = {s: len(np.asarray(o)) for s, o in zip(sizes, outlines, strict=True) if o is not None}
+        raise ValueError(
+            f"graded nest: piece {piece.name!r} has {piece.n_vertices} vertices in the sample but {counts} across sizes"
+        )
+    return stack
+
+
+def _in_rule_frame(inv: np.ndarray, pts_stack: np.ndarray, base: np.ndarray) -> np.ndarray:
+    """(n, n_sizes, 2) deltas in the rule frame of (n_sizes, n, 2) positions from ``base``; ``inv`` rotates into it."""
+    return np.einsum("ij,snj->nsi", inv, pts_stack - base[None])
+
+
+def _rule_points(piece: Piece, every_vertex: bool) -> tuple[list, list[bool]]:
+    """The piece's rule ids and which vertices are rule points.
+
+    Every vertex with ``every_vertex``; else the vertices with a rule id, or,
+    on a piece without any, its turn points (every vertex when it has none)
+    with fresh ids.
+    """
+    rules = list(piece.rules)
+    has_rule = [r is not None for r in rules]
+    if every_vertex:
+        has_rule = [True] * piece.n_vertices
+    elif not any(has_rule):
+        turn = [k == VertexKind.TURN for k in piece.kinds]
+        has_rule = turn if any(turn) else [True] * piece.n_vertices
+        rules = [None] * piece.n_vertices
+    return rules, has_rule
+
+
+def _nest_piece(
+    piece: Piece, per_size: list, sizes: Sequence[str], sample_size: str, book: _RuleBook, every_vertex: bool
+) -> Piece:
+    """The sample piece with rule ids whose deltas (stored in ``book``) reproduce ``per_size``.
+
+    When every size is a full Piece, its internal lines, cutouts, sew lines,
+    grain/grade-reference/mirror lines and drill holes get rules too.
+    """
+    stack = _outline_stack(piece, per_size, sizes)
+    local = functools.partial(_in_rule_frame, _rotation(-frame_angle(piece)))
+    d = local(stack, piece.outline)
+    rules, has_rule = _rule_points(piece, every_vertex)
+    new_rules = [
+        book.assign(rules[i], d[i], _key(piece.name, piece.outline[i])) if has_rule[i] else None
+        for i in range(piece.n_vertices)
+    ]
+    changes: dict = {"rules": tuple(new_rules)}
+    full = [v if isinstance(v, Piece) else None for v in per_size]
+    if all(v is not None or s == sample_size for v, s in zip(full, sizes, strict=True)) and any(full):
+        changes.update(_derive_elements(piece, full, sizes, book, local))
+    return dataclasses.replace(piece, **changes)
+
+
 def rules_from_nest(
     sample: Pattern,
     nest: Mapping[str, Mapping[str, np.ndarray | Piece]],
@@ -531,49 +601,12 @@ def rules_from_nest(
     sizes = _nest_sizes(sample, nest)
     nest = {str(s): v for s, v in nest.items()}
     book = _RuleBook(_used_rule_ids(sample), atol_cm)
-    pieces = []
-    for piece in sample.pieces:
-        per_size = []
-        for size in sizes:
-            if size == sample.sample_size and size not in nest:
-                per_size.append(None)
-                continue
-            try:
-                per_size.append(nest[size][piece.name])
-            except KeyError:
-                raise ValueError(f"graded nest: piece {piece.name!r} missing in size {size!r}") from None
-        outlines = [v.outline if isinstance(v, Piece) else v for v in per_size]
-        stack = _stack(piece.outline, outlines)
-        if stack is None:
-            counts = {s: len(np.asarray(o)) for s, o in zip(sizes, outlines, strict=True) if o is not None}
-            raise ValueError(
-                f"graded nest: piece {piece.name!r} has {piece.n_vertices} vertices in the sample "
-                f"but {counts} across sizes"
-            )
-        inv = _rotation(-frame_angle(piece))
-
-        def local(pts_stack: np.ndarray, base: np.ndarray, inv: np.ndarray = inv) -> np.ndarray:
-            # (n_sizes, n, 2) positions -> (n, n_sizes, 2) deltas in the rule frame
-            return np.einsum("ij,snj->nsi", inv, pts_stack - base[None])
-
-        d = local(stack, piece.outline)
-        rules = list(piece.rules)
-        has_rule = [r is not None for r in rules]
-        if every_vertex:
-            has_rule = [True] * piece.n_vertices
-        elif not any(has_rule):
-            turn = [k == VertexKind.TURN for k in piece.kinds]
-            has_rule = turn if any(turn) else [True] * piece.n_vertices
-            rules = [None] * piece.n_vertices
-        new_rules = [
-            book.assign(rules[i], d[i], _key(piece.name, piece.outline[i])) if has_rule[i] else None
-            for i in range(piece.n_vertices)
-        ]
-        changes: dict = {"rules": tuple(new_rules)}
-        full = [v if isinstance(v, Piece) else None for v in per_size]
-        if all(v is not None or s == sample.sample_size for v, s in zip(full, sizes, strict=True)) and any(full):
-            changes.update(_derive_elements(piece, full, sizes, book, local))
-        pieces.append(dataclasses.replace(piece, **changes))
+    pieces = [
+        _nest_piece(
+            piece, _nest_entries(piece, nest, sizes, sample.sample_size), sizes, sample.sample_size, book, every_vertex
+        )
+        for piece in sample.pieces
+    ]
     table = GradeRuleTable(
         name=sample.rules.name or sample.style,
         sizes=sizes,
@@ -601,9 +634,12 @@ def _derive_elements(piece: Piece, full: list, sizes, book: _RuleBook, local) ->
                 new.append(pl)
                 continue
             d = local(stack, pl.points)
-            new.append(dataclasses.replace(pl, rules=tuple(
-                book.assign(r, d[i], _key(piece.name, pl.points[i])) for i, r in enumerate(pl.rules)
-            )))
+            new.append(
+                dataclasses.replace(
+                    pl,
+                    rules=tuple(book.assign(r, d[i], _key(piece.name, pl.points[i])) for i, r in enumerate(pl.rules)),
+                )
+            )
         changes[attr] = tuple(new)
     for attr in ("grain_line", "grade_reference", "mirror_line"):
         line = getattr(piece, attr)
@@ -613,9 +649,10 @@ def _derive_elements(piece: Piece, full: list, sizes, book: _RuleBook, local) ->
         stack = _stack(line.points, [None if o is None else o.points for o in per])
         if stack is not None:
             d = local(stack, line.points)
-            changes[attr] = dataclasses.replace(line, rules=tuple(
-                book.assign(r, d[i], _key(piece.name, line.points[i])) for i, r in enumerate(line.rules)
-            ))
+            changes[attr] = dataclasses.replace(
+                line,
+                rules=tuple(book.assign(r, d[i], _key(piece.name, line.points[i])) for i, r in enumerate(line.rules)),
+            )
     if piece.drill_holes:
         per = others("drill_holes")
         if all(o is None or len(o) == len(piece.drill_holes) for o in per):
@@ -647,6 +684,98 @@ def derive_rules(
 
 
 # --------------------------------------------------------------------------- a new size
+
+
+def _insert_column(old: np.ndarray, new: np.ndarray, k: int) -> np.ndarray:
+    """(n_sizes + 1, 2) ``old`` (n_sizes, 2) with the row ``new`` inserted at ``k``.
+
+    Examples
+    --------
+    >>> _insert_column(np.zeros((2, 2)), np.ones(2), 1).tolist()
+    [[0.0, 0.0], [1.0, 1.0], [0.0, 0.0]]
+    """
+    return np.insert(np.asarray(old), k, new, axis=0)
+
+
+def _size_table(pattern: Pattern, size: str, outlines: Mapping[str, np.ndarray], position: int | None):
+    """The rule table to extend (a one-size table when the pattern has none), its sizes and where ``size`` goes.
+
+    Raises
+    ------
+    ValueError
+        On a duplicate size name, a missing piece or a position out of range.
+    """
+    table = pattern.rules
+    old_sizes = tuple(table.sizes) or (pattern.sample_size or "sample",)
+    if size in old_sizes:
+        raise ValueError(f"add_size: size {size!r} is already in the size list {list(old_sizes)}")
+    if not table.sizes:
+        table = GradeRuleTable(name=table.name or pattern.style, sizes=old_sizes, sample_size=old_sizes[0], deltas={})
+    missing = [p.name for p in pattern.pieces if p.name not in outlines]
+    if missing:
+        raise ValueError(f"add_size: no outline for pieces {missing} in size {size!r}")
+    k_new = len(old_sizes) if position is None else int(position)
+    if not 0 <= k_new <= len(old_sizes):
+        raise ValueError(f"add_size: position {position} outside 0..{len(old_sizes)}")
+    return table, old_sizes, k_new
+
+
+class _Widening:
+    """The rule table of a pattern growing one size column at index ``k``.
+
+    ``deltas`` collects the widened (n_sizes + 1, 2) deltas by rule id and
+    ``new_col`` the new column of each id, across all pieces: a rule shared by
+    pieces keeps one new displacement, or is split.
+    """
+
+    def __init__(self, table: GradeRuleTable, k: int, book: _RuleBook, atol_cm: float) -> None:
+        self.table = table
+        self.k = k
+        self.book = book
+        self.atol = atol_cm
+        self.deltas: dict[str, np.ndarray] = {}
+        self.new_col: dict[str, np.ndarray] = {}
+
+    def boundary_rules(self, piece: Piece, new_local: np.ndarray, old_local: np.ndarray) -> tuple[str, ...]:
+        """A rule id per boundary vertex that moves it by ``new_local[i]`` in the new size.
+
+        A vertex keeps its rule when the rule's new column is still free or
+        already holds this displacement; otherwise (and for a vertex without a
+        rule) it gets a fresh id whose old columns are ``old_local[i]``.
+        """
+        rules = []
+        for i, r in enumerate(piece.rules):
+            if r is not None and r in self.table.deltas:
+                if r not in self.new_col:
+                    self.new_col[r] = new_local[i]
+                    self.deltas[r] = _insert_column(self.table.deltas[r], new_local[i], self.k)
+                    rules.append(r)
+                    continue
+                if np.max(np.abs(self.new_col[r] - new_local[i])) <= self.atol:
+                    rules.append(r)
+                    continue
+            rid = self.book.fresh()
+            self.deltas[rid] = _insert_column(old_local[i], new_local[i], self.k)
+            self.new_col[rid] = new_local[i]
+            rules.append(rid)
+        return tuple(rules)
+
+    def off_boundary(self, piece: Piece, moved: np.ndarray, inv: np.ndarray) -> None:
+        """Rules used only off the boundary get the new-size displacement ``moved``
+        of the nearest boundary vertex of the first point that uses them."""
+        for pts, rls in _off_boundary_points(piece):
+            for p, r in zip(pts, rls, strict=True):
+                if r is None or r in self.deltas or r not in self.table.deltas:
+                    continue
+                near = int(_nearest_vertex(np.asarray(p, float)[None], piece.outline)[0])
+                self.deltas[r] = _insert_column(self.table.deltas[r], moved[near] @ inv.T, self.k)
+
+    def finished(self) -> dict[str, np.ndarray]:
+        """The widened deltas; rules nothing references keep a zero column."""
+        for r, d in self.table.deltas.items():
+            if r not in self.deltas:
+                self.deltas[r] = _insert_column(d, np.zeros(2), self.k)
+        return self.deltas
 
 
 def add_size(
@@ -684,72 +813,28 @@ def add_size(
         On a duplicate size name, a missing piece or a vertex-count mismatch.
     """
     size = str(size)
-    table = pattern.rules
-    old_sizes = tuple(table.sizes) or (pattern.sample_size or "sample",)
-    if size in old_sizes:
-        raise ValueError(f"add_size: size {size!r} is already in the size list {list(old_sizes)}")
-    if not table.sizes:
-        table = GradeRuleTable(name=table.name or pattern.style, sizes=old_sizes,
-                               sample_size=old_sizes[0], deltas={})
-    missing = [p.name for p in pattern.pieces if p.name not in outlines]
-    if missing:
-        raise ValueError(f"add_size: no outline for pieces {missing} in size {size!r}")
-    k_new = len(old_sizes) if position is None else int(position)
-    if not 0 <= k_new <= len(old_sizes):
-        raise ValueError(f"add_size: position {position} outside 0..{len(old_sizes)}")
+    table, old_sizes, k_new = _size_table(pattern, size, outlines, position)
     new_sizes = (*old_sizes[:k_new], size, *old_sizes[k_new:])
-
-    def widen(old: np.ndarray, new: np.ndarray) -> np.ndarray:
-        return np.insert(np.asarray(old), k_new, new, axis=0)
-
-    book = _RuleBook(_used_rule_ids(pattern), atol_cm)
-    deltas: dict[str, np.ndarray] = {}
-    new_col: dict[str, np.ndarray] = {}
-    pieces = []
+    widening = _Widening(table, k_new, _RuleBook(_used_rule_ids(pattern), atol_cm), atol_cm)
+    boundary = []
     for piece in pattern.pieces:
         target = np.asarray(outlines[piece.name], dtype=np.float64)
         if target.shape != piece.outline.shape:
             raise ValueError(
-                f"add_size: piece {piece.name!r} has {piece.n_vertices} vertices, "
-                f"size {size!r} gives {target.shape}"
+                f"add_size: piece {piece.name!r} has {piece.n_vertices} vertices, size {size!r} gives {target.shape}"
             )
-        theta = frame_angle(piece)
-        inv = _rotation(-theta)
+        inv = _rotation(-frame_angle(piece))
         disp = piece_displacements(piece, table)
         old_local = np.einsum("ij,snj->nsi", inv, disp["outline"])  # (n, n_sizes, 2)
         new_local = (target - piece.outline) @ inv.T  # (n, 2)
-        rules = []
-        for i, r in enumerate(piece.rules):
-            if r is not None and r in table.deltas:
-                if r not in new_col:
-                    new_col[r] = new_local[i]
-                    deltas[r] = widen(table.deltas[r], new_local[i])
-                    rules.append(r)
-                    continue
-                if np.max(np.abs(new_col[r] - new_local[i])) <= atol_cm:
-                    rules.append(r)
-                    continue
-            rid = book.fresh()
-            deltas[rid] = widen(old_local[i], new_local[i])
-            new_col[rid] = new_local[i]
-            rules.append(rid)
-        pieces.append((piece, tuple(rules), disp, target, inv))
-    # rules used only off the boundary: give them the new-size displacement of
-    # the nearest boundary vertex of the first point that uses them
+        boundary.append((piece, widening.boundary_rules(piece, new_local, old_local), target, inv))
     out_pieces = []
-    for piece, rules, _, target, inv in pieces:
-        moved = target - piece.outline
-        for pts, rls in _off_boundary_points(piece):
-            for p, r in zip(pts, rls, strict=True):
-                if r is None or r in deltas or r not in table.deltas:
-                    continue
-                near = int(_nearest_vertex(np.asarray(p, float)[None], piece.outline)[0])
-                deltas[r] = widen(table.deltas[r], moved[near] @ inv.T)
+    for piece, rules, target, inv in boundary:
+        widening.off_boundary(piece, target - piece.outline, inv)
         out_pieces.append(dataclasses.replace(piece, rules=rules))
-    for r, d in table.deltas.items():  # rules nothing references keep a zero column
-        if r not in deltas:
-            deltas[r] = widen(d, np.zeros(2))
-    new_table = GradeRuleTable(name=table.name, sizes=new_sizes, sample_size=table.sample_size, deltas=deltas)
+    new_table = GradeRuleTable(
+        name=table.name, sizes=new_sizes, sample_size=table.sample_size, deltas=widening.finished()
+    )
     return dataclasses.replace(pattern, pieces=tuple(out_pieces), sizes=new_sizes, rules=new_table)
 
 
@@ -766,4 +851,3 @@ def _off_boundary_points(piece: Piece):
     for n in piece.notches:
         if n.rule is not None:
             yield piece.outline[n.vertex][None], (n.rule,)
-

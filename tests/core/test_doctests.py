@@ -11,11 +11,13 @@ import pytest
 import patternbridge
 
 PURE_PACKAGES = ("patternbridge.pattern", "patternbridge.measure", "patternbridge.library")
-PURE_MODULES = ("patternbridge.units", "patternbridge.report", "patternbridge.atomic")
+PURE_MODULES = ("patternbridge.units", "patternbridge.report", "patternbridge.atomic", "patternbridge.geodesic.tape")
+#: I/O modules whose pure helpers carry Examples (notch ticks, label size, line ends)
+IO_MODULES = ("patternbridge.io.plot", "patternbridge.io.dxf_aama.write")
 
 
 def _modules() -> list[str]:
-    names = list(PURE_MODULES)
+    names = [*PURE_MODULES, *IO_MODULES]
     for pkg_name in PURE_PACKAGES:
         pkg = importlib.import_module(pkg_name)
         names += [m.name for m in pkgutil.iter_modules(pkg.__path__, pkg_name + ".")]

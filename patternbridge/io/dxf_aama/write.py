@@ -72,9 +72,7 @@ _ASTM_VERSION = "ASTM/D13Proposal 1 Version: D 6673-04"
 _TEXT_HEIGHT = {Units.METRIC: 2.5, Units.ENGLISH: 0.1}  # file units
 _CURVE_TOLERANCE = {Units.METRIC: ".152", Units.ENGLISH: ".006"}
 _MAX_NAME = 20  # Gerber truncates piece/style names beyond this
-_SAME_MOTION_CM = (
-    1e-3  # two rules at one point agree when their deltas agree this well (0.01 mm)
-)
+_SAME_MOTION_CM = 1e-3  # two rules at one point agree when their deltas agree this well (0.01 mm)
 
 
 # ---------------------------------------------------------------------------
@@ -101,10 +99,7 @@ def to_ascii(text: str) -> tuple[str, bool]:
     if flat.isascii() and flat == text:
         return text, False
     decomposed = unicodedata.normalize("NFKD", flat)
-    out = "".join(
-        ch if ch.isascii() else ("" if unicodedata.combining(ch) else "?")
-        for ch in decomposed
-    )
+    out = "".join(ch if ch.isascii() else ("" if unicodedata.combining(ch) else "?") for ch in decomposed)
     return out, out != text
 
 
@@ -193,9 +188,7 @@ class _Tags:
         self.num(code, point[0])
         self.num(code + 10, point[1])
 
-    def text(
-        self, layer: int, at, value: str, height: float, angle_deg: float = 0.0
-    ) -> None:
+    def text(self, layer: int, at, value: str, height: float, angle_deg: float = 0.0) -> None:
         self.tag(0, "TEXT")
         self.tag(8, layer)
         self.xy(at)
@@ -223,9 +216,7 @@ class _Tags:
         if angle_deg is not None:
             self.num(50, angle_deg)
 
-    def attdef_link(
-        self, layer: int, anchor, at, notch_layer: int, height: float
-    ) -> None:
+    def attdef_link(self, layer: int, anchor, at, notch_layer: int, height: float) -> None:
         """AccuMark's ``Link:<layer>`` ATTDEF locating a notch in a nest size."""
         self.tag(0, "ATTDEF")
         self.tag(8, layer)
@@ -328,12 +319,7 @@ def _put_rule(
         return
     first = other[2:]
     a, b = ctx.table.get(first), ctx.table.get(rule)
-    if (
-        a is None
-        or b is None
-        or a.shape != b.shape
-        or not np.allclose(a, b, atol=_SAME_MOTION_CM)
-    ):
+    if a is None or b is None or a.shape != b.shape or not np.allclose(a, b, atol=_SAME_MOTION_CM):
         ctx.report.add(
             "rule-position-conflict",
             f"rule {rule} and rule {first} sit on the same point and grade differently; "
@@ -377,9 +363,7 @@ def _vertex_points(
                 )
 
 
-def _line_rules(
-    tags: _Tags, ctx: _Context, layer: int, line: Line, pts: np.ndarray, where: str
-) -> None:
+def _line_rules(tags: _Tags, ctx: _Context, layer: int, line: Line, pts: np.ndarray, where: str) -> None:
     for p, rule in zip(pts, line.rules, strict=True):
         if rule is not None:
             _put_rule(tags, ctx, layer, p, rule, where)
@@ -391,9 +375,7 @@ def _label_anchor(piece_pts: np.ndarray) -> np.ndarray:
     return np.array([lo[0] + 0.25 * (hi[0] - lo[0]), lo[1] + 0.5 * (hi[1] - lo[1])])
 
 
-def _piece_text_lines(
-    piece: Piece, size: str, ctx: _Context, full: bool, where: str
-) -> list[str]:
+def _piece_text_lines(piece: Piece, size: str, ctx: _Context, full: bool, where: str) -> list[str]:
     name = _ascii(ctx, piece.name, where)
     lines = [f"Piece Name: {name}", f"Size: {_ascii(ctx, size, where)}"]
     if not full:
@@ -483,8 +465,17 @@ def _block(
     tags.tag(8, 0)
 
 
-def _boundary(tags: _Tags, ctx: _Context, piece: Piece, outline: np.ndarray, *, full: bool, validation: bool,
-              notch_at: np.ndarray | None, where: str) -> None:
+def _boundary(
+    tags: _Tags,
+    ctx: _Context,
+    piece: Piece,
+    outline: np.ndarray,
+    *,
+    full: bool,
+    validation: bool,
+    notch_at: np.ndarray | None,
+    where: str,
+) -> None:
     """The cut line with its points, rule texts, notches, notch links and validation copy."""
     s = ctx.scale
     tags.polyline(1, outline, closed=True)
@@ -582,16 +573,13 @@ def _inside(tags: _Tags, ctx: _Context, piece: Piece, *, full: bool, validation:
 # ---------------------------------------------------------------------------
 
 
-def _style_text_lines(
-    pattern: Pattern, ctx: _Context, validation: bool, now: _dt.datetime
-) -> list[str]:
+def _style_text_lines(pattern: Pattern, ctx: _Context, validation: bool, now: _dt.datetime) -> list[str]:
     where = f"style {pattern.style}"
     style = _ascii(ctx, pattern.style, where)
     if len(style) > _MAX_NAME:
         ctx.report.add(
             "name-too-long",
-            f"style name {style!r} is longer than {_MAX_NAME} characters; "
-            "Gerber AccuMark truncates it",
+            f"style name {style!r} is longer than {_MAX_NAME} characters; Gerber AccuMark truncates it",
             where=where,
         )
     lines = [
@@ -666,8 +654,7 @@ def _resolve_sizes(pattern: Pattern, sizes, report: Report) -> list[str] | None:
     unknown = [s for s in wanted if s not in size_list]
     if unknown:
         raise InputError(
-            f"{pattern.style}: sizes {unknown} are not in the size list {size_list}; "
-            "choose from the pattern's sizes"
+            f"{pattern.style}: sizes {unknown} are not in the size list {size_list}; choose from the pattern's sizes"
         )
     if pattern.sample_size not in wanted:
         report.add(
@@ -699,22 +686,27 @@ def _check_writable(pattern: Pattern, scale: float) -> None:
         beyond ``MAX_ABS_VALUE`` file units.
     """
     if not pattern.pieces:
-        raise InputError(f"pattern {pattern.style!r} has no pieces; a DXF-AAMA/ASTM file needs at least one "
-                         "piece, nothing written")
+        raise InputError(
+            f"pattern {pattern.style!r} has no pieces; a DXF-AAMA/ASTM file needs at least one piece, nothing written"
+        )
     limit = MAX_ABS_VALUE / scale
     for piece in pattern.pieces:
         for what, values in _numbers(piece):
             bad = ~np.isfinite(values) | (np.abs(np.where(np.isfinite(values), values, 0.0)) > limit)
             if np.any(bad):
                 value = float(np.asarray(values, dtype=np.float64).ravel()[np.flatnonzero(bad.ravel())[0]])
-                raise InputError(f"pattern {pattern.style!r}: piece {piece.name[:60]!r} {what} holds {value!r} "
-                                 f"(a DXF needs finite numbers within {MAX_ABS_VALUE:g} file units); "
-                                 "fix the pattern, nothing written")
+                raise InputError(
+                    f"pattern {pattern.style!r}: piece {piece.name[:60]!r} {what} holds {value!r} "
+                    f"(a DXF needs finite numbers within {MAX_ABS_VALUE:g} file units); "
+                    "fix the pattern, nothing written"
+                )
     for rule, deltas in pattern.rules.deltas.items():
         d = np.asarray(deltas, dtype=np.float64)
         if not np.all(np.isfinite(d)) or np.any(np.abs(d) > limit):
-            raise InputError(f"pattern {pattern.style!r}: grade rule {rule} holds a delta that is not a finite "
-                             "number of sane size; fix the rules, nothing written")
+            raise InputError(
+                f"pattern {pattern.style!r}: grade rule {rule} holds a delta that is not a finite "
+                "number of sane size; fix the rules, nothing written"
+            )
 
 
 def _numbers(piece: Piece) -> Iterable[tuple[str, np.ndarray]]:
@@ -763,6 +755,47 @@ def _layout(entries: Sequence[tuple[Piece, str, bool]], scale: float) -> dict[st
     return offsets
 
 
+def _file_entries(pattern: Pattern, nest_sizes: Sequence[str] | None) -> list[tuple[Piece, str, bool]]:
+    """(piece, size, full) in file order: the sample pieces, or per nest size every graded piece."""
+    if nest_sizes is None:
+        return [(p, p.size or pattern.sample_size, True) for p in pattern.pieces]
+    entries: list[tuple[Piece, str, bool]] = []
+    for size in nest_sizes:
+        entries += [(p, size, size == pattern.sample_size) for p in _graded_pieces(pattern, size)]
+    return entries
+
+
+def _blocks_section(
+    tags: _Tags,
+    ctx: _Context,
+    pattern: Pattern,
+    entries: list[tuple[Piece, str, bool]],
+    block_names: list[str],
+    validation: bool,
+) -> None:
+    """The BLOCKS section: one block per entry, notches placed on the graded pieces."""
+    tags.tag(0, "SECTION")
+    tags.tag(2, "BLOCKS")
+    samples = {p.name: p for p in pattern.pieces}
+    for (piece, size, full), block_name in zip(entries, block_names, strict=True):
+        at = notch_positions(samples[piece.name], piece, pattern.rules, size) if piece.notches else None
+        _block(tags, ctx, piece, size, block_name, full=full, validation=validation, notch_at=at)
+    tags.tag(0, "ENDSEC")
+
+
+def _entities_section(
+    tags: _Tags, ctx: _Context, pattern: Pattern, codes: dict[str, str], validation: bool, now: _dt.datetime
+) -> None:
+    """Open the ENTITIES section with the style text and the full names of coded sizes."""
+    tags.tag(0, "SECTION")
+    tags.tag(2, "ENTITIES")
+    for i, text in enumerate(_style_text_lines(pattern, ctx, validation, now)):
+        tags.text(1, (0.0, -(i + 2) * 1.6 * ctx.height), text, ctx.height)
+    for i, (name, code) in enumerate(codes.items()):  # the full names of coded sizes
+        text = _ascii(ctx, f"Size {code}: {name}", f"size {name}")
+        tags.text(15, (40.0 * ctx.height, -(i + 2) * 1.6 * ctx.height), text, ctx.height)
+
+
 def format_dxf(
     pattern: Pattern,
     *,
@@ -805,32 +838,15 @@ def format_dxf(
     )
     validation = flavor is Flavor.ASTM
     _report_long_names(pattern, report)
-    # (piece, size, full) in file order: per size, every piece
-    entries: list[tuple[Piece, str, bool]] = []
-    if nest_sizes is None:
-        entries = [(p, p.size or pattern.sample_size, True) for p in pattern.pieces]
-    else:
-        for size in nest_sizes:
-            entries += [(p, size, size == pattern.sample_size) for p in _graded_pieces(pattern, size)]
+    entries = _file_entries(pattern, nest_sizes)
     block_names = _unique_names(f"{p.name}_{size}" for p, size, _ in entries)
     offsets = _layout(entries, scale)
 
     tags = _Tags()
-    for code, value in ((0, "SECTION"), (2, "HEADER"), (9, "$ACADVER"), (1, "AC1009"), (0, "ENDSEC"),
-                        (0, "SECTION"), (2, "BLOCKS")):
+    for code, value in ((0, "SECTION"), (2, "HEADER"), (9, "$ACADVER"), (1, "AC1009"), (0, "ENDSEC")):
         tags.tag(code, value)
-    samples = {p.name: p for p in pattern.pieces}
-    for (piece, size, full), block_name in zip(entries, block_names, strict=True):
-        at = notch_positions(samples[piece.name], piece, pattern.rules, size) if piece.notches else None
-        _block(tags, ctx, piece, size, block_name, full=full, validation=validation, notch_at=at)
-    tags.tag(0, "ENDSEC")
-    tags.tag(0, "SECTION")
-    tags.tag(2, "ENTITIES")
-    for i, text in enumerate(_style_text_lines(pattern, ctx, validation, now)):
-        tags.text(1, (0.0, -(i + 2) * 1.6 * ctx.height), text, ctx.height)
-    for i, (name, code) in enumerate(codes.items()):  # the full names of coded sizes
-        text = _ascii(ctx, f"Size {code}: {name}", f"size {name}")
-        tags.text(15, (40.0 * ctx.height, -(i + 2) * 1.6 * ctx.height), text, ctx.height)
+    _blocks_section(tags, ctx, pattern, entries, block_names, validation)
+    _entities_section(tags, ctx, pattern, codes, validation, now)
     for (piece, _, _), block_name in zip(entries, block_names, strict=True):
         tags.tag(0, "INSERT")
         tags.tag(8, 1)
@@ -847,8 +863,12 @@ def format_dxf(
 def _coded_sizes(pattern: Pattern, report: Report) -> dict[str, str]:
     codes = size_codes(tuple(pattern.sizes) or (pattern.sample_size,))
     for name, code in codes.items():
-        report.add("size-coded", f"size {name!r} written as {code} (CAD takes short size codes of one kind); "
-                   f"its name is kept in the note 'Size {code}: {name}' on layer 15", where=pattern.style)
+        report.add(
+            "size-coded",
+            f"size {name!r} written as {code} (CAD takes short size codes of one kind); "
+            f"its name is kept in the note 'Size {code}: {name}' on layer 15",
+            where=pattern.style,
+        )
     return codes
 
 
@@ -858,8 +878,7 @@ def _report_long_names(pattern: Pattern, report: Report) -> None:
         if len(name) > _MAX_NAME:
             report.add(
                 "name-too-long",
-                f"piece name {name!r} is longer than {_MAX_NAME} characters; "
-                "Gerber AccuMark truncates it",
+                f"piece name {name!r} is longer than {_MAX_NAME} characters; Gerber AccuMark truncates it",
                 where=piece.name,
             )
 
@@ -910,26 +929,8 @@ def write_dxf(
     """
     own_report = Report()
     units_ = Units(str(units).upper()) if units is not None else pattern.units
-    text = format_dxf(
-        pattern, flavor=flavor, sizes=sizes, units=units_, report=own_report
-    )
-    rul_text = None
-    if rul_path is not None:
-        if not pattern.rules.deltas and not pattern.rules.sizes:
-            raise InputError(
-                f"{rul_path}: pattern {pattern.style!r} has no grade-rule table to write"
-            )
-        from ..rul import format_rul
-
-        try:
-            coded = rename_sizes(pattern, size_codes(tuple(pattern.sizes) or (pattern.sample_size,)))
-            rul_text = format_rul(coded.rules, units=units_, flavor=flavor,
-                                  created=creation_time(pattern.provenance.created))
-        except ValueError as exc:
-            raise InputError(
-                f"{rul_path}: cannot write the grade-rule table ({exc}); "
-                "fix the pattern's rules or export a graded nest"
-            ) from None
+    text = format_dxf(pattern, flavor=flavor, sizes=sizes, units=units_, report=own_report)
+    rul_text = None if rul_path is None else _rul_text(pattern, rul_path, units_, flavor)
     if report is not None:
         report.extend(own_report)
     else:
@@ -940,8 +941,37 @@ def write_dxf(
         tmp.write_bytes(text.encode("ascii"))
         if rul_text is not None:
             with atomic_path(rul_path) as rul_tmp:
-                data = (
-                    rul_text if "\r\n" in rul_text else rul_text.replace("\n", "\r\n")
-                )
-                rul_tmp.write_bytes(data.encode("ascii", errors="replace"))
+                rul_tmp.write_bytes(_crlf(rul_text).encode("ascii", errors="replace"))
     return path
+
+
+def _rul_text(pattern: Pattern, rul_path: str | os.PathLike, units: Units, flavor: Flavor | str) -> str:
+    """The RUL text of the pattern's grade-rule table, its sizes written as codes.
+
+    Raises
+    ------
+    InputError
+        When the pattern has no rule table or the table cannot be written.
+    """
+    if not pattern.rules.deltas and not pattern.rules.sizes:
+        raise InputError(f"{rul_path}: pattern {pattern.style!r} has no grade-rule table to write")
+    from ..rul import format_rul
+
+    try:
+        coded = rename_sizes(pattern, size_codes(tuple(pattern.sizes) or (pattern.sample_size,)))
+        return format_rul(coded.rules, units=units, flavor=flavor, created=creation_time(pattern.provenance.created))
+    except ValueError as exc:
+        raise InputError(
+            f"{rul_path}: cannot write the grade-rule table ({exc}); fix the pattern's rules or export a graded nest"
+        ) from None
+
+
+def _crlf(text: str) -> str:
+    r"""``text`` with CRLF line ends (unchanged when it has some already).
+
+    Examples
+    --------
+    >>> _crlf("a\nb\n"), _crlf("a\r\nb")
+    ('a\r\nb\r\n', 'a\r\nb')
+    """
+    return text if "\r\n" in text else text.replace("\n", "\r\n")
