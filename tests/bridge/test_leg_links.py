@@ -112,7 +112,8 @@ def test_a_sidecar_without_the_leg_links_still_loads(aama_dir, tmp_path):
     """A leggings sidecar written before the leg links (waist, thigh, leg length only) validates and applies."""
     pattern, _ = read_dxf(aama_dir / LEGGINGS)
     data = inference_sidecar(pattern, infer_bridge(pattern))
-    data["measurements"] = [m for m in data["measurements"] if m["id"] not in GIRTHS]
+    levels = ("knee_level", "calf_level")
+    data["measurements"] = [m for m in data["measurements"] if m["id"] not in (*GIRTHS, *levels)]
     check_sidecar_dict(data)
     path = tmp_path / "old.seams.json"
     path.write_text(json.dumps(data))
@@ -158,6 +159,46 @@ def test_leggings_graded_to_a_child_meet_its_calf_and_knee(aama_dir, shared_dir,
         sample = sample_body[link.measurement]
         assert width == pytest.approx(body[link.id] * (sample + link.ease_cm) / sample, abs=0.5), link.id
         assert abs(width - (body[link.id] + link.ease_cm)) > 0.6  # not the cm ease: 1.2 cm (calf), 0.8 (knee)
+
+
+@pytest.mark.shared
+@pytest.mark.slow
+def test_leggings_graded_to_a_calf_larger_than_the_knee_keep_the_calf_at_its_level(aama_dir, shared_dir, tmp_path):
+    """GLX4802S19 on E_average_male (calf 39.5 cm, knee 37.6): the calf line stays at its share of the leg.
+
+    With the widths alone the grading slid the calf link's vertices up the
+    taper to 1.6 cm under the knee's (39.6 cm above the hem, where the sample
+    has them 28.7 cm up): read off the graded outline, each level's height
+    above the hem over the graded inseam (crotch point to hem) is the
+    sample's within 3 % of the inseam.
+    """
+    from patternbridge.workflow import FitOptions, fit
+
+    result = fit(
+        shared_dir / "characters" / "E_average_male.obj",
+        aama_dir / LEGGINGS,
+        seed=0,
+        options=FitOptions(pop_size=8, n_gen=2, drape=False),
+        out_dir=tmp_path / "out",
+    )
+    original, graded = result.grading.original, result.grading.pattern
+    inference = infer_bridge(original)
+    (leg,) = inference.chosen
+    crotch = piece_landmarks(original, inference)[leg].marks["crotch_point"]
+    links = {m.id: m for m in graded.measurements}
+    assert {"knee_level", "calf_level"} <= set(links)
+    share = {}
+    for name, pattern in (("sample", original), ("graded", graded)):
+        up = inference.orientations[leg].apply(sew_line(pattern.piece(leg))[0])
+        hem, inseam = up[:, 1].min(), up[crotch, 1] - up[:, 1].min()
+        piece = pattern.piece(leg)
+        share[name] = {
+            k: (np.mean([up[piece.mark(links[k].legs[0].start), 1], up[piece.mark(links[k].legs[0].end), 1]]) - hem)
+            / inseam
+            for k in ("knee_girth", "calf_girth")
+        }
+    assert share["graded"] == pytest.approx(share["sample"], abs=0.03)
+    assert share["graded"]["knee_girth"] - share["graded"]["calf_girth"] > 0.1  # the calf well under the knee
 
 
 def test_a_loose_trouser_leg_is_not_held_to_the_body_below_the_thigh():
