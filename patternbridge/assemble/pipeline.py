@@ -600,7 +600,9 @@ def _measure(
     rises = {
         k: max(0.0, r) for k, r in hem_rise_cm(sim.pattern, sim.pmesh, x, cloth.group, grain, sim.stretches).items()
     }
-    heights, girths, girth_faces = girth_strain(x, cloth.uv, cloth.faces, weld_groups(len(x), cloth.seams))
+    heights, girths, girth_faces = girth_strain(
+        x, cloth.uv, cloth.faces, weld_groups(len(x), cloth.seams), skin_offset_cm=sim.settings.offset_cm
+    )
     tight = int(np.argmax(girths)) if len(girths) else -1
     measured_defects = Measured(
         seam_gaps_mm=gaps,

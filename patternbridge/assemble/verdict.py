@@ -102,8 +102,9 @@ class VerdictLimits:
         direction) (failed): a woven stretched by a third is a tear or a hole
         in the picture.
     girth_flawed, girth_failed : strain of the garment's tightest girth,
-        a horizontal cut closing round the body: its length on the drape over
-        its length in the pattern (:func:`.defects.girth_strain`). A size
+        a horizontal cut closing round the body: its length worn on the skin
+        (on the drape, less the solver's margin from the skin all the way
+        round) over its length in the pattern (:func:`.defects.girth_strain`). A size
         step adds 4 cm to a waist or hip girth, 4-6 % of it: stretched 3 %
         all the way round a girth shows as drag lines (about a size too
         small, and a girth runs along the cross grain, which gives far less
@@ -260,7 +261,7 @@ class Measured:
     torn_share : share beyond ``stretch_torn``
     stretch_pieces : pieces with edges beyond ``stretch_limit``, most first
     levels_cm : piece instance -> |height of its anchor mark - height of its landmark|
-    girth_strain : the strain of the tightest girth (drape length / pattern length of a horizontal cut)
+    girth_strain : the strain of the tightest girth (length worn on the skin / pattern length of a horizontal cut)
     girth_height_cm : the height of that cut ; girth_pieces : the pieces it crosses
     hem_rise_cm : piece instance -> how much nearer its hem hangs to its anchor than in the pattern
     """

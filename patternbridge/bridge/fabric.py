@@ -142,7 +142,7 @@ def _tightest(links: Sequence[MeasurementLink], body: Mapping[str, float]) -> tu
     girths = [
         (m.ease_cm / body[m.measurement], m)
         for m in links
-        if not m.proportional and "girth" in m.measurement and body.get(m.measurement, 0.0) > 0.0
+        if "girth" in m.id and "girth" in m.measurement and body.get(m.measurement, 0.0) > 0.0
     ]
     return min(girths, key=lambda g: g[0], default=None)
 

@@ -57,6 +57,16 @@ is its sewn edge minus the opening's ranges (each copy of a half at a centre
 line counted), a difference that follows the body height in proportion, so a
 binding 1 cm shorter than its armhole stays about that much shorter.
 
+A **girth drafted under the body** (negative ease: leggings, a fitted
+jersey) follows the body in proportion too: such a garment goes on only by
+stretching, and what its designer drafts is the stretch it is worn at, a
+share of the body's girth (the leggings' calf 15.6 % under the sample's,
+worn stretched 18.5 %), not a number of centimetres. With the ease added in
+centimetres a child's calf (26.7 cm) would be worn stretched 24.9 % by the
+same 5.3 cm, and a large calf less than drafted. A girth with ease (a
+shirt's chest) keeps its ease in centimetres: the room a body moves in does
+not scale with it.
+
 The **ease** and the proportions are read against the **sample body**: the
 body of the file's sample size in the size system its labels belong to
 (:mod:`.size_chart`: a women's file's size 36 against a bust of 84 cm, a
@@ -311,6 +321,31 @@ def _leg_level_legs(piece: Piece, o: Orientation, found: PieceLandmarks, inside_
     return out
 
 
+def _level_leg(piece: Piece, up: np.ndarray, found: PieceLandmarks, girth: Leg) -> Leg | None:
+    """The height of a leg girth's level: the chord from the hem up the inseam to the girth's vertex there, or None.
+
+    A girth link holds the leg's width between its two vertices, not where
+    they sit along the leg: graded to a calf larger than its knee
+    (E_average_male: 39.5 against 37.6 cm) the least-change grading slid the
+    calf's vertices up the taper to 1.6 cm under the knee's, and the narrow
+    rows below them came to lie round the calf. This length, proportional to
+    the inside leg, keeps the level at its share of the leg above the hem
+    (which the leg's length holds; measured from the crotch point instead, the
+    grader met it by moving the crotch down). None for a level at the hem, or
+    without a crotch point (which says where the inseam is).
+    """
+    crotch = found.marks.get("crotch_point")
+    if crotch is None:
+        return None
+    near = lambda k: float(np.linalg.norm(up[k] - up[crotch]))  # noqa: E731
+    inseam = min((int(girth.start[1:]), int(girth.end[1:])), key=near)
+    low = float(up[:, 1].min())
+    if up[inseam, 1] <= low + HEM_REACH_CM:
+        return None
+    hem = min(np.flatnonzero(up[:, 1] <= low + 0.5).tolist(), key=near)
+    return Leg(piece=piece.name, start=f"v{hem}", end=f"v{inseam}", along="chord")
+
+
 def _band_width_leg(piece: Piece) -> Leg | None:
     """A band's width: straight across its short axis, near the middle of its length.
 
@@ -391,6 +426,8 @@ def _collect(pattern: Pattern, inference: BridgeInference, body: Mapping[str, fl
                 levels = _leg_level_legs(piece, o, found[name], body["inside_leg_right"])
                 for measurement, leg in levels.items():
                     add(f"{measurement.removesuffix('_right')}|{measurement}|girth", leg)
+                    level = _level_leg(piece, up, found[name], leg)
+                    add(f"{measurement.removesuffix('_girth_right')}_level|inside_leg_right|length", level)
                 if "leg_length|outside_leg_right|length" not in legs:
                     add("leg_length|outside_leg_right|length", length)
         elif role is Role.SLEEVE and first:
@@ -420,6 +457,12 @@ def measurement_links(
     length = sum(_span(pattern.piece(g.piece), g) for g in collected.get("body_length|back_length|length", ()))
     if length < body["back_length"] + body["waist_to_hip"]:
         collected.pop("hip_girth|hip_girth|girth", None)  # the hem sits above the hip: the hips do not pass it
+    girth_ids = {
+        k.split("|")[0]
+        for k, legs in collected.items()
+        if k.split("|")[1] in LEG_LEVELS
+        and sum(_span(pattern.piece(g.piece), g) for g in legs) <= LEG_AT_BODY * body[k.split("|")[1]]
+    }
     for key, legs in collected.items():
         if key.split("|")[0].endswith("_strap") and neck <= NECK_AT_NECK * body["neck_girth"]:
             continue  # a neckline at the neck holds the shoulder with the chest; only a scoop leaves a strap free
@@ -432,6 +475,8 @@ def measurement_links(
             link_id, measurement, kind = "neckline", "chest_girth", "length"
         if measurement in LEG_LEVELS and sample > LEG_AT_BODY * body[measurement]:
             continue  # a style width (a trouser's knee or hem): the body does not control it
+        if link_id.endswith("_level") and f"{link_id.removesuffix('_level')}_girth" not in girth_ids:
+            continue  # the level of a width the body does not control
         ease = round(sample - body[measurement], 2)
         if kind == "length" and ease >= sample:
             continue
@@ -441,7 +486,7 @@ def measurement_links(
                 measurement=measurement,
                 legs=tuple(legs),
                 ease_cm=ease,
-                proportional=kind == "length",
+                proportional=kind == "length" or ease < 0.0,
                 at_least=link_id == "hip_girth",
             )
         )

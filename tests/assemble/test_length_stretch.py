@@ -171,3 +171,42 @@ def test_the_hem_rise_of_a_copy_worn_stretched_is_measured_against_its_worn_leng
     up = hem_rise_cm(leggings, pm, lifted, group, grain, stretches)
     for key in stretches:
         assert up[key] - worn[key] == pytest.approx(8.0, abs=1.5), (key, up[key], worn[key])
+
+
+@pytest.mark.shared
+def test_the_leggings_place_the_same_from_memory_and_from_their_files_read_back(character_e, tmp_path):
+    # same inputs, same bytes: the fit drapes the pattern it inferred in memory, a user runs it again with the
+    # inferred sidecar saved beside the DXF, and a graded pattern is saved to JSON and read back; the placed
+    # cloth (its positions, the springs' worn lengths, the stretches) must not depend on which
+    import shutil
+
+    from patternbridge.assemble.pipeline import prepare
+    from patternbridge.bridge.upright import upright_pattern
+    from patternbridge.bridge.worn import worn_pattern
+    from patternbridge.io.pattern_json import load_pattern_json, save_pattern_json
+    from patternbridge.workflow import load_garment_spec
+
+    if not LEGGINGS.exists():
+        pytest.skip("shared patterns not available")
+    garment = load_garment_spec(LEGGINGS)[0]
+    inferred = tmp_path / "inferred" / garment.drape_sidecar_name
+    inferred.parent.mkdir()
+    inferred.write_bytes(dict(garment.inferred)[inferred.name])
+    beside = tmp_path / "beside"
+    beside.mkdir()
+    shutil.copy(LEGGINGS, beside / LEGGINGS.name)
+    shutil.copy(inferred, beside / inferred.name)
+    again = load_garment_spec(beside / LEGGINGS.name)[0]
+    assert again.sidecar == beside / inferred.name and not again.inferred  # read back, not inferred
+    save_pattern_json(again.pattern, tmp_path / "pattern.json")
+    read_back = load_pattern_json(tmp_path / "pattern.json")
+
+    sims = [
+        prepare(character_e, worn_pattern(upright_pattern(p, s), s), seed=0)
+        for p, s in ((garment.pattern, inferred), (read_back, again.sidecar))
+    ]
+    a, b = sims
+    np.testing.assert_array_equal(a.x_placed, b.x_placed)
+    np.testing.assert_array_equal(a.cloth.rest, b.cloth.rest)
+    np.testing.assert_array_equal(a.cloth.uv, b.cloth.uv)
+    assert a.stretches == b.stretches and all(ls.stretched for ls in a.stretches.values()) and len(a.stretches) == 2

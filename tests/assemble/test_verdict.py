@@ -134,6 +134,31 @@ def test_girth_strain_ignores_stretch_along_the_tube_and_finds_the_tight_level()
     assert heights[np.argmax(measured)] == pytest.approx(39.0)
 
 
+def test_girth_strain_is_measured_on_the_skin_under_the_solver_s_margin():
+    # a leg's knit, 28 cm round, worn on a 33.3 cm calf (19 % strain); the solver keeps it 0.6 cm off the skin
+    girth, strain, offset = 28.0, 33.3 / 28.0, 0.6
+    n = 96  # fine enough that the n-gon's parallel curve is within 0.05 % of 2π x the offset longer
+    skin = _radius_for(girth, strain, n)
+    x, uv, faces = _tube(girth, 20.0, lambda v: np.full_like(v, skin + offset), n=n)
+    drape = girth_strain(x, uv, faces, _seam_welded(uv))[1]
+    # the drape's own length reads the margin as stretch: 2π x 0.6 cm more round a 33.3 cm calf, 11 % more
+    assert drape == pytest.approx(strain + 2 * np.pi * offset / girth, rel=1e-3)
+    assert drape.max() - strain > 0.13
+    on_skin = girth_strain(x, uv, faces, _seam_welded(uv), skin_offset_cm=offset)[1]
+    assert on_skin == pytest.approx(strain, rel=1e-3)
+    # two legs: each closed curve is moved in by the margin (twice 2π x 0.6 off the sum of their lengths)
+    x2 = np.concatenate([x - [10.0, 0.0, 0.0], x + [10.0, 0.0, 0.0]])
+    f2, uv2 = np.concatenate([faces, faces + len(x)]), np.concatenate([uv, uv])
+    weld2 = np.concatenate([_seam_welded(uv), _seam_welded(uv) + len(x)])
+    _, both, face_cut = girth_strain(x2, uv2, f2, weld2, skin_offset_cm=offset)
+    assert both == pytest.approx(strain, rel=1e-3)
+    assert set(face_cut.sum(axis=1)) == {4 * n}
+    # a loop of cloth under 4π x the margin round closes round nothing a garment dresses: not a girth
+    sx, suv, sf = _tube(3.0, 20.0, lambda v: np.full_like(v, _radius_for(3.0, 1.0, n)), n=n)
+    assert len(girth_strain(sx, suv, sf, _seam_welded(suv), skin_offset_cm=offset)[0]) == 0
+    assert len(girth_strain(sx, suv, sf, _seam_welded(suv))[0]) > 0
+
+
 def test_girth_strain_leaves_out_curves_that_do_not_close():
     girth = 90.0
     x, uv, faces = _tube(girth, 40.0, lambda v: np.full_like(v, _radius_for(girth, 1.0)))

@@ -70,16 +70,18 @@ def test_a_seam_ten_cm_too_long_fails(character_e):
     assert seam[0].value == pytest.approx(10.0, abs=1.0)
 
 
-def test_shorts_two_sizes_too_small_fail(character_e, sample_shorts):
+def test_shorts_a_size_too_small_are_flawed_at_the_waist_by_what_their_waistband_lacks(character_e, sample_shorts):
     small = assemble(character_e, _shorts("76"), **COARSE).report
-    # measured: the solver spreads the strain evenly (3.2 % of the edges beyond 1.1 x, none torn, no
-    # self-crossing), but the waist is stretched 9.4 % all the way round and the seat 4.8 %
-    assert small.verdict is Verdict.FAILED, [r.message for r in small.reasons]
+    # size 76's waistband is 78.0 cm round (the library's waist link), E's waist 81.1 cm (`patternbridge
+    # measure`): worn on the skin it is stretched 3.9 % all the way round, a size too small. The drape keeps the
+    # cloth 0.6 cm off the skin, 2π x 0.6 = 3.8 cm more round the waist, which read 9.4 % before the girth was
+    # measured on the skin
     girth = [r for r in small.reasons if r.check is Check.GIRTH]
-    assert girth and girth[0].verdict is Verdict.FAILED
+    assert girth and girth[0].verdict is Verdict.FLAWED, [r.message for r in small.reasons]
     assert girth[0].where == ("waistband",)  # the tightest girth is the waist
-    # the sample size (two sizes larger) is judged better, and its girths are within the cross grain's give
-    assert sample_shorts.report.verdict.rank < small.verdict.rank
+    assert 100 * (small.girth_strain - 1.0) == pytest.approx(100 * (81.1 / 78.0 - 1.0), abs=1.5)
+    # the sample size (84, two sizes larger, 86 cm round) is judged better, its girths within the cross grain's give
+    assert sample_shorts.report.verdict.rank <= small.verdict.rank
     assert sample_shorts.report.girth_strain < VerdictLimits().girth_flawed < small.girth_strain
     assert small.stretch.beyond_limit_share > sample_shorts.report.stretch.beyond_limit_share
 

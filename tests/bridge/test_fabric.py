@@ -103,8 +103,12 @@ def test_negative_ease_makes_a_knit_and_more_than_a_knit_takes_a_stretch_knit():
     assert infer(_link("chest_girth", -4.0)).fabric is FabricClass.KNIT
     leggings = infer(_link("chest_girth", 1.0), _link("calf_girth_right", -5.3))
     assert leggings.fabric is FabricClass.STRETCH_KNIT and "calf_girth_right" in leggings.why
-    # a proportional (length) link's "ease" is no girth
-    assert infer(dataclasses.replace(_link("chest_girth", -30.0), proportional=True)).fabric is FabricClass.WOVEN
+    # a scoop neckline kept in proportion to the chest (its "ease" is its length against the chest) is no girth
+    neckline = dataclasses.replace(_link("chest_girth", -30.0), id="neckline", proportional=True)
+    assert infer(neckline).fabric is FabricClass.WOVEN
+    # a girth drafted under the body follows it in proportion (as links.py writes it) and still counts
+    calf = dataclasses.replace(_link("calf_girth_right", -5.3), id="calf_girth", proportional=True)
+    assert infer(neckline, calf).fabric is FabricClass.STRETCH_KNIT
 
 
 def test_fabric_words_are_hints_on_the_body_and_name_a_trims_own_fabric():

@@ -75,7 +75,9 @@ def test_leggings_have_knee_calf_and_ankle_links_at_the_body_levels(aama_dir, tm
     for link_id in GIRTHS:
         link = links[link_id]
         (g,) = link.legs
-        assert g.piece == leg and g.along == "across" and not link.proportional
+        assert g.piece == leg and g.along == "across"
+        # drafted under the body, the girth follows it in proportion: the stretch it is worn at is the design
+        assert link.proportional == (link.ease_cm < 0.0), link_id
         i, j = applied.piece(leg).mark(g.start), applied.piece(leg).mark(g.end)
         level = max(crotch_y - LEG_LEVELS[link.measurement] * body["inside_leg_right"], hem_y)
         # the two vertices on either side of the leg, each within 4 cm of the level (the outline's vertex spacing)
@@ -110,7 +112,8 @@ def test_a_sidecar_without_the_leg_links_still_loads(aama_dir, tmp_path):
     """A leggings sidecar written before the leg links (waist, thigh, leg length only) validates and applies."""
     pattern, _ = read_dxf(aama_dir / LEGGINGS)
     data = inference_sidecar(pattern, infer_bridge(pattern))
-    data["measurements"] = [m for m in data["measurements"] if m["id"] not in GIRTHS]
+    levels = ("knee_level", "calf_level")
+    data["measurements"] = [m for m in data["measurements"] if m["id"] not in (*GIRTHS, *levels)]
     check_sidecar_dict(data)
     path = tmp_path / "old.seams.json"
     path.write_text(json.dumps(data))
@@ -121,7 +124,12 @@ def test_a_sidecar_without_the_leg_links_still_loads(aama_dir, tmp_path):
 @pytest.mark.shared
 @pytest.mark.slow
 def test_leggings_graded_to_a_child_meet_its_calf_and_knee(aama_dir, shared_dir, tmp_path):
-    """GLX4802S19 on D_cartoon_child: the graded calf and knee are the child's plus the pattern's ease.
+    """GLX4802S19 on D_cartoon_child: the graded calf and knee are the child's, under it by the pattern's share.
+
+    The leggings are drafted 9 % (knee) and 16 % (calf) under the sample
+    body: graded to the child they are that share under its girths, worn at
+    the stretch the pattern is drafted for (with the ease added in cm the calf
+    would be 20 % under the child's, 25 % stretched).
 
     Measured independently off the graded outline (its width at the link's
     vertices); before the leg links the calf was graded with the width alone.
@@ -138,6 +146,8 @@ def test_leggings_graded_to_a_child_meet_its_calf_and_knee(aama_dir, shared_dir,
     body = {m["id"]: m["body_cm"] for m in result.report["measurements"]}
     graded = result.grading.pattern
     orientation = infer_bridge(result.grading.original).orientations
+    original = result.grading.original
+    sample_body = choose_chart(original.sizes, original.sample_size).body_cm
     links = [m for m in graded.measurements if m.id in ("knee_girth", "calf_girth")]
     assert len(links) == 2
     for link in links:
@@ -146,7 +156,49 @@ def test_leggings_graded_to_a_child_meet_its_calf_and_knee(aama_dir, shared_dir,
         up = orientation[g.piece].apply(sew_line(piece)[0])
         i, j = piece.mark(g.start), piece.mark(g.end)
         width = abs(up[j, 0] - up[i, 0])
-        assert width == pytest.approx(body[link.id] + link.ease_cm, abs=0.5), link.id
+        sample = sample_body[link.measurement]
+        assert width == pytest.approx(body[link.id] * (sample + link.ease_cm) / sample, abs=0.5), link.id
+        assert abs(width - (body[link.id] + link.ease_cm)) > 0.6  # not the cm ease: 1.2 cm (calf), 0.8 (knee)
+
+
+@pytest.mark.shared
+@pytest.mark.slow
+def test_leggings_graded_to_a_calf_larger_than_the_knee_keep_the_calf_at_its_level(aama_dir, shared_dir, tmp_path):
+    """GLX4802S19 on E_average_male (calf 39.5 cm, knee 37.6): the calf line stays at its share of the leg.
+
+    With the widths alone the grading slid the calf link's vertices up the
+    taper to 1.6 cm under the knee's (39.6 cm above the hem, where the sample
+    has them 28.7 cm up): read off the graded outline, each level's height
+    above the hem over the graded inseam (crotch point to hem) is the
+    sample's within 3 % of the inseam.
+    """
+    from patternbridge.workflow import FitOptions, fit
+
+    result = fit(
+        shared_dir / "characters" / "E_average_male.obj",
+        aama_dir / LEGGINGS,
+        seed=0,
+        options=FitOptions(pop_size=8, n_gen=2, drape=False),
+        out_dir=tmp_path / "out",
+    )
+    original, graded = result.grading.original, result.grading.pattern
+    inference = infer_bridge(original)
+    (leg,) = inference.chosen
+    crotch = piece_landmarks(original, inference)[leg].marks["crotch_point"]
+    links = {m.id: m for m in graded.measurements}
+    assert {"knee_level", "calf_level"} <= set(links)
+    share = {}
+    for name, pattern in (("sample", original), ("graded", graded)):
+        up = inference.orientations[leg].apply(sew_line(pattern.piece(leg))[0])
+        hem, inseam = up[:, 1].min(), up[crotch, 1] - up[:, 1].min()
+        piece = pattern.piece(leg)
+        share[name] = {
+            k: (np.mean([up[piece.mark(links[k].legs[0].start), 1], up[piece.mark(links[k].legs[0].end), 1]]) - hem)
+            / inseam
+            for k in ("knee_girth", "calf_girth")
+        }
+    assert share["graded"] == pytest.approx(share["sample"], abs=0.03)
+    assert share["graded"]["knee_girth"] - share["graded"]["calf_girth"] > 0.1  # the calf well under the knee
 
 
 def test_a_loose_trouser_leg_is_not_held_to_the_body_below_the_thigh():
