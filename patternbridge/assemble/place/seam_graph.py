@@ -35,6 +35,18 @@ out and triangles through the skin between their corners (a long edge over a
 thin limb) cleared by the collider; what it moved is held there in the next
 solve, and the crossings are counted after it.
 
+Where two proxies meet (a leg's tube and the ring round the hips, blended
+over the crotch; a sleeve's tube and the bodice) the wrapped shape itself
+can fold through the cloth beside it, and the shape term keeps that fold
+through any layering. So the crossing triangles and their neighbours also
+lose their wrapped bend (their target Laplacian is set to zero: they lie
+smooth between the cloth round them, the seams still pulling), round by
+round (``flatten_rounds``), the round with the fewest crossing triangles
+kept. The folds are smoothed before the layers are held apart and, in a
+second try, after; the try with fewer crossing triangles is kept (a fold
+held on a layer can no longer be smoothed, a smoothed one may still need
+its layer).
+
 Nothing here knows a piece, a garment or a body part: the seams, the wrap and
 the body decide.
 """
@@ -59,6 +71,7 @@ class SeamGraphSettings:
     clear_move_cm : the farthest the skin clean-up may move a vertex
     layer_cm : distance between two layers of cloth held apart (see :func:`layer_ranks`)
     contact_rounds : solve / push out / add contacts rounds
+    flatten_rounds : rounds that release the wrapped bend of cloth folded through cloth and solve again
     layer_rounds : rounds that hold crossing cloth on its layer and solve again
     """
 
@@ -70,6 +83,7 @@ class SeamGraphSettings:
     clear_move_cm: float = 2.0
     layer_cm: float = 0.6
     contact_rounds: int = 4
+    flatten_rounds: int = 4
     layer_rounds: int = 6
 
 
@@ -126,9 +140,18 @@ def close_seam_graph(
     if scene is None:
         return x
     x = solve.clear_skin(scene, x, faces)
-    if layers is not None and s.layer_rounds > 0:
-        x = _separate_layers(solve, scene, x, faces, pairs, np.asarray(layers, dtype=np.int64))
-    return x
+    layers = None if layers is None or s.layer_rounds <= 0 else np.asarray(layers, dtype=np.int64)
+    tries = []
+    for first in (True, False):  # folds smoothed before or after the layers are held apart: the better is kept
+        trial = solve.copy()
+        y = x
+        for step in ("flatten", "layers") if first else ("layers", "flatten"):
+            if step == "flatten" and s.flatten_rounds > 0:
+                y = _flatten_folds(trial, scene, y, faces, pairs)
+            elif step == "layers" and layers is not None:
+                y = _separate_layers(trial, scene, y, faces, pairs, layers)
+        tries.append((_crossing_count(y, faces, pairs), first, y))
+    return min(tries, key=lambda t: (t[0], t[1]))[2]
 
 
 class _Solve:
@@ -148,7 +171,9 @@ class _Solve:
         rows = np.repeat(np.arange(len(pairs)), 2)
         sew = coo_matrix((np.tile([1.0, -1.0], len(pairs)), (rows, pairs.ravel())), shape=(len(pairs), n)).tocsr()
         self.base = (s.seam * (sew.T @ sew) + s.shape * (lap.T @ lap) + s.stay * diags(np.ones(n))).tocsc()
-        self.rhs0 = s.shape * (lap.T @ (lap @ x0)) + s.stay * x0
+        self.lap = lap
+        self.shape_target = lap @ x0
+        self.rhs0 = s.shape * (lap.T @ self.shape_target) + s.stay * x0
         self.w_contact = np.zeros(n)
         self.target = np.zeros((n, 3))
         self.settings = s
@@ -161,6 +186,22 @@ class _Solve:
         lu = splu((self.base + diags(self.w_contact)).tocsc())
         rhs = self.rhs0 + self.w_contact[:, None] * self.target
         return np.stack([lu.solve(rhs[:, k]) for k in range(3)], axis=1)
+
+    def copy(self) -> _Solve:
+        """A solve with the same matrix and its own contacts and shape targets."""
+        import copy
+
+        out = copy.copy(self)
+        out.w_contact, out.target = self.w_contact.copy(), self.target.copy()
+        out.shape_target = self.shape_target.copy()
+        return out
+
+    def flatten(self, ids: np.ndarray) -> None:
+        """Let vertices ``ids`` lie smooth between their neighbours from the next solve on (their wrapped bend
+        released: the shape term's target Laplacian there is zero)."""
+        s = self.settings
+        self.shape_target[ids] = 0.0
+        self.rhs0 = s.shape * (self.lap.T @ self.shape_target) + s.stay * self.x0
 
     def hold(self, ids: np.ndarray, target: np.ndarray) -> None:
         """Hold vertices ``ids`` on ``target`` (len(ids), 3) by contact terms from the next solve on."""
@@ -239,6 +280,49 @@ def _separate_layers(
     return best
 
 
+def _crossing_count(x: np.ndarray, faces: np.ndarray, pairs: np.ndarray) -> int:
+    """Triangles of ``x`` through other cloth, the two sides of a seam counting as one vertex."""
+    from ..cloth import weld_groups
+    from ..selfcross import self_crossing
+
+    return int(np.count_nonzero(self_crossing(x, faces, None, weld_groups(len(x), pairs))))
+
+
+def _flatten_folds(solve: _Solve, scene, x: np.ndarray, faces: np.ndarray, pairs: np.ndarray) -> np.ndarray:
+    """``x`` with the wrap's folds through other cloth smoothed out, round by round (``flatten_rounds``).
+
+    Where two proxies meet (a leg's tube and the ring round the hips, blended
+    over the crotch) the wrapped shape can fold through itself, and the shape
+    term keeps that fold. The triangles through other cloth and their
+    neighbours within :data:`FLATTEN_RINGS` edges lose their wrapped bend
+    (:meth:`_Solve.flatten`): they lie smooth between the cloth round them,
+    the seams still pulling. The round with the fewest crossing triangles is
+    kept.
+    """
+    from ..cloth import vertex_adjacency, weld_groups
+    from ..selfcross import self_crossing
+
+    same = weld_groups(len(x), pairs)
+    adj = vertex_adjacency(len(x), np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]))
+    best, best_n = x, None
+    for _ in range(solve.settings.flatten_rounds + 1):
+        crossing = self_crossing(x, faces, None, same)
+        n_cross = int(np.count_nonzero(crossing))
+        if best_n is None or n_cross < best_n:
+            best, best_n = x, n_cross
+        if n_cross == 0:
+            break
+        ids = np.zeros(len(x), dtype=bool)
+        ids[faces[crossing].ravel()] = True
+        for _ in range(FLATTEN_RINGS):
+            ids |= adj @ ids
+        solve.flatten(np.flatnonzero(ids))
+        x = solve.clear_skin(scene, solve(), faces)
+        log.debug("seam graph: %d triangles through the cloth, %d vertices flattened", n_cross, int(ids.sum()))
+    return best
+
+
+FLATTEN_RINGS = 2  # neighbours (in edges) of the crossing triangles whose wrapped bend is released too
 LAYER_RINGS = 2  # neighbours (in edges) of the crossing triangles held on their layer too
 
 

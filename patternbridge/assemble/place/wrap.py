@@ -15,7 +15,9 @@ going round a limb and sewn to themselves (sleeves) are wrapped as tubes, one
 turn per pattern row; the fronts and backs of a trouser leg share one radius
 per height, and the rows of any leg piece above the crotch go round the
 hips (a one-piece leg, sewn to its mirror copy at both rises, from centre
-front to centre back). The seams
+front to centre back). The rows by a leg's hem keep the
+width of the pieces side by side there (a slanted hem would otherwise fold
+in across the leg). The seams
 this leaves open (over the shoulders, to a cuff, a collar or a yoke) are
 closed by :mod:`.seam_graph`.
 
@@ -624,6 +626,25 @@ def _held_widths(boundary: np.ndarray, ys: np.ndarray, hold_cm: float = 4.0) -> 
     return np.where(y > top - hold_cm, np.maximum(w, ref), w)
 
 
+def _hem_held_widths(boundary: np.ndarray, ys: np.ndarray, hold_cm: float = 4.0) -> np.ndarray:
+    """Row widths of ``boundary`` at ``ys`` (see :func:`_widths`), never below the width ``hold_cm`` above its
+    bottom, and that width below the bottom too.
+
+    The pieces side by side round a leg end at their hems, which slant or
+    curve (a shorts hem rises toward the inside leg) and need not end at one
+    height: a row that a piece barely or no longer reaches still has that
+    piece beside it once sewn. Without the hold the rows by the hem went
+    round on a radius a fraction of the leg's and the hem lay folded in
+    across the leg, through the cloth above it (every trouser and shorts leg
+    on A-F: 10-20 triangles a piece).
+    """
+    bottom = float(boundary[:, 1].min())
+    y = np.asarray(ys, dtype=np.float64)
+    w = _widths(boundary, y)
+    ref = _widths(boundary, np.array([bottom + hold_cm]))[0]
+    return np.where(y < bottom + hold_cm, np.maximum(w, ref), w)
+
+
 def _band_cylinder(
     character, vertices: np.ndarray, parts: BodyParts, cyl: Cylinder, anchor: str, mirrored: bool
 ) -> Cylinder:
@@ -718,7 +739,7 @@ def _shared_row_radii(pmesh: PatternMesh, rows: list) -> dict[str, np.ndarray]:
         total = np.zeros_like(grid)
         for (off, p2), (inst, *_) in zip(spans, members, strict=True):
             b = p2[: pmesh.pieces[inst.piece].n_boundary]
-            total += _widths(b, grid - off)
+            total += _hem_held_widths(b, grid - off)
         total = np.maximum.accumulate(total)
         for (off, p2), (inst, *_) in zip(spans, members, strict=True):
             radius = np.interp(off + p2[:, 1], grid, total) / (2 * np.pi)
