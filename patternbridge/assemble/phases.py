@@ -89,7 +89,8 @@ class PoseKeyframe:
     ``gravity_scale`` × gravity). With ``attach`` > 0 the cloth on the moving
     bones starts each step with the skin's velocity (by the share of its skin
     weights on those bones) and is held with ``attach`` × that share (in
-    units of its mass / h²) on where the skin's motion carries it in the step.
+    units of its mass / h²) on where the skin's motion carries it in the step
+    (the sewn vertices are not held: that would keep their seams' gaps).
     The seams left open by :class:`Sew` close from ``sew_from`` to ``sew_to``
     of the way between their gaps at the first keyframe and zero.
     ``untangle``: undo crossings in the keyframe's steps (planned off: see
@@ -281,6 +282,9 @@ def _keyframe(sim: Simulation, phase: PoseKeyframe) -> None:
     mitts = mitt_hulls(sim.body, sim.hands)
     shares = np.linspace(phase.share_from, phase.share_to, phase.steps + 1)
     follow = _skin_follow(sim) if phase.attach > 0 else None
+    # the sewn vertices are left to their seams: a pin carrying each side with the skin holds the gap between them
+    unsewn = np.ones(len(cloth.x))
+    unsewn[cloth.seams.ravel()] = 0.0
 
     def body(k: int):
         _pose_colliders(sim, float(shares[k + 1]), mitts)
@@ -291,7 +295,7 @@ def _keyframe(sim: Simulation, phase: PoseKeyframe) -> None:
             # where it carries the vertex in this step
             v_skin = (target - cloth.x) / sim.settings.time_step_s
             cloth.v = cloth.v + share[:, None] * (v_skin - cloth.v)
-            sim.solver.pin(phase.attach * share, target)
+            sim.solver.pin(phase.attach * share * unsewn, target)
         return sim.cloth_collider
 
     drape(
