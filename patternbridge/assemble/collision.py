@@ -13,7 +13,7 @@ from functools import cached_property
 
 import numpy as np
 
-__all__ = ["BodyCollider", "carry_layers", "hand_mitts", "thigh_fill", "triangle_scene"]
+__all__ = ["BodyCollider", "carry_layers", "hand_mitts", "mitt_hulls", "thigh_fill", "triangle_scene"]
 
 
 def triangle_scene(vertices: np.ndarray, faces: np.ndarray):
@@ -129,6 +129,14 @@ class BodyCollider:
         self._boxes = [(np.min(v, axis=0), np.max(v, axis=0)) for v, _ in proxies]
 
     _scene = staticmethod(triangle_scene)
+
+    def with_proxies(self, proxies: tuple[tuple[np.ndarray, np.ndarray], ...]) -> BodyCollider:
+        """This body with the helper volumes ``proxies`` (as in the constructor); the body's scene is shared."""
+        out = object.__new__(BodyCollider)
+        out._o3c, out.vertices, out.faces, out.scene = self._o3c, self.vertices, self.faces, self.scene
+        out._proxies = [self._scene(np.asarray(v), np.asarray(f)) for v, f in proxies]
+        out._boxes = [(np.min(v, axis=0), np.max(v, axis=0)) for v, _ in proxies]
+        return out
 
     def _t(self, a: np.ndarray):
         return self._o3c.Tensor(np.ascontiguousarray(a, dtype=np.float32))
@@ -591,12 +599,26 @@ def hand_mitts(body: np.ndarray, hands: list[np.ndarray]) -> tuple[tuple[np.ndar
     -------
     ``((vertices, faces), ...)`` for :class:`BodyCollider`'s ``proxies``.
     """
-    import trimesh
+    return tuple((np.asarray(body)[ids], f) for ids, f in mitt_hulls(body, hands))
 
+
+def mitt_hulls(body: np.ndarray, hands: list[np.ndarray]) -> tuple[tuple[np.ndarray, np.ndarray], ...]:
+    """The hand mitts of :func:`hand_mitts` as body vertex ids (n,) and faces (m, 3) over them.
+
+    The hull is taken once, in the pose of ``body``; a body moving in small
+    steps moves the mitt with it by moving its corners (the same vertices
+    of the posed body), without taking the hull again.
+    """
+    import trimesh
+    from scipy.spatial import cKDTree
+
+    v = np.asarray(body, dtype=np.float64)
     out = []
     for mask in hands:
         if np.count_nonzero(mask) < 10:
             continue
-        hull = trimesh.convex.convex_hull(np.asarray(body)[mask])
-        out.append((np.asarray(hull.vertices), np.asarray(hull.faces)))
+        ids = np.flatnonzero(mask)
+        hull = trimesh.convex.convex_hull(v[ids])
+        corner = ids[cKDTree(v[ids]).query(np.asarray(hull.vertices))[1]]
+        out.append((corner.astype(np.int64), np.asarray(hull.faces, dtype=np.int64)))
     return tuple(out)

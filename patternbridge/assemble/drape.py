@@ -125,6 +125,7 @@ def drape(
     inertia: np.ndarray | None = None,
     on_step: Callable[[int], None] | None = None,
     untangle_steps: tuple[int, int] | None = None,
+    body: Callable[[int], object] | None = None,
 ) -> ClothSolver:
     """Run the cloth for ``steps`` time steps against ``collider`` (in place).
 
@@ -144,7 +145,9 @@ def drape(
     is called after step ``k`` (1-based), for measuring between phases.
     ``untangle_steps`` = (first, stop): the untangling (:mod:`.cloth.untangle`)
     acts in the steps first <= k < stop (0-based) of this call; None: in
-    every step when ``settings.untangle``.
+    every step when ``settings.untangle``. ``body(k)``, called before step
+    ``k`` (0-based), returns the collider of that step: a body that moves
+    while the cloth runs (:class:`~patternbridge.assemble.phases.PoseKeyframe`).
     """
     settings = settings or DrapeSettings()
     solver = solver or ClothSolver(cloth, settings)
@@ -167,6 +170,8 @@ def drape(
             if sew_steps
             else GRAVITY_CM_S2 * gravity_scale
         )
+        if body is not None:
+            collider = body(k)
         solver.untangling = settings.untangle if untangle_steps is None else untangle_steps[0] <= k < untangle_steps[1]
         solver.step(collider, g, min(sew, 1.0))
         if k + 1 == sew_steps:

@@ -5,9 +5,11 @@ A drape is a list of phases, each a frozen dataclass:
 - :class:`Sew` closes the seams from their placed gaps to zero without
   gravity (optionally leaving the seams between two pieces of one arm open,
   pinning the cloth far from open seams, and making the arm pieces heavy).
-- :class:`PoseKeyframe` carries the cloth with the skin from one share of the
-  dressing pose to the next and drapes it there under reduced gravity,
-  sewing the seams left open from ``sew_from`` to ``sew_to`` of the way.
+- :class:`PoseKeyframe` moves the body from one share of the dressing pose
+  to the next a little every cloth step (the colliders following), the cloth
+  moved by the contact, its own dynamics under reduced gravity and a soft
+  hold on the skin's motion near the arms, sewing the seams left open from
+  ``sew_from`` to ``sew_to`` of the way.
 - :class:`Settle` drapes under gravity, holding what the strategy holds.
 
 :func:`plan_phases` turns a :class:`~patternbridge.assemble.strategy.Strategy`
@@ -33,6 +35,7 @@ if TYPE_CHECKING:
     from .pipeline import Simulation
 
 __all__ = [
+    "POSE_ATTACH",
     "POSE_GRAVITY",
     "POSE_SEW_STAGES",
     "POSE_STAGES",
@@ -51,9 +54,10 @@ log = logging.getLogger(__name__)
 
 SEW_SHARE = 0.55  # share of the drape's steps spent sewing
 POSE_STAGES = 5  # keyframes of the dressing pose -> rest pose return (the arms lowered step by step)
-POSE_STEPS = 12  # cloth steps per keyframe
+POSE_STEPS = 12  # cloth steps from one keyframe to the next (the body moves in every one)
 POSE_GRAVITY = 0.3  # share of gravity while the arms come down
 POSE_SEW_STAGES = 3  # keyframes over which the seams left open in the dressing pose (cuffs) close
+POSE_ATTACH = 100.0  # soft hold of the cloth on the moving bones on the skin's motion, in units of its mass / h²
 SEW_ARM_INERTIA = 30.0  # the arm pieces' mass multiple while a top is sewn (see pipeline.sewing_inertia)
 
 
@@ -78,8 +82,15 @@ class Sew:
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class PoseKeyframe:
-    """Carry the cloth from ``share_from`` to ``share_to`` of the dressing pose, then drape ``steps`` steps there.
+    """Move the body from ``share_from`` to ``share_to`` of the dressing pose over ``steps`` cloth steps.
 
+    The pose is interpolated per step and the colliders follow it; the cloth
+    is moved by the contact with the moving body and its own dynamics (under
+    ``gravity_scale`` × gravity). With ``attach`` > 0 the cloth on the moving
+    bones starts each step with the skin's velocity (by the share of its skin
+    weights on those bones) and is held with ``attach`` × that share (in
+    units of its mass / h²) on where the skin's motion carries it in the step
+    (the sewn vertices are not held: that would keep their seams' gaps).
     The seams left open by :class:`Sew` close from ``sew_from`` to ``sew_to``
     of the way between their gaps at the first keyframe and zero.
     ``untangle``: undo crossings in the keyframe's steps (planned off: see
@@ -92,6 +103,7 @@ class PoseKeyframe:
     gravity_scale: float
     sew_from: float
     sew_to: float
+    attach: float = 0.0
     untangle: bool = False
 
 
@@ -126,9 +138,9 @@ def plan_phases(strategy: Strategy, *, posed: bool, steps: int = 160) -> tuple[P
     placement left and those the seams make are undone: the trousers and
     shorts). A drape in the dressing pose does not, in none of its phases:
     there the untangling, which lets the layers round a crossing pass, made
-    more crossings than it undid, most while the arms come down and the cloth
-    is carried with the skin and folded between arm and torso
-    (docs/assembly.md, *Untangling by phase*).
+    more crossings than it undid, most while the arms came down (measured
+    when the cloth was carried with the skin in jumps and folded between arm
+    and torso; docs/assembly.md, *Untangling by phase*).
 
     Examples
     --------
@@ -152,6 +164,7 @@ def plan_phases(strategy: Strategy, *, posed: bool, steps: int = 160) -> tuple[P
                 gravity_scale=POSE_GRAVITY,
                 sew_from=min(1.0, k / POSE_SEW_STAGES),
                 sew_to=min(1.0, (k + 1) / POSE_SEW_STAGES),
+                attach=POSE_ATTACH,
             )
             for k, (s0, s1) in enumerate(itertools.pairwise(levels))
         )
@@ -253,32 +266,38 @@ def _sew(
 
 
 def _keyframe(sim: Simulation, phase: PoseKeyframe) -> None:
-    """Carry the cloth with the skin from one share of the dressing pose to the next, then drape there."""
-    from ..mesh.skinning import pose_vertices
-    from .collision import BodyCollider, hand_mitts
-    from .drape import drape
-    from .pipeline import smooth_over_cloth
-    from .pose import apply_transforms, blend_transforms, rotations, unapply_transforms
-    from .weights import transfer_weights
+    """Move the body from one share of the dressing pose to the next, a little every step, the cloth running.
 
-    character, cloth = sim.character, sim.cloth
-    # the cloth follows the skin (weights of the nearest body points, smoothed
-    # over the cloth) from the previous pose to the next
-    joints, weights = transfer_weights(sim.collider, character, cloth.x)
-    b0 = smooth_over_cloth(
-        cloth, blend_transforms(character, rotations(sim.rotvecs, phase.share_from), joints, weights)
-    )
-    b1 = smooth_over_cloth(cloth, blend_transforms(character, rotations(sim.rotvecs, phase.share_to), joints, weights))
-    cloth.x = apply_transforms(b1, unapply_transforms(b0, cloth.x))
-    cloth.v[:] = 0.0
-    posed = (
-        np.array(character.vertices, dtype=np.float64)
-        if phase.share_to == 0.0
-        else pose_vertices(character, rotations(sim.rotvecs, phase.share_to))
-    )
-    sim.collider = BodyCollider(posed, character.faces)
-    helpers = sim.proxies + hand_mitts(posed, sim.hands)
-    sim.cloth_collider = BodyCollider(posed, character.faces, proxies=helpers) if helpers else sim.collider
+    Before each step the body is posed at that step's share and the
+    colliders rebuilt round it (the hand mitts moved with their corners);
+    the cloth meets the skin where the step leaves it, so it is moved by the
+    contact and its own dynamics and never jumps. The cloth on the moving
+    bones takes the skin's velocity and is held softly (``phase.attach``) on
+    where the skin's motion in the step carries it (:func:`_skin_follow`).
+    """
+    from .collision import mitt_hulls
+    from .drape import drape
+
+    cloth = sim.cloth
+    mitts = mitt_hulls(sim.body, sim.hands)
+    shares = np.linspace(phase.share_from, phase.share_to, phase.steps + 1)
+    follow = _skin_follow(sim) if phase.attach > 0 else None
+    # the sewn vertices are left to their seams: a pin carrying each side with the skin holds the gap between them
+    unsewn = np.ones(len(cloth.x))
+    unsewn[cloth.seams.ravel()] = 0.0
+
+    def body(k: int):
+        _pose_colliders(sim, float(shares[k + 1]), mitts)
+        if follow is not None:
+            share, carry = follow
+            target = carry(float(shares[k]), float(shares[k + 1]), cloth.x)
+            # the skin's velocity, by the share of the vertex's weights on the moved bones, and a soft pin on
+            # where it carries the vertex in this step
+            v_skin = (target - cloth.x) / sim.settings.time_step_s
+            cloth.v = cloth.v + share[:, None] * (v_skin - cloth.v)
+            sim.solver.pin(phase.attach * share * unsewn, target)
+        return sim.cloth_collider
+
     drape(
         cloth,
         sim.cloth_collider,
@@ -290,7 +309,68 @@ def _keyframe(sim: Simulation, phase: PoseKeyframe) -> None:
         solver=sim.solver,
         stage="pose",
         untangle_steps=(0, phase.steps if phase.untangle else 0),
+        body=body,
     )
+    sim.solver.pin(None)
+
+
+def _pose_colliders(sim: Simulation, share: float, mitts: tuple[tuple[np.ndarray, np.ndarray], ...]) -> None:
+    """Pose the body at ``share`` of the dressing pose; ``sim.collider`` and ``sim.cloth_collider`` follow it.
+
+    ``mitts`` are the hand mitts as hulls over body vertices taken in the
+    dressing pose (:func:`~patternbridge.assemble.collision.mitt_hulls`):
+    their corners move with the body; the helper volumes that do not move
+    with the arms (``sim.proxies``) stay.
+    """
+    from ..mesh.skinning import pose_vertices
+    from .collision import BodyCollider
+    from .pose import rotations
+
+    character = sim.character
+    posed = (
+        np.array(character.vertices, dtype=np.float64)
+        if share == 0.0
+        else pose_vertices(character, rotations(sim.rotvecs, share))
+    )
+    sim.collider = BodyCollider(posed, character.faces)
+    helpers = sim.proxies + tuple((posed[ids], f) for ids, f in mitts)
+    sim.cloth_collider = sim.collider.with_proxies(helpers) if helpers else sim.collider
+
+
+def _skin_follow(sim: Simulation):
+    """How much each cloth vertex follows the skin (N,), and where the skin carries it between two shares of the pose.
+
+    Each cloth vertex takes the skin weights of its nearest body point
+    (smoothed over the cloth, :func:`~patternbridge.assemble.pipeline.smooth_over_cloth`);
+    it follows by the share of those weights on the bones the pose moves
+    (the arms: the cloth on the torso is left to the contact).
+    ``carry(s0, s1, x)`` is ``x`` moved by the blended skin transform from
+    share ``s0`` to ``s1``: the target of one step (the skin's velocity),
+    not a jump of the cloth.
+    """
+    from .pipeline import smooth_over_cloth
+    from .pose import apply_transforms, blend_transforms, moved_bones, rotations, unapply_transforms
+    from .weights import transfer_weights
+
+    character, cloth = sim.character, sim.cloth
+    joints, weights = transfer_weights(sim.collider, character, cloth.x)
+    moved = moved_bones(character, sim.rotvecs)
+    share = smooth_over_cloth(cloth, np.where(joints >= 0, weights * moved[np.maximum(joints, 0)], 0.0).sum(axis=1))
+
+    made: dict[float, np.ndarray] = {}  # the last step's end is the next one's start
+
+    def frames(s: float) -> np.ndarray:
+        if s not in made:
+            if len(made) > 1:
+                made.clear()
+            rots = rotations(sim.rotvecs, s)
+            made[s] = smooth_over_cloth(cloth, blend_transforms(character, rots, joints, weights))
+        return made[s]
+
+    def carry(s0: float, s1: float, x: np.ndarray) -> np.ndarray:
+        return apply_transforms(frames(s1), unapply_transforms(frames(s0), x))
+
+    return share, carry
 
 
 def _settle(sim: Simulation, phase: Settle, progress: Callable[[str, int, int], None] | None) -> None:

@@ -22,6 +22,7 @@ __all__ = [
     "apply_transforms",
     "blend_transforms",
     "dressing_rotvecs",
+    "moved_bones",
     "rotations",
     "unapply_transforms",
 ]
@@ -65,6 +66,18 @@ def _rotvec(r: np.ndarray) -> np.ndarray:
     from scipy.spatial.transform import Rotation
 
     return Rotation.from_matrix(r).as_rotvec()
+
+
+def moved_bones(character: Character, rotvecs: dict[str, np.ndarray]) -> np.ndarray:
+    """(B,) bool: the bones a pose of ``rotvecs`` moves (those it turns and every bone below them)."""
+    skel = character.skeleton
+    moved = np.array([name in rotvecs for name in skel.names], dtype=bool)
+    for _ in range(len(skel.names)):  # down the hierarchy, one generation per round
+        grown = moved | ((skel.parents >= 0) & moved[np.maximum(skel.parents, 0)])
+        if np.array_equal(grown, moved):
+            break
+        moved = grown
+    return moved
 
 
 def rotations(rotvecs: dict[str, np.ndarray], share: float) -> dict[str, np.ndarray]:
