@@ -251,33 +251,17 @@ def _separate_layers(
     piece folded through itself lies flat. The round with the fewest
     crossing triangles is kept.
     """
-    from ..cloth import vertex_adjacency, weld_groups
-    from ..selfcross import self_crossing
-
-    s = solve.settings
-    same = weld_groups(len(x), pairs)
-    one = np.zeros(len(faces), np.int64)
-    adj = vertex_adjacency(len(x), np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]))
     sewn = np.zeros(len(x), dtype=bool)
     sewn[pairs.ravel()] = True
-    best, best_n = x, None
-    for _ in range(s.layer_rounds + 1):
-        crossing = self_crossing(x, faces, one, same)
-        n_cross = int(np.count_nonzero(crossing))
-        if best_n is None or n_cross < best_n:
-            best, best_n = x, n_cross
-        if n_cross == 0:
-            break
-        ids = np.zeros(len(x), dtype=bool)
-        ids[faces[crossing].ravel()] = True
-        for _ in range(LAYER_RINGS):
-            ids |= adj @ ids
-        ids[sewn] = False  # the two sides of a seam stay free to meet between their layers
-        ids = np.flatnonzero(ids)
+    s = solve.settings
+
+    def hold_on_layers(ids: np.ndarray, x: np.ndarray) -> None:
         solve.hold(ids, _offset_points(scene, x[ids], s.clearance_cm + s.layer_cm * layers[ids]))
-        x = solve.clear_skin(scene, solve(), faces)
-        log.debug("seam graph: %d triangles through the cloth, %d vertices layered", n_cross, len(ids))
-    return best
+
+    # the two sides of a seam stay free to meet between their layers
+    return _relieve_crossings(
+        solve, scene, x, faces, pairs, rounds=s.layer_rounds, rings=LAYER_RINGS, relieve=hold_on_layers, free=sewn
+    )
 
 
 def _crossing_count(x: np.ndarray, faces: np.ndarray, pairs: np.ndarray) -> int:
@@ -299,13 +283,45 @@ def _flatten_folds(solve: _Solve, scene, x: np.ndarray, faces: np.ndarray, pairs
     the seams still pulling. The round with the fewest crossing triangles is
     kept.
     """
+    return _relieve_crossings(
+        solve,
+        scene,
+        x,
+        faces,
+        pairs,
+        rounds=solve.settings.flatten_rounds,
+        rings=FLATTEN_RINGS,
+        relieve=lambda ids, _x: solve.flatten(ids),
+    )
+
+
+def _relieve_crossings(
+    solve: _Solve,
+    scene,
+    x: np.ndarray,
+    faces: np.ndarray,
+    pairs: np.ndarray,
+    *,
+    rounds: int,
+    rings: int,
+    relieve,
+    free: np.ndarray | None = None,
+) -> np.ndarray:
+    """``x`` after up to ``rounds`` rounds of ``relieve`` and a new solve; the round with the fewest crossings.
+
+    Each round finds the triangles through other cloth (the whole garment,
+    the two sides of a seam one vertex), takes their vertices and the
+    neighbours within ``rings`` edges, less the ``free`` ones, calls
+    ``relieve(ids, x)`` (it sets what the solve holds them to) and solves
+    again with the skin cleared. It stops at a round without crossings.
+    """
     from ..cloth import vertex_adjacency, weld_groups
     from ..selfcross import self_crossing
 
     same = weld_groups(len(x), pairs)
     adj = vertex_adjacency(len(x), np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]))
     best, best_n = x, None
-    for _ in range(solve.settings.flatten_rounds + 1):
+    for _ in range(rounds + 1):
         crossing = self_crossing(x, faces, None, same)
         n_cross = int(np.count_nonzero(crossing))
         if best_n is None or n_cross < best_n:
@@ -314,11 +330,14 @@ def _flatten_folds(solve: _Solve, scene, x: np.ndarray, faces: np.ndarray, pairs
             break
         ids = np.zeros(len(x), dtype=bool)
         ids[faces[crossing].ravel()] = True
-        for _ in range(FLATTEN_RINGS):
+        for _ in range(rings):
             ids |= adj @ ids
-        solve.flatten(np.flatnonzero(ids))
+        if free is not None:
+            ids[free] = False
+        ids = np.flatnonzero(ids)
+        relieve(ids, x)
         x = solve.clear_skin(scene, solve(), faces)
-        log.debug("seam graph: %d triangles through the cloth, %d vertices flattened", n_cross, int(ids.sum()))
+        log.debug("seam graph: %d triangles through the cloth, %d vertices relieved", n_cross, len(ids))
     return best
 
 
