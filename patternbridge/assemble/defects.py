@@ -249,7 +249,7 @@ def girth_strain(
     2π × ``skin_offset_cm`` (a tight knit on a 33 cm calf reads 11 % more
     stretched without it). A closed curve shorter than twice that (4π ×
     the margin, a loop of cloth round nothing a garment closes round, less
-    than 3.8 cm round at a margin of 0.6 cm) is a fold, not a girth.
+    than 7.5 cm round at a margin of 0.6 cm) is a fold, not a girth.
 
     Parameters
     ----------
