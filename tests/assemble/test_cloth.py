@@ -150,36 +150,3 @@ def test_a_fast_vertex_does_not_tunnel_through_a_thin_plate():
         settings=DrapeSettings(time_step_s=1.0 / 60.0, max_speed_cm_s=150.0 * 2),
     )
     assert cloth.x[:, 1].min() > 0.2
-
-
-def _layer_on_a_plate(rounds: int) -> float:
-    """Smallest gap cm between two stacked sheets after one step in which the skin stops the lower one.
-
-    Both sheets move 0.2 cm down in the step, the lower from 0.05 cm outside
-    the skin's offset, the upper 0.4 cm over it (out of the skin's reach): the
-    free solution keeps their 0.4 cm, the skin's contact lifts the lower one
-    0.15 cm into the upper, i.e. 0.1 cm within the thickness (0.35).
-    """
-    import trimesh
-
-    from patternbridge.assemble.collision import BodyCollider
-    from patternbridge.assemble.drape import ClothSolver
-
-    plate = trimesh.creation.box(extents=[40.0, 2.0, 40.0])
-    plate.apply_translation([0.0, -1.0, 0.0])  # the skin is the plane y = 0
-    pts, f = sheet(3, 3.0)
-    low = np.c_[pts[:, 0] - 1.5, np.full(len(pts), 0.65), pts[:, 1] - 1.5]
-    cloth = build_cloth([low, low + [0.0, 0.4, 0.0]], [pts, pts], [f, f], [])
-    settings = DrapeSettings(contact_rounds=rounds)
-    cloth.v[:] = [0.0, -0.2 / settings.time_step_s, 0.0]
-    ClothSolver(cloth, settings).step(BodyCollider(plate.vertices, plate.faces), 0.0, 1.0)
-    half = len(pts)
-    return float((cloth.x[half:, 1] - cloth.x[:half, 1]).min())
-
-
-def test_a_layer_pushed_into_another_by_the_skin_within_a_step_is_held_off_it():
-    # the pair is violated by the iterations only (not by the free solution), by less than half the thickness: a
-    # round after the first puts it into the matrix and takes back over half the violation; with a single round
-    # (or a second one for violations over half the thickness only) it stays where the skin left it, 0.25 cm
-    assert _layer_on_a_plate(1) < 0.26
-    assert _layer_on_a_plate(DrapeSettings().contact_rounds) > 0.3
