@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from patternbridge.assemble.place.wrap import _hem_held_widths, _widths
+from patternbridge.assemble.place.wrap import _held_widths, _widths
 
 
 def test_the_rows_by_a_slanted_hem_keep_the_piece_s_width():
@@ -14,11 +14,11 @@ def test_the_rows_by_a_slanted_hem_keep_the_piece_s_width():
     b = np.array([[0.0, 0.0], [20.0, 3.0], [20.0, 40.0], [0.0, 40.0]])
     ys = np.array([0.1, 1.0, 2.0, 10.0])
     assert _widths(b, ys)[0] < 1.0  # as drawn: the tip of the slant only
-    np.testing.assert_allclose(_hem_held_widths(b, ys), [20.0, 20.0, 20.0, 20.0])
+    np.testing.assert_allclose(_held_widths(b, ys, at_hem=True), [20.0, 20.0, 20.0, 20.0])
     # below the piece (a partner's hem hangs lower) it still counts, once sewn beside it
-    assert _hem_held_widths(b, np.array([-2.0]))[0] == pytest.approx(20.0)
+    assert _held_widths(b, np.array([-2.0]), at_hem=True)[0] == pytest.approx(20.0)
     # above the hold the outline's own width
-    assert _hem_held_widths(b, np.array([30.0]))[0] == pytest.approx(20.0)
+    assert _held_widths(b, np.array([30.0]), at_hem=True)[0] == pytest.approx(20.0)
 
 
 @pytest.mark.shared

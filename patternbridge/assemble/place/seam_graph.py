@@ -141,17 +141,46 @@ def close_seam_graph(
         return x
     x = solve.clear_skin(scene, x, faces)
     layers = None if layers is None or s.layer_rounds <= 0 else np.asarray(layers, dtype=np.int64)
+    steps = []
+    if s.flatten_rounds > 0:
+        steps.append(lambda trial, y, near: _flatten_folds(trial, scene, y, faces, near))
+    if layers is not None:
+        steps.append(lambda trial, y, near: _separate_layers(trial, scene, y, faces, pairs, layers, near))
+    if not steps:
+        return x
+    near = _Near.of(len(x), faces, pairs)
     tries = []
-    for first in (True, False):  # folds smoothed before or after the layers are held apart: the better is kept
-        trial = solve.copy()
-        y = x
-        for step in ("flatten", "layers") if first else ("layers", "flatten"):
-            if step == "flatten" and s.flatten_rounds > 0:
-                y = _flatten_folds(trial, scene, y, faces, pairs)
-            elif step == "layers" and layers is not None:
-                y = _separate_layers(trial, scene, y, faces, pairs, layers)
-        tries.append((_crossing_count(y, faces, pairs), first, y))
-    return min(tries, key=lambda t: (t[0], t[1]))[2]
+    for order in (steps, steps[::-1]) if len(steps) == 2 else (steps,):
+        trial, y, n_cross = solve.copy(), x, 0
+        for step in order:
+            y, n_cross = step(trial, y, near)
+        tries.append((n_cross, y))
+    # folds smoothed before or after the layers are held apart: the better is kept (the second on a tie)
+    return min(tries[::-1], key=lambda t: t[0])[1]
+
+
+@dataclass(frozen=True)
+class _Near:
+    """What the crossing searches of one garment share: the seam-welded labels and the vertex adjacency."""
+
+    same: np.ndarray
+    adjacency: object
+
+    @classmethod
+    def of(cls, n: int, faces: np.ndarray, pairs: np.ndarray) -> _Near:
+        from ..cloth import vertex_adjacency, weld_groups
+
+        edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+        return cls(weld_groups(n, pairs), vertex_adjacency(n, edges))
+
+    def crossing(self, x: np.ndarray, faces: np.ndarray) -> np.ndarray:
+        """(F,) bool: triangles of ``x`` through other cloth, the two sides of a seam one vertex."""
+        from ..selfcross import self_crossing
+
+        return self_crossing(x, faces, None, self.same)
+
+    def crossings(self, x: np.ndarray, faces: np.ndarray) -> int:
+        return int(np.count_nonzero(self.crossing(x, faces)))
 
 
 class _Solve:
@@ -238,8 +267,8 @@ class _Solve:
 
 
 def _separate_layers(
-    solve: _Solve, scene, x: np.ndarray, faces: np.ndarray, pairs: np.ndarray, layers: np.ndarray
-) -> np.ndarray:
+    solve: _Solve, scene, x: np.ndarray, faces: np.ndarray, pairs: np.ndarray, layers: np.ndarray, near: _Near
+) -> tuple[np.ndarray, int]:
     """``x`` with cloth passing through cloth moved onto its layer's offset surface, solved again, round by round.
 
     The triangles through other cloth (:func:`~patternbridge.assemble.selfcross.self_crossing`
@@ -260,19 +289,11 @@ def _separate_layers(
 
     # the two sides of a seam stay free to meet between their layers
     return _relieve_crossings(
-        solve, scene, x, faces, pairs, rounds=s.layer_rounds, rings=LAYER_RINGS, relieve=hold_on_layers, free=sewn
+        solve, scene, x, faces, near, rounds=s.layer_rounds, rings=LAYER_RINGS, relieve=hold_on_layers, free=sewn
     )
 
 
-def _crossing_count(x: np.ndarray, faces: np.ndarray, pairs: np.ndarray) -> int:
-    """Triangles of ``x`` through other cloth, the two sides of a seam counting as one vertex."""
-    from ..cloth import weld_groups
-    from ..selfcross import self_crossing
-
-    return int(np.count_nonzero(self_crossing(x, faces, None, weld_groups(len(x), pairs))))
-
-
-def _flatten_folds(solve: _Solve, scene, x: np.ndarray, faces: np.ndarray, pairs: np.ndarray) -> np.ndarray:
+def _flatten_folds(solve: _Solve, scene, x: np.ndarray, faces: np.ndarray, near: _Near) -> tuple[np.ndarray, int]:
     """``x`` with the wrap's folds through other cloth smoothed out, round by round (``flatten_rounds``).
 
     Where two proxies meet (a leg's tube and the ring round the hips, blended
@@ -288,7 +309,7 @@ def _flatten_folds(solve: _Solve, scene, x: np.ndarray, faces: np.ndarray, pairs
         scene,
         x,
         faces,
-        pairs,
+        near,
         rounds=solve.settings.flatten_rounds,
         rings=FLATTEN_RINGS,
         relieve=lambda ids, _x: solve.flatten(ids),
@@ -300,14 +321,14 @@ def _relieve_crossings(
     scene,
     x: np.ndarray,
     faces: np.ndarray,
-    pairs: np.ndarray,
+    near: _Near,
     *,
     rounds: int,
     rings: int,
     relieve,
     free: np.ndarray | None = None,
-) -> np.ndarray:
-    """``x`` after up to ``rounds`` rounds of ``relieve`` and a new solve; the round with the fewest crossings.
+) -> tuple[np.ndarray, int]:
+    """``x`` after up to ``rounds`` rounds of ``relieve``, each solved again: the best round and its crossings.
 
     Each round finds the triangles through other cloth (the whole garment,
     the two sides of a seam one vertex), takes their vertices and the
@@ -315,14 +336,9 @@ def _relieve_crossings(
     ``relieve(ids, x)`` (it sets what the solve holds them to) and solves
     again with the skin cleared. It stops at a round without crossings.
     """
-    from ..cloth import vertex_adjacency, weld_groups
-    from ..selfcross import self_crossing
-
-    same = weld_groups(len(x), pairs)
-    adj = vertex_adjacency(len(x), np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]))
     best, best_n = x, None
     for _ in range(rounds + 1):
-        crossing = self_crossing(x, faces, None, same)
+        crossing = near.crossing(x, faces)
         n_cross = int(np.count_nonzero(crossing))
         if best_n is None or n_cross < best_n:
             best, best_n = x, n_cross
@@ -331,14 +347,14 @@ def _relieve_crossings(
         ids = np.zeros(len(x), dtype=bool)
         ids[faces[crossing].ravel()] = True
         for _ in range(rings):
-            ids |= adj @ ids
+            ids |= near.adjacency @ ids
         if free is not None:
             ids[free] = False
         ids = np.flatnonzero(ids)
         relieve(ids, x)
         x = solve.clear_skin(scene, solve(), faces)
         log.debug("seam graph: %d triangles through the cloth, %d vertices relieved", n_cross, len(ids))
-    return best
+    return best, best_n
 
 
 FLATTEN_RINGS = 2  # neighbours (in edges) of the crossing triangles whose wrapped bend is released too

@@ -300,7 +300,7 @@ def place_instances(
             # row: grading can move it off x = 0
             theta = (0.0 if pl.side is Side.FRONT else np.pi) + (p2[:, 0] - _centre_line(pmesh, inst, p2)) / Rv
         ls = stretches.get(inst.key)
-        h = h_a + ((ls.heights(p2[:, 1]) if ls is not None and ls.stretched else p2[:, 1]) - a2[1])
+        h = h_a + ((ls.heights(p2[:, 1]) if ls is not None else p2[:, 1]) - a2[1])
         out[inst.key] = _on_cylinder(cyl, theta, h, Rv, scene)
         if part in LEGS and BodyPart.TORSO in cylinders and parts is not None:
             # any leg piece: the rows that rise above the crotch go round the hips (see _seat_on_hips)
@@ -611,38 +611,29 @@ def _held_ends(boundary: np.ndarray, ys: np.ndarray, hold_cm: float = 4.0) -> tu
     return np.where(high, np.minimum(xl, rl[0]), xl), np.where(high, np.maximum(xr, rr[0]), xr)
 
 
-def _held_widths(boundary: np.ndarray, ys: np.ndarray, hold_cm: float = 4.0) -> np.ndarray:
-    """Row widths of ``boundary`` at ``ys`` (see :func:`_widths`), never below the width ``hold_cm`` under its top.
+def _held_widths(boundary: np.ndarray, ys: np.ndarray, hold_cm: float = 4.0, *, at_hem: bool = False) -> np.ndarray:
+    """Row widths of ``boundary`` at ``ys`` (see :func:`_widths`), never below the width ``hold_cm`` inside its end.
 
-    The pieces round the hips end at different heights and their top edges
-    slant (a back rises above the front at the centre back); a row that one
+    The end is the top (``at_hem`` False) or the bottom (True); beyond the
+    end the rows keep that width too. The pieces round the hips end at
+    different heights and their top edges slant (a back rises above the front
+    at the centre back); the pieces side by side round a leg end at hems that
+    slant or curve (a shorts hem rises toward the inside leg): a row that one
     of them barely or no longer reaches still has that piece beside it once
-    sewn.
+    sewn. Without the hold at the hem the rows by it went round on a radius a
+    fraction of the leg's and the hem lay folded in across the leg, through
+    the cloth above it (every trouser and shorts leg on A-F: 10-20 triangles
+    a piece).
     """
-    top = float(boundary[:, 1].max())
     y = np.asarray(ys, dtype=np.float64)
     w = _widths(boundary, y)
-    ref = _widths(boundary, np.array([top - hold_cm]))[0]
-    return np.where(y > top - hold_cm, np.maximum(w, ref), w)
-
-
-def _hem_held_widths(boundary: np.ndarray, ys: np.ndarray, hold_cm: float = 4.0) -> np.ndarray:
-    """Row widths of ``boundary`` at ``ys`` (see :func:`_widths`), never below the width ``hold_cm`` above its
-    bottom, and that width below the bottom too.
-
-    The pieces side by side round a leg end at their hems, which slant or
-    curve (a shorts hem rises toward the inside leg) and need not end at one
-    height: a row that a piece barely or no longer reaches still has that
-    piece beside it once sewn. Without the hold the rows by the hem went
-    round on a radius a fraction of the leg's and the hem lay folded in
-    across the leg, through the cloth above it (every trouser and shorts leg
-    on A-F: 10-20 triangles a piece).
-    """
-    bottom = float(boundary[:, 1].min())
-    y = np.asarray(ys, dtype=np.float64)
-    w = _widths(boundary, y)
-    ref = _widths(boundary, np.array([bottom + hold_cm]))[0]
-    return np.where(y < bottom + hold_cm, np.maximum(w, ref), w)
+    if at_hem:
+        end = float(boundary[:, 1].min())
+        ref = _widths(boundary, np.array([end + hold_cm]))[0]
+        return np.where(y < end + hold_cm, np.maximum(w, ref), w)
+    end = float(boundary[:, 1].max())
+    ref = _widths(boundary, np.array([end - hold_cm]))[0]
+    return np.where(y > end - hold_cm, np.maximum(w, ref), w)
 
 
 def _band_cylinder(
@@ -739,7 +730,7 @@ def _shared_row_radii(pmesh: PatternMesh, rows: list) -> dict[str, np.ndarray]:
         total = np.zeros_like(grid)
         for (off, p2), (inst, *_) in zip(spans, members, strict=True):
             b = p2[: pmesh.pieces[inst.piece].n_boundary]
-            total += _hem_held_widths(b, grid - off)
+            total += _held_widths(b, grid - off, at_hem=True)
         total = np.maximum.accumulate(total)
         for (off, p2), (inst, *_) in zip(spans, members, strict=True):
             radius = np.interp(off + p2[:, 1], grid, total) / (2 * np.pi)
