@@ -124,18 +124,20 @@ class BodyCollider:
         # closed helper volumes the cloth also stays out of (the space between
         # the thighs under a shirt); closest() and inside() see them, the
         # other queries see the body only
+        self._add_proxies(proxies)
+
+    _scene = staticmethod(triangle_scene)
+
+    def _add_proxies(self, proxies) -> None:
         self._proxies = [self._scene(np.asarray(v), np.asarray(f)) for v, f in proxies]
         # their boxes: only points nearer a box than the skin need the proxy's queries
         self._boxes = [(np.min(v, axis=0), np.max(v, axis=0)) for v, _ in proxies]
-
-    _scene = staticmethod(triangle_scene)
 
     def with_proxies(self, proxies: tuple[tuple[np.ndarray, np.ndarray], ...]) -> BodyCollider:
         """This body with the helper volumes ``proxies`` (as in the constructor); the body's scene is shared."""
         out = object.__new__(BodyCollider)
         out._o3c, out.vertices, out.faces, out.scene = self._o3c, self.vertices, self.faces, self.scene
-        out._proxies = [self._scene(np.asarray(v), np.asarray(f)) for v, f in proxies]
-        out._boxes = [(np.min(v, axis=0), np.max(v, axis=0)) for v, _ in proxies]
+        out._add_proxies(proxies)
         return out
 
     def _t(self, a: np.ndarray):

@@ -13,14 +13,13 @@ starts where it settled.
 from __future__ import annotations
 
 import logging
-from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
 from .grid import PatternGrid
 from .objectives import ObjectiveData
-from .solution import Acceptance, Scores, Solution, meets, solution
+from .solution import Acceptance, Progress, Scores, Solution, meets, solution
 
 __all__ = [
     "CLOSE_RATIO",
@@ -35,7 +34,6 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 
-Progress = Callable[[str, int, int], None]
 
 Stage = tuple[float, float, float]
 """A continuation stage ``(split factor, all-vertex factor, grid-interval factor)``."""

@@ -34,7 +34,7 @@ equality constraints on the genes).
 from __future__ import annotations
 
 import logging
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -53,6 +53,7 @@ from .objectives import (
     measurement_error,
     piece_axes_turn,
 )
+from .solution import Progress
 from .step_terms import StepTerms
 from .suppression import suppression
 
@@ -70,7 +71,6 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 
-Progress = Callable[[str, int, int], None]
 
 
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)

@@ -8,17 +8,16 @@ constraint.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
 from .grid import PatternGrid
 from .objectives import FOLD_MARGIN, ObjectiveData, balanced_links, link_shares, piece_axes_turn, residuals
+from .solution import Progress
 
 __all__ = ["repair"]
 
-Progress = Callable[[str, int, int], None]
 
 
 def repair(

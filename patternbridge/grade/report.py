@@ -7,7 +7,8 @@ from typing import Any
 import numpy as np
 
 from .forcing import Forcing
-from .run import FitResult, Scores, Solution
+from .run import FitResult
+from .solution import Scores, Solution
 
 __all__ = ["fit_report", "scores_dict"]
 

@@ -68,11 +68,10 @@ from .front import (
 from .grid import PatternGrid, build_grid
 from .objectives import ObjectiveData, objective_data
 from .repair import repair
-from .seeds import MIN_RATIO_LINK_CM, axis_scaling, baselines, nearest_size, uniform_scaling
-from .solution import Acceptance, Scores, Solution, is_valid, meets, score_points, solution
+from .seeds import axis_scaling, baselines, nearest_size, uniform_scaling
+from .solution import Acceptance, Progress, Scores, Solution, is_valid, meets, score_points, solution
 
 __all__ = [
-    "MIN_RATIO_LINK_CM",
     "RELEASE_ITER",
     "FitResult",
     "FitSettings",
@@ -100,7 +99,6 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 
-Progress = Callable[[str, int, int], None]
 
 RELEASE_ITER = 6
 """Iterations of each release test of :func:`~.forcing.shape_forcing` (from the fitted solution)."""

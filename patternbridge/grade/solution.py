@@ -7,6 +7,7 @@ final step's runs, the repair) hands on its candidates as
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -15,7 +16,10 @@ from ..pattern.model import Pattern
 from .grid import PatternGrid, deform_pattern
 from .objectives import ObjectiveData, evaluate, link_error
 
-__all__ = ["Acceptance", "Scores", "Solution", "is_simple", "is_valid", "meets", "score_points", "solution"]
+__all__ = ["Acceptance", "Progress", "Scores", "Solution", "is_simple", "is_valid", "meets", "score_points", "solution"]
+
+Progress = Callable[[str, int, int], None]
+"""``progress(stage, done, total)``: the grader's progress report."""
 
 
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)

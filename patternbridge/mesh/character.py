@@ -120,7 +120,7 @@ class Landmark:
     face, bary : the face holding ``position`` and its barycentric weights of
         ``faces[face]``, when the point lies between vertices; None when it
         is the vertex itself. They carry the point to another pose of the same
-        mesh (:meth:`at`) and start geodesics there (:meth:`surface_point`).
+        mesh (:meth:`at`) and start geodesics there.
     source : :class:`LandmarkSource` (or its string): ``"file"``, ``"skeleton"``
         or ``"detected"``
     confidence : 0..1; 1 for a point given in a file, lower for projected or
