@@ -113,20 +113,61 @@ def prepare(
     InputError
         See :func:`assemble`.
     """
-    from .bodyparts import crotch_height, hand_masks, segment_body
-    from .checks import check_pattern, limbs_touching
-    from .collision import BodyCollider, hand_mitts, thigh_fill
-    from .drape import DrapeSettings, build_cloth
+    from .checks import check_pattern
+    from .drape import DrapeSettings
     from .mesh2d import mesh_pattern
     from .phases import plan_phases
-    from .place import bounding_cylinders, place_garment
-    from .place.length import length_stretches, worn_lengths
 
     t0 = time.perf_counter()
     check_pattern(pattern)
     findings = Report()
     rng = np.random.default_rng(seed)
     strategy = choose_strategy(pattern)
+    pose = _pose_body(character, strategy, findings)
+    if progress:
+        progress("mesh", 0, 1)
+    pmesh = mesh_pattern(pattern, max_edge_cm=max_edge_cm)
+    colliders = _colliders(character, strategy, pose)
+    settings = DrapeSettings()
+    placed = _place_cloth(character, pattern, pose, pmesh, colliders, settings, findings, rng)
+    return Simulation(
+        character=character,
+        pattern=pattern,
+        strategy=strategy,
+        phases=plan_phases(strategy, posed=bool(pose.rotvecs), steps=steps),
+        body=pose.body,
+        parts=pose.parts,
+        rotvecs=pose.rotvecs,
+        pmesh=placed.pmesh,
+        cloth=placed.cloth,
+        collider=colliders.collider,
+        cloth_collider=colliders.cloth_collider,
+        proxies=colliders.proxies,
+        hands=colliders.hands,
+        names=placed.names,
+        seam_ids=placed.seam_ids,
+        x_placed=placed.cloth.x.copy(),
+        stretches=placed.stretches,
+        findings=findings,
+        settings=settings,
+        t0=t0,
+    )
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class _Pose:
+    """The body dressed: bone -> rotation vector (empty: the rest pose), (V, 3) vertices in that pose, its parts."""
+
+    rotvecs: dict[str, np.ndarray]
+    body: np.ndarray
+    parts: BodyParts
+
+
+def _pose_body(character: Character, strategy: Strategy, findings: Report) -> _Pose:
+    """The body in the dressing pose the strategy asks for, segmented into parts (limbs touching go to ``findings``)."""
+    from .bodyparts import segment_body
+    from .checks import limbs_touching
+
     rotvecs = _dressing_pose(character, strategy, findings)
     if rotvecs:
         from ..mesh.skinning import pose_vertices
@@ -139,21 +180,68 @@ def prepare(
     limbs_touching(body, parts, findings, character.name)
     for f in findings:
         log.warning("%s", f)
-    if progress:
-        progress("mesh", 0, 1)
-    pmesh = mesh_pattern(pattern, max_edge_cm=max_edge_cm)
+    return _Pose(rotvecs=rotvecs, body=body, parts=parts)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class _Colliders:
+    """The body's collider, the one the cloth meets (with the helper volumes) and those volumes."""
+
+    collider: BodyCollider
+    cloth_collider: BodyCollider
+    proxies: tuple[tuple[np.ndarray, np.ndarray], ...]
+    hands: list[np.ndarray]
+
+
+def _colliders(character: Character, strategy: Strategy, pose: _Pose) -> _Colliders:
+    """The colliders of the posed body: the space between the thighs filled, mitts on the raised hands."""
+    from .bodyparts import crotch_height, hand_masks
+    from .collision import BodyCollider, hand_mitts, thigh_fill
+
+    body, parts = pose.body, pose.parts
     collider = BodyCollider(body, character.faces)
     proxies: tuple = ()
     hands: list = []
     if strategy.fill_between_thighs:
         legs = parts.mask(BodyPart.LEFT_LEG) | parts.mask(BodyPart.RIGHT_LEG)
         proxies = thigh_fill(body, legs, crotch_height(character, body, parts))
-    if rotvecs:
+    if pose.rotvecs:
         hands = hand_masks(character, body, parts)
     helpers = proxies + hand_mitts(body, hands)
     cloth_collider = BodyCollider(body, character.faces, proxies=helpers) if helpers else collider
-    pmesh, placed = place_garment(character, body, pattern, pmesh, parts, findings, scene=collider)
-    stretches = length_stretches(character, body, pattern, pmesh, bounding_cylinders(body, parts))
+    return _Colliders(collider=collider, cloth_collider=cloth_collider, proxies=proxies, hands=hands)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class _Placed:
+    """The placed cloth: the pattern mesh as placed, the cloth, its instance names, the seam of every sewn pair
+    ((S,) int64) and the copies placed stretched to their hem's landmark."""
+
+    pmesh: PatternMesh
+    cloth: Cloth
+    names: tuple[str, ...]
+    seam_ids: np.ndarray
+    stretches: dict[str, LengthStretch]
+
+
+def _place_cloth(
+    character: Character,
+    pattern: Pattern,
+    pose: _Pose,
+    pmesh: PatternMesh,
+    colliders: _Colliders,
+    settings: DrapeSettings,
+    findings: Report,
+    rng: np.random.Generator,
+) -> _Placed:
+    """Place the pieces from the seam graph and build the cloth (a tiny jitter from ``rng`` breaks the symmetry)."""
+    from .drape import build_cloth
+    from .place import bounding_cylinders, place_garment
+    from .place.length import length_stretches, worn_lengths
+
+    body = pose.body
+    pmesh, placed = place_garment(character, body, pattern, pmesh, pose.parts, findings, scene=colliders.collider)
+    stretches = length_stretches(character, body, pattern, pmesh, bounding_cylinders(body, pose.parts))
     keys = [inst.key for inst in pmesh.instances]
     index = {k: i for i, k in enumerate(keys)}
     positions = [placed[k] + rng.normal(scale=1e-3, size=placed[k].shape) for k in keys]
@@ -163,7 +251,6 @@ def prepare(
         for inst in pmesh.instances
     ]
     seams = [(index[s.a.key], index[s.b.key], s.a_vertices, s.b_vertices) for s in pmesh.seams]
-    settings = DrapeSettings()
     cloth = build_cloth(positions, points2d, faces, seams, density_kg_cm2=settings.density_kg_cm2)
     stretches = {k: v for k, v in stretches.items() if v.stretched}
     for key, ls in stretches.items():  # worn pulled down to the landmark (see place.length)
@@ -178,28 +265,7 @@ def prepare(
         ]
         or [np.zeros(0, np.int64)]
     )
-    return Simulation(
-        character=character,
-        pattern=pattern,
-        strategy=strategy,
-        phases=plan_phases(strategy, posed=bool(rotvecs), steps=steps),
-        body=body,
-        parts=parts,
-        rotvecs=rotvecs,
-        pmesh=pmesh,
-        cloth=cloth,
-        collider=collider,
-        cloth_collider=cloth_collider,
-        proxies=proxies,
-        hands=hands,
-        names=tuple(keys),
-        seam_ids=seam_ids.astype(np.int64),
-        x_placed=cloth.x.copy(),
-        stretches=stretches,
-        findings=findings,
-        settings=settings,
-        t0=t0,
-    )
+    return _Placed(pmesh=pmesh, cloth=cloth, names=tuple(keys), seam_ids=seam_ids.astype(np.int64), stretches=stretches)
 
 
 def _dressing_pose(character: Character, strategy: Strategy, findings: Report) -> dict[str, np.ndarray]:
