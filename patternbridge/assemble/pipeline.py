@@ -39,6 +39,7 @@ if TYPE_CHECKING:
     from .place.length import LengthStretch
 
 __all__ = [
+    "SeamGapRow",
     "Simulation",
     "assemble",
     "clear_skin",
@@ -466,7 +467,21 @@ def hold_weights(sim: Simulation, pins: np.ndarray) -> np.ndarray | None:
     return w if w.any() else None
 
 
-def seam_gap_table(sim: Simulation) -> list[dict]:
+@dataclass(frozen=True, slots=True, kw_only=True)
+class SeamGapRow:
+    """One seam's gap now: the largest between its sewn pairs and their median (mm), and where the largest is.
+
+    at : the pair of cloth vertices ; position_cm : their midpoint (x, y, z), cm, rounded to 1 mm
+    """
+
+    seam: str
+    max_mm: float
+    median_mm: float
+    at: tuple[int, int]
+    position_cm: tuple[float, float, float]
+
+
+def seam_gap_table(sim: Simulation) -> tuple[SeamGapRow, ...]:
     """Per seam: the largest gap between its sewn pairs now (mm) and where it is (pair index, height cm)."""
     from .drape import seam_gaps
 
@@ -479,15 +494,15 @@ def seam_gap_table(sim: Simulation) -> list[dict]:
         j = sel[np.argmax(g[sel])]
         a, b = sim.cloth.seams[j]
         out.append(
-            {
-                "seam": sp.seam,
-                "max_mm": float(g[j] * 10.0),
-                "median_mm": float(np.median(g[sel]) * 10.0),
-                "at": (int(a), int(b)),
-                "position_cm": [round(float(v), 1) for v in 0.5 * (sim.cloth.x[a] + sim.cloth.x[b])],
-            }
+            SeamGapRow(
+                seam=sp.seam,
+                max_mm=float(g[j] * 10.0),
+                median_mm=float(np.median(g[sel]) * 10.0),
+                at=(int(a), int(b)),
+                position_cm=tuple(round(float(v), 1) for v in 0.5 * (sim.cloth.x[a] + sim.cloth.x[b])),
+            )
         )
-    return out
+    return tuple(out)
 
 
 WELDED_OPEN_MM = 5.0  # a seam the simulation left wider than this is listed in the report
@@ -507,7 +522,7 @@ def finish(sim: Simulation, limits: VerdictLimits | None = None) -> Garment:
 
     cloth, collider, settings, character = sim.cloth, sim.collider, sim.settings, sim.character
     gaps_before = seam_gaps(cloth.x, cloth.seams)
-    table = seam_gap_table(sim) if len(gaps_before) else []
+    table = seam_gap_table(sim) if len(gaps_before) else ()
 
     # weld the seams, then make sure nothing is left inside the skin
     weld = weld_groups(len(cloth.x), cloth.seams)
@@ -713,7 +728,7 @@ def _tightest_girth(sim: Simulation, x: np.ndarray) -> _Girth:
 
 def _measured(
     sim: Simulation,
-    table: list[dict],
+    table: tuple[SeamGapRow, ...],
     x: np.ndarray,
     grain: np.ndarray,
     surface: _Surface,
@@ -729,7 +744,7 @@ def _measured(
     over = {names[g]: int(c) for g, c in zip(*np.unique(strain.group[strain.beyond], return_counts=True), strict=True)}
     rises = hem_rise_cm(sim.pattern, sim.pmesh, x, sim.cloth.group, grain, sim.stretches)
     return Measured(
-        seam_gaps_mm={r["seam"]: r["max_mm"] for r in table},
+        seam_gaps_mm={r.seam: r.max_mm for r in table},
         seam_excess_cm=seam_excess_cm(sim.pattern, sim.pmesh),
         self_crossing={names[g]: int(c) for g, c in zip(folded_pieces, folded_counts, strict=True)},
         skin_depth_mm=surface.skin_depth_mm,
@@ -840,7 +855,7 @@ def _flagged(
 
 def _measure(
     sim: Simulation,
-    table: list[dict],
+    table: tuple[SeamGapRow, ...],
     x: np.ndarray,
     wx: np.ndarray,
     wf: np.ndarray,
