@@ -132,8 +132,8 @@ def main(argv: list[str] | None = None) -> int:
             c = sim.cloth
             g = seam_gaps(c.x, c.seams) * 10.0
             table = seam_gap_table(sim)
-            worst = max(table, key=lambda r: r["max_mm"]) if table else {"seam": "-", "max_mm": 0.0}
-            per_seam = np.array([r["max_mm"] for r in table])
+            worst = max(table, key=lambda r: r.max_mm) if table else None
+            per_seam = np.array([r.max_mm for r in table])
             stretch, _ = edge_stretch(c.x, c.edges, c.rest)
             inside = int(np.count_nonzero(sim.collider.inside(c.x)))
             n_self, n_skin = placed_crossings(sim)
@@ -144,7 +144,7 @@ def main(argv: list[str] | None = None) -> int:
                 f"{case:48s} {secs:6.1f} {sim.strategy.kind!s:8s} {g.max(initial=0):7.1f} "
                 f"{np.percentile(g, 95) if len(g) else 0:7.1f} {np.mean(per_seam <= 10):6.0%} "
                 f"{np.mean(per_seam <= 50):6.0%} {stretches[-1]:5.2f} {inside:4d} {n_self:5d} {n_skin:5d} "
-                f"{anchor:7.1f}  {worst['seam']} {worst['max_mm']:.0f}",
+                f"{anchor:7.1f}  {worst.seam if worst else '-'} {worst.max_mm if worst else 0.0:.0f}",
                 flush=True,
             )
             maxima.append(float(g.max(initial=0)))

@@ -269,18 +269,12 @@ def assert_patterns_equal(
     if out:
         shown = "\n  ".join(out[:40])
         more = f"\n  ... and {len(out) - 40} more" if len(out) > 40 else ""
-        raise AssertionError(
-            f"patterns differ in {len(out)} place(s):\n  {shown}{more}"
-        )
+        raise AssertionError(f"patterns differ in {len(out)} place(s):\n  {shown}{more}")
 
 
 def _bezier(a, c, b, n: int) -> np.ndarray:
     t = np.linspace(0.0, 1.0, n)[:, None]
-    return (
-        (1 - t) ** 2 * np.asarray(a, float)
-        + 2 * t * (1 - t) * np.asarray(c, float)
-        + t**2 * np.asarray(b, float)
-    )
+    return (1 - t) ** 2 * np.asarray(a, float) + 2 * t * (1 - t) * np.asarray(c, float) + t**2 * np.asarray(b, float)
 
 
 def example_pattern() -> Pattern:
@@ -293,16 +287,40 @@ def example_pattern() -> Pattern:
     line end on a graded vertex carries that vertex's rule (as in a DXF, where
     rule texts attach by position).
     """
-    from .pattern.grading import inward_angles
-    from .pattern.model import (
-        DrillHole,
-        EdgeRange,
-        Leg,
-        MeasurementLink,
-        Placement,
-        Quantity,
-        Seam,
+    from .pattern.model import EdgeRange, Leg, MeasurementLink, Seam
+
+    front, back, sleeve = _example_front(), _example_back(), _example_sleeve()
+    sizes = ("S", "M", "L", "XL")
+    return Pattern(
+        style="EXAMPLE TEE",
+        pieces=(front, back, sleeve),
+        sample_size="M",
+        sizes=sizes,
+        rules=GradeRuleTable(name="EXAMPLE", sizes=sizes, sample_size="M", deltas=_example_deltas((front, back))),
+        seams=(
+            Seam(
+                id="side",
+                a=EdgeRange(piece="FRONT", start="hem_side", end="underarm"),
+                b=EdgeRange(piece="BACK", start="hem_side", end="underarm"),
+            ),
+        ),
+        measurements=(
+            MeasurementLink(
+                measurement="hip_girth",
+                ease_cm=8.0,
+                legs=(
+                    Leg(piece="FRONT", start="hem_cf", end="hem_side", factor=2),
+                    Leg(piece="BACK", start="hem_cb", end="hem_side", factor=2),
+                ),
+            ),
+        ),
     )
+
+
+def _example_front() -> Piece:
+    """The example's front: curved armhole and neck, a slit and a V notch, a dart, sew line, drill hole, marks."""
+    from .pattern.grading import inward_angles
+    from .pattern.model import Placement, Quantity
 
     front_pts = np.vstack(
         [
@@ -318,7 +336,7 @@ def example_pattern() -> Pattern:
     kinds = ["turn" if i in turn else "curve" for i in range(n)]
     rules = [str(i + 1) if i in turn else None for i in range(n)]
     f_angles = inward_angles(front_pts, [2, 5])
-    front = Piece(
+    return Piece(
         name="FRONT",
         size="M",
         outline=front_pts,
@@ -335,16 +353,10 @@ def example_pattern() -> Pattern:
                 angle=float(f_angles[0]),
                 rule=rules[2],
             ),
-            Notch(
-                vertex=5, type="V", depth_cm=0.6, width_cm=0.4, angle=float(f_angles[1])
-            ),
+            Notch(vertex=5, type="V", depth_cm=0.6, width_cm=0.4, angle=float(f_angles[1])),
         ),
         grain_line=Line(points=[[10, 10], [10, 45]]),
-        internal_lines=(
-            Polyline(
-                points=[[6, 20], [9, 35], [12, 20]], kinds=["turn"] * 3, label="B"
-            ),
-        ),
+        internal_lines=(Polyline(points=[[6, 20], [9, 35], [12, 20]], kinds=["turn"] * 3, label="B"),),
         sew_lines=(Polyline(points=front_pts * 0.96 + 0.5, closed=True),),
         drill_holes=(DrillHole(position=[9, 33], diameter_cm=0.3, label="D"),),
         annotations=(Annotation(text="TEE FRONT", position=[4.0, 5.0], height_cm=1.0),),
@@ -363,8 +375,15 @@ def example_pattern() -> Pattern:
             anchor_mark="hem_side",
         ),
     )
+
+
+def _example_back() -> Piece:
+    """The example's back: cut on the fold, a T notch, graded turn points."""
+    from .pattern.grading import inward_angles
+    from .pattern.model import Quantity
+
     back_pts = np.array([[0, 0], [24, 0], [25, 40], [17, 60], [6, 62], [0, 61]], float)
-    back = Piece(
+    return Piece(
         name="BACK",
         size="M",
         outline=back_pts,
@@ -385,9 +404,15 @@ def example_pattern() -> Pattern:
         ),
         marks={"hem_cb": 0, "hem_side": 1, "underarm": 2},
     )
+
+
+def _example_sleeve() -> Piece:
+    """The example's sleeve: a cap curve and a cutout, ungraded."""
+    from .pattern.model import Quantity
+
     cap = _bezier([34, 35], [17, 62], [0, 35], 12)[1:-1]
     sleeve_pts = np.vstack([[[4, 0], [30, 0], [34, 35]], cap, [[0, 35]]])
-    sleeve = Piece(
+    return Piece(
         name="SLEEVE",
         size="M",
         outline=sleeve_pts,
@@ -402,40 +427,18 @@ def example_pattern() -> Pattern:
             ),
         ),
     )
-    sizes = ("S", "M", "L", "XL")
+
+
+def _example_deltas(pieces: Iterable[Piece]) -> dict[str, np.ndarray]:
+    """Rule -> (4, 2) deltas of sizes S to XL: 4 % of x and 2 % of y of the ruled vertex per size step."""
     steps = np.array([-1.0, 0.0, 1.0, 2.0])[:, None]
     deltas = {}
-    for piece in (front, back):
+    for piece in pieces:
         for i, rule in enumerate(piece.rules):
             if rule is not None:
                 v = piece.outline[i]
                 deltas[rule] = steps * np.array([0.04 * v[0], 0.02 * v[1]])
-    return Pattern(
-        style="EXAMPLE TEE",
-        pieces=(front, back, sleeve),
-        sample_size="M",
-        sizes=sizes,
-        rules=GradeRuleTable(
-            name="EXAMPLE", sizes=sizes, sample_size="M", deltas=deltas
-        ),
-        seams=(
-            Seam(
-                id="side",
-                a=EdgeRange(piece="FRONT", start="hem_side", end="underarm"),
-                b=EdgeRange(piece="BACK", start="hem_side", end="underarm"),
-            ),
-        ),
-        measurements=(
-            MeasurementLink(
-                measurement="hip_girth",
-                ease_cm=8.0,
-                legs=(
-                    Leg(piece="FRONT", start="hem_cf", end="hem_side", factor=2),
-                    Leg(piece="BACK", start="hem_cb", end="hem_side", factor=2),
-                ),
-            ),
-        ),
-    )
+    return deltas
 
 
 # the DXF/RUL writer stamps the wall-clock creation date and time

@@ -19,7 +19,16 @@ from ..errors import LandmarkError
 from ..mesh.character import Character
 from ..pattern.model import BodyPart
 
-__all__ = ["HAND_SHARE", "PARTS", "BodyParts", "crotch_height", "hand_masks", "limb_axis", "segment_body"]
+__all__ = [
+    "HAND_SHARE",
+    "PARTS",
+    "BodyParts",
+    "crotch_height",
+    "first_ancestor",
+    "hand_masks",
+    "limb_axis",
+    "segment_body",
+]
 
 log = logging.getLogger(__name__)
 
@@ -68,11 +77,11 @@ def _bone_parts(character: Character) -> np.ndarray:
             roots[find_bone(skel, role, side)] = _INDEX[part]
         except Exception:  # a rig without that bone: the part falls back to the torso
             continue
-    first = _first_ancestor(skel.parents, set(roots))
+    first = first_ancestor(skel.parents, set(roots))
     return np.array([roots.get(int(r), _INDEX[BodyPart.TORSO]) for r in first], dtype=np.int64)
 
 
-def _first_ancestor(parents: np.ndarray, roots: set[int]) -> np.ndarray:
+def first_ancestor(parents: np.ndarray, roots: set[int]) -> np.ndarray:
     """(B,) int64: for every bone the first of ``roots`` met walking up from it (itself included), else -1."""
     out = np.full(len(parents), -1, dtype=np.int64)
     for b in range(len(parents)):
@@ -203,7 +212,7 @@ def hand_masks(character: Character, vertices: np.ndarray, parts: BodyParts) -> 
             except Exception:  # no wrist bone: cut by the arm's length below
                 wrist = None
             if wrist is not None:
-                below = _first_ancestor(skel.parents, {wrist}) == wrist
+                below = first_ancestor(skel.parents, {wrist}) == wrist
                 idx = skin.bone_indices
                 w = np.where((idx >= 0) & below[np.maximum(idx, 0)], skin.weights, 0.0).sum(axis=1)
                 mask = arm & (w > 0.5)

@@ -216,29 +216,35 @@ def _on_sew_line(piece: Piece) -> Piece:
     return piece
 
 
-def mesh_pattern(pattern: Pattern, *, max_edge_cm: float = 2.0) -> PatternMesh:
-    """Triangulate every piece so that sewn boundaries have matching vertices.
+def _range(r, pieces: dict[str, Piece], arcs: dict[str, tuple[np.ndarray, float]]) -> tuple[float, float, float]:
+    """Start arc parameter, length and boundary length of the edge range ``r`` (an :class:`EdgeRange`)."""
+    s, total = arcs[r.piece]
+    p = pieces[r.piece]
+    s0, s1 = s[p.marks[r.start]], s[p.marks[r.end]]
+    length = float(np.mod(s1 - s0, total)) or total
+    return s0, length, total
 
-    Parameters
-    ----------
-    pattern : a pattern with seams (bridge data)
-    max_edge_cm : target edge length of the triangles, cm
 
-    Returns
-    -------
-    :class:`PatternMesh`
+@dataclass(frozen=True, slots=True, kw_only=True)
+class _Cuts:
+    """Every piece boundary cut at its corners and marks, the cuts carried across every seam.
 
-    Raises
-    ------
-    InputError
-        A seam names an unknown piece or mark, or a piece cannot be triangulated.
+    arcs : piece -> (arc parameter of each outline vertex (n,), boundary length cm)
+    breaks : piece -> its cuts (after carrying)
+    own : piece -> the piece's own cuts (marks, corners), before carrying
     """
-    import triangle
 
-    if max_edge_cm <= 0:
-        raise ValueError(f"max_edge_cm must be positive, got {max_edge_cm}")
-    _check_seams(pattern)
-    pieces = {p.name: _on_sew_line(p) for p in pattern.pieces}
+    pieces: dict[str, Piece]
+    arcs: dict[str, tuple[np.ndarray, float]]
+    breaks: dict[str, _Breaks]
+    own: dict[str, set[float]]
+
+    def range(self, r) -> tuple[float, float, float]:
+        return _range(r, self.pieces, self.arcs)
+
+
+def _cut_boundaries(pattern: Pattern, pieces: dict[str, Piece]) -> _Cuts:
+    """Cut every boundary at its corners and marks and carry the cuts across the seams until both sides match."""
     arcs = {n: _arc(p.outline) for n, p in pieces.items()}
     breaks = {n: _Breaks(arcs[n][1]) for n in pieces}
     for n, p in pieces.items():
@@ -247,22 +253,13 @@ def mesh_pattern(pattern: Pattern, *, max_edge_cm: float = 2.0) -> PatternMesh:
             breaks[n].add(s[v])
         if not breaks[n].values:
             breaks[n].add(0.0)
-    own = {n: set(breaks[n].values) for n in pieces}  # the pieces' own cuts (marks, corners), before carrying
-
-    def rng(r):
-        s, total = arcs[r.piece]
-        p = pieces[r.piece]
-        s0, s1 = s[p.marks[r.start]], s[p.marks[r.end]]
-        length = float(np.mod(s1 - s0, total)) or total
-        return s0, length, total
-
-    # carry the cuts across the seams until both sides are cut alike
+    own = {n: set(breaks[n].values) for n in pieces}
     for _ in range(20):
         changed = False
         for seam in pattern.seams:
             for x, y in ((seam.a, seam.b), (seam.b, seam.a)):
-                s0x, lx, tx = rng(x)
-                s0y, ly, _ = rng(y)
+                s0x, lx, tx = _range(x, pieces, arcs)
+                s0y, ly, _ = _range(y, pieces, arcs)
                 for t in list(breaks[x.piece].values):
                     f = np.mod(t - s0x, tx) / lx
                     if 1e-6 < f < 1 - 1e-6:
@@ -270,13 +267,44 @@ def mesh_pattern(pattern: Pattern, *, max_edge_cm: float = 2.0) -> PatternMesh:
                         changed |= breaks[y.piece].add(s0y + g * ly)
         if not changed:
             break
+    return _Cuts(pieces=pieces, arcs=arcs, breaks=breaks, own=own)
 
-    # segments and their vertex counts (one count per group of sewn segments)
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class _Segments:
+    """The boundary segments between the cuts and their vertex counts.
+
+    counts : (piece, segment) -> vertex count (one count per group of sewn segments)
+    seam_segments : per seam, the segments of its two sides (in each side's own order)
+    """
+
+    counts: dict[tuple[str, int], int]
+    seam_segments: tuple[tuple[list[int], list[int]], ...]
+
+
+def _range_segments(cuts: _Cuts, r) -> list[int]:
+    """The segments of the edge range ``r``, in boundary order."""
+    s0, length, _ = cuts.range(r)
+    br = cuts.breaks[r.piece]
+    j0 = br.index(s0)
+    j1 = br.index(s0 + length)
+    k = len(br.values)
+    out, j = [], j0
+    while True:
+        out.append(j)
+        j = (j + 1) % k
+        if j == j1:
+            break
+    return out
+
+
+def _segment_counts(pattern: Pattern, cuts: _Cuts, max_edge_cm: float) -> _Segments:
+    """Group the sewn segments and give each group one vertex count, from its longest segment."""
     seg_keys: dict[tuple[str, int], int] = {}
     seg_len: list[float] = []
-    for n in pieces:
-        b = breaks[n].values
-        total = breaks[n].total
+    for n in cuts.pieces:
+        b = cuts.breaks[n].values
+        total = cuts.breaks[n].total
         for j in range(len(b)):
             seg_keys[(n, j)] = len(seg_len)
             seg_len.append(float(np.mod(b[(j + 1) % len(b)] - b[j], total)) or total)
@@ -288,23 +316,9 @@ def mesh_pattern(pattern: Pattern, *, max_edge_cm: float = 2.0) -> PatternMesh:
             i = parent[i]
         return i
 
-    def range_segments(r) -> list[int]:
-        s0, length, _ = rng(r)
-        br = breaks[r.piece]
-        j0 = br.index(s0)
-        j1 = br.index(s0 + length)
-        k = len(br.values)
-        out, j = [], j0
-        while True:
-            out.append(j)
-            j = (j + 1) % k
-            if j == j1:
-                break
-        return out
-
     seam_segments = []
     for seam in pattern.seams:
-        sa, sb = range_segments(seam.a), range_segments(seam.b)
+        sa, sb = _range_segments(cuts, seam.a), _range_segments(cuts, seam.b)
         if len(sa) != len(sb):
             raise InputError(
                 f"{pattern.style}: seam {seam.id!r} sides could not be matched ({len(sa)} against {len(sb)} "
@@ -324,48 +338,64 @@ def mesh_pattern(pattern: Pattern, *, max_edge_cm: float = 2.0) -> PatternMesh:
         g: int(np.ceil(length / max_edge_cm - 1e-9)) if length >= _MIN_SEGMENT_SHARE * max_edge_cm else 0
         for g, length in longest.items()
     }
+    counts = {key: counts_group[find(i)] for key, i in seg_keys.items()}
+    return _Segments(counts=counts, seam_segments=tuple(seam_segments))
 
-    # resample boundaries and triangulate
-    meshes: dict[str, PieceMesh] = {}
-    seg_start: dict[tuple[str, int], int] = {}
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class _MeshedPiece:
+    """A triangulated piece and the boundary vertex index where each of its segments starts."""
+
+    mesh: PieceMesh
+    starts: tuple[int, ...]
+
+
+def _mesh_piece(style: str, n: str, cuts: _Cuts, segments: _Segments, max_edge_cm: float) -> _MeshedPiece:
+    """Resample the boundary of piece ``n`` at its segments' vertex counts and triangulate its interior."""
+    import triangle
+
+    p = cuts.pieces[n]
+    s, total = cuts.arcs[n]
+    b = cuts.breaks[n].values
+    counts = [segments.counts[(n, j)] for j in range(len(b))]
+    ts, starts = _boundary_params(b, total, counts, cuts.own[n])
+    boundary = _point_at(p.outline, s, ts, total)
+    m = len(boundary)
+    segs = np.stack([np.arange(m), (np.arange(m) + 1) % m], axis=1)
     area = 0.5 * np.sqrt(3.0) / 2.0 * max_edge_cm**2
-    for n, p in pieces.items():
-        s, total = arcs[n]
-        b = breaks[n].values
-        counts = [counts_group[find(seg_keys[(n, j)])] for j in range(len(b))]
-        ts, starts = _boundary_params(b, total, counts, own[n])
-        seg_start.update({(n, j): k for j, k in enumerate(starts)})
-        boundary = _point_at(p.outline, s, ts, total)
-        m = len(boundary)
-        segs = np.stack([np.arange(m), (np.arange(m) + 1) % m], axis=1)
-        try:
-            tri = triangle.triangulate({"vertices": boundary, "segments": segs}, f"pq28a{area:.6f}YQ")
-        except Exception as exc:  # triangle raises plain RuntimeError on bad input
-            raise InputError(
-                f"{pattern.style}: piece {n!r} could not be triangulated ({exc}); check that its outline is simple"
-            ) from exc
-        pts = np.asarray(tri["vertices"], dtype=np.float64)
-        faces = np.asarray(tri["triangles"], dtype=np.int64)
-        if len(pts) < m or not np.allclose(pts[:m], boundary):
-            raise InputError(
-                f"{pattern.style}: piece {n!r} boundary changed while meshing (self-touching outline?); "
-                "check that the outline is simple"
-            )
-        u, w = pts[faces[:, 1]] - pts[faces[:, 0]], pts[faces[:, 2]] - pts[faces[:, 0]]
-        a2 = u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0]
-        faces = np.where((a2 < 0)[:, None], faces[:, ::-1], faces)
-        marks = {name: seg_start[(n, breaks[n].index(s[v]))] for name, v in p.marks.items()}
-        meshes[n] = PieceMesh(name=n, points=pts, faces=faces, n_boundary=m, marks=marks)
+    try:
+        tri = triangle.triangulate({"vertices": boundary, "segments": segs}, f"pq28a{area:.6f}YQ")
+    except Exception as exc:  # triangle raises plain RuntimeError on bad input
+        raise InputError(
+            f"{style}: piece {n!r} could not be triangulated ({exc}); check that its outline is simple"
+        ) from exc
+    pts = np.asarray(tri["vertices"], dtype=np.float64)
+    faces = np.asarray(tri["triangles"], dtype=np.int64)
+    if len(pts) < m or not np.allclose(pts[:m], boundary):
+        raise InputError(
+            f"{style}: piece {n!r} boundary changed while meshing (self-touching outline?); "
+            "check that the outline is simple"
+        )
+    u, w = pts[faces[:, 1]] - pts[faces[:, 0]], pts[faces[:, 2]] - pts[faces[:, 0]]
+    a2 = u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0]
+    faces = np.where((a2 < 0)[:, None], faces[:, ::-1], faces)
+    marks = {name: starts[cuts.breaks[n].index(s[v])] for name, v in p.marks.items()}
+    mesh = PieceMesh(name=n, points=pts, faces=faces, n_boundary=m, marks=marks)
+    return _MeshedPiece(mesh=mesh, starts=tuple(starts))
+
+
+def _seam_pairs(pattern: Pattern, meshed: dict[str, _MeshedPiece], segments: _Segments) -> tuple[SeamPairs, ...]:
+    """The matched boundary vertices of every seam."""
 
     def range_vertices(r, segs: list[int]) -> np.ndarray:
         n = r.piece
-        m = meshes[n].n_boundary
-        first = seg_start[(n, segs[0])]
-        count = sum(counts_group[find(seg_keys[(n, j)])] for j in segs)
+        m = meshed[n].mesh.n_boundary
+        first = meshed[n].starts[segs[0]]
+        count = sum(segments.counts[(n, j)] for j in segs)
         return (first + np.arange(count + 1)) % m
 
     pairs = []
-    for seam, (sa, sb) in zip(pattern.seams, seam_segments, strict=True):
+    for seam, (sa, sb) in zip(pattern.seams, segments.seam_segments, strict=True):
         va = range_vertices(seam.a, sa)
         vb = range_vertices(seam.b, sb)
         if seam.reverse:
@@ -379,9 +409,35 @@ def mesh_pattern(pattern: Pattern, *, max_edge_cm: float = 2.0) -> PatternMesh:
                 b_vertices=vb,
             )
         )
+    return tuple(pairs)
+
+
+def mesh_pattern(pattern: Pattern, *, max_edge_cm: float = 2.0) -> PatternMesh:
+    """Triangulate every piece so that sewn boundaries have matching vertices.
+
+    Parameters
+    ----------
+    pattern : a pattern with seams (bridge data)
+    max_edge_cm : target edge length of the triangles, cm
+
+    Returns
+    -------
+    :class:`PatternMesh`
+
+    Raises
+    ------
+    InputError
+        A seam names an unknown piece or mark, or a piece cannot be triangulated.
+    """
+    if max_edge_cm <= 0:
+        raise ValueError(f"max_edge_cm must be positive, got {max_edge_cm}")
+    _check_seams(pattern)
+    cuts = _cut_boundaries(pattern, {p.name: _on_sew_line(p) for p in pattern.pieces})
+    segments = _segment_counts(pattern, cuts, max_edge_cm)
+    meshed = {n: _mesh_piece(pattern.style, n, cuts, segments, max_edge_cm) for n in cuts.pieces}
     return PatternMesh(
-        pieces=meshes,
+        pieces={n: mp.mesh for n, mp in meshed.items()},
         instances=_instances(pattern),
-        seams=tuple(pairs),
+        seams=_seam_pairs(pattern, meshed, segments),
         max_edge_cm=float(max_edge_cm),
     )

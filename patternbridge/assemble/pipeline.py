@@ -23,12 +23,11 @@ from ..errors import InputError
 from ..mesh.character import Character
 from ..pattern.model import BodyPart, Copy, Pattern, Side
 from ..report import Report
-from .drape_report import DrapeReport, SeamGap, Stretch
+from .drape_measure import measure_drape, skin_crossing
 from .garment import Garment
 from .phases import Phase
-from .pose import DRESS_ARM_DROP_DEG
 from .strategy import ARMS, LEGS, Strategy, choose_strategy
-from .verdict import Measured, VerdictLimits, edge_limits, judge, limits_for
+from .verdict import VerdictLimits, limits_for
 
 if TYPE_CHECKING:
     from .bodyparts import BodyParts
@@ -39,6 +38,7 @@ if TYPE_CHECKING:
     from .place.length import LengthStretch
 
 __all__ = [
+    "SeamGapRow",
     "Simulation",
     "assemble",
     "clear_skin",
@@ -113,20 +113,61 @@ def prepare(
     InputError
         See :func:`assemble`.
     """
-    from .bodyparts import crotch_height, hand_masks, segment_body
-    from .checks import check_pattern, limbs_touching
-    from .collision import BodyCollider, hand_mitts, thigh_fill
-    from .drape import DrapeSettings, build_cloth
+    from .checks import check_pattern
+    from .drape import DrapeSettings
     from .mesh2d import mesh_pattern
     from .phases import plan_phases
-    from .place import bounding_cylinders, place_garment
-    from .place.length import length_stretches, worn_lengths
 
     t0 = time.perf_counter()
     check_pattern(pattern)
     findings = Report()
     rng = np.random.default_rng(seed)
     strategy = choose_strategy(pattern)
+    pose = _pose_body(character, strategy, findings)
+    if progress:
+        progress("mesh", 0, 1)
+    pmesh = mesh_pattern(pattern, max_edge_cm=max_edge_cm)
+    colliders = _colliders(character, strategy, pose)
+    settings = DrapeSettings()
+    placed = _place_cloth(character, pattern, pose, pmesh, colliders, settings, findings, rng)
+    return Simulation(
+        character=character,
+        pattern=pattern,
+        strategy=strategy,
+        phases=plan_phases(strategy, posed=bool(pose.rotvecs), steps=steps),
+        body=pose.body,
+        parts=pose.parts,
+        rotvecs=pose.rotvecs,
+        pmesh=placed.pmesh,
+        cloth=placed.cloth,
+        collider=colliders.collider,
+        cloth_collider=colliders.cloth_collider,
+        proxies=colliders.proxies,
+        hands=colliders.hands,
+        names=placed.names,
+        seam_ids=placed.seam_ids,
+        x_placed=placed.cloth.x.copy(),
+        stretches=placed.stretches,
+        findings=findings,
+        settings=settings,
+        t0=t0,
+    )
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class _Pose:
+    """The body dressed: bone -> rotation vector (empty: the rest pose), (V, 3) vertices in that pose, its parts."""
+
+    rotvecs: dict[str, np.ndarray]
+    body: np.ndarray
+    parts: BodyParts
+
+
+def _pose_body(character: Character, strategy: Strategy, findings: Report) -> _Pose:
+    """The body in the dressing pose the strategy asks for, segmented into parts (limbs touching go to ``findings``)."""
+    from .bodyparts import segment_body
+    from .checks import limbs_touching
+
     rotvecs = _dressing_pose(character, strategy, findings)
     if rotvecs:
         from ..mesh.skinning import pose_vertices
@@ -139,21 +180,68 @@ def prepare(
     limbs_touching(body, parts, findings, character.name)
     for f in findings:
         log.warning("%s", f)
-    if progress:
-        progress("mesh", 0, 1)
-    pmesh = mesh_pattern(pattern, max_edge_cm=max_edge_cm)
+    return _Pose(rotvecs=rotvecs, body=body, parts=parts)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class _Colliders:
+    """The body's collider, the one the cloth meets (with the helper volumes) and those volumes."""
+
+    collider: BodyCollider
+    cloth_collider: BodyCollider
+    proxies: tuple[tuple[np.ndarray, np.ndarray], ...]
+    hands: list[np.ndarray]
+
+
+def _colliders(character: Character, strategy: Strategy, pose: _Pose) -> _Colliders:
+    """The colliders of the posed body: the space between the thighs filled, mitts on the raised hands."""
+    from .bodyparts import crotch_height, hand_masks
+    from .collision import BodyCollider, hand_mitts, thigh_fill
+
+    body, parts = pose.body, pose.parts
     collider = BodyCollider(body, character.faces)
     proxies: tuple = ()
     hands: list = []
     if strategy.fill_between_thighs:
         legs = parts.mask(BodyPart.LEFT_LEG) | parts.mask(BodyPart.RIGHT_LEG)
         proxies = thigh_fill(body, legs, crotch_height(character, body, parts))
-    if rotvecs:
+    if pose.rotvecs:
         hands = hand_masks(character, body, parts)
     helpers = proxies + hand_mitts(body, hands)
     cloth_collider = BodyCollider(body, character.faces, proxies=helpers) if helpers else collider
-    pmesh, placed = place_garment(character, body, pattern, pmesh, parts, findings, scene=collider)
-    stretches = length_stretches(character, body, pattern, pmesh, bounding_cylinders(body, parts))
+    return _Colliders(collider=collider, cloth_collider=cloth_collider, proxies=proxies, hands=hands)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class _Placed:
+    """The placed cloth: the pattern mesh as placed, the cloth, its instance names, the seam of every sewn pair
+    ((S,) int64) and the copies placed stretched to their hem's landmark."""
+
+    pmesh: PatternMesh
+    cloth: Cloth
+    names: tuple[str, ...]
+    seam_ids: np.ndarray
+    stretches: dict[str, LengthStretch]
+
+
+def _place_cloth(
+    character: Character,
+    pattern: Pattern,
+    pose: _Pose,
+    pmesh: PatternMesh,
+    colliders: _Colliders,
+    settings: DrapeSettings,
+    findings: Report,
+    rng: np.random.Generator,
+) -> _Placed:
+    """Place the pieces from the seam graph and build the cloth (a tiny jitter from ``rng`` breaks the symmetry)."""
+    from .drape import build_cloth
+    from .place import bounding_cylinders, place_garment
+    from .place.length import length_stretches, worn_lengths
+
+    body = pose.body
+    pmesh, placed = place_garment(character, body, pattern, pmesh, pose.parts, findings, scene=colliders.collider)
+    stretches = length_stretches(character, body, pattern, pmesh, bounding_cylinders(body, pose.parts))
     keys = [inst.key for inst in pmesh.instances]
     index = {k: i for i, k in enumerate(keys)}
     positions = [placed[k] + rng.normal(scale=1e-3, size=placed[k].shape) for k in keys]
@@ -163,7 +251,6 @@ def prepare(
         for inst in pmesh.instances
     ]
     seams = [(index[s.a.key], index[s.b.key], s.a_vertices, s.b_vertices) for s in pmesh.seams]
-    settings = DrapeSettings()
     cloth = build_cloth(positions, points2d, faces, seams, density_kg_cm2=settings.density_kg_cm2)
     stretches = {k: v for k, v in stretches.items() if v.stretched}
     for key, ls in stretches.items():  # worn pulled down to the landmark (see place.length)
@@ -178,28 +265,7 @@ def prepare(
         ]
         or [np.zeros(0, np.int64)]
     )
-    return Simulation(
-        character=character,
-        pattern=pattern,
-        strategy=strategy,
-        phases=plan_phases(strategy, posed=bool(rotvecs), steps=steps),
-        body=body,
-        parts=parts,
-        rotvecs=rotvecs,
-        pmesh=pmesh,
-        cloth=cloth,
-        collider=collider,
-        cloth_collider=cloth_collider,
-        proxies=proxies,
-        hands=hands,
-        names=tuple(keys),
-        seam_ids=seam_ids.astype(np.int64),
-        x_placed=cloth.x.copy(),
-        stretches=stretches,
-        findings=findings,
-        settings=settings,
-        t0=t0,
-    )
+    return _Placed(pmesh=pmesh, cloth=cloth, names=tuple(keys), seam_ids=seam_ids.astype(np.int64), stretches=stretches)
 
 
 def _dressing_pose(character: Character, strategy: Strategy, findings: Report) -> dict[str, np.ndarray]:
@@ -256,11 +322,6 @@ def sewing_inertia(sim: Simulation, arms: float) -> np.ndarray:
 
     on_arm = [i for i, inst in enumerate(sim.pmesh.instances) if instance_part(sim.pattern, inst) in ARMS]
     return np.where(np.isin(sim.cloth.group, on_arm), float(arms), 1.0)
-
-
-def _pose_name() -> str:
-    lowered = f"arms {DRESS_ARM_DROP_DEG:g} degrees below horizontal" if DRESS_ARM_DROP_DEG else "T-pose"
-    return f"{lowered}, then back to rest"
 
 
 def limb_end_seams(pattern: Pattern, pmesh) -> np.ndarray:
@@ -400,7 +461,21 @@ def hold_weights(sim: Simulation, pins: np.ndarray) -> np.ndarray | None:
     return w if w.any() else None
 
 
-def seam_gap_table(sim: Simulation) -> list[dict]:
+@dataclass(frozen=True, slots=True, kw_only=True)
+class SeamGapRow:
+    """One seam's gap now: the largest between its sewn pairs and their median (mm), and where the largest is.
+
+    at : the pair of cloth vertices ; position_cm : their midpoint (x, y, z), cm, rounded to 1 mm
+    """
+
+    seam: str
+    max_mm: float
+    median_mm: float
+    at: tuple[int, int]
+    position_cm: tuple[float, float, float]
+
+
+def seam_gap_table(sim: Simulation) -> tuple[SeamGapRow, ...]:
     """Per seam: the largest gap between its sewn pairs now (mm) and where it is (pair index, height cm)."""
     from .drape import seam_gaps
 
@@ -413,18 +488,15 @@ def seam_gap_table(sim: Simulation) -> list[dict]:
         j = sel[np.argmax(g[sel])]
         a, b = sim.cloth.seams[j]
         out.append(
-            {
-                "seam": sp.seam,
-                "max_mm": float(g[j] * 10.0),
-                "median_mm": float(np.median(g[sel]) * 10.0),
-                "at": (int(a), int(b)),
-                "position_cm": [round(float(v), 1) for v in 0.5 * (sim.cloth.x[a] + sim.cloth.x[b])],
-            }
+            SeamGapRow(
+                seam=sp.seam,
+                max_mm=float(g[j] * 10.0),
+                median_mm=float(np.median(g[sel]) * 10.0),
+                at=(int(a), int(b)),
+                position_cm=tuple(round(float(v), 1) for v in 0.5 * (sim.cloth.x[a] + sim.cloth.x[b])),
+            )
         )
-    return out
-
-
-WELDED_OPEN_MM = 5.0  # a seam the simulation left wider than this is listed in the report
+    return tuple(out)
 
 
 def finish(sim: Simulation, limits: VerdictLimits | None = None) -> Garment:
@@ -441,7 +513,7 @@ def finish(sim: Simulation, limits: VerdictLimits | None = None) -> Garment:
 
     cloth, collider, settings, character = sim.cloth, sim.collider, sim.settings, sim.character
     gaps_before = seam_gaps(cloth.x, cloth.seams)
-    table = seam_gap_table(sim) if len(gaps_before) else []
+    table = seam_gap_table(sim) if len(gaps_before) else ()
 
     # weld the seams, then make sure nothing is left inside the skin
     weld = weld_groups(len(cloth.x), cloth.seams)
@@ -461,7 +533,7 @@ def finish(sim: Simulation, limits: VerdictLimits | None = None) -> Garment:
     else:
         joints = np.zeros((len(x), 0), np.int64)
         weights = np.zeros((len(x), 0))
-    report, flagged = _measure(sim, table, x, wx, wf, inside, limits or limits_for(sim.pattern.fabric_class))
+    report, flagged = measure_drape(sim, table, x, wx, wf, inside, limits or limits_for(sim.pattern.fabric_class))
     return Garment(
         vertices=x,
         faces=cloth.faces,
@@ -543,151 +615,14 @@ def _keep_layers(collider, x: np.ndarray, y: np.ndarray, wf: np.ndarray, gap_cm:
         if np.count_nonzero(crossed) < fewest:
             best, fewest = z.copy(), np.count_nonzero(crossed)
     z = best.copy()
-    allowed = int(np.count_nonzero(_crossing(collider, y, wf)))
+    allowed = int(np.count_nonzero(skin_crossing(collider, y, wf)))
     for ref in (z0, y):  # through the skin: the carried move back, else the plain one
-        skin = _crossing(collider, z, wf)
+        skin = skin_crossing(collider, z, wf)
         if np.count_nonzero(skin) <= allowed:
             break
         corners = np.unique(wf[skin])
         z[corners] = ref[corners]
-    return z if np.count_nonzero(_crossing(collider, z, wf)) <= allowed else y
-
-
-def _measure(
-    sim: Simulation,
-    table: list[dict],
-    x: np.ndarray,
-    wx: np.ndarray,
-    wf: np.ndarray,
-    inside: np.ndarray,
-    limits: VerdictLimits,
-) -> tuple[DrapeReport, np.ndarray]:
-    """The drape report of the finished garment and the (F,) faces to mark red in the pictures."""
-    from .defects import (
-        anchor_levels_cm,
-        edge_stretch,
-        faces_touching,
-        girth_strain,
-        grain_directions,
-        hem_rise_cm,
-        seam_excess_cm,
-    )
-    from .drape import seam_gaps, weld_groups
-    from .selfcross import self_crossing
-    from .skin_check import skin_check
-
-    cloth, names = sim.cloth, sim.names
-    face_piece = cloth.group[cloth.faces[:, 0]]
-    crossing = _crossing(sim.collider, wx, wf)
-    folded = self_crossing(wx, wf)  # the whole garment: a piece through another piece counts too
-    folded_pieces, folded_counts = np.unique(face_piece[folded], return_counts=True)
-    body = np.asarray(sim.character.vertices, dtype=np.float64)
-    skin = skin_check(body, sim.character.faces, wx, wf)
-    skin_bad = skin.inside(0.1 * limits.skin_depth_flawed_mm)
-    ratio, measured = edge_stretch(x, cloth.edges, cloth.rest)
-    egroup = cloth.group[cloth.edges[measured, 0]]
-    grain = grain_directions(sim.pattern, sim.pmesh)
-    fabrics = tuple(
-        sim.pattern.piece(inst.piece).fabric_class or sim.pattern.fabric_class for inst in sim.pmesh.instances
-    )
-    e = cloth.edges[measured]
-    worn_limit, torn_limit = edge_limits(limits, fabrics, egroup, grain, cloth.uv[e[:, 1]] - cloth.uv[e[:, 0]])
-    beyond, torn = ratio > worn_limit, ratio > torn_limit
-    per = {n: float(np.percentile(ratio[egroup == i], 95)) for i, n in enumerate(names) if np.any(egroup == i)}
-    over = {names[g]: int(c) for g, c in zip(*np.unique(egroup[beyond], return_counts=True), strict=True)}
-    gaps = {r["seam"]: r["max_mm"] for r in table}
-    levels = anchor_levels_cm(sim.character, body, sim.pattern, sim.pmesh, x, cloth.group)
-    rises = {
-        k: max(0.0, r) for k, r in hem_rise_cm(sim.pattern, sim.pmesh, x, cloth.group, grain, sim.stretches).items()
-    }
-    heights, girths, girth_faces = girth_strain(
-        x, cloth.uv, cloth.faces, weld_groups(len(x), cloth.seams), skin_offset_cm=sim.settings.offset_cm
-    )
-    tight = int(np.argmax(girths)) if len(girths) else -1
-    measured_defects = Measured(
-        seam_gaps_mm=gaps,
-        seam_excess_cm=seam_excess_cm(sim.pattern, sim.pmesh),
-        self_crossing={names[g]: int(c) for g, c in zip(folded_pieces, folded_counts, strict=True)},
-        skin_depth_mm=float(10.0 * skin.depth_cm.max(initial=0.0)),
-        skin_share=float(np.mean(skin_bad)) if len(skin_bad) else 0.0,
-        skin_pieces=tuple(sorted({names[g] for g in face_piece[skin_bad]})),
-        stretch_share=float(np.mean(beyond)) if len(ratio) else 0.0,
-        torn_share=float(np.mean(torn)) if len(ratio) else 0.0,
-        stretch_pieces=tuple(sorted(over, key=lambda k: -over[k])),
-        levels_cm=levels,
-        hem_rise_cm=rises,
-        girth_strain=float(girths[tight]) if tight >= 0 else 1.0,
-        girth_height_cm=float(heights[tight]) if tight >= 0 else 0.0,
-        girth_pieces=tuple(sorted({names[g] for g in face_piece[girth_faces[tight]]})) if tight >= 0 else (),
-    )
-    verdict, reasons = judge(measured_defects, limits)
-    by_gap = sorted((SeamGap(seam=s, max_mm=g) for s, g in gaps.items()), key=lambda g: -g.max_mm)
-    report = DrapeReport(
-        verdict=verdict,
-        reasons=reasons,
-        penetrating_vertices=int(np.count_nonzero(inside)),
-        crossing_triangles=int(np.count_nonzero(crossing)),
-        crossing_pieces=tuple(sorted({names[g] for g in face_piece[crossing]})),
-        skin_depth_mm=measured_defects.skin_depth_mm,
-        skin_triangles=int(np.count_nonzero(skin_bad)),
-        self_crossing_triangles=int(np.count_nonzero(folded)),
-        self_crossing_pieces=measured_defects.self_crossing,
-        max_seam_gap_mm=float(seam_gaps(x, cloth.seams).max(initial=0.0) * 10.0),
-        max_seam_gap_before_weld_mm=by_gap[0].max_mm if by_gap else 0.0,
-        worst_seam_before_weld=by_gap[0].seam if by_gap else "",
-        seam_gaps_before_weld=tuple(by_gap),
-        seams_open_before_weld=tuple(g for g in by_gap if g.max_mm > WELDED_OPEN_MM),
-        levels_cm=levels,
-        hem_rise_cm=rises,
-        girth_strain=measured_defects.girth_strain,
-        girth_height_cm=measured_defects.girth_height_cm,
-        stretch=Stretch(
-            percentiles={f"p{q}": float(np.percentile(ratio, q)) for q in (1, 5, 50, 95, 99)},
-            max=float(ratio.max()),
-            worst_pieces=tuple(sorted(per.items(), key=lambda kv: -kv[1])[:3]),
-            beyond_limit_share=measured_defects.stretch_share,
-            short_edges=int(np.count_nonzero(~measured)),
-        ),
-        seconds=round(time.perf_counter() - sim.t0, 2),
-        vertices=len(wx),
-        triangles=len(cloth.faces),
-        pieces=names,
-        pose=_pose_name() if sim.posed else "rest",
-        max_placement_move_cm=float(np.linalg.norm(x - sim.x_placed, axis=1).max()),
-        unchecked=tuple(
-            f"level of {inst.key}: no landmark {sim.pattern.piece(inst.piece).placement.anchor!r} "
-            "(or its mirror) on the character"
-            for inst in sim.pmesh.instances
-            if inst.key not in levels
-        ),
-        warnings=tuple(str(f) for f in sim.findings),
-        limits=limits,
-        fabric_why=sim.pattern.fabric_why,
-        piece_fabrics={
-            p.name: p.fabric_class for p in sim.pattern.pieces if p.fabric_class not in (None, limits.fabric)
-        },
-    )
-    # the pictures mark in red what the verdict names: open seams, the cloth
-    # through itself or the skin, cloth stretched beyond tearing
-    g = seam_gaps(cloth.x, cloth.seams) if len(cloth.seams) else np.zeros(0)
-    open_pairs = cloth.seams[g * 10.0 > limits.seam_gap_flawed_mm]
-    flagged = (
-        folded
-        | crossing
-        | skin_bad
-        | faces_touching(cloth.faces, open_pairs, len(cloth.x))
-        | faces_touching(cloth.faces, e[torn], len(cloth.x))
-    )
-    if measured_defects.girth_strain > limits.girth_failed:
-        flagged |= girth_faces[tight]  # the girth the garment does not close round
-    return report, flagged
-
-
-def _crossing(collider, x: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    """(F,) bool: garment triangles crossing the skin either way (an edge through the body, the skin through them)."""
-    crossing = collider.crossing_triangles(x, faces)
-    crossing[collider.skin_through(x, faces)[0]] = True
-    return crossing
+    return z if np.count_nonzero(skin_crossing(collider, z, wf)) <= allowed else y
 
 
 def with_anchor_landmarks(character: Character, pattern: Pattern) -> tuple[Character, list[str]]:

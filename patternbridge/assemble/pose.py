@@ -70,14 +70,11 @@ def _rotvec(r: np.ndarray) -> np.ndarray:
 
 def moved_bones(character: Character, rotvecs: dict[str, np.ndarray]) -> np.ndarray:
     """(B,) bool: the bones a pose of ``rotvecs`` moves (those it turns and every bone below them)."""
+    from .bodyparts import first_ancestor
+
     skel = character.skeleton
-    moved = np.array([name in rotvecs for name in skel.names], dtype=bool)
-    for _ in range(len(skel.names)):  # down the hierarchy, one generation per round
-        grown = moved | ((skel.parents >= 0) & moved[np.maximum(skel.parents, 0)])
-        if np.array_equal(grown, moved):
-            break
-        moved = grown
-    return moved
+    turned = {i for i, name in enumerate(skel.names) if name in rotvecs}
+    return first_ancestor(skel.parents, turned) >= 0
 
 
 def rotations(rotvecs: dict[str, np.ndarray], share: float) -> dict[str, np.ndarray]:

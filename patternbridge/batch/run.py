@@ -137,15 +137,38 @@ def run_batch(
     -------
     BatchResult
     """
-    from .html import write_index
-
     t0 = time.perf_counter()
     options = options or FitOptions()
     out = Path(out_dir)
     cases = make_cases(list(characters), list(garments))
     out.mkdir(parents=True, exist_ok=True)
     kept, todo = plan(cases, out, retry_failed=retry_failed)
-    inputs = BatchInputs(
+    inputs = _batch_inputs(cases, client, seed=seed, options=options)
+    results: dict[str, CaseOutcome] = {o.case.key: o for o in kept}
+    for n, outcome in enumerate(kept, 1):
+        if case_progress is not None:
+            case_progress(outcome, n, len(cases))
+    _save(out, inputs, [results[c.key] for c in cases if c.key in results], t0)
+    work = {
+        spec: garment_work(spec, deformation=options.deformation)
+        for spec in dict.fromkeys(c.garment_spec for c in todo)
+    }
+    unsubscribe = _subscribe(client, stage_progress)
+    try:
+        for outcome in dispatch(client, todo, out, seed=seed, options=options, work=work):
+            _record(outcome, out)
+            results[outcome.case.key] = outcome
+            if case_progress is not None:
+                case_progress(outcome, len(results), len(cases))
+            _save(out, inputs, [results[c.key] for c in cases if c.key in results], t0)
+    finally:
+        unsubscribe()
+    return BatchResult(outcomes=tuple(results[c.key] for c in cases), seconds=time.perf_counter() - t0, out_dir=out)
+
+
+def _batch_inputs(cases: Sequence[Case], client, *, seed: int, options: FitOptions) -> BatchInputs:
+    """What the batch was run on: its characters and garments, seed, options and cluster."""
+    return BatchInputs(
         characters={c.character: c.character_path for c in cases},
         garments={c.garment: c.garment_spec for c in cases},
         seed=seed,
@@ -154,33 +177,20 @@ def run_batch(
         dashboard=str(client.dashboard_link or ""),
         n_workers=len(client.scheduler_info().get("workers", {})),
     )
-    results: dict[str, CaseOutcome] = {o.case.key: o for o in kept}
 
-    def save() -> None:
-        ordered = [results[c.key] for c in cases if c.key in results]
-        manifest = manifest_dict(inputs, ordered, seconds=time.perf_counter() - t0)
-        write_manifest(out, manifest)
-        write_index(out, manifest)
 
-    for n, outcome in enumerate(kept, 1):
-        if case_progress is not None:
-            case_progress(outcome, n, len(cases))
-    save()
-    work = {
-        spec: garment_work(spec, deformation=options.deformation)
-        for spec in dict.fromkeys(c.garment_spec for c in todo)
-    }
-    unsubscribe = _subscribe(client, stage_progress)
-    try:
-        for outcome in dispatch(client, todo, out, seed=seed, options=options, work=work):
-            if outcome.status is CaseStatus.DONE:
-                clear_failure(outcome.case, out)
-            elif outcome.status is CaseStatus.FAILED:
-                write_failure(outcome, out)
-            results[outcome.case.key] = outcome
-            if case_progress is not None:
-                case_progress(outcome, len(results), len(cases))
-            save()
-    finally:
-        unsubscribe()
-    return BatchResult(outcomes=tuple(results[c.key] for c in cases), seconds=time.perf_counter() - t0, out_dir=out)
+def _save(out: Path, inputs: BatchInputs, outcomes: Sequence[CaseOutcome], t0: float) -> None:
+    """Rewrite ``OUT/batch.json`` and ``OUT/index.html`` with the outcomes so far (in case order)."""
+    from .html import write_index
+
+    manifest = manifest_dict(inputs, outcomes, seconds=time.perf_counter() - t0)
+    write_manifest(out, manifest)
+    write_index(out, manifest)
+
+
+def _record(outcome: CaseOutcome, out: Path) -> None:
+    """A finished case clears an earlier run's failure record; a failed one writes its own."""
+    if outcome.status is CaseStatus.DONE:
+        clear_failure(outcome.case, out)
+    elif outcome.status is CaseStatus.FAILED:
+        write_failure(outcome, out)

@@ -12,6 +12,7 @@ the band at the opening's joints).
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -19,11 +20,11 @@ import numpy as np
 from ..library.seams import sew_line
 from ..library.sidecar import SIDECAR_FORMAT
 from ..pattern.json import measurement_link_to_dict
-from ..pattern.model import Pattern, Role
+from ..pattern.model import MeasurementLink, Pattern, Piece, Role
 from .alternatives import copies_cut
 from .band_spans import split_bands
-from .fabric import infer_fabric, pullover_neck_cm
-from .landmarks import piece_landmarks, worn_side
+from .fabric import FabricInference, infer_fabric, pullover_neck_cm
+from .landmarks import PieceLandmarks, piece_landmarks, worn_side
 from .links import measurement_links
 from .model import BridgeInference, Join, Trim, is_band
 from .size_chart import choose_chart
@@ -177,6 +178,89 @@ def _trim_dict(t: Trim) -> dict[str, str]:
     }
 
 
+@dataclass(frozen=True, slots=True, kw_only=True)
+class _PieceExtras:
+    """What a piece's sidecar entry writes beside its role and turn.
+
+    marks : piece -> outline vertices that carry a ``v<vertex>`` mark (seam ends, trims, links, folds)
+    inserted : piece -> the marks that are new vertices (a band's joints between two of its vertices)
+    found : piece -> its named marks on body landmarks and its placement
+    trims : piece -> the band applied flat on it
+    worn : band -> the copies the garment wears (those cut more often than sewn)
+    bound : bindings sewn to other pieces (worn folded, half their width)
+    fabric : the garment's fabric inference (the pieces whose own words name another class)
+    """
+
+    marks: dict[str, set[int]]
+    inserted: dict[str, set[int]]
+    found: dict[str, PieceLandmarks]
+    trims: dict[str, Trim]
+    worn: dict[str, list[str]]
+    bound: set[str]
+    fabric: FabricInference
+
+
+def _seam_end_marks(
+    pattern: Pattern, inference: BridgeInference, trims: dict[str, Trim], links: list[MeasurementLink]
+) -> dict[str, set[int]]:
+    """Piece -> the outline vertices marked: every join's and trim's ends, every link leg's ends, every fold."""
+    marks: dict[str, set[int]] = {p.name: set() for p in pattern.pieces}
+    for j in inference.joins:
+        for side in (j.a, j.b):
+            marks[side.piece] |= {side.start, side.end}
+    for t in trims.values():
+        marks[t.piece] |= {t.start, t.start_across, t.end, t.end_across}
+    for link in links:
+        for leg in link.legs:
+            marks[leg.piece] |= {int(leg.start[1:]), int(leg.end[1:])}
+    for p in pattern.pieces:
+        fold = inference.orientations[p.name].fold
+        if fold is not None:
+            marks[p.name] |= set(fold)
+    return marks
+
+
+def _piece_entry(p: Piece, inference: BridgeInference, extras: _PieceExtras) -> dict[str, Any]:
+    """The sidecar entry of piece ``p``: role, turn, marks, landmarks, placement and what it is worn as."""
+    o = inference.orientations[p.name]
+    guess = inference.roles[p.name]
+    found, inserted = extras.found[p.name], extras.inserted.get(p.name, ())
+    return {
+        "name": p.name,
+        "n_vertices": p.n_vertices,
+        "role": guess.role.value,
+        "role_confidence": guess.confidence,
+        "role_why": guess.why,
+        "orientation": {
+            "turn_deg": round(o.turn_deg, 3),
+            "offset_cm": [round(float(v), 4) for v in o.offset],
+            "fold": None if o.fold is None else [f"v{o.fold[0]}", f"v{o.fold[1]}"],
+            "centre_on_right": o.centre_on_right,
+            "whole": o.whole,
+            "confidence": round(o.confidence, 2),
+        },
+        "marks": {
+            **{
+                f"v{i}": {
+                    "vertex": i,
+                    "xy": [round(float(v), 4) for v in p.outline[i]],
+                    **({"insert": True} if i in inserted else {}),
+                }
+                for i in sorted(extras.marks[p.name])
+            },
+            **{
+                name: {"vertex": i, "xy": [round(float(v), 4) for v in p.outline[i]]} for name, i in found.marks.items()
+            },
+        },
+        "landmarks": dict(found.landmarks),
+        "placement": found.placement,
+        **({"trim": _trim_dict(extras.trims[p.name])} if p.name in extras.trims else {}),
+        **({"worn_copies": extras.worn[p.name]} if p.name in extras.worn else {}),
+        **({"worn_width_share": BINDING_FOLD} if p.name in extras.bound else {}),
+        **({"fabric_class": str(extras.fabric.pieces[p.name])} if p.name in extras.fabric.pieces else {}),
+    }
+
+
 def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str, Any]:
     """The sidecar dict of ``inference`` for ``pattern`` (JSON-ready).
 
@@ -187,67 +271,22 @@ def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str,
     """
     neck = pullover_neck_cm(pattern, inference)  # before the bands become ordinary seams
     pattern, inference, inserted = split_bands(pattern, inference)
-    marks: dict[str, set[int]] = {p.name: set() for p in pattern.pieces}
-    for j in inference.joins:
-        for side in (j.a, j.b):
-            marks[side.piece] |= {side.start, side.end}
     trims = {t.piece: t for t in inference.trims}
-    for t in trims.values():
-        marks[t.piece] |= {t.start, t.start_across, t.end, t.end_across}
     chart = choose_chart(pattern.sizes, pattern.sample_size)
     links = measurement_links(pattern, inference, chart)
-    for link in links:
-        for leg in link.legs:
-            marks[leg.piece] |= {int(leg.start[1:]), int(leg.end[1:])}
     found = piece_landmarks(pattern, inference)
     seams = _with_twins(pattern, inference, [_seam(pattern, inference, j) for j in inference.joins])
-    worn = _worn_copies(pattern, inference, seams)
     sewn_to_others = {e["piece"] for s in seams if s["a"]["piece"] != s["b"]["piece"] for e in (s["a"], s["b"])}
-    bound = {n for n in sewn_to_others if inference.roles[n].role in (Role.NECK_BINDING, Role.ARMHOLE_BINDING)}
     fabric = infer_fabric(pattern, inference.roles, inference.chosen, links, chart.body_cm, neck_cm=neck)
-    pieces = []
-    for p in pattern.pieces:
-        o = inference.orientations[p.name]
-        if o.fold is not None:
-            marks[p.name] |= set(o.fold)
-        guess = inference.roles[p.name]
-        pieces.append(
-            {
-                "name": p.name,
-                "n_vertices": p.n_vertices,
-                "role": guess.role.value,
-                "role_confidence": guess.confidence,
-                "role_why": guess.why,
-                "orientation": {
-                    "turn_deg": round(o.turn_deg, 3),
-                    "offset_cm": [round(float(v), 4) for v in o.offset],
-                    "fold": None if o.fold is None else [f"v{o.fold[0]}", f"v{o.fold[1]}"],
-                    "centre_on_right": o.centre_on_right,
-                    "whole": o.whole,
-                    "confidence": round(o.confidence, 2),
-                },
-                "marks": {
-                    **{
-                        f"v{i}": {
-                            "vertex": i,
-                            "xy": [round(float(v), 4) for v in p.outline[i]],
-                            **({"insert": True} if i in inserted.get(p.name, ()) else {}),
-                        }
-                        for i in sorted(marks[p.name])
-                    },
-                    **{
-                        name: {"vertex": i, "xy": [round(float(v), 4) for v in p.outline[i]]}
-                        for name, i in found[p.name].marks.items()
-                    },
-                },
-                "landmarks": dict(found[p.name].landmarks),
-                "placement": found[p.name].placement,
-                **({"trim": _trim_dict(trims[p.name])} if p.name in trims else {}),
-                **({"worn_copies": worn[p.name]} if p.name in worn else {}),
-                **({"worn_width_share": BINDING_FOLD} if p.name in bound else {}),
-                **({"fabric_class": str(fabric.pieces[p.name])} if p.name in fabric.pieces else {}),
-            }
-        )
+    extras = _PieceExtras(
+        marks=_seam_end_marks(pattern, inference, trims, links),
+        inserted=inserted,
+        found=found,
+        trims=trims,
+        worn=_worn_copies(pattern, inference, seams),
+        bound={n for n in sewn_to_others if inference.roles[n].role in (Role.NECK_BINDING, Role.ARMHOLE_BINDING)},
+        fabric=fabric,
+    )
     return {
         "format": SIDECAR_FORMAT,
         "format_version": SIDECAR_VERSION,
@@ -260,7 +299,7 @@ def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str,
         "fabric_why": fabric.why,
         "garment_pieces": list(inference.chosen),
         "alternatives": [[list(option) for option in group] for group in inference.alternatives],
-        "pieces": pieces,
+        "pieces": [_piece_entry(p, inference, extras) for p in pattern.pieces],
         "seams": seams,
         "measurements": [measurement_link_to_dict(m) for m in links],
     }

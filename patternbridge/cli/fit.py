@@ -35,18 +35,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="NAME|pattern.json",
         help="library garment name, canonical pattern JSON or DXF with bridge data",
     )
-    parser.add_argument(
-        "--landmarks", metavar="FILE", help="landmarks JSON for the character"
-    )
+    parser.add_argument("--landmarks", metavar="FILE", help="landmarks JSON for the character")
     parser.add_argument(
         "--units",
         help="character mesh units when the file does not say (cm, mm, m, in)",
     )
     parser.add_argument("--up", help="character up axis when not +Y (e.g. +Z)")
     add_fit_options(parser)
-    parser.add_argument(
-        "-o", "--output", required=True, metavar="OUT/", help="output folder"
-    )
+    parser.add_argument("-o", "--output", required=True, metavar="OUT/", help="output folder")
 
 
 def add_fit_options(parser: argparse.ArgumentParser) -> None:
@@ -56,12 +52,8 @@ def add_fit_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--seed", type=bounded_int(0, 2**32 - 1), default=0, help="random seed (same seed, same result)"
     )
-    parser.add_argument(
-        "--pop-size", type=bounded_int(4, 10_000), default=None, help="NSGA-II population size"
-    )
-    parser.add_argument(
-        "--generations", type=bounded_int(1, 100_000), default=None, help="NSGA-II generations"
-    )
+    parser.add_argument("--pop-size", type=bounded_int(4, 10_000), default=None, help="NSGA-II population size")
+    parser.add_argument("--generations", type=bounded_int(1, 100_000), default=None, help="NSGA-II generations")
     parser.add_argument(
         "--deformation",
         choices=("bilinear", "cubic"),
@@ -74,11 +66,11 @@ def add_fit_options(parser: argparse.ArgumentParser) -> None:
         action="store_true",
         help="skip the final step (least shape change under the fit); keep the NSGA-II choice",
     )
+    parser.add_argument("--no-drape", action="store_true", help="do not assemble/drape the garment")
     parser.add_argument(
-        "--no-drape", action="store_true", help="do not assemble/drape the garment"
-    )
-    parser.add_argument(
-        "--choose", type=bounded_int(0, 10_000), metavar="K",
+        "--choose",
+        type=bounded_int(0, 10_000),
+        metavar="K",
         help="re-run the final step from row K of the Pareto front (numbered in pareto.png) and take it",
     )
 
@@ -98,8 +90,10 @@ def options_from_args(args: argparse.Namespace):
 
 
 # the workflow's own steps, as the progress lines name them
-STEPS = {"export": "writing DXF-AAMA / DXF-ASTM with the character as one more size",
-         "plot": "drawing pattern.png and pareto.png"}
+STEPS = {
+    "export": "writing DXF-AAMA / DXF-ASTM with the character as one more size",
+    "plot": "drawing pattern.png and pareto.png",
+}
 
 
 def fit_progress(quiet: bool):
@@ -132,8 +126,11 @@ def run(args: argparse.Namespace) -> int:
     garment, findings = load_garment_spec(args.garment)  # a bad garment stops before the measuring
     print_findings(findings)
     if garment.summary and not quiet:
-        print(f"[fit] inferred {garment.summary}; sidecar and picture written into {args.output}",
-              file=sys.stderr, flush=True)
+        print(
+            f"[fit] inferred {garment.summary}; sidecar and picture written into {args.output}",
+            file=sys.stderr,
+            flush=True,
+        )
     if not quiet:
         print(f"[fit] loading character {args.character}", file=sys.stderr, flush=True)
     subject, findings = load_subject(
@@ -161,23 +158,26 @@ def run(args: argparse.Namespace) -> int:
     drape = rep.get("drape") or {}
     reasons = [r.get("message", "") for r in drape.get("verdict_reasons", [])]
     fabric = (drape.get("fabric") or {}).get("class", "woven").replace("_", " ")
-    print(f"patternbridge: drape verdict {result.verdict.value} (judged as a {fabric})"
-          + (f": {'; '.join(reasons)}" if reasons else "")
-          + ("" if result.verdict is Verdict.OK else " (failing regions in red in the fit_*.png pictures)"),
-          file=sys.stderr)
+    print(
+        f"patternbridge: drape verdict {result.verdict.value} (judged as a {fabric})"
+        + (f": {'; '.join(reasons)}" if reasons else "")
+        + ("" if result.verdict is Verdict.OK else " (failing regions in red in the fit_*.png pictures)"),
+        file=sys.stderr,
+    )
     return 3 if result.verdict is Verdict.FAILED else 0
 
 
 def drape_warnings(drape: dict) -> list[str]:
     """One line per thing in the ``drape`` report a user should look at in the pictures."""
-    from ..assemble.pipeline import WELDED_OPEN_MM
+    from ..assemble.drape_measure import WELDED_OPEN_MM
 
     out = []
     opened = drape.get("seams_open_before_weld") or []
     if opened:
         out.append(
             f"[fit] welding closed {len(opened)} seam(s) the drape left open by more than "
-            f"{WELDED_OPEN_MM:g} mm: " + ", ".join(f"{r['seam']} {r['max_mm']:.0f} mm" for r in opened[:4])
+            f"{WELDED_OPEN_MM:g} mm: "
+            + ", ".join(f"{r['seam']} {r['max_mm']:.0f} mm" for r in opened[:4])
             + (" ..." if len(opened) > 4 else "")
             + "; look there in fit_*.png"
         )

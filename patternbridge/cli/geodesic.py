@@ -8,9 +8,7 @@ HELP = "tape (geodesic) length between two vertices or landmarks of a character,
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument(
-        "mesh", metavar="MESH", help="character mesh: OBJ, PLY, STL, GLB or glTF"
-    )
+    parser.add_argument("mesh", metavar="MESH", help="character mesh: OBJ, PLY, STL, GLB or glTF")
     parser.add_argument(
         "--from",
         dest="source",
@@ -28,8 +26,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--landmarks",
         metavar="FILE",
-        help='landmark JSON: {"landmarks": {name: {"vertex": id} | '
-        '{"position": [x, y, z]}}}',
+        help='landmark JSON: {"landmarks": {name: {"vertex": id} | {"position": [x, y, z]}}}',
     )
     parser.add_argument(
         "--no-tape",
@@ -41,30 +38,24 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         action="store_true",
         help="print {length_cm, points, seconds, ...} as JSON",
     )
-    parser.add_argument(
-        "--units", help="source length unit (m, cm, mm, in); detected by default"
-    )
-    parser.add_argument(
-        "--up", help="up axis of the file (Y, Z, -Y, -Z); detected by default"
-    )
+    parser.add_argument("--units", help="source length unit (m, cm, mm, in); detected by default")
+    parser.add_argument("--up", help="up axis of the file (Y, Z, -Y, -Z); detected by default")
     parser.add_argument(
         "--method",
         default="lsq",
         choices=("lsq", "euler", "exact", "flow", "dijkstra"),
-        help="path method (default lsq: curvature flow, projection and "
-        "exact straightening)",
+        help="path method (default lsq: curvature flow, projection and exact straightening)",
     )
 
 
 def _resolve(spec: str, character, what: str):
     """(path end, nearest vertex id) for a vertex-id string or a landmark name.
 
-    A landmark between vertices is a path end inside its face
-    (:class:`~patternbridge.geodesic.SurfacePoint`), else its vertex id.
+    A landmark is a path end as the measuring takes it
+    (:func:`~patternbridge.measure.lengths.landmark_path_end`).
     """
-    import numpy as np
-
     from ..errors import LandmarkError
+    from ..measure.lengths import landmark_path_end
 
     text = spec.strip()
     if text.lstrip("-").isdigit():
@@ -80,17 +71,9 @@ def _resolve(spec: str, character, what: str):
     if lm is None:
         known = ", ".join(sorted(character.landmarks)) or "none"
         raise LandmarkError(
-            f"--{what} {spec}: no such landmark (known: {known}); "
-            "pass a vertex id, a known name, or --landmarks FILE"
+            f"--{what} {spec}: no such landmark (known: {known}); pass a vertex id, a known name, or --landmarks FILE"
         )
-    if lm.face is not None:
-        from ..geodesic import SurfacePoint
-
-        return SurfacePoint(face=lm.face, bary=lm.bary), int(lm.vertex)
-    if lm.vertex is not None:
-        return int(lm.vertex), int(lm.vertex)
-    d = np.linalg.norm(character.vertices - lm.position, axis=1)
-    return int(np.argmin(d)), int(np.argmin(d))
+    return landmark_path_end(lm, character.vertices, character.faces)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -100,9 +83,7 @@ def run(args: argparse.Namespace) -> int:
     from ..mesh.load import load_character
     from ._common import print_findings, print_json
 
-    character, report = load_character(
-        args.mesh, units=args.units, up=args.up, landmarks=args.landmarks
-    )
+    character, report = load_character(args.mesh, units=args.units, up=args.up, landmarks=args.landmarks)
     print_findings(report)
     a, a_vertex = _resolve(args.source, character, "from")
     b, b_vertex = _resolve(args.target, character, "to")

@@ -23,7 +23,7 @@ from ..mesh.character import Landmark
 from .definitions import DEFINITIONS
 from .model import Measurement
 
-__all__ = ["HEIGHTS", "ON_SKIN", "PATHS", "measure_lengths"]
+__all__ = ["HEIGHTS", "ON_SKIN", "PATHS", "landmark_path_end", "measure_lengths"]
 
 log = logging.getLogger(__name__)
 
@@ -79,17 +79,29 @@ HEIGHTS: dict[str, str] = {
 }
 
 
-def _surface_point(lm: Landmark, mesh):
-    """The landmark as a path end: its face and weights when it lies between vertices, else its vertex."""
+def landmark_path_end(lm: Landmark, vertices: np.ndarray, faces: np.ndarray):
+    """The landmark as a geodesic path end (:class:`~patternbridge.geodesic.SurfacePoint`) and its nearest vertex id.
+
+    Its face and weights when it lies between vertices, else its vertex. A
+    landmark known only by its position is first located on the surface
+    (:func:`~patternbridge.mesh.surface_point.locate_on_surface`): the tape
+    starts at the closest surface point, not at the nearest vertex, which
+    lies up to half an edge away.
+
+    Parameters
+    ----------
+    lm : the landmark ; vertices : (V, 3) float64, cm ; faces : (F, 3) int64 — the surface it lies on
+    """
     from ..geodesic import SurfacePoint
 
-    if lm.face is not None:
-        return SurfacePoint(face=lm.face, bary=lm.bary)
-    if lm.vertex is not None:
-        return SurfacePoint.vertex(lm.vertex)
-    from ..mesh.surface_point import locate_on_surface
+    if lm.face is None and lm.vertex is None:
+        from ..mesh.surface_point import locate_on_surface
 
-    return _surface_point(locate_on_surface(mesh.vertices, mesh.faces, lm.position).landmark(0, lm.name), mesh)
+        lm = locate_on_surface(vertices, faces, lm.position[None]).landmark(0, lm.name)
+    if lm.face is None:
+        return SurfacePoint.vertex(lm.vertex), int(lm.vertex)
+    nearest = lm.vertex if lm.vertex is not None else faces[lm.face][int(np.argmax(lm.bary))]
+    return SurfacePoint(face=lm.face, bary=lm.bary), int(nearest)
 
 
 def _fail(errors: dict[str, str] | None, mid: str, exc: Exception) -> None:
@@ -162,7 +174,7 @@ def _chain(
     Legs whose index is in ``skin`` follow the skin; the others are taut when
     ``tape``. A leg between coincident points is skipped.
     """
-    vids = [_surface_point(landmarks[n], legs.mesh) for n in chain]
+    vids = [landmark_path_end(landmarks[n], legs.mesh.vertices, legs.mesh.faces)[0] for n in chain]
     total, pts, lengths = 0.0, [], []
     for j, (a, b) in enumerate(itertools.pairwise(vids)):
         if a == b:

@@ -10,15 +10,16 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from ..errors import InputError
 from ..report import Report
 from .model import FitOptions, FitResult, figures_from_report
-from .outputs import write_outputs
+from .outputs import FitOutputs, write_outputs
 from .subject import Subject, load_subject, safe_name
 
 if TYPE_CHECKING:  # pragma: no cover
+    from ..grade.run import FitResult as GradingResult
     from ..pattern.model import Pattern
 
 __all__ = ["Garment", "fit", "load_garment_spec"]
@@ -43,15 +44,19 @@ class Garment:
         return next((name for name, _ in self.inferred if name.endswith(".seams.json")), None)
 
 
-def _bridged(garment: str | os.PathLike) -> tuple[Pattern, Report, Path | None, tuple[tuple[str, bytes], ...],
-                                                  str | None]:
+def _bridged(
+    garment: str | os.PathLike,
+) -> tuple[Pattern, Report, Path | None, tuple[tuple[str, bytes], ...], str | None]:
     """A pattern file with its bridge data: the sidecar beside a DXF, or inferred (kept in memory) without one."""
     from ..bridge.fit_input import pattern_for_fit
 
     with tempfile.TemporaryDirectory(prefix="patternbridge-bridge-") as scratch:
         loaded = pattern_for_fit(garment, scratch)
-        inferred = tuple((p.name, p.read_bytes()) for p in (loaded.sidecar, loaded.picture)
-                         if p is not None and loaded.summary is not None)
+        inferred = tuple(
+            (p.name, p.read_bytes())
+            for p in (loaded.sidecar, loaded.picture)
+            if p is not None and loaded.summary is not None
+        )
     given = loaded.sidecar if loaded.summary is None else None
     return loaded.pattern, loaded.report, given, inferred, loaded.summary
 
@@ -85,8 +90,9 @@ def load_garment_spec(garment: str | os.PathLike | Pattern | Garment) -> tuple[G
             "add them with `patternbridge seams infer` or in the pattern's bridge-data sidecar, then run fit again"
         )
     name = pattern.style or Path(source).stem
-    return Garment(pattern=pattern, name=name, source=source, sidecar=sidecar, inferred=inferred,
-                   summary=summary), findings
+    return Garment(
+        pattern=pattern, name=name, source=source, sidecar=sidecar, inferred=inferred, summary=summary
+    ), findings
 
 
 def _check_measurements(subject: Subject, pattern: Pattern, garment: str) -> dict[str, float]:
@@ -141,20 +147,48 @@ def fit(
     InputError
         Bad character, garment or output folder. ``SolverError`` when grading fails.
     """
-    from ..grade.report import fit_report
-    from ..grade.run import fit_pattern
-
     t0 = time.perf_counter()
     options = options or FitOptions()
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
         raise InputError(f"{out}: exists and is not a folder; give a folder for the output")
     loaded, findings = load_garment_spec(garment)
-    pattern, garment_name = loaded.pattern, loaded.name
     if not isinstance(character, Subject):
         character, char_findings = load_subject(character, progress=progress)
         findings.extend(char_findings)
-    values = _check_measurements(character, pattern, garment_name)
+    graded = _grade(character, loaded, seed=seed, options=options, progress=progress)
+    written = _write_into(out, character, loaded, graded, seed=seed, options=options, progress=progress)
+    findings.extend(written.findings)
+    return FitResult(
+        character=character.name,
+        garment=loaded.name,
+        size=graded.size,
+        out_dir=out,
+        files=written.names,
+        report=written.report,
+        figures=figures_from_report(written.report),
+        findings=findings,
+        seconds=time.perf_counter() - t0,
+        grading=graded.grading,
+    )
+
+
+@dataclass(frozen=True, slots=True, kw_only=True, eq=False)
+class _Graded:
+    """The grader's result for one character, the size name the character is graded as and the fit report."""
+
+    grading: GradingResult
+    size: str
+    report: dict[str, Any]
+
+
+def _grade(character: Subject, loaded: Garment, *, seed: int, options: FitOptions, progress: Progress) -> _Graded:
+    """Grade the garment to the character's measurements (a size named after the character) and report the fit."""
+    from ..grade.report import fit_report
+    from ..grade.run import fit_pattern
+
+    pattern = loaded.pattern
+    values = _check_measurements(character, pattern, loaded.name)
     size = safe_name(character.name)
     if size in pattern.sizes:
         size = f"{size}_fit"
@@ -165,7 +199,21 @@ def fit(
         from ..grade.run import choose_member
 
         grading = choose_member(grading, options.choose, size=size)
-    report = fit_report(grading, character=character.name, garment=garment_name)
+    report = fit_report(grading, character=character.name, garment=loaded.name)
+    return _Graded(grading=grading, size=size, report=report)
+
+
+def _write_into(
+    out: Path,
+    character: Subject,
+    loaded: Garment,
+    graded: _Graded,
+    *,
+    seed: int,
+    options: FitOptions,
+    progress: Progress,
+) -> FitOutputs:
+    """Write every output into a temporary folder inside ``out`` and move it into place (none on failure)."""
     created = not out.exists()
     out.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=".fit-", dir=out))
@@ -174,8 +222,16 @@ def fit(
             (tmp / name).write_bytes(data)
         inferred_sidecar = loaded.drape_sidecar_name
         written = write_outputs(
-            tmp, original=pattern, grading=grading, report=report, subject=character, size=size,
-            garment=garment_name, seed=seed, drape=options.drape, progress=progress,
+            tmp,
+            original=loaded.pattern,
+            grading=graded.grading,
+            report=graded.report,
+            subject=character,
+            size=graded.size,
+            garment=loaded.name,
+            seed=seed,
+            drape=options.drape,
+            progress=progress,
             drape_sidecar=tmp / inferred_sidecar if inferred_sidecar else loaded.sidecar,
         )
         written = dataclasses.replace(written, names=(*(n for n, _ in loaded.inferred), *written.names))
@@ -190,9 +246,4 @@ def fit(
         raise
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
-    findings.extend(written.findings)
-    return FitResult(
-        character=character.name, garment=garment_name, size=size, out_dir=out, files=written.names,
-        report=written.report, figures=figures_from_report(written.report), findings=findings,
-        seconds=time.perf_counter() - t0, grading=grading,
-    )
+    return written

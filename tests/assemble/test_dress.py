@@ -320,9 +320,9 @@ def sewn_shirt(character_e):
     from patternbridge.library import load_garment
 
     sim = prepare(character_e, load_garment("shirt"), max_edge_cm=3.5, steps=120)
-    placed = {r["seam"]: r["max_mm"] for r in seam_gap_table(sim)}
+    placed = {r.seam: r.max_mm for r in seam_gap_table(sim)}
     simulate(sim)
-    return sim, placed, {r["seam"]: r["max_mm"] for r in seam_gap_table(sim)}
+    return sim, placed, {r.seam: r.max_mm for r in seam_gap_table(sim)}
 
 
 @pytest.mark.shared
