@@ -111,6 +111,25 @@ def design_figures(result) -> dict:
     return out
 
 
+def shape_bound(result) -> dict:
+    """The final step from proportional scaling with every design term off: the change of shape the links force.
+
+    Only the angle changes at the critical points are minimised (no every-vertex, grid-interval, share,
+    shear, band, extent or fit cost) under the same constraints and measurement band; a local optimum, so
+    an estimate of the least shape error a grading that meets the links can have, not a proof.
+    """
+    from patternbridge.grade.refine import refine
+    from patternbridge.grade.solution import Acceptance, meets, solution
+
+    off = {"w_all": 0.0, "w_design": 0.0, "w_share": 0.0, "w_suppress": 0.0, "dart_cap": False, "w_fit": 0.0,
+           "w_axes": 0.0, "w_band": 0.0, "w_extent": 0.0}
+    res = refine(result.grid, result.data, result.baselines["proportional"].x, **{**result.finish_settings, **off})
+    sol = solution(result.grid, result.data, "bound", res.x, "bound", "shape terms alone")
+    return {"shape_error": round(float(sol.scores.shape_error), 5),
+            "shape_error_all": round(float(sol.scores.shape_error_all), 5),
+            "fit_met": bool(meets(sol, Acceptance(mean_cm=0.5, max_cm=1.5, seam_cm=0.1)))}
+
+
 def print_row(char: str, garment: str, rep: dict) -> int:
     """Print one table row; return 1 when it misses a target."""
     ours = figures(rep)
@@ -162,6 +181,9 @@ def main(argv: list[str] | None = None) -> int:
                         help="grid deformation (default: fit_pattern's)")
     parser.add_argument("--json", type=Path, help="write every fit report here")
     parser.add_argument("--check-seed", action="store_true", help="re-run the first case, compare")
+    parser.add_argument("--shape-bound", action="store_true",
+                        help="also run the final step from scaling with the shape terms alone (no design terms) "
+                             "and print the change of shape it reaches: what the links leave possible")
     args = parser.parse_args(argv)
     if not SHARED.is_dir():
         print(f"benchmark needs {SHARED}", file=sys.stderr)
@@ -214,6 +236,11 @@ def main(argv: list[str] | None = None) -> int:
             rep["design"] = design_figures(result)
             reports.append(rep)
             fails += print_row(char, garment, rep)
+            if args.shape_bound:
+                rep["shape_bound"] = shape_bound(result)
+                b = rep["shape_bound"]
+                print(f"#   {char} {garment}: the shape terms alone, from scaling: {b['shape_error']:.4f} at the "
+                      f"critical points, {b['shape_error_all']:.4f} every vertex (fit met: {b['fit_met']})")
     print(f"# units: mean/max cm, seam mm (worst seam length or notch), shape rad (mean |Δ inner angle| at the "
           f"critical points, per piece; all-vertex: over every outline vertex), len % = worst deviation of a "
           f"proportional length link from the design's proportion (ours, proportional scaling), sym mm = worst "

@@ -40,6 +40,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .bands import band_axes
+from .extents import unlinked_axes
 from .grid import PatternGrid, map_weights
 from .objectives import (
     FOLD_MARGIN,
@@ -421,6 +422,7 @@ def refine(
     keep_darts: bool = True,
     dart_cap: bool = False,
     w_band: float = 1.0,
+    w_extent: float = 1.0,
     w_fit: float = 0.02,
     fit_eps_cm: float = 0.01,
     stall_window: int = 10,
@@ -477,6 +479,13 @@ def refine(
         :func:`~.bands.band_axes`) against its sample width; without it
         nothing but the bending term holds that width and the pieces sewn to
         a band drag it (a polo's collar stand graded to 0.65 of its height)
+    w_extent : weight, per unit of log ratio beyond
+        :data:`~.extents.EXTENT_SLACK`, of every piece's spread along a
+        drawing axis no link runs along (:func:`~.extents.unlinked_axes`: a
+        yoke's height) against ``x_design``'s (or ``x``'s); without it the
+        seams fix only the sum of a yoke's and a back's heights and the
+        step moved the yoke seam up (the apple-shaped woman's yoke graded
+        to 0.36 of its proportional height)
     w_fit : cost of the measurement errors inside the band, in rad of shape
         error per cm of mean ``|m − t|``: iteratively reweighted
         (``1/sqrt(|m − t| + fit_eps_cm)``) so that it acts as an L1 cost,
@@ -505,6 +514,10 @@ def refine(
     x_des = None if x_design is None else np.asarray(x_design, dtype=np.float64)
     x_ref = np.asarray(x if x_design is None else x_design, dtype=np.float64)
     share_ref, shared, axes_ref = _design_shares(grid, data, x_des)
+    bands = band_axes(data) if w_band > 0 else None
+    extents = (unlinked_axes(grid, data, grid.outlines(x_ref[None, :])[0],
+                             skip=bands.pieces if bands is not None else None)
+               if w_extent > 0 else None)
     terms = StepTerms.build(
         grid, data, straight=A_st, symmetric=A_sym, x_design=x_des,
         level=across_legs(data),
@@ -512,7 +525,7 @@ def refine(
         share_ref=share_ref, shared=shared, axes_ref=axes_ref,
         suppress=suppression(grid, data) if x_design is not None and w_suppress > 0 else None,
         w_suppress=w_suppress, dart_cap=dart_cap, w_axes=w_axes,
-        bands=band_axes(data) if w_band > 0 else None, w_band=w_band, w_rotation=w_rotation,
+        bands=bands, w_band=w_band, extents=extents, w_extent=w_extent, w_rotation=w_rotation,
         w_shift=w_shift, w_bend=w_bend,
         w_cell=w_cell, min_cell_ratio=min_cell_ratio, w_design=w_design, design_slack=design_slack,
         w_share=w_share, w_fit=w_fit, w_interval=w_interval, w_turn=w_turn, w_symmetry=w_symmetry,

@@ -28,6 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .bands import Bands, outline_width
+from .extents import EXTENT_SLACK, Extents, axis_spread
 from .grid import PatternGrid
 from .objectives import (
     ObjectiveData,
@@ -136,7 +137,11 @@ class StepTerms:
     one-sided cost, :data:`W_DART_CAP`) instead of an equality ;
     bands : the long narrow pieces whose width no link governs
     (:func:`~.bands.band_axes`), held at their sample width (beyond
-    :data:`BAND_SLACK_CM`) at ``w_band`` per cm, or None ;
+    :data:`BAND_SLACK_CM`) at ``w_band`` per cm, or None ; extents : the
+    pieces' axes no link governs (:func:`~.extents.unlinked_axes`), their
+    spread held at proportional scaling's (beyond
+    :data:`~.extents.EXTENT_SLACK`) at ``w_extent`` per unit of log ratio,
+    or None ;
     w_* : weights (see :func:`~.refine.refine`)
     """
 
@@ -155,6 +160,8 @@ class StepTerms:
     dart_cap: bool = False
     bands: Bands | None = None
     w_band: float = 0.0
+    extents: Extents | None = None
+    w_extent: float = 0.0
     w_rotation: float
     w_axes: float
     w_shift: float
@@ -207,6 +214,11 @@ class StepTerms:
             j = int(np.flatnonzero(self.bands.pieces == k)[0])
             d = outline_width(pts) - self.bands.width0[j]
             terms.append(self.w_band * (np.sign(d) * np.maximum(np.abs(d) - BAND_SLACK_CM, 0.0))[:, None])
+        if self.extents is not None and self.w_extent > 0:
+            for j in np.flatnonzero(self.extents.pieces == k):
+                spread = np.maximum(axis_spread(pts, int(self.extents.axes[j])), 1e-9)
+                r = np.log(spread / self.extents.spread_ref[j])
+                terms.append(self.w_extent * (np.sign(r) * np.maximum(np.abs(r) - EXTENT_SLACK, 0.0))[:, None])
         ext = float(np.mean(data.extent_cm))
         terms.append((self.w_bend / ext) * grid.bending(X, pieces=[k]))
         terms.append(self.w_cell * np.maximum(0.0, self.min_cell_ratio - grid.corner_ratios(X, pieces=[k])))
