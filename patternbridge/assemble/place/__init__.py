@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...pattern.model import Pattern
+from ...pattern.model import Pattern, Side
 from ...report import Report
 from ..bodyparts import BodyParts
 from ..mesh2d import PatternMesh
@@ -130,9 +130,10 @@ def wrap_worn_side(
     drawn = place_instances(character, vertices, pattern, pmesh, cylinders, report, scene=scene, parts=parts)
     part = {inst.key: instance_part(pattern, inst) for inst in pmesh.instances}
     axes = {k: cylinders[p].axis for k, p in part.items()}
+    around = {i.key for i in pmesh.instances if pattern.piece(i.piece).placement.side is Side.AROUND}
     candidates = paired_limb_pieces(pmesh, {k: p in LIMBS for k, p in part.items()})
     if not candidates:
-        return pmesh, bands_on_edges(pmesh, drawn, axes, part, scene)
+        return pmesh, bands_on_edges(pmesh, drawn, axes, part, around, scene)
     flipped_mesh = with_mirrored(pmesh, candidates)
     flipped = place_instances(character, vertices, pattern, flipped_mesh, cylinders, Report(), scene=scene, parts=parts)
     chosen = choose_mirrored(pmesh, candidates, drawn, flipped, part)
@@ -145,4 +146,4 @@ def wrap_worn_side(
         )
     pick = {inst.key: (flipped if inst.piece in chosen else drawn)[inst.key] for inst in pmesh.instances}
     worn = with_mirrored(pmesh, chosen)
-    return worn, bands_on_edges(worn, pick, axes, part, scene)
+    return worn, bands_on_edges(worn, pick, axes, part, around, scene)

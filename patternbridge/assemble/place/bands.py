@@ -13,7 +13,7 @@ wrap as a rigid ring about its proxy's axis:
 
 - turned about the axis so that its seam side faces its partners' edge
   (the circular mean of the angles between sewn pairs);
-- when the partners go round the same proxy (a sleeve on the arm), moved
+- when the partners are tubes round the same proxy (a sleeve on the arm), moved
   along the axis onto their edge, which is gathered in toward the axis over
   :data:`GATHER_CM` to lie :data:`LAYER_CM` inside the band's seam side (the
   gathered cloth is sewn into the band's shorter edge), and the band widened
@@ -21,10 +21,11 @@ wrap as a rigid ring about its proxy's axis:
 
 The band's body then lies beyond the edge (its drawing puts it there: a
 cuff below its top edge, a collar above its neck edge), not over the tube,
-and its seam side lies one layer outside its partner's. A band whose
-partners go round another proxy (a collar on the torso's neckline) is only
-turned: the torso's cylinder has no top, and the seam graph brings the
-neckline in.
+and its seam side lies one layer outside its partner's. A band sewn to
+pieces that are not tubes round its own proxy (a collar or a neckband on the
+torso's neckline, a waistband on a skirt's fronts and backs) is only turned:
+their edge is not a ring about the band's axis (the torso's cylinder has no
+top, and the seam graph brings the neckline in).
 """
 
 from __future__ import annotations
@@ -60,18 +61,26 @@ def _cartesian(theta, h, r, centre, axis, e0, e1) -> np.ndarray:
     return centre + h[:, None] * axis + (r * np.cos(theta))[:, None] * e0 + (r * np.sin(theta))[:, None] * e1
 
 
-def band_partners(pmesh: PatternMesh) -> dict[str, list[tuple[np.ndarray, str, np.ndarray]]]:
+def rings(pmesh: PatternMesh, around: set[str]) -> set[str]:
+    """Instance keys of the rings: copies going round their body part (``around``) and sewn to themselves.
+
+    (A dart is a seam of a piece to itself too; a front or a back with darts
+    does not go round.)
+    """
+    return {sp.a.key for sp in pmesh.seams if sp.a.key == sp.b.key and sp.a.key in around}
+
+
+def band_partners(pmesh: PatternMesh, around: set[str]) -> dict[str, list[tuple[np.ndarray, str, np.ndarray]]]:
     """Instance key of every band over its partners -> [(its seam vertices, partner key, partner's vertices)].
 
-    A band is an instance sewn to itself (a ring) whose seams to other
-    instances all go to instances under it in the layer order (more cloth).
+    A band is a ring (:func:`rings`) whose seams to other instances all go
+    to instances under it in the layer order (more cloth).
     """
     keys = [inst.key for inst in pmesh.instances]
     sizes = np.array([len(pmesh.pieces[inst.piece].points) for inst in pmesh.instances])
     rank = dict(zip(keys, layer_ranks(sizes).tolist(), strict=True))
-    rings = {sp.a.key for sp in pmesh.seams if sp.a.key == sp.b.key}
     out: dict[str, list] = {}
-    for key in rings:
+    for key in rings(pmesh, around):
         sides = []
         for sp in pmesh.seams:
             if sp.a.key == sp.b.key:
@@ -90,17 +99,20 @@ def bands_on_edges(
     placed: dict[str, np.ndarray],
     axes: dict[str, np.ndarray],
     same_proxy: dict[str, str],
+    around: set[str],
     scene=None,
 ) -> dict[str, np.ndarray]:
-    """``placed`` with every band turned onto its partners' edge (and, on one proxy, moved onto it, outside it).
+    """``placed`` with every band turned onto its partners' edge (and onto a tube's edge, moved onto it, outside it).
 
     Parameters
     ----------
     pmesh : the pattern mesh (seams, instances)
     placed : instance key -> (n, 3) wrapped positions, cm
     axes : instance key -> (3,) unit axis of the proxy it is wrapped on
-    same_proxy : instance key -> a label of its proxy (body part); partners
-        with the band's label go round the same axis
+    same_proxy : instance key -> a label of its proxy (body part)
+    around : instance keys of the copies that go round their body part
+        (placement side ``around``); a partner that is a ring (:func:`rings`)
+        on the band's proxy is a tube round the same axis as the band
     scene : a :class:`~patternbridge.assemble.collision.BodyCollider` (the gathered
         edge and the band are kept :data:`CLEARANCE_CM` outside the skin), or None
 
@@ -110,7 +122,8 @@ def bands_on_edges(
     their gathered partners are new)
     """
     out = dict(placed)
-    for key, sides in band_partners(pmesh).items():
+    tubes = rings(pmesh, around)
+    for key, sides in band_partners(pmesh, around).items():
         axis = np.asarray(axes[key], dtype=np.float64)
         band = out[key]
         centre, e0, e1 = _frame(band, axis)
@@ -120,7 +133,7 @@ def bands_on_edges(
         th_t, h_t, _ = _polar(them, centre, axis, e0, e1)
         turn = float(np.angle(np.sum(np.exp(1j * (th_t - th_b[own])))))
         th_b = th_b + turn
-        if all(same_proxy[other] == same_proxy[key] for _, other, _ in sides):
+        if all(other in tubes and same_proxy[other] == same_proxy[key] for _, other, _ in sides):
             h_b = h_b + float(np.mean(h_t - h_b[own]))
             edge_r = _gather_edges(out, sides, centre, axis, e0, e1, float(np.mean(r_b[own])), scene)
             r_b = r_b * max(1.0, (edge_r + LAYER_CM) / float(np.mean(r_b[own])))
