@@ -8,24 +8,26 @@ opposite the underarm seam it is sewn on) and 9 cm up the forearm inside the
 sleeve; the seam graph, linear, then pulled the ring through itself and
 through the sleeve (A_superhero's shirt: 52 of its 56 placed crossing
 triangles). So each band that lies over the pieces it is sewn to (the seam
-graph's layer order, :func:`~.seam_graph.layer_ranks`) is moved after the
-wrap as a rigid ring about its proxy's axis:
+graph's layer order, :func:`~.seam_graph.layer_ranks`) and closes tubes
+round its own proxy (a cuff on its sleeve, both round the arm) is moved
+after the wrap as a rigid ring about the proxy's axis:
 
 - turned about the axis so that its seam side faces its partners' edge
   (the circular mean of the angles between sewn pairs);
-- when the partners are tubes round the same proxy (a sleeve on the arm), moved
-  along the axis onto their edge, which is gathered in toward the axis over
-  :data:`GATHER_CM` to lie :data:`LAYER_CM` inside the band's seam side (the
-  gathered cloth is sewn into the band's shorter edge), and the band widened
-  when the edge still lies closer than that (the body holds it out).
+- moved along the axis onto their edge, which is gathered in toward the
+  axis over :data:`GATHER_CM` to lie :data:`LAYER_CM` inside the band's
+  seam side (the gathered cloth is sewn into the band's shorter edge), and
+  the band widened when the edge still lies closer than that (the body
+  holds it out).
 
 The band's body then lies beyond the edge (its drawing puts it there: a
-cuff below its top edge, a collar above its neck edge), not over the tube,
-and its seam side lies one layer outside its partner's. A band sewn to
-pieces that are not tubes round its own proxy (a collar or a neckband on the
-torso's neckline, a waistband on a skirt's fronts and backs) is only turned:
-their edge is not a ring about the band's axis (the torso's cylinder has no
-top, and the seam graph brings the neckline in).
+cuff below its top edge), not over the tube, and its seam side lies one
+layer outside its partner's. A band sewn to pieces that are not tubes round
+its own proxy (a collar or a neckband on the torso's neckline, a waistband
+on a skirt's fronts and backs or on trouser legs) is left as wrapped: their
+edge is no ring about the band's axis (the torso's cylinder has no top),
+its landmark already puts it in phase with them (turns of 0-1.5° on A), and
+the seam graph brings the neckline in.
 """
 
 from __future__ import annotations
@@ -102,7 +104,7 @@ def bands_on_edges(
     around: set[str],
     scene=None,
 ) -> dict[str, np.ndarray]:
-    """``placed`` with every band turned onto its partners' edge (and onto a tube's edge, moved onto it, outside it).
+    """``placed`` with every band on tubes round its own proxy moved onto their edge, outside it.
 
     Parameters
     ----------
@@ -124,6 +126,8 @@ def bands_on_edges(
     out = dict(placed)
     tubes = rings(pmesh, around)
     for key, sides in band_partners(pmesh, around).items():
+        if not all(other in tubes and same_proxy[other] == same_proxy[key] for _, other, _ in sides):
+            continue
         axis = np.asarray(axes[key], dtype=np.float64)
         band = out[key]
         centre, e0, e1 = _frame(band, axis)
@@ -131,12 +135,10 @@ def bands_on_edges(
         them = np.concatenate([out[other][vo] for _, other, vo in sides])
         th_b, h_b, r_b = _polar(band, centre, axis, e0, e1)
         th_t, h_t, _ = _polar(them, centre, axis, e0, e1)
-        turn = float(np.angle(np.sum(np.exp(1j * (th_t - th_b[own])))))
-        th_b = th_b + turn
-        if all(other in tubes and same_proxy[other] == same_proxy[key] for _, other, _ in sides):
-            h_b = h_b + float(np.mean(h_t - h_b[own]))
-            edge_r = _gather_edges(out, sides, centre, axis, e0, e1, float(np.mean(r_b[own])), scene)
-            r_b = r_b * max(1.0, (edge_r + LAYER_CM) / float(np.mean(r_b[own])))
+        th_b = th_b + float(np.angle(np.sum(np.exp(1j * (th_t - th_b[own])))))
+        h_b = h_b + float(np.mean(h_t - h_b[own]))
+        edge_r = _gather_edges(out, sides, centre, axis, e0, e1, float(np.mean(r_b[own])), scene)
+        r_b = r_b * max(1.0, (edge_r + LAYER_CM) / float(np.mean(r_b[own])))
         out[key] = _cartesian(th_b, h_b, r_b, centre, axis, e0, e1)
     return out
 
