@@ -19,10 +19,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...pattern.model import Pattern
+from ...pattern.model import Pattern, Side
 from ...report import Report
 from ..bodyparts import BodyParts
 from ..mesh2d import PatternMesh
+from .bands import bands_on_edges
 from .handedness import choose_mirrored, paired_limb_pieces, with_mirrored
 from .seam_graph import SeamGraphSettings, close_seam_graph, layer_ranks
 from .wrap import LIMBS, Cylinder, bounding_cylinders, instance_part, landmark_position, mirror_name, place_instances
@@ -128,9 +129,11 @@ def wrap_worn_side(
     cylinders = bounding_cylinders(vertices, parts)  # (place_instances widens them to carry the pieces)
     drawn = place_instances(character, vertices, pattern, pmesh, cylinders, report, scene=scene, parts=parts)
     part = {inst.key: instance_part(pattern, inst) for inst in pmesh.instances}
+    axes = {k: cylinders[p].axis for k, p in part.items()}
+    around = {i.key for i in pmesh.instances if pattern.piece(i.piece).placement.side is Side.AROUND}
     candidates = paired_limb_pieces(pmesh, {k: p in LIMBS for k, p in part.items()})
     if not candidates:
-        return pmesh, drawn
+        return pmesh, bands_on_edges(pmesh, drawn, axes, part, around, scene)
     flipped_mesh = with_mirrored(pmesh, candidates)
     flipped = place_instances(character, vertices, pattern, flipped_mesh, cylinders, Report(), scene=scene, parts=parts)
     chosen = choose_mirrored(pmesh, candidates, drawn, flipped, part)
@@ -142,4 +145,5 @@ def wrap_worn_side(
             where=name,
         )
     pick = {inst.key: (flipped if inst.piece in chosen else drawn)[inst.key] for inst in pmesh.instances}
-    return with_mirrored(pmesh, chosen), pick
+    worn = with_mirrored(pmesh, chosen)
+    return worn, bands_on_edges(worn, pick, axes, part, around, scene)
