@@ -160,19 +160,26 @@ class BodyCollider:
         n = res["primitive_normals"].numpy().astype(np.float64)
         tri = res["primitive_ids"].numpy().astype(np.int64)
         uv = res["primitive_uvs"].numpy().astype(np.float64)
-        # a nearer helper surface wins (triangle -1)
+        # the closest point of the boundary of the body and its helper volumes (triangle -1 on a helper): a
+        # helper's surface buried in the skin (a mitt's end cutting through the wrist) is no boundary, nor is
+        # skin buried in a helper (a palm inside its mitt); a nearer helper surface wins, and a helper surface
+        # over buried skin wins at any distance
         for scene, (lo, hi) in zip(self._proxies, self._boxes, strict=True):
             d_box = np.linalg.norm(np.maximum(np.maximum(lo - points, points - hi), 0.0), axis=1)
-            ask = np.flatnonzero(d_box * d_box <= np.einsum("ij,ij->i", points - q, points - q))
+            inbox = np.all((q >= lo) & (q <= hi), axis=1)  # the closest point so far may lie in the helper
+            ask = np.flatnonzero((d_box * d_box <= np.einsum("ij,ij->i", points - q, points - q)) | inbox)
             if len(ask) == 0:
                 continue
             r = scene.compute_closest_points(self._t(points[ask]))
             qp = r["points"].numpy().astype(np.float64)
             d = points[ask]
             nearer = np.einsum("ij,ij->i", d - qp, d - qp) < np.einsum("ij,ij->i", d - q[ask], d - q[ask])
-            win = ask[nearer]
-            q[win] = qp[nearer]
-            n[win] = r["primitive_normals"].numpy().astype(np.float64)[nearer]
+            buried = scene.compute_occupancy(self._t(q[ask])).numpy() > 0.5
+            bare = self.scene.compute_occupancy(self._t(qp)).numpy() < 0.5
+            use = bare & (nearer | buried)
+            win = ask[use]
+            q[win] = qp[use]
+            n[win] = r["primitive_normals"].numpy().astype(np.float64)[use]
             tri[win] = -1
             uv[win] = 0.0
         signed = np.einsum("ij,ij->i", points - q, n)

@@ -7,6 +7,7 @@ import dataclasses
 import numpy as np
 import pytest
 import trimesh
+from cloth_fixtures import arm_and_mitt
 
 from patternbridge.assemble.bodyparts import PARTS, BodyParts, crotch_height, hand_masks, segment_body
 from patternbridge.assemble.collision import BodyCollider, hand_mitts
@@ -241,6 +242,25 @@ def test_helper_volume_is_seen_by_closest_and_inside_only():
     assert tri[1] == -1 and tri[2] >= 0  # helper hits carry no body triangle
     # the skin checks of the report see the body only
     assert not filled.crossing_edges(p[[0]] + [0, 5, 0], p[[0]] - [0, 5, 0]).any()
+
+
+def test_the_closest_surface_of_a_body_and_its_helper_is_on_their_outside():
+    from patternbridge.assemble.cloth.contact import signed_distances
+
+    arm, mitt = arm_and_mitt()
+    collider = BodyCollider(arm.vertices, arm.faces, proxies=((mitt.vertices, mitt.faces),))
+    # 1 cm deep in the arm, 0.2 cm from the mitt's buried face; 0.3 cm off the skin of the hand, inside the mitt
+    p = np.array([[7.8, 0.0, -1.5], [11.0, 0.0, 2.8]])
+    q, _, _, tri, _ = collider.closest(p)
+    # the way out of the arm is through its skin, not 0.6 cm past the buried face (still 0.9 cm in the arm)
+    assert tri[0] >= 0
+    assert np.linalg.norm(q[0, 1:]) > 2.5 * np.cos(np.pi / 48) - 1e-4
+    skin, out, _ = signed_distances(collider, p[:1])
+    target = skin[0] + 0.6 * out[0]  # the body contact's target
+    assert np.linalg.norm(target[1:]) > 2.5 + 0.5
+    # the hand's skin is in its mitt: the way out of the mitt is its face, though the skin is nearer
+    assert tri[1] == -1
+    np.testing.assert_allclose(q[1], [11.0, 0.0, 3.5], atol=1e-4)
 
 
 @pytest.mark.shared
