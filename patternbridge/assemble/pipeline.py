@@ -575,6 +575,7 @@ def _measure(
     from .drape import seam_gaps, weld_groups
     from .selfcross import self_crossing
     from .skin_check import skin_check
+    from .turned import turned_cloth
 
     cloth, names = sim.cloth, sim.names
     face_piece = cloth.group[cloth.faces[:, 0]]
@@ -604,6 +605,8 @@ def _measure(
         x, cloth.uv, cloth.faces, weld_groups(len(x), cloth.seams), skin_offset_cm=sim.settings.offset_cm
     )
     tight = int(np.argmax(girths)) if len(girths) else -1
+    turned = turned_cloth(x, cloth.faces, weld_groups(len(x), cloth.seams), body, sim.character.faces)
+    turned_cm2 = _turned_by_piece(turned.patch, turned.area_cm2, face_piece, names)
     measured_defects = Measured(
         seam_gaps_mm=gaps,
         seam_excess_cm=seam_excess_cm(sim.pattern, sim.pmesh),
@@ -619,6 +622,7 @@ def _measure(
         girth_strain=float(girths[tight]) if tight >= 0 else 1.0,
         girth_height_cm=float(heights[tight]) if tight >= 0 else 0.0,
         girth_pieces=tuple(sorted({names[g] for g in face_piece[girth_faces[tight]]})) if tight >= 0 else (),
+        turned_cm2=turned_cm2,
     )
     verdict, reasons = judge(measured_defects, limits)
     by_gap = sorted((SeamGap(seam=s, max_mm=g) for s, g in gaps.items()), key=lambda g: -g.max_mm)
@@ -641,6 +645,7 @@ def _measure(
         hem_rise_cm=rises,
         girth_strain=measured_defects.girth_strain,
         girth_height_cm=measured_defects.girth_height_cm,
+        turned_cm2=turned_cm2,
         stretch=Stretch(
             percentiles={f"p{q}": float(np.percentile(ratio, q)) for q in (1, 5, 50, 95, 99)},
             max=float(ratio.max()),
@@ -668,7 +673,7 @@ def _measure(
         },
     )
     # the pictures mark in red what the verdict names: open seams, the cloth
-    # through itself or the skin, cloth stretched beyond tearing
+    # through itself or the skin, cloth stretched beyond tearing, cloth turned over
     g = seam_gaps(cloth.x, cloth.seams) if len(cloth.seams) else np.zeros(0)
     open_pairs = cloth.seams[g * 10.0 > limits.seam_gap_flawed_mm]
     flagged = (
@@ -677,10 +682,22 @@ def _measure(
         | skin_bad
         | faces_touching(cloth.faces, open_pairs, len(cloth.x))
         | faces_touching(cloth.faces, e[torn], len(cloth.x))
+        | turned.faces(limits.turned_flawed_cm2)
     )
     if measured_defects.girth_strain > limits.girth_failed:
         flagged |= girth_faces[tight]  # the girth the garment does not close round
     return report, flagged
+
+
+def _turned_by_piece(
+    patch: np.ndarray, area_cm2: np.ndarray, face_piece: np.ndarray, names: tuple[str, ...]
+) -> dict[str, float]:
+    """Piece -> area of the largest patch of turned-over cloth it holds most of, cm² (pieces with none left out)."""
+    out: dict[str, float] = {}
+    for p in np.argsort(-area_cm2):
+        owner = names[int(np.bincount(face_piece[patch == p]).argmax())]
+        out.setdefault(owner, float(area_cm2[p]))
+    return out
 
 
 def _crossing(collider, x: np.ndarray, faces: np.ndarray) -> np.ndarray:
