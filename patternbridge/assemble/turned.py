@@ -1,22 +1,27 @@
-"""Cloth worn turned over: its outside facing the body (a twisted strap, a collar worn inside out).
+"""Cloth worn turned over: its outside facing the body (a twisted strap, a binding worn inside out).
 
 Every garment triangle is wound so that its normal points out of the cloth's
 outside, away from the body (the placement lays the pattern's +x round the
 body to the right seen from outside and +y along the body's axis, and a
 mirror copy is wound the other way round, :func:`.pipeline.prepare`). A
-triangle whose outward normal points back into the nearest skin is turned
-over. A fold turns a little of the cloth under too: the middle layer of a
-pleat lies between the layer under it and the layer folded back over it.
-Such *sandwiched* triangles (the garment within :data:`LAYER_CM` both above
-and below them along the direction away from the skin) are the fold's and are
-not counted; what is left, gathered into patches of triangles sharing an edge
-(across the seams), is cloth worn the wrong side out. A strap with a half
-twist is one such patch a strap wide; a collar worn inside out is a patch
-the size of the collar.
+triangle whose outward normal points back into the nearest skin (within 60°,
+:data:`TURNED_COS`) is turned over.
 
-The pure core (:func:`outward_cos`, :func:`patches`) works on arrays; the
-Open3D queries (closest skin points, rays against the garment) sit in
-:func:`turned_cloth`.
+A fold turns some cloth under too, and so does a hem rolled in: that cloth
+lies under another layer of the garment and its wrong side does not show.
+Turned triangles with the garment within :data:`LAYER_CM` over them (along
+the direction away from the skin) are *covered* and not counted. And a fold
+turns the cloth between two fold lines inside the piece, while a twist, or a
+strip worn inside out, turns it all the way to the cloth's edge: the turned
+triangles are gathered into patches sharing an edge (across the seams), and
+only patches that reach a free edge of the cloth (an edge of one triangle
+only, on the welded garment) count. A strap with a half twist is one such
+patch a strap wide; a binding sewn on inside out is a patch the length of
+the binding.
+
+The pure core (:func:`outward_cos`, :func:`patches`, :func:`free_edge_faces`)
+works on arrays; the Open3D queries (closest skin points, rays against the
+garment) sit in :func:`turned_cloth`.
 """
 
 from __future__ import annotations
@@ -25,11 +30,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["LAYER_CM", "TURNED_COS", "TurnedCloth", "outward_cos", "patches", "turned_cloth"]
+__all__ = ["LAYER_CM", "TURNED_COS", "TurnedCloth", "free_edge_faces", "outward_cos", "patches", "turned_cloth"]
 
 #: a triangle is turned when its outward normal is within 60° of the direction into the skin
 TURNED_COS = -0.5
-#: a turned triangle with the garment this near both above and below it is the middle layer of a fold
+#: a turned triangle with the garment this near over it is under a layer of cloth (a fold, a hem rolled in)
 LAYER_CM = 2.0
 
 
@@ -38,13 +43,14 @@ class TurnedCloth:
     """The cloth worn turned over.
 
     cos : (F,) float64 — cosine between each triangle's outward normal and the direction away from the skin
-    sandwiched : (F,) bool — turned triangles between two layers of the garment (a fold's), not counted
-    patch : (F,) int64 — the patch of each counted turned triangle (-1: not turned, or sandwiched)
+    covered : (F,) bool — turned triangles under another layer of the garment (a fold's, a rolled hem's)
+    patch : (F,) int64 — the patch of each counted turned triangle (-1: not turned, covered, or in a
+        patch that does not reach a free edge of the cloth)
     area_cm2 : (P,) float64 — the area of each patch
     """
 
     cos: np.ndarray
-    sandwiched: np.ndarray
+    covered: np.ndarray
     patch: np.ndarray
     area_cm2: np.ndarray
 
@@ -99,6 +105,13 @@ def patches(faces: np.ndarray, weld: np.ndarray, chosen: np.ndarray) -> np.ndarr
     return out
 
 
+def free_edge_faces(faces: np.ndarray, weld: np.ndarray) -> np.ndarray:
+    """(F,) bool: faces with an edge that no other face shares (on the welded vertices): the cloth's free edges."""
+    w = np.sort(weld[faces][:, [[0, 1], [1, 2], [2, 0]]], axis=2).reshape(-1, 2)
+    _, inv, count = np.unique(w, axis=0, return_inverse=True, return_counts=True)
+    return (count[inv.ravel()] == 1).reshape(-1, 3).any(axis=1)
+
+
 def _area(x: np.ndarray, faces: np.ndarray) -> np.ndarray:
     a, b, c = x[faces[:, 0]], x[faces[:, 1]], x[faces[:, 2]]
     return 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
@@ -151,17 +164,20 @@ def turned_cloth(
 
     closest = body.compute_closest_points(o3d.core.Tensor(centroid.astype(np.float32)))["points"].numpy()
     cos = outward_cos(x, faces, closest.astype(np.float64))
-    turned = np.flatnonzero(cos < turned_cos)
-    sandwiched = np.zeros(len(faces), dtype=bool)
-    if len(turned):
-        away = centroid[turned] - closest[turned]
+    turned = cos < turned_cos
+    covered = np.zeros(len(faces), dtype=bool)
+    ids = np.flatnonzero(turned)
+    if len(ids):
+        away = centroid[ids] - closest[ids]
         away /= np.maximum(np.linalg.norm(away, axis=1, keepdims=True), 1e-12)
-        cloth = _scene(x, faces)
         eps = 1e-3  # start off the triangle itself
-        above = _hit_within(cloth, centroid[turned] + eps * away, away, layer_cm)
-        below = _hit_within(cloth, centroid[turned] - eps * away, -away, layer_cm)
-        sandwiched[turned[above & below]] = True
-    counted = (cos < turned_cos) & ~sandwiched
-    patch = patches(faces, weld, counted)
+        covered[ids] = _hit_within(_scene(x, faces), centroid[ids] + eps * away, away, layer_cm)
+    seen = turned & ~covered
+    patch = patches(faces, weld, seen)
+    at_edge = np.zeros(int(patch.max()) + 2, dtype=bool)  # the last slot, False, is read by patch -1
+    at_edge[patch[seen & free_edge_faces(faces, weld)]] = True
+    patch = np.where(at_edge[patch], patch, -1)
+    _, patch[patch >= 0] = np.unique(patch[patch >= 0], return_inverse=True)
+    counted = patch >= 0
     area = np.bincount(patch[counted], weights=_area(x, faces)[counted], minlength=int(patch.max()) + 1)
-    return TurnedCloth(cos=cos, sandwiched=sandwiched, patch=patch, area_cm2=area)
+    return TurnedCloth(cos=cos, covered=covered, patch=patch, area_cm2=area)

@@ -127,6 +127,15 @@ class VerdictLimits:
         pictures show hems where they belong), hence limits above those: 8 cm
         is the anchor's failed limit, a hem plainly off its line; 15 cm is
         another garment (a full-length leg ending at mid-calf).
+    turned_flawed_cm2, turned_failed_cm2 : area of the largest patch of cloth
+        worn turned over, its outside facing the body, uncovered and reaching
+        the cloth's edge (:mod:`.turned`: a twisted strap, a binding sewn on
+        inside out). A triangle of the 2.5 cm mesh is 2.7 cm²: beyond two of
+        them a strap's width is turned (the loose tank's front strap turned
+        at B's shoulder seam, 5.6 cm²), while drapes judged ok measure 0 and
+        the hems of flawed trousers and shorts 1.4-1.8 cm²; beyond 20 cm² a
+        strap or binding is worn inside out along its length (``GLX0926S16``'s
+        armhole bindings, 23-40 cm² on D, B and E).
     """
 
     seam_gap_flawed_mm: float = 2.0
@@ -148,8 +157,8 @@ class VerdictLimits:
     level_failed_cm: float = 8.0
     hem_rise_flawed_cm: float = 8.0
     hem_rise_failed_cm: float = 15.0
-    turned_flawed_cm2: float = 10.0
-    turned_failed_cm2: float = 40.0
+    turned_flawed_cm2: float = 5.0
+    turned_failed_cm2: float = 20.0
     fabric: FabricClass = FabricClass.WOVEN
 
     def to_dict(self) -> dict:

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from patternbridge.assemble.turned import outward_cos, patches, turned_cloth
+from patternbridge.assemble.turned import free_edge_faces, outward_cos, patches, turned_cloth
 from patternbridge.assemble.verdict import Check, Measured, Verdict, VerdictLimits, judge
 
 R_CM = 10.0  # the body: a cylinder of this radius
@@ -111,10 +111,44 @@ def test_a_pleat_is_a_fold_not_cloth_worn_turned_over():
     t = _turned(x, faces)
     turned = t.cos < -0.5
     area = 6.0 * 20.0
-    assert turned.sum() > 0.8 * 2 * 11 * 8  # the pleat's middle layer is turned over...
-    assert t.sandwiched[turned].all()  # ... between the layers under and over it
+    assert turned.sum() > 0.8 * 2 * 11 * 8  # the pleat's middle layer is turned over (and reaches the edges)...
+    assert t.covered[turned].all()  # ... under the layer folded back over it
     assert len(t.area_cm2) == 0
     assert area > VerdictLimits().turned_failed_cm2  # counted, the pleat would fail the drape
+
+
+def _band(flip) -> tuple[np.ndarray, np.ndarray]:
+    """A band 20 cm high half round the body, 0.6 cm off it; the cells where ``flip(u, v)`` wound inside out."""
+    nu, nv = 41, 21
+    theta = np.linspace(0.0, np.pi, nu)
+    y = np.linspace(-10.0, 10.0, nv)
+    r = R_CM + 0.6
+    x = np.stack(np.broadcast_arrays(r * np.cos(theta)[:, None], y[None, :], r * np.sin(theta)[:, None]), -1)
+    faces = _grid_faces(nu, nv)[:, ::-1]
+    cell_u, cell_v = np.tile(np.arange(nu - 1).repeat(nv - 1), 2), np.tile(np.tile(np.arange(nv - 1), nu - 1), 2)
+    inside_out = flip(cell_u, cell_v)
+    faces[inside_out] = faces[inside_out, ::-1]
+    return x.reshape(-1, 3), faces
+
+
+def test_cloth_turned_inside_a_piece_is_a_crease_but_turned_to_its_edge_is_worn_inside_out():
+    # the same 8 x 6 cells turned, once in the middle of the band, once reaching its top edge
+    middle = _turned(*_band(lambda u, v: (u >= 16) & (u < 24) & (v >= 7) & (v < 13)))
+    top = _turned(*_band(lambda u, v: (u >= 16) & (u < 24) & (v >= 14)))
+    assert (middle.cos < -0.99).sum() == (top.cos < -0.99).sum() == 2 * 8 * 6
+    assert len(middle.area_cm2) == 0
+    cell = (R_CM + 0.6) * np.pi / 40 * 1.0
+    assert top.area_cm2.tolist() == pytest.approx([8 * 6 * cell], rel=0.01)
+
+
+def test_free_edges_are_those_of_one_triangle_on_the_welded_cloth():
+    faces = np.array([[0, 1, 2], [3, 4, 5]])
+    assert free_edge_faces(faces, np.arange(6)).tolist() == [True, True]
+    # welded along (1, 2) ~ (3, 4): each triangle keeps two free edges
+    assert free_edge_faces(faces, np.array([0, 1, 2, 2, 1, 5])).tolist() == [True, True]
+    # a closed tetrahedron has none
+    tet = np.array([[0, 1, 2], [0, 3, 1], [1, 3, 2], [2, 3, 0]])
+    assert not free_edge_faces(tet, np.arange(4)).any()
 
 
 def test_patches_join_faces_across_a_seam_but_not_at_a_corner():
