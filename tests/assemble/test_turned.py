@@ -139,6 +139,9 @@ def test_cloth_turned_inside_a_piece_is_a_crease_but_turned_to_its_edge_is_worn_
     assert len(middle.area_cm2) == 0
     cell = (R_CM + 0.6) * np.pi / 40 * 1.0
     assert top.area_cm2.tolist() == pytest.approx([8 * 6 * cell], rel=0.01)
+    # the pictures mark the patch beyond the limit, and nothing of a patch under it
+    assert top.faces(5.0).sum() == 2 * 8 * 6 and not top.faces(8 * 6 * cell * 1.01).any()
+    assert not middle.faces(0.0).any()
 
 
 def test_free_edges_are_those_of_one_triangle_on_the_welded_cloth():
