@@ -23,7 +23,7 @@ from ...pattern.model import Pattern
 from ...report import Report
 from ..bodyparts import BodyParts
 from ..mesh2d import PatternMesh
-from .handedness import choose_mirrored, paired_limb_pieces, with_mirrored
+from .handedness import choose_mirrored, paired_limb_pieces, sewn_turned, with_mirrored
 from .seam_graph import SeamGraphSettings, close_seam_graph, layer_ranks
 from .wrap import LIMBS, Cylinder, bounding_cylinders, instance_part, landmark_position, mirror_name, place_instances
 
@@ -125,6 +125,15 @@ def wrap_worn_side(
     wrapped positions (instance key -> (n, 3) cm). A ``worn-mirrored`` finding
     names each such piece.
     """
+    turned = sewn_turned(pmesh)
+    for name in sorted(turned):
+        report.add(
+            "cut-other-side-up",
+            "every seam to other pieces sews it on turned over (its sewn edges run the same way round as theirs): "
+            "it is cut the other side up, its mirror image",
+            where=name,
+        )
+    pmesh = with_mirrored(pmesh, turned)
     cylinders = bounding_cylinders(vertices, parts)  # (place_instances widens them to carry the pieces)
     drawn = place_instances(character, vertices, pattern, pmesh, cylinders, report, scene=scene, parts=parts)
     part = {inst.key: instance_part(pattern, inst) for inst in pmesh.instances}
