@@ -125,7 +125,9 @@ def wrap_worn_side(
     wrapped positions (instance key -> (n, 3) cm). A ``worn-mirrored`` finding
     names each such piece.
     """
-    turned = sewn_turned(pmesh)
+    part = {inst.key: instance_part(pattern, inst) for inst in pmesh.instances}
+    candidates = paired_limb_pieces(pmesh, {k: p in LIMBS for k, p in part.items()})
+    turned = sewn_turned(pmesh) - candidates  # a pair on the limbs is worn the way round its seams start closer
     for name in sorted(turned):
         report.add(
             "cut-other-side-up",
@@ -136,8 +138,6 @@ def wrap_worn_side(
     pmesh = with_mirrored(pmesh, turned)
     cylinders = bounding_cylinders(vertices, parts)  # (place_instances widens them to carry the pieces)
     drawn = place_instances(character, vertices, pattern, pmesh, cylinders, report, scene=scene, parts=parts)
-    part = {inst.key: instance_part(pattern, inst) for inst in pmesh.instances}
-    candidates = paired_limb_pieces(pmesh, {k: p in LIMBS for k, p in part.items()})
     if not candidates:
         return pmesh, drawn
     flipped_mesh = with_mirrored(pmesh, candidates)
