@@ -133,9 +133,10 @@ class VerdictLimits:
         inside out). A triangle of the 2.5 cm mesh is 2.7 cm²: beyond two of
         them a strap's width is turned (the loose tank's front strap turned
         at B's shoulder seam, 5.6 cm²), while drapes judged ok measure 0 and
-        the hems of flawed trousers and shorts 1.4-1.8 cm²; beyond 20 cm² a
+        the hems of flawed trousers and shorts 1.4-1.8 cm² (one rolled in
+        above the heel, seen from behind, 9.1 cm²); beyond 20 cm² a
         strap or binding is worn inside out along its length (``GLX0926S16``'s
-        armhole bindings, 23-40 cm² on D, B and E).
+        armhole bindings sewn on inside out, 23-40 cm² on D, B and E).
     """
 
     seam_gap_flawed_mm: float = 2.0
