@@ -94,10 +94,12 @@ def run_case(character, pattern, seed: int, *, untangle: list[str] | None = None
     garment = finish(sim)
     report = garment.report
     if out is not None:
+        from patternbridge.assemble.export_obj import write_obj
         from patternbridge.assemble.pictures import write_pictures
 
         out.mkdir(parents=True, exist_ok=True)
         write_pictures(out, garment, character)
+        write_obj(out / "garment.obj", garment)
     return {
         "counts": counts,
         "final": report.self_crossing_triangles,
@@ -105,6 +107,8 @@ def run_case(character, pattern, seed: int, *, untangle: list[str] | None = None
         "gap0_mm": round(report.max_seam_gap_before_weld_mm, 2),
         "skin_triangles": report.skin_triangles,
         "verdict": str(report.verdict),
+        "reasons": [r.check.value for r in report.reasons],
+        "turned_cm2": {k: round(v, 1) for k, v in report.turned_cm2.items()},
         "cpu_s": round(cpu, 1),
         "vertices": len(sim.cloth.x),
     }

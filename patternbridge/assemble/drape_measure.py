@@ -20,6 +20,7 @@ from .verdict import Measured, VerdictLimits, edge_limits, judge
 
 if TYPE_CHECKING:
     from .pipeline import SeamGapRow, Simulation
+    from .turned import TurnedCloth
 
 __all__ = ["WELDED_OPEN_MM", "measure_drape", "skin_crossing"]
 
@@ -123,6 +124,26 @@ def _tightest_girth(sim: Simulation, x: np.ndarray) -> _Girth:
     return _Girth(strain=float(girths[tight]), height_cm=float(heights[tight]), faces=girth_faces[tight])
 
 
+def _turned(sim: Simulation, x: np.ndarray) -> TurnedCloth:
+    """The cloth worn turned over, its outside facing the nearest skin (:mod:`.turned`)."""
+    from .drape import weld_groups
+    from .turned import turned_cloth
+
+    body = np.asarray(sim.character.vertices, dtype=np.float64)
+    return turned_cloth(x, sim.cloth.faces, weld_groups(len(x), sim.cloth.seams), body, sim.character.faces)
+
+
+def _turned_by_piece(
+    patch: np.ndarray, area_cm2: np.ndarray, face_piece: np.ndarray, names: tuple[str, ...]
+) -> dict[str, float]:
+    """Piece -> area of the largest patch of turned-over cloth it holds most of, cm² (pieces with none left out)."""
+    out: dict[str, float] = {}
+    for p in np.argsort(-area_cm2):
+        owner = names[int(np.bincount(face_piece[patch == p]).argmax())]
+        out.setdefault(owner, float(area_cm2[p]))
+    return out
+
+
 def _measured(
     sim: Simulation,
     table: tuple[SeamGapRow, ...],
@@ -131,6 +152,7 @@ def _measured(
     surface: _Surface,
     strain: _EdgeStrain,
     girth: _Girth,
+    turned: TurnedCloth,
 ) -> Measured:
     """The quantities the verdict judges."""
     from .defects import anchor_levels_cm, hem_rise_cm, seam_excess_cm
@@ -155,6 +177,7 @@ def _measured(
         girth_strain=girth.strain,
         girth_height_cm=girth.height_cm,
         girth_pieces=tuple(sorted({names[g] for g in face_piece[girth.faces]})) if girth.faces is not None else (),
+        turned_cm2=_turned_by_piece(turned.patch, turned.area_cm2, face_piece, names),
     )
 
 
@@ -196,6 +219,7 @@ def _drape_report(
         hem_rise_cm=m.hem_rise_cm,
         girth_strain=m.girth_strain,
         girth_height_cm=m.girth_height_cm,
+        turned_cm2=m.turned_cm2,
         stretch=Stretch(
             percentiles={f"p{q}": float(np.percentile(ratio, q)) for q in (1, 5, 50, 95, 99)},
             max=float(ratio.max()),
@@ -225,12 +249,17 @@ def _drape_report(
 
 
 def _flagged(
-    sim: Simulation, surface: _Surface, strain: _EdgeStrain, girth: _Girth, limits: VerdictLimits
+    sim: Simulation,
+    surface: _Surface,
+    strain: _EdgeStrain,
+    girth: _Girth,
+    turned: TurnedCloth,
+    limits: VerdictLimits,
 ) -> np.ndarray:
     """(F,) bool: what the verdict names, marked red in the pictures.
 
-    Open seams, the cloth through itself or the skin, cloth stretched beyond tearing, and the girth the garment
-    does not close round.
+    Open seams, the cloth through itself or the skin, cloth stretched beyond tearing, cloth turned over, and the
+    girth the garment does not close round.
     """
     from .defects import faces_touching
     from .drape import seam_gaps
@@ -244,6 +273,7 @@ def _flagged(
         | surface.skin_bad
         | faces_touching(cloth.faces, open_pairs, len(cloth.x))
         | faces_touching(cloth.faces, strain.edges[strain.torn], len(cloth.x))
+        | turned.faces(limits.turned_flawed_cm2)
     )
     if girth.strain > limits.girth_failed:
         flagged |= girth.faces  # the girth the garment does not close round
@@ -266,9 +296,10 @@ def measure_drape(
     surface = _surface(sim, wx, wf, limits)
     strain = _edge_strain(sim, x, grain, limits)
     girth = _tightest_girth(sim, x)
-    measured = _measured(sim, table, x, grain, surface, strain, girth)
+    turned = _turned(sim, x)
+    measured = _measured(sim, table, x, grain, surface, strain, girth, turned)
     report = _drape_report(sim, measured, x, wx, inside, surface, strain, limits)
-    return report, _flagged(sim, surface, strain, girth, limits)
+    return report, _flagged(sim, surface, strain, girth, turned, limits)
 
 
 def skin_crossing(collider, x: np.ndarray, faces: np.ndarray) -> np.ndarray:

@@ -74,6 +74,8 @@ class DrapeReport:
         the landmarks the pieces hang from cannot have its levels checked)
     hem_rise_cm : piece -> how much nearer its hem hangs to its anchor than
         in the pattern (:func:`~.defects.hem_rise_cm`; 0 when it hangs lower)
+    turned_cm2 : piece -> area of the largest patch of its cloth worn turned
+        over, its outside facing the body (:mod:`.turned`); pieces with none left out
     limits, fabric_why, piece_fabrics : the fabric judged against, its
         limits, the evidence for it, and the pieces of another fabric (a rib)
     """
@@ -103,6 +105,7 @@ class DrapeReport:
     girth_strain: float = 1.0
     girth_height_cm: float = 0.0
     hem_rise_cm: dict[str, float] = field(default_factory=dict)
+    turned_cm2: dict[str, float] = field(default_factory=dict)
     unchecked: tuple[str, ...] = ()
     warnings: tuple[str, ...] = ()
     files: tuple[str, ...] = field(default=())
@@ -130,6 +133,7 @@ class DrapeReport:
             "seams_open_before_weld": [g.to_dict() for g in self.seams_open_before_weld],
             "levels_cm": {k: round(v, 2) for k, v in self.levels_cm.items()},
             "hem_rise_cm": {k: round(v, 2) for k, v in self.hem_rise_cm.items()},
+            "turned_cm2": {k: round(v, 1) for k, v in self.turned_cm2.items()},
             "stretch": self.stretch.to_dict(),
             "girth": {"strain": round(self.girth_strain, 4), "height_cm": round(self.girth_height_cm, 1)},
             "fabric": {

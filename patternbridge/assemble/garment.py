@@ -32,7 +32,7 @@ class Garment:
     skeleton : the character's skeleton, or None
     report : the ``drape`` report (:class:`~.drape_report.DrapeReport`), None before measuring
     flagged : (F,) bool — faces the verdict names (open seams, cloth through
-        itself or the skin, torn stretch), drawn red in the pictures
+        itself or the skin, torn stretch, cloth turned over), drawn red in the pictures
     findings : recoverable problems met on the way
     """
 

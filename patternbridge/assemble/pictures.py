@@ -33,7 +33,7 @@ def render_fit(garment, character, view: str, size: tuple[int, int] = (700, 1000
     """(H, W, 3) uint8 picture of the character wearing ``garment`` from ``view``.
 
     The faces the verdict names (``garment.flagged``: open seams, cloth
-    through itself or the skin, torn stretch) are red.
+    through itself or the skin, torn stretch, cloth turned over) are red.
     """
     from ..mesh.render import render
 

@@ -63,6 +63,7 @@ class Check(str, enum.Enum):
     STRETCH = "stretch"  # cloth stretched beyond what the fabric takes
     GIRTH = "girth"  # a girth the garment closes round the body only by stretching all the way round
     LEVEL = "level"  # a piece's anchor (a waist, a neck point) off its landmark, or its hem ridden up
+    TURNED = "turned"  # cloth worn turned over, its outside facing the body (a twisted strap, a collar inside out)
 
     def __str__(self) -> str:
         return self.value
@@ -126,6 +127,16 @@ class VerdictLimits:
         pictures show hems where they belong), hence limits above those: 8 cm
         is the anchor's failed limit, a hem plainly off its line; 15 cm is
         another garment (a full-length leg ending at mid-calf).
+    turned_flawed_cm2, turned_failed_cm2 : area of the largest patch of cloth
+        worn turned over, its outside facing the body, uncovered and reaching
+        the cloth's edge (:mod:`.turned`: a twisted strap, a binding sewn on
+        inside out). A triangle of the 2.5 cm mesh is 2.7 cm²: beyond two of
+        them a strap's width is turned (the loose tank's front strap turned
+        at B's shoulder seam, 5.6 cm²), while drapes judged ok measure 0 and
+        the hems of flawed trousers and shorts 1.4-1.8 cm² (one rolled in
+        above the heel, seen from behind, 9.1 cm²); beyond 20 cm² a
+        strap or binding is worn inside out along its length (``GLX0926S16``'s
+        armhole bindings sewn on inside out, 23-40 cm² on D, B and E).
     """
 
     seam_gap_flawed_mm: float = 2.0
@@ -147,6 +158,8 @@ class VerdictLimits:
     level_failed_cm: float = 8.0
     hem_rise_flawed_cm: float = 8.0
     hem_rise_failed_cm: float = 15.0
+    turned_flawed_cm2: float = 5.0
+    turned_failed_cm2: float = 20.0
     fabric: FabricClass = FabricClass.WOVEN
 
     def to_dict(self) -> dict:
@@ -264,6 +277,7 @@ class Measured:
     girth_strain : the strain of the tightest girth (length worn on the skin / pattern length of a horizontal cut)
     girth_height_cm : the height of that cut ; girth_pieces : the pieces it crosses
     hem_rise_cm : piece instance -> how much nearer its hem hangs to its anchor than in the pattern
+    turned_cm2 : piece instance -> area of the largest patch of its cloth worn turned over (:mod:`.turned`)
     """
 
     seam_gaps_mm: dict[str, float]
@@ -280,6 +294,7 @@ class Measured:
     girth_height_cm: float = 0.0
     girth_pieces: tuple[str, ...] = ()
     hem_rise_cm: dict[str, float] = field(default_factory=dict)
+    turned_cm2: dict[str, float] = field(default_factory=dict)
 
 
 def _grade(value: float, flawed: float, failed: float) -> Verdict:
@@ -451,6 +466,14 @@ def judge(m: Measured, limits: VerdictLimits | None = None) -> tuple[Verdict, tu
             lim.hem_rise_failed_cm,
             "cm",
             "hems ride up towards their anchor by up to",
+        ),
+        _largest(
+            Check.TURNED,
+            m.turned_cm2,
+            lim.turned_flawed_cm2,
+            lim.turned_failed_cm2,
+            "cm²",
+            "cloth worn turned over, its outside facing the body, over up to",
         ),
     ]
     reasons += [_self_crossing_reason(m, lim), _skin_reason(m, lim), _stretch_reason(m, lim), _girth_reason(m, lim)]

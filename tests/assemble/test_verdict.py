@@ -52,6 +52,8 @@ def test_a_clean_drape_is_ok_with_no_reason():
         ({"levels_cm": {"waistband": 12.0}}, Check.LEVEL, Verdict.FAILED),
         ({"girth_strain": 1.04, "girth_pieces": ("back",)}, Check.GIRTH, Verdict.FLAWED),
         ({"girth_strain": 1.09, "girth_pieces": ("back",)}, Check.GIRTH, Verdict.FAILED),
+        ({"turned_cm2": {"strap": 8.0, "front": 2.0}}, Check.TURNED, Verdict.FLAWED),
+        ({"turned_cm2": {"binding": 35.0}}, Check.TURNED, Verdict.FAILED),
     ],
 )
 def test_each_check_beyond_its_limit_gives_its_reason(change, check, expected):

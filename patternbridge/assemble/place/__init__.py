@@ -24,7 +24,7 @@ from ...report import Report
 from ..bodyparts import BodyParts
 from ..mesh2d import PatternMesh
 from .bands import bands_on_edges
-from .handedness import choose_mirrored, paired_limb_pieces, with_mirrored
+from .handedness import choose_mirrored, paired_limb_pieces, sewn_turned, with_mirrored
 from .seam_graph import SeamGraphSettings, close_seam_graph, layer_ranks
 from .wrap import LIMBS, Cylinder, bounding_cylinders, instance_part, landmark_position, mirror_name, place_instances
 
@@ -127,11 +127,20 @@ def wrap_worn_side(
     names each such piece.
     """
     cylinders = bounding_cylinders(vertices, parts)  # (place_instances widens them to carry the pieces)
-    drawn = place_instances(character, vertices, pattern, pmesh, cylinders, report, scene=scene, parts=parts)
     part = {inst.key: instance_part(pattern, inst) for inst in pmesh.instances}
     axes = {k: cylinders[p].axis for k, p in part.items()}
     around = {i.key for i in pmesh.instances if pattern.piece(i.piece).placement.side is Side.AROUND}
     candidates = paired_limb_pieces(pmesh, {k: p in LIMBS for k, p in part.items()})
+    turned = sewn_turned(pmesh) - candidates  # a pair on the limbs is worn the way round its seams start closer
+    for name in sorted(turned):
+        report.add(
+            "cut-other-side-up",
+            "every seam to other pieces sews it on turned over (its sewn edges run the same way round as theirs): "
+            "it is cut the other side up, its mirror image",
+            where=name,
+        )
+    pmesh = with_mirrored(pmesh, turned)
+    drawn = place_instances(character, vertices, pattern, pmesh, cylinders, report, scene=scene, parts=parts)
     if not candidates:
         return pmesh, bands_on_edges(pmesh, drawn, axes, part, around, scene)
     flipped_mesh = with_mirrored(pmesh, candidates)

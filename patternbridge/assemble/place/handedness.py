@@ -29,7 +29,7 @@ import numpy as np
 from ...pattern.model import Copy
 from ..mesh2d import PatternMesh, PieceMesh
 
-__all__ = ["choose_mirrored", "mirrored_mesh", "paired_limb_pieces", "with_mirrored"]
+__all__ = ["choose_mirrored", "mirrored_mesh", "paired_limb_pieces", "sewn_turned", "with_mirrored"]
 
 #: a piece is worn mirrored only when that brings its seams' squared gaps this much below the drawing's
 GAIN = 0.8
@@ -126,3 +126,52 @@ def choose_mirrored(
                     chosen.add(me)
                     grown = True
     return frozenset(chosen)
+
+
+def _directions(pmesh: PatternMesh, inst, ids: np.ndarray) -> np.ndarray:
+    """(k-1,) +1 / -1 / 0: whether each step ids[i] -> ids[i+1] runs along the instance's wound faces, against, or
+    is no edge of them (a mirror copy is wound the other way round, as the cloth stacks it)."""
+    f = pmesh.pieces[inst.piece].faces
+    f = f[:, ::-1] if inst.copy is Copy.MIRROR else f
+    e = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
+    n = int(f.max()) + 1
+    fwd = np.zeros(n * n, dtype=bool)
+    fwd[e[:, 0] * n + e[:, 1]] = True
+    a, b = np.asarray(ids[:-1], dtype=np.int64), np.asarray(ids[1:], dtype=np.int64)
+    return fwd[a * n + b].astype(np.int64) - fwd[b * n + a].astype(np.int64)
+
+
+def sewn_turned(pmesh: PatternMesh) -> frozenset[str]:
+    """Pieces to cut the other side up: every seam of theirs to other pieces sews them on turned over.
+
+    Two pieces sewn edge to edge with both outsides out run their sewn edges
+    opposite ways round their wound faces (as two triangles of one surface
+    share an edge). A seam whose two sides run the same way can only be
+    closed with one side turned over: a binding sewn so all round is worn
+    inside out, or twists half round between its seams. The drawing of a
+    strip does not say which of its faces is the fabric's right side, so such
+    a piece is cut the other side up: its mirror image (:func:`mirrored_mesh`),
+    which runs each of its seams the other way. Pieces are taken from the
+    least sewn (a binding before the bodice it binds); a piece with a seam
+    that sews it on as drawn stays as drawn.
+    """
+    seams: list[tuple[str, str, bool]] = []
+    for sp in pmesh.seams:
+        if sp.a.piece == sp.b.piece:
+            continue
+        da = _directions(pmesh, sp.a, sp.a_vertices)
+        db = _directions(pmesh, sp.b, sp.b_vertices)
+        both = (da != 0) & (db != 0)
+        same = int(np.count_nonzero(both & (da == db)))
+        seams.append((sp.a.piece, sp.b.piece, same > int(np.count_nonzero(both)) - same))
+    steps: dict[str, int] = {}
+    for sp in pmesh.seams:
+        if sp.a.piece != sp.b.piece:
+            for piece in (sp.a.piece, sp.b.piece):
+                steps[piece] = steps.get(piece, 0) + len(sp.a_vertices) - 1
+    flipped: set[str] = set()
+    for piece in sorted(steps, key=lambda p: (steps[p], p)):
+        mine = [((a in flipped) != (b in flipped)) != turned for a, b, turned in seams if piece in (a, b)]
+        if mine and all(mine):
+            flipped.add(piece)
+    return frozenset(flipped)
