@@ -34,9 +34,52 @@ from ...measure.lengths import PATHS
 from ...pattern.fabric import FabricClass
 from ...pattern.model import Copy, Pattern
 
-__all__ = ["HEM_HOLD_BAND_CM", "LengthStretch", "hem_vertices", "length_stretch", "length_stretches", "worn_lengths"]
+__all__ = [
+    "CROTCH_CLEARANCE_CM",
+    "HEM_HOLD_BAND_CM",
+    "LengthStretch",
+    "crotch_drop",
+    "crotch_height_on",
+    "hem_vertices",
+    "length_stretch",
+    "length_stretches",
+    "rise_shift",
+    "worn_lengths",
+]
 
 HEM_HOLD_BAND_CM = 2.0  # the hem held: boundary points within this of the hem along the placement's axis
+CROTCH_CLEARANCE_CM = 2.0  # a leg piece's crotch point is laid at least this far below the body's crotch
+CROTCH_LANDMARK = "crotch_point"  # the body's crotch: the cloth passes under it
+
+
+def crotch_drop(
+    pattern: Pattern, piece_name: str, p2: np.ndarray, marks: dict[str, int], anchor_y: float, anchor_h: float, crotch_h
+) -> tuple[float, float]:
+    """(pattern y of the crotch mark, cm the rise is laid longer than drafted to put that mark under the crotch).
+
+    A piece that hangs from a mark above the crotch (a trouser or leggings
+    leg from its side waist) and carries a mark tied to the body's crotch
+    (``crotch_point``) passes under the body there: its rise, the rows from
+    the anchor down to that mark, must reach :data:`CROTCH_CLEARANCE_CM`
+    below the crotch, where the four rise and inseam corners meet between the
+    thighs. Drafted shorter than the body's rise (a knit worn stretched, a
+    grading that gave the body a lower crotch), laid at its pattern length the
+    mark sat on or above the crotch; the body pushed it out in front, 5-9 cm
+    from its partners (B, D, F and the leggings on E, B, D), and closing the
+    inseam's top folded the crotch through itself. The rise is then laid
+    stretched by the drop over its length. ``crotch_h``: the crotch's height on
+    the placement's axis (None: no drop).
+
+    Returns ``(nan, 0.0)`` when the piece has no such mark or needs no drop.
+    """
+    mark = pattern.piece(piece_name).landmarks.get(CROTCH_LANDMARK)
+    if crotch_h is None or mark is None or mark not in marks:
+        return float("nan"), 0.0
+    crotch_y = float(p2[marks[mark], 1])
+    if crotch_y >= anchor_y - 1.0:
+        return crotch_y, 0.0
+    drop = anchor_h + (crotch_y - anchor_y) - (float(crotch_h) - CROTCH_CLEARANCE_CM)
+    return crotch_y, max(0.0, float(drop))
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -50,6 +93,8 @@ class LengthStretch:
     need : the strain that takes the hem to its landmark (0.12: 12 % longer)
     limit : the fabric's stretch limit along the grain
     scale : 1 + need when the fabric is worn stretched along the grain and ``need`` is within ``limit``, else 1
+    rise_y : pattern y of the crotch mark and of the anchor: the rise between them is worn stretched by
+        ``rise_scale`` (:func:`crotch_drop`) when the copy is worn stretched
     """
 
     key: str
@@ -60,6 +105,8 @@ class LengthStretch:
     need: float
     limit: float
     scale: float
+    rise_y: tuple[float, float] = (float("nan"), float("nan"))
+    rise_scale: float = 1.0
 
     @property
     def stretched(self) -> bool:
@@ -101,6 +148,7 @@ def length_stretch(
     anchor_h: float,
     target_h: float | None,
     landmark: str,
+    crotch_h: float | None = None,
 ) -> LengthStretch | None:
     """How far the cut copy ``inst`` is stretched to put its hem on its landmark, or None (no such link).
 
@@ -111,6 +159,8 @@ def length_stretch(
     anchor_y, anchor_h : pattern y of the anchor mark and its height on the placement's axis, cm
     target_h : height of the hem's landmark on that axis (None: the character lacks it)
     landmark : the hem's landmark as named by the link (the caller mirrors it)
+    crotch_h : height of the body's crotch on that axis: a rise too short to pass under it is laid stretched
+        (:func:`crotch_drop`), and the hem's stretch is measured from the crotch mark so laid
     """
     piece = pattern.piece(inst.piece)
     pl = piece.placement
@@ -123,10 +173,12 @@ def length_stretch(
     hem_y = float(p2[marks[hem_mark], 1])
     above = [float(p2[marks[m], 1]) for m in piece.landmarks.values() if m in marks]
     pivot_y = min((y for y in above if y > hem_y + 1.0), default=anchor_y)
-    pivot_h = anchor_h + (pivot_y - anchor_y)
+    crotch_y, drop = crotch_drop(pattern, inst.piece, p2, marks, anchor_y, anchor_h, crotch_h)
+    pivot_h = anchor_h + (pivot_y - anchor_y) - float(rise_shift(np.array([pivot_y]), anchor_y, crotch_y, drop)[0])
     need = float((pivot_h - target_h) / max(pivot_y - hem_y, 1e-9) - 1.0)
     stretch = FabricClass(piece.fabric_class or pattern.fabric_class).stretch
     worn = ease_cm < 0.0 and stretch.along_worn > 0.0 and 0.0 < need <= stretch.along_limit
+    rise_scale = 1.0 + drop / max(anchor_y - crotch_y, 1e-9) if drop > 0.0 else 1.0
     return LengthStretch(
         key=inst.key,
         landmark=landmark,
@@ -136,7 +188,26 @@ def length_stretch(
         need=need,
         limit=stretch.along_limit,
         scale=1.0 + need if worn else 1.0,
+        rise_y=(crotch_y, anchor_y),
+        rise_scale=rise_scale if worn and rise_scale - 1.0 <= stretch.along_limit else 1.0,
     )
+
+
+def crotch_height_on(character, vertices: np.ndarray, cyl) -> float | None:
+    """Height of the body's crotch landmark on the axis of ``cyl`` (a :class:`~.wrap.Cylinder`), or None."""
+    from .wrap import landmark_position
+
+    crotch = landmark_position(character, vertices, CROTCH_LANDMARK, False)
+    return None if crotch is None else float(cyl.coordinates(crotch[None])[1][0])
+
+
+def rise_shift(y: np.ndarray, anchor_y: float, crotch_y: float, drop: float) -> np.ndarray:
+    """(n,) cm each pattern row ``y`` is laid lower for a crotch ``drop`` (:func:`crotch_drop`): nothing at and
+    above the anchor, the drop at and below the crotch mark, in proportion between (the rise stretched evenly)."""
+    y = np.asarray(y, dtype=np.float64)
+    if drop <= 0.0:
+        return np.zeros(len(y))
+    return drop * np.clip((anchor_y - y) / max(anchor_y - crotch_y, 1e-9), 0.0, 1.0)
 
 
 def worn_lengths(ls: LengthStretch, uv: np.ndarray, edges: np.ndarray, target: np.ndarray) -> np.ndarray:
@@ -157,8 +228,12 @@ def worn_lengths(ls: LengthStretch, uv: np.ndarray, edges: np.ndarray, target: n
     uv = np.asarray(uv, dtype=np.float64)
     d = uv[edges[:, 1]] - uv[edges[:, 0]]
     cos2 = d[:, 1] ** 2 / np.maximum(np.einsum("ij,ij->i", d, d), 1e-30)
-    below = 0.5 * (uv[edges[:, 0], 1] + uv[edges[:, 1], 1]) < ls.pivot_y
-    return np.asarray(target, dtype=np.float64) * np.where(below, 1.0 + (ls.scale - 1.0) * cos2, 1.0)
+    mid = 0.5 * (uv[edges[:, 0], 1] + uv[edges[:, 1], 1])
+    crotch_y, anchor_y = ls.rise_y
+    scale = np.where(mid < ls.pivot_y, ls.scale, 1.0)
+    if ls.rise_scale > 1.0:  # the rise laid stretched to pass under the crotch (crotch_drop) is worn so
+        scale = np.where((mid >= crotch_y) & (mid < anchor_y), ls.rise_scale, scale)
+    return np.asarray(target, dtype=np.float64) * (1.0 + (scale - 1.0) * cos2)
 
 
 def hem_vertices(ls: LengthStretch, p2: np.ndarray, n_boundary: int) -> np.ndarray:
@@ -202,6 +277,7 @@ def length_stretches(character, vertices: np.ndarray, pattern: Pattern, pmesh, c
             anchor_h=float(cyl.coordinates(anchor[None])[1][0]),
             target_h=None if target is None else float(cyl.coordinates(target[None])[1][0]),
             landmark=mirror_name(found[1]) if mirrored else found[1],
+            crotch_h=crotch_height_on(character, vertices, cyl),
         )
         if ls is not None:
             out[inst.key] = ls
