@@ -37,13 +37,13 @@ from ...pattern.model import Copy, Pattern
 __all__ = [
     "CROTCH_CLEARANCE_CM",
     "HEM_HOLD_BAND_CM",
+    "CrotchDrop",
     "LengthStretch",
     "crotch_drop",
     "crotch_height_on",
     "hem_vertices",
     "length_stretch",
     "length_stretches",
-    "rise_shift",
     "worn_lengths",
 ]
 
@@ -52,34 +52,66 @@ CROTCH_CLEARANCE_CM = 2.0  # a leg piece's crotch point is laid at least this fa
 CROTCH_LANDMARK = "crotch_point"  # the body's crotch: the cloth passes under it
 
 
+@dataclass(frozen=True, slots=True)
+class CrotchDrop:
+    """How much lower than its pattern length puts it a leg piece's crotch mark is laid (:func:`crotch_drop`).
+
+    crotch_y, anchor_y : pattern y of the crotch mark and of the anchor mark, cm
+    stretch_cm : taken by the rise (the rows between the two marks) laid stretched evenly
+    shift_cm : the rest, taken by the whole piece laid lower (its anchor below its landmark)
+    """
+
+    crotch_y: float = float("nan")
+    anchor_y: float = float("nan")
+    stretch_cm: float = 0.0
+    shift_cm: float = 0.0
+
+    @property
+    def rise_scale(self) -> float:
+        """The rise's length as laid over its pattern length (1: not stretched)."""
+        return 1.0 + self.stretch_cm / (self.anchor_y - self.crotch_y) if self.stretch_cm > 0.0 else 1.0
+
+    def lowered(self, y: np.ndarray) -> np.ndarray:
+        """(n,) cm each pattern row ``y`` is laid lower: the shift everywhere, plus the stretch's share below
+        the anchor (all of it at and below the crotch mark)."""
+        y = np.asarray(y, dtype=np.float64)
+        if self.stretch_cm <= 0.0:
+            return np.full(len(y), self.shift_cm)
+        share = np.clip((self.anchor_y - y) / (self.anchor_y - self.crotch_y), 0.0, 1.0)
+        return self.shift_cm + self.stretch_cm * share
+
+
 def crotch_drop(
     pattern: Pattern, piece_name: str, p2: np.ndarray, marks: dict[str, int], anchor_y: float, anchor_h: float, crotch_h
-) -> tuple[float, float]:
-    """(pattern y of the crotch mark, cm the rise is laid longer than drafted to put that mark under the crotch).
+) -> CrotchDrop:
+    """How much lower than drafted a leg piece's crotch mark is laid to pass under the body's crotch.
 
     A piece that hangs from a mark above the crotch (a trouser or leggings
     leg from its side waist) and carries a mark tied to the body's crotch
-    (``crotch_point``) passes under the body there: its rise, the rows from
-    the anchor down to that mark, must reach :data:`CROTCH_CLEARANCE_CM`
-    below the crotch, where the four rise and inseam corners meet between the
-    thighs. Drafted shorter than the body's rise (a knit worn stretched, a
-    grading that gave the body a lower crotch), laid at its pattern length the
-    mark sat on or above the crotch; the body pushed it out in front, 5-9 cm
-    from its partners (B, D, F and the leggings on E, B, D), and closing the
-    inseam's top folded the crotch through itself. The rise is then laid
-    stretched by the drop over its length. ``crotch_h``: the crotch's height on
-    the placement's axis (None: no drop).
-
-    Returns ``(nan, 0.0)`` when the piece has no such mark or needs no drop.
+    (``crotch_point``) passes under the body there: the four rise and inseam
+    corners meet between the thighs, :data:`CROTCH_CLEARANCE_CM` below the
+    crotch. Drafted shorter than the body's rise (a knit worn stretched, a
+    grading that gave the body a lower crotch) and laid at its pattern length,
+    the mark sat on or above the crotch; the body pushed it out in front, 5-9
+    cm from its partners (B, D, F and the leggings on E, B, D), and closing
+    the inseam's top folded the crotch through itself. The rise takes as much
+    of the drop as its fabric stretches along the grain
+    (``FabricStretch.along_limit``: a woven 3 %, a stretch knit 30 %); the
+    rest lowers the whole piece, as a rise too short is worn: lower on the
+    hips. ``crotch_h``: the crotch's height on the placement's axis (None: no
+    drop).
     """
-    mark = pattern.piece(piece_name).landmarks.get(CROTCH_LANDMARK)
+    piece = pattern.piece(piece_name)
+    mark = piece.landmarks.get(CROTCH_LANDMARK)
     if crotch_h is None or mark is None or mark not in marks:
-        return float("nan"), 0.0
+        return CrotchDrop()
     crotch_y = float(p2[marks[mark], 1])
-    if crotch_y >= anchor_y - 1.0:
-        return crotch_y, 0.0
     drop = anchor_h + (crotch_y - anchor_y) - (float(crotch_h) - CROTCH_CLEARANCE_CM)
-    return crotch_y, max(0.0, float(drop))
+    if crotch_y >= anchor_y - 1.0 or drop <= 0.0:
+        return CrotchDrop()
+    limit = FabricClass(piece.fabric_class or pattern.fabric_class).stretch.along_limit
+    stretch = min(float(drop), limit * (anchor_y - crotch_y))
+    return CrotchDrop(crotch_y=crotch_y, anchor_y=anchor_y, stretch_cm=stretch, shift_cm=float(drop) - stretch)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -93,8 +125,8 @@ class LengthStretch:
     need : the strain that takes the hem to its landmark (0.12: 12 % longer)
     limit : the fabric's stretch limit along the grain
     scale : 1 + need when the fabric is worn stretched along the grain and ``need`` is within ``limit``, else 1
-    rise_y : pattern y of the crotch mark and of the anchor: the rise between them is worn stretched by
-        ``rise_scale`` (:func:`crotch_drop`) when the copy is worn stretched
+    rise : how the copy's crotch is laid under the body's (:func:`crotch_drop`): a rise laid stretched is
+        worn so when the copy is worn stretched
     """
 
     key: str
@@ -105,8 +137,7 @@ class LengthStretch:
     need: float
     limit: float
     scale: float
-    rise_y: tuple[float, float] = (float("nan"), float("nan"))
-    rise_scale: float = 1.0
+    rise: CrotchDrop = CrotchDrop()
 
     @property
     def stretched(self) -> bool:
@@ -114,11 +145,13 @@ class LengthStretch:
         return self.scale > 1.0
 
     def heights(self, y: np.ndarray) -> np.ndarray:
-        """(n,) the pattern heights ``y`` (cm) as worn: stretched by ``scale`` below ``pivot_y``."""
+        """(n,) the pattern heights ``y`` (cm) as worn: stretched by ``scale`` below ``pivot_y``, and the rise by
+        ``rise`` (:func:`crotch_drop`; its shift, which moves the whole copy, is not a length)."""
         y = np.asarray(y, dtype=np.float64)
         if not self.stretched:
             return y.copy()  # bit for bit: pivot + (y - pivot) need not be y
-        return np.where(y < self.pivot_y, self.pivot_y + self.scale * (y - self.pivot_y), y)
+        worn = np.where(y < self.pivot_y, self.pivot_y + self.scale * (y - self.pivot_y), y)
+        return worn - (self.rise.lowered(y) - self.rise.shift_cm)
 
 
 def _hem_link(pattern: Pattern, piece_name: str, anchor: str, anchor_vertex: int) -> tuple[str, str, float] | None:
@@ -173,12 +206,11 @@ def length_stretch(
     hem_y = float(p2[marks[hem_mark], 1])
     above = [float(p2[marks[m], 1]) for m in piece.landmarks.values() if m in marks]
     pivot_y = min((y for y in above if y > hem_y + 1.0), default=anchor_y)
-    crotch_y, drop = crotch_drop(pattern, inst.piece, p2, marks, anchor_y, anchor_h, crotch_h)
-    pivot_h = anchor_h + (pivot_y - anchor_y) - float(rise_shift(np.array([pivot_y]), anchor_y, crotch_y, drop)[0])
+    rise = crotch_drop(pattern, inst.piece, p2, marks, anchor_y, anchor_h, crotch_h)
+    pivot_h = anchor_h + (pivot_y - anchor_y) - float(rise.lowered(np.array([pivot_y]))[0])
     need = float((pivot_h - target_h) / max(pivot_y - hem_y, 1e-9) - 1.0)
     stretch = FabricClass(piece.fabric_class or pattern.fabric_class).stretch
     worn = ease_cm < 0.0 and stretch.along_worn > 0.0 and 0.0 < need <= stretch.along_limit
-    rise_scale = 1.0 + drop / max(anchor_y - crotch_y, 1e-9) if drop > 0.0 else 1.0
     return LengthStretch(
         key=inst.key,
         landmark=landmark,
@@ -188,8 +220,7 @@ def length_stretch(
         need=need,
         limit=stretch.along_limit,
         scale=1.0 + need if worn else 1.0,
-        rise_y=(crotch_y, anchor_y),
-        rise_scale=rise_scale if worn and rise_scale - 1.0 <= stretch.along_limit else 1.0,
+        rise=rise,
     )
 
 
@@ -199,15 +230,6 @@ def crotch_height_on(character, vertices: np.ndarray, cyl) -> float | None:
 
     crotch = landmark_position(character, vertices, CROTCH_LANDMARK, False)
     return None if crotch is None else float(cyl.coordinates(crotch[None])[1][0])
-
-
-def rise_shift(y: np.ndarray, anchor_y: float, crotch_y: float, drop: float) -> np.ndarray:
-    """(n,) cm each pattern row ``y`` is laid lower for a crotch ``drop`` (:func:`crotch_drop`): nothing at and
-    above the anchor, the drop at and below the crotch mark, in proportion between (the rise stretched evenly)."""
-    y = np.asarray(y, dtype=np.float64)
-    if drop <= 0.0:
-        return np.zeros(len(y))
-    return drop * np.clip((anchor_y - y) / max(anchor_y - crotch_y, 1e-9), 0.0, 1.0)
 
 
 def worn_lengths(ls: LengthStretch, uv: np.ndarray, edges: np.ndarray, target: np.ndarray) -> np.ndarray:
@@ -229,10 +251,9 @@ def worn_lengths(ls: LengthStretch, uv: np.ndarray, edges: np.ndarray, target: n
     d = uv[edges[:, 1]] - uv[edges[:, 0]]
     cos2 = d[:, 1] ** 2 / np.maximum(np.einsum("ij,ij->i", d, d), 1e-30)
     mid = 0.5 * (uv[edges[:, 0], 1] + uv[edges[:, 1], 1])
-    crotch_y, anchor_y = ls.rise_y
     scale = np.where(mid < ls.pivot_y, ls.scale, 1.0)
-    if ls.rise_scale > 1.0:  # the rise laid stretched to pass under the crotch (crotch_drop) is worn so
-        scale = np.where((mid >= crotch_y) & (mid < anchor_y), ls.rise_scale, scale)
+    if ls.stretched and ls.rise.rise_scale > 1.0:  # the rise laid stretched under the crotch is worn so
+        scale = np.where((mid >= ls.rise.crotch_y) & (mid < ls.rise.anchor_y), ls.rise.rise_scale, scale)
     return np.asarray(target, dtype=np.float64) * (1.0 + (scale - 1.0) * cos2)
 
 

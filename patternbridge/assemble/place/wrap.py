@@ -39,7 +39,7 @@ from ...report import Report
 from ..bodyparts import HAND_SHARE, PARTS, BodyParts, crotch_height, limb_axis
 from ..mesh2d import Instance, PatternMesh
 from ..strategy import LEGS, mirror_part
-from .length import CROTCH_LANDMARK, crotch_drop, length_stretches, rise_shift
+from .length import CROTCH_LANDMARK, crotch_drop, length_stretches
 
 __all__ = ["Cylinder", "bounding_cylinders", "landmark_position", "mirror_name", "place_instances"]
 
@@ -303,12 +303,13 @@ def place_instances(
         h = h_a + ((ls.heights(p2[:, 1]) if ls is not None else p2[:, 1]) - a2[1])
         crotch = landmark_position(character, vertices, CROTCH_LANDMARK, False) if part in LEGS else None
         if crotch is not None:
-            # a rise too short to pass under the crotch is laid stretched to it (length.crotch_drop)
+            # a rise too short to pass under the crotch is laid stretched, the piece lower (length.crotch_drop)
             th_c, h_c, _ = cyl.coordinates(crotch[None])
-            crotch_y, drop = crotch_drop(
+            drop = crotch_drop(
                 pattern, inst.piece, p2, pmesh.pieces[inst.piece].marks, float(a2[1]), h_a, float(h_c[0])
             )
-            h = h - rise_shift(p2[:, 1], float(a2[1]), crotch_y, drop)
+            # a copy worn stretched has its rise's stretch in its worn heights already
+            h = h - (drop.shift_cm if ls is not None and ls.stretched else drop.lowered(p2[:, 1]))
             both = _mirror_seam_count(pmesh, inst, p2) >= 2
             x_line = np.broadcast_to(np.asarray(x_ref, dtype=np.float64), (len(p2),))
             share = _ring_share(p2[: pmesh.pieces[inst.piece].n_boundary], p2, x_line, both_centres=both)
