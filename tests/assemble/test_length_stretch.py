@@ -107,8 +107,9 @@ def test_stretch_knit_leggings_start_at_the_ankle_and_woven_ones_at_their_length
     assert not any(ls.stretched for ls in w_stretches.values())
     w_hems = _hem_heights(w_pm, w_placed)
     for key, ls in w_stretches.items():
-        # the same need, not taken: the woven hangs at its pattern length, well above the ankle
-        assert ls.need == pytest.approx(stretches[key].need)
+        # a need, not taken: the woven hangs at its pattern length, well above the ankle (its need is measured
+        # from its crotch laid under the body's, length.crotch_drop; the knit is pulled up into the crotch)
+        assert 0.0 < ls.need <= stretches[key].need
         assert w_hems[key] - hems[key] > 5.0, (key, w_hems[key], hems[key])
 
 
