@@ -34,9 +34,91 @@ from ...measure.lengths import PATHS
 from ...pattern.fabric import FabricClass
 from ...pattern.model import Copy, Pattern
 
-__all__ = ["HEM_HOLD_BAND_CM", "LengthStretch", "hem_vertices", "length_stretch", "length_stretches", "worn_lengths"]
+__all__ = [
+    "CROTCH_CLEARANCE_CM",
+    "HEM_HOLD_BAND_CM",
+    "CrotchDrop",
+    "LengthStretch",
+    "crotch_drop",
+    "crotch_height_on",
+    "hem_vertices",
+    "length_stretch",
+    "length_stretches",
+    "worn_lengths",
+]
 
 HEM_HOLD_BAND_CM = 2.0  # the hem held: boundary points within this of the hem along the placement's axis
+CROTCH_CLEARANCE_CM = 2.0  # a leg piece's crotch point is laid at least this far below the body's crotch
+CROTCH_LANDMARK = "crotch_point"  # the body's crotch: the cloth passes under it
+
+
+@dataclass(frozen=True, slots=True)
+class CrotchDrop:
+    """How much lower than its pattern length puts it a leg piece's crotch mark is laid (:func:`crotch_drop`).
+
+    crotch_y, anchor_y : pattern y of the crotch mark and of the anchor mark, cm
+    stretch_cm : taken by the rise (the rows between the two marks) laid stretched evenly
+    shift_cm : the rest, taken by the whole piece laid lower (its anchor below its landmark)
+    """
+
+    crotch_y: float = float("nan")
+    anchor_y: float = float("nan")
+    stretch_cm: float = 0.0
+    shift_cm: float = 0.0
+
+    @property
+    def rise_scale(self) -> float:
+        """The rise's length as laid over its pattern length (1: not stretched)."""
+        return 1.0 + self.stretch_cm / (self.anchor_y - self.crotch_y) if self.stretch_cm > 0.0 else 1.0
+
+    def lowered(self, y: np.ndarray) -> np.ndarray:
+        """(n,) cm each pattern row ``y`` is laid lower: the shift everywhere, plus the stretch's share below
+        the anchor (all of it at and below the crotch mark)."""
+        y = np.asarray(y, dtype=np.float64)
+        if self.stretch_cm <= 0.0:
+            return np.full(len(y), self.shift_cm)
+        share = np.clip((self.anchor_y - y) / (self.anchor_y - self.crotch_y), 0.0, 1.0)
+        return self.shift_cm + self.stretch_cm * share
+
+
+def crotch_drop(
+    pattern: Pattern, piece_name: str, p2: np.ndarray, marks: dict[str, int], anchor_y: float, anchor_h: float, crotch_h
+) -> CrotchDrop:
+    """How much lower than drafted a leg piece's crotch mark is laid to pass under the body's crotch.
+
+    A piece that hangs from a mark above the crotch (a trouser or leggings
+    leg from its side waist) and carries a mark tied to the body's crotch
+    (``crotch_point``) passes under the body there: the four rise and inseam
+    corners meet between the thighs, :data:`CROTCH_CLEARANCE_CM` below the
+    crotch. Drafted shorter than the body's rise (a knit worn stretched, a
+    grading that gave the body a lower crotch) and laid at its pattern length,
+    the mark sat on or above the crotch; the body pushed it out in front, 5-9
+    cm from its partners (B, D, F and the leggings on E, B, D), and closing
+    the inseam's top folded the crotch through itself. The rise takes as much
+    of the drop as its fabric stretches along the grain
+    (``FabricStretch.along_limit``, a woven 3 %); the rest lowers the whole
+    piece, as a woven rise too short is worn: lower on the hips. A knit worn
+    stretched along the grain (``along_worn`` > 0, leggings) is not dropped:
+    it is pulled up into the crotch on the body, and the drape stretches its
+    rise there. Dropped, the leggings graded to B and D (rises 5 and 4 cm
+    short, taken by the rise laid stretched up to the knit's 30 %, or by
+    the waist laid lower) crumpled at the seat and slid down the hips (259
+    and 1426 crossing triangles, the waists 7 and 21 cm low). ``crotch_h``:
+    the crotch's height on the placement's axis (None: no drop).
+    """
+    piece = pattern.piece(piece_name)
+    mark = piece.landmarks.get(CROTCH_LANDMARK)
+    if crotch_h is None or mark is None or mark not in marks:
+        return CrotchDrop()
+    crotch_y = float(p2[marks[mark], 1])
+    drop = anchor_h + (crotch_y - anchor_y) - (float(crotch_h) - CROTCH_CLEARANCE_CM)
+    if crotch_y >= anchor_y - 1.0 or drop <= 0.0:
+        return CrotchDrop()
+    fabric = FabricClass(piece.fabric_class or pattern.fabric_class).stretch
+    if fabric.along_worn > 0.0:
+        return CrotchDrop()  # a knit worn stretched along the grain is pulled up into the crotch on the body
+    stretch = min(float(drop), fabric.along_limit * (anchor_y - crotch_y))
+    return CrotchDrop(crotch_y=crotch_y, anchor_y=anchor_y, stretch_cm=stretch, shift_cm=float(drop) - stretch)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -50,6 +132,8 @@ class LengthStretch:
     need : the strain that takes the hem to its landmark (0.12: 12 % longer)
     limit : the fabric's stretch limit along the grain
     scale : 1 + need when the fabric is worn stretched along the grain and ``need`` is within ``limit``, else 1
+    rise : how the copy's crotch is laid under the body's (:func:`crotch_drop`): a rise laid stretched is
+        worn so when the copy is worn stretched
     """
 
     key: str
@@ -60,6 +144,7 @@ class LengthStretch:
     need: float
     limit: float
     scale: float
+    rise: CrotchDrop = CrotchDrop()
 
     @property
     def stretched(self) -> bool:
@@ -67,11 +152,13 @@ class LengthStretch:
         return self.scale > 1.0
 
     def heights(self, y: np.ndarray) -> np.ndarray:
-        """(n,) the pattern heights ``y`` (cm) as worn: stretched by ``scale`` below ``pivot_y``."""
+        """(n,) the pattern heights ``y`` (cm) as worn: stretched by ``scale`` below ``pivot_y``, and the rise by
+        ``rise`` (:func:`crotch_drop`; its shift, which moves the whole copy, is not a length)."""
         y = np.asarray(y, dtype=np.float64)
         if not self.stretched:
             return y.copy()  # bit for bit: pivot + (y - pivot) need not be y
-        return np.where(y < self.pivot_y, self.pivot_y + self.scale * (y - self.pivot_y), y)
+        worn = np.where(y < self.pivot_y, self.pivot_y + self.scale * (y - self.pivot_y), y)
+        return worn - (self.rise.lowered(y) - self.rise.shift_cm)
 
 
 def _hem_link(pattern: Pattern, piece_name: str, anchor: str, anchor_vertex: int) -> tuple[str, str, float] | None:
@@ -101,6 +188,7 @@ def length_stretch(
     anchor_h: float,
     target_h: float | None,
     landmark: str,
+    crotch_h: float | None = None,
 ) -> LengthStretch | None:
     """How far the cut copy ``inst`` is stretched to put its hem on its landmark, or None (no such link).
 
@@ -111,6 +199,8 @@ def length_stretch(
     anchor_y, anchor_h : pattern y of the anchor mark and its height on the placement's axis, cm
     target_h : height of the hem's landmark on that axis (None: the character lacks it)
     landmark : the hem's landmark as named by the link (the caller mirrors it)
+    crotch_h : height of the body's crotch on that axis: a rise too short to pass under it is laid stretched
+        (:func:`crotch_drop`), and the hem's stretch is measured from the crotch mark so laid
     """
     piece = pattern.piece(inst.piece)
     pl = piece.placement
@@ -123,7 +213,8 @@ def length_stretch(
     hem_y = float(p2[marks[hem_mark], 1])
     above = [float(p2[marks[m], 1]) for m in piece.landmarks.values() if m in marks]
     pivot_y = min((y for y in above if y > hem_y + 1.0), default=anchor_y)
-    pivot_h = anchor_h + (pivot_y - anchor_y)
+    rise = crotch_drop(pattern, inst.piece, p2, marks, anchor_y, anchor_h, crotch_h)
+    pivot_h = anchor_h + (pivot_y - anchor_y) - float(rise.lowered(np.array([pivot_y]))[0])
     need = float((pivot_h - target_h) / max(pivot_y - hem_y, 1e-9) - 1.0)
     stretch = FabricClass(piece.fabric_class or pattern.fabric_class).stretch
     worn = ease_cm < 0.0 and stretch.along_worn > 0.0 and 0.0 < need <= stretch.along_limit
@@ -136,7 +227,16 @@ def length_stretch(
         need=need,
         limit=stretch.along_limit,
         scale=1.0 + need if worn else 1.0,
+        rise=rise,
     )
+
+
+def crotch_height_on(character, vertices: np.ndarray, cyl) -> float | None:
+    """Height of the body's crotch landmark on the axis of ``cyl`` (a :class:`~.wrap.Cylinder`), or None."""
+    from .wrap import landmark_position
+
+    crotch = landmark_position(character, vertices, CROTCH_LANDMARK, False)
+    return None if crotch is None else float(cyl.coordinates(crotch[None])[1][0])
 
 
 def worn_lengths(ls: LengthStretch, uv: np.ndarray, edges: np.ndarray, target: np.ndarray) -> np.ndarray:
@@ -157,8 +257,11 @@ def worn_lengths(ls: LengthStretch, uv: np.ndarray, edges: np.ndarray, target: n
     uv = np.asarray(uv, dtype=np.float64)
     d = uv[edges[:, 1]] - uv[edges[:, 0]]
     cos2 = d[:, 1] ** 2 / np.maximum(np.einsum("ij,ij->i", d, d), 1e-30)
-    below = 0.5 * (uv[edges[:, 0], 1] + uv[edges[:, 1], 1]) < ls.pivot_y
-    return np.asarray(target, dtype=np.float64) * np.where(below, 1.0 + (ls.scale - 1.0) * cos2, 1.0)
+    mid = 0.5 * (uv[edges[:, 0], 1] + uv[edges[:, 1], 1])
+    scale = np.where(mid < ls.pivot_y, ls.scale, 1.0)
+    if ls.stretched and ls.rise.rise_scale > 1.0:  # the rise laid stretched under the crotch is worn so
+        scale = np.where((mid >= ls.rise.crotch_y) & (mid < ls.rise.anchor_y), ls.rise.rise_scale, scale)
+    return np.asarray(target, dtype=np.float64) * (1.0 + (scale - 1.0) * cos2)
 
 
 def hem_vertices(ls: LengthStretch, p2: np.ndarray, n_boundary: int) -> np.ndarray:
@@ -202,6 +305,7 @@ def length_stretches(character, vertices: np.ndarray, pattern: Pattern, pmesh, c
             anchor_h=float(cyl.coordinates(anchor[None])[1][0]),
             target_h=None if target is None else float(cyl.coordinates(target[None])[1][0]),
             landmark=mirror_name(found[1]) if mirrored else found[1],
+            crotch_h=crotch_height_on(character, vertices, cyl),
         )
         if ls is not None:
             out[inst.key] = ls

@@ -39,7 +39,7 @@ from ...report import Report
 from ..bodyparts import HAND_SHARE, PARTS, BodyParts, crotch_height, limb_axis
 from ..mesh2d import Instance, PatternMesh
 from ..strategy import LEGS, mirror_part
-from .length import length_stretches
+from .length import CROTCH_LANDMARK, crotch_drop, length_stretches
 
 __all__ = ["Cylinder", "bounding_cylinders", "landmark_position", "mirror_name", "place_instances"]
 
@@ -301,6 +301,19 @@ def place_instances(
             theta = (0.0 if pl.side is Side.FRONT else np.pi) + (p2[:, 0] - _centre_line(pmesh, inst, p2)) / Rv
         ls = stretches.get(inst.key)
         h = h_a + ((ls.heights(p2[:, 1]) if ls is not None else p2[:, 1]) - a2[1])
+        crotch = landmark_position(character, vertices, CROTCH_LANDMARK, False) if part in LEGS else None
+        if crotch is not None:
+            # a rise too short to pass under the crotch is laid stretched, the piece lower (length.crotch_drop)
+            th_c, h_c, _ = cyl.coordinates(crotch[None])
+            drop = crotch_drop(
+                pattern, inst.piece, p2, pmesh.pieces[inst.piece].marks, float(a2[1]), h_a, float(h_c[0])
+            )
+            # a copy worn stretched has its rise's stretch in its worn heights already
+            h = h - (drop.shift_cm if ls is not None and ls.stretched else drop.lowered(p2[:, 1]))
+            both = _mirror_seam_count(pmesh, inst, p2) >= 2
+            x_line = np.broadcast_to(np.asarray(x_ref, dtype=np.float64), (len(p2),))
+            share = _ring_share(p2[: pmesh.pieces[inst.piece].n_boundary], p2, x_line, both_centres=both)
+            theta = _facing_crotch(theta, h, share, th_a, float(th_c[0]), float(h_c[0]))
         out[inst.key] = _on_cylinder(cyl, theta, h, Rv, scene)
         if part in LEGS and BodyPart.TORSO in cylinders and parts is not None:
             # any leg piece: the rows that rise above the crotch go round the hips (see _seat_on_hips)
@@ -311,6 +324,33 @@ def place_instances(
     if seat:
         _seat_on_hips(character, vertices, parts, cylinders[BodyPart.TORSO], seat, out, scene)
     return out
+
+
+CROTCH_TURN_CM = 15.0  # below the crotch, the rows of a leg turn from facing the crotch to their widths' shares
+
+
+def _facing_crotch(
+    theta: np.ndarray, h: np.ndarray, share: np.ndarray, th_side: float, th_crotch: float, h_crotch: float
+) -> np.ndarray:
+    """(n,) angles of a leg piece's vertices with the far ends of its rows by the crotch turned to face it.
+
+    Round a leg the pieces side by side share each row by their widths: the
+    inside leg lies where the front's width ends. At the crotch the back is
+    wider than the front (its crotch extension runs under the seat), so the
+    inside leg's top, the crotch point, came to lie on the front of the
+    thigh, 5-10 cm before the body's crotch on B, D and F, and its partners'
+    rise and inseam corners were drawn to it under the body; sewing folded
+    the crotch through itself. So at the crotch each piece spans, from the
+    side line (``share`` 0) to its row's far end (``share`` ±1, signed as
+    the angle runs), the angle from the side (``th_side``) to the crotch's
+    (``th_crotch``) the way it runs: the ends of every piece meet facing the
+    crotch, whatever the widths. The turn is full at and above the crotch's
+    height ``h_crotch`` and fades over :data:`CROTCH_TURN_CM` below it.
+    """
+    ahead = float(np.mod(th_crotch - th_side, 2.0 * np.pi))
+    facing = th_side + share * np.where(share >= 0.0, ahead, 2.0 * np.pi - ahead)
+    turn = np.clip(1.0 - (h_crotch - h) / CROTCH_TURN_CM, 0.0, 1.0)
+    return (1.0 - turn) * theta + turn * facing
 
 
 def _on_cylinder(cyl: Cylinder, theta: np.ndarray, h: np.ndarray, Rv, scene) -> np.ndarray:
