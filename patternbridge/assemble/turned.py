@@ -30,6 +30,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .collision import triangle_scene
+
 __all__ = ["LAYER_CM", "TURNED_COS", "TurnedCloth", "free_edge_faces", "outward_cos", "patches", "turned_cloth"]
 
 #: a triangle is turned when its outward normal is within 60° of the direction into the skin
@@ -117,17 +119,6 @@ def _area(x: np.ndarray, faces: np.ndarray) -> np.ndarray:
     return 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
 
 
-def _scene(vertices: np.ndarray, faces: np.ndarray):
-    import open3d as o3d
-
-    scene = o3d.t.geometry.RaycastingScene()
-    scene.add_triangles(
-        o3d.core.Tensor(np.asarray(vertices, dtype=np.float32)),
-        o3d.core.Tensor(np.asarray(faces, dtype=np.uint32)),
-    )
-    return scene
-
-
 def _hit_within(scene, origins: np.ndarray, dirs: np.ndarray, reach: float) -> np.ndarray:
     """(n,) bool: rays from ``origins`` along unit ``dirs`` that hit the scene within ``reach``."""
     import open3d as o3d
@@ -159,9 +150,9 @@ def turned_cloth(
     """
     faces = np.asarray(faces, dtype=np.int64)
     centroid = x[faces].mean(axis=1)
-    body = _scene(body_vertices, body_faces)
     import open3d as o3d
 
+    body = triangle_scene(body_vertices, body_faces)
     closest = body.compute_closest_points(o3d.core.Tensor(centroid.astype(np.float32)))["points"].numpy()
     cos = outward_cos(x, faces, closest.astype(np.float64))
     turned = cos < turned_cos
@@ -171,7 +162,7 @@ def turned_cloth(
         away = centroid[ids] - closest[ids]
         away /= np.maximum(np.linalg.norm(away, axis=1, keepdims=True), 1e-12)
         eps = 1e-3  # start off the triangle itself
-        covered[ids] = _hit_within(_scene(x, faces), centroid[ids] + eps * away, away, layer_cm)
+        covered[ids] = _hit_within(triangle_scene(x, faces), centroid[ids] + eps * away, away, layer_cm)
     seen = turned & ~covered
     patch = patches(faces, weld, seen)
     at_edge = np.zeros(int(patch.max()) + 2, dtype=bool)  # the last slot, False, is read by patch -1

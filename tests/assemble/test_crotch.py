@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from brute_force import crossing_triangles
 
 from patternbridge.assemble.place.length import CrotchDrop
 from patternbridge.assemble.place.wrap import CROTCH_TURN_CM, _facing_crotch
@@ -32,29 +33,6 @@ def test_a_crotch_drop_stretches_the_rise_evenly_and_lowers_the_rest():
     np.testing.assert_allclose(drop.lowered(y), [3.0, 3.0, 4.0, 5.0, 5.0])
     assert drop.rise_scale == pytest.approx(1.1)
     np.testing.assert_array_equal(CrotchDrop().lowered(y), np.zeros(5))
-
-
-def _crossing_triangles(x: np.ndarray, faces: np.ndarray, block: int = 256) -> int:
-    """Brute force: triangles an edge of another triangle (sharing no vertex with it) passes through."""
-    ends = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    owner = np.tile(np.arange(len(faces)), 3)
-    a, b, c = (x[faces[:, k]][None] for k in range(3))
-    n = np.cross(b - a, c - a)
-    hit = np.zeros(len(faces), dtype=bool)
-    for s in range(0, len(ends), block):
-        e = ends[s : s + block]
-        p, q = x[e[:, 0]][:, None], x[e[:, 1]][:, None]
-        dp = np.sum((p - a) * n, axis=2)
-        dq = np.sum((q - a) * n, axis=2)
-        inside = dp * dq < 0
-        m = p + (dp / np.where(inside, dp - dq, 1.0))[:, :, None] * (q - p)
-        for u, v in ((a, b), (b, c), (c, a)):
-            inside &= np.sum(np.cross(v - u, m - u) * n, axis=2) > 0
-        inside &= ~(e[:, None, :, None] == faces[None, :, None, :]).any(axis=(2, 3))
-        ei, ti = np.nonzero(inside)
-        hit[ti] = True
-        hit[owner[s + ei]] = True
-    return int(np.count_nonzero(hit))
 
 
 @pytest.mark.shared
@@ -92,4 +70,4 @@ def test_the_crotch_corners_meet_under_the_crotch_and_the_placement_does_not_cro
     wx = np.zeros((len(ids), 3))
     np.add.at(wx, inv, sim.cloth.x)
     wx /= np.bincount(inv)[:, None]
-    assert _crossing_triangles(wx, inv[sim.cloth.faces]) == 0
+    assert crossing_triangles(wx, inv[sim.cloth.faces]) == 0

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from brute_force import crossing_triangles
 
 from patternbridge.assemble.cloth import weld_groups
 from patternbridge.assemble.pipeline import prepare
@@ -16,32 +17,6 @@ from patternbridge.pattern.model import BodyPart
 from patternbridge.report import Report
 
 DATA = Path(__file__).parent / "data"
-
-
-def _crossing_triangles(x: np.ndarray, faces: np.ndarray, label: np.ndarray) -> int:
-    """Brute force: triangles an edge of another triangle passes through (sharing no welded vertex with it).
-
-    Every edge against every triangle, the plane and the inside in closed
-    form; ``label`` (V,) welds the sides of a seam into one vertex.
-    """
-    ends = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    owner = np.tile(np.arange(len(faces)), 3)
-    p, q = x[ends[:, 0]][:, None], x[ends[:, 1]][:, None]
-    a, b, c = (x[faces[:, k]][None] for k in range(3))
-    n = np.cross(b - a, c - a)
-    dp = np.sum((p - a) * n, axis=2)
-    dq = np.sum((q - a) * n, axis=2)
-    hit = dp * dq < 0
-    m = p + (dp / np.where(hit, dp - dq, 1.0))[:, :, None] * (q - p)
-    for u, v in ((a, b), (b, c), (c, a)):
-        hit &= np.sum(np.cross(v - u, m - u) * n, axis=2) > 0
-    lf, le = label[faces], label[ends]
-    hit &= ~(le[:, None, :, None] == lf[None, :, None, :]).any(axis=(2, 3))
-    crossed = np.zeros(len(faces), dtype=bool)
-    e, f = np.nonzero(hit)
-    crossed[f] = True
-    crossed[owner[e]] = True
-    return int(np.count_nonzero(crossed))
 
 
 @pytest.fixture(scope="module")
@@ -101,4 +76,4 @@ def test_the_placed_sleeves_and_cuffs_do_not_pass_through_each_other(shirt_on_a)
         x = cloth.x.copy()
         for k in range(3):
             x[:, k] = (np.bincount(label, x[:, k]) / np.bincount(label))[label]
-        assert _crossing_triangles(x, cloth.faces[keep], label) == 0
+        assert crossing_triangles(x, cloth.faces[keep], label) == 0

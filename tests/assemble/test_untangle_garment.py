@@ -6,6 +6,7 @@ import dataclasses
 
 import numpy as np
 import pytest
+from brute_force import crossing_triangles
 
 from patternbridge.assemble.cloth import weld_groups
 from patternbridge.assemble.phases import Sew, run_phases
@@ -23,34 +24,6 @@ def _welded(x: np.ndarray, faces: np.ndarray, seams: np.ndarray) -> tuple[np.nda
     np.add.at(wx, inv, x)
     wx /= np.bincount(inv)[:, None]
     return wx, inv[faces]
-
-
-def _crossing_triangles(x: np.ndarray, faces: np.ndarray, block: int = 256) -> int:
-    """Brute force: triangles an edge of another triangle (sharing no vertex with it) passes through.
-
-    Every edge of every triangle against every triangle, in blocks of
-    edges, with the plane and the inside tested in closed form (nothing of
-    the solver's or the report's search).
-    """
-    ends = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    owner = np.tile(np.arange(len(faces)), 3)
-    a, b, c = (x[faces[:, k]][None] for k in range(3))
-    n = np.cross(b - a, c - a)
-    hit = np.zeros(len(faces), dtype=bool)
-    for s in range(0, len(ends), block):
-        e = ends[s : s + block]
-        p, q = x[e[:, 0]][:, None], x[e[:, 1]][:, None]
-        dp = np.sum((p - a) * n, axis=2)
-        dq = np.sum((q - a) * n, axis=2)
-        inside = dp * dq < 0
-        m = p + (dp / np.where(inside, dp - dq, 1.0))[:, :, None] * (q - p)
-        for u, v in ((a, b), (b, c), (c, a)):
-            inside &= np.sum(np.cross(v - u, m - u) * n, axis=2) > 0
-        inside &= ~(e[:, None, :, None] == faces[None, :, None, :]).any(axis=(2, 3))
-        ei, ti = np.nonzero(inside)
-        hit[ti] = True
-        hit[owner[s + ei]] = True
-    return int(np.count_nonzero(hit))
 
 
 def _crotch_through(sim, reach_cm: float = 8.0, depth_cm: float = 2.5) -> None:
@@ -84,12 +57,12 @@ def sewn_shorts(characters_dir):
     for untangle in (True, False):
         sim = prepare(character, load_garment("shorts"), seed=0, max_edge_cm=3.0)
         _crotch_through(sim)
-        placed = _crossing_triangles(*_welded(sim.cloth.x, sim.cloth.faces, sim.cloth.seams))
+        placed = crossing_triangles(*_welded(sim.cloth.x, sim.cloth.faces, sim.cloth.seams))
         sew = next(p for p in sim.phases if isinstance(p, Sew))
         assert sew.untangle  # planned: a garment sewn in the rest pose untangles
         run_phases(sim, (dataclasses.replace(sew, untangle=untangle),))
         gaps = np.linalg.norm(sim.cloth.x[sim.cloth.seams[:, 0]] - sim.cloth.x[sim.cloth.seams[:, 1]], axis=1)
-        out[untangle] = placed, _crossing_triangles(*_welded(sim.cloth.x, sim.cloth.faces, sim.cloth.seams)), gaps
+        out[untangle] = placed, crossing_triangles(*_welded(sim.cloth.x, sim.cloth.faces, sim.cloth.seams)), gaps
     return out
 
 
