@@ -128,7 +128,7 @@ def wrap_worn_side(
     """
     cylinders = bounding_cylinders(vertices, parts)  # (place_instances widens them to carry the pieces)
     part = {inst.key: instance_part(pattern, inst) for inst in pmesh.instances}
-    axes = {k: cylinders[p].axis for k, p in part.items()}
+    proxies = {k: cylinders[p] for k, p in part.items()}
     around = {i.key for i in pmesh.instances if pattern.piece(i.piece).placement.side is Side.AROUND}
     candidates = paired_limb_pieces(pmesh, {k: p in LIMBS for k, p in part.items()})
     turned = sewn_turned(pmesh) - candidates  # a pair on the limbs is worn the way round its seams start closer
@@ -142,7 +142,7 @@ def wrap_worn_side(
     pmesh = with_mirrored(pmesh, turned)
     drawn = place_instances(character, vertices, pattern, pmesh, cylinders, report, scene=scene, parts=parts)
     if not candidates:
-        return pmesh, bands_on_edges(pmesh, drawn, axes, part, around, scene)
+        return pmesh, bands_on_edges(pmesh, drawn, proxies, part, around, scene)
     flipped_mesh = with_mirrored(pmesh, candidates)
     flipped = place_instances(character, vertices, pattern, flipped_mesh, cylinders, Report(), scene=scene, parts=parts)
     chosen = choose_mirrored(pmesh, candidates, drawn, flipped, part)
@@ -155,4 +155,4 @@ def wrap_worn_side(
         )
     pick = {inst.key: (flipped if inst.piece in chosen else drawn)[inst.key] for inst in pmesh.instances}
     worn = with_mirrored(pmesh, chosen)
-    return worn, bands_on_edges(worn, pick, axes, part, around, scene)
+    return worn, bands_on_edges(worn, pick, proxies, part, around, scene)

@@ -32,35 +32,19 @@ the seam graph brings the neckline in.
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from ..mesh2d import PatternMesh
 from .seam_graph import SeamGraphSettings, layer_ranks
+from .wrap import Cylinder
 
 __all__ = ["GATHER_CM", "LAYER_CM", "bands_on_edges"]
 
 GATHER_CM = 5.0  # length along the axis over which a tube's edge is gathered in to its band
 LAYER_CM = SeamGraphSettings().layer_cm  # a band's seam side lies this far outside its partner's edge
 CLEARANCE_CM = 1.0  # kept from the skin, as the wrap keeps it
-
-
-def _frame(points: np.ndarray, axis: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Centre (the points' mean) and two unit vectors across ``axis``."""
-    e0 = np.cross(axis, [1.0, 0.0, 0.0])
-    if np.linalg.norm(e0) < 0.3:
-        e0 = np.cross(axis, [0.0, 0.0, 1.0])
-    e0 /= np.linalg.norm(e0)
-    return points.mean(axis=0), e0, np.cross(axis, e0)
-
-
-def _polar(x: np.ndarray, centre: np.ndarray, axis: np.ndarray, e0: np.ndarray, e1: np.ndarray):
-    d = x - centre
-    h = d @ axis
-    return np.arctan2(d @ e1, d @ e0), h, np.hypot(d @ e0, d @ e1)
-
-
-def _cartesian(theta, h, r, centre, axis, e0, e1) -> np.ndarray:
-    return centre + h[:, None] * axis + (r * np.cos(theta))[:, None] * e0 + (r * np.sin(theta))[:, None] * e1
 
 
 def rings(pmesh: PatternMesh, around: set[str]) -> set[str]:
@@ -99,7 +83,7 @@ def band_partners(pmesh: PatternMesh, around: set[str]) -> dict[str, list[tuple[
 def bands_on_edges(
     pmesh: PatternMesh,
     placed: dict[str, np.ndarray],
-    axes: dict[str, np.ndarray],
+    proxies: dict[str, Cylinder],
     same_proxy: dict[str, str],
     around: set[str],
     scene=None,
@@ -110,7 +94,7 @@ def bands_on_edges(
     ----------
     pmesh : the pattern mesh (seams, instances)
     placed : instance key -> (n, 3) wrapped positions, cm
-    axes : instance key -> (3,) unit axis of the proxy it is wrapped on
+    proxies : instance key -> the cylinder of the proxy it is wrapped on (its axis and frame)
     same_proxy : instance key -> a label of its proxy (body part)
     around : instance keys of the copies that go round their body part
         (placement side ``around``); a partner that is a ring (:func:`rings`)
@@ -128,33 +112,33 @@ def bands_on_edges(
     for key, sides in band_partners(pmesh, around).items():
         if not all(other in tubes and same_proxy[other] == same_proxy[key] for _, other, _ in sides):
             continue
-        axis = np.asarray(axes[key], dtype=np.float64)
         band = out[key]
-        centre, e0, e1 = _frame(band, axis)
+        ring = dataclasses.replace(proxies[key], center=band.mean(axis=0))  # the proxy's axis through the band
         own = np.concatenate([v for v, _, _ in sides])
         them = np.concatenate([out[other][vo] for _, other, vo in sides])
-        th_b, h_b, r_b = _polar(band, centre, axis, e0, e1)
-        th_t, h_t, _ = _polar(them, centre, axis, e0, e1)
+        th_b, h_b, r_b = ring.coordinates(band)
+        th_t, h_t, _ = ring.coordinates(them)
         th_b = th_b + float(np.angle(np.sum(np.exp(1j * (th_t - th_b[own])))))
         h_b = h_b + float(np.mean(h_t - h_b[own]))
-        edge_r = _gather_edges(out, sides, centre, axis, e0, e1, float(np.mean(r_b[own])), scene)
+        edge_r = _gather_edges(out, sides, ring, float(np.mean(r_b[own])), scene)
         r_b = r_b * max(1.0, (edge_r + LAYER_CM) / float(np.mean(r_b[own])))
-        out[key] = _cartesian(th_b, h_b, r_b, centre, axis, e0, e1)
+        out[key] = ring.points(th_b, h_b, r_b)
     return out
 
 
-def _gather_edges(out: dict, sides: list, centre, axis, e0, e1, band_r: float, scene) -> float:
+def _gather_edges(out: dict, sides: list, ring: Cylinder, band_r: float, scene) -> float:
     """Gather each partner's edge in to :data:`LAYER_CM` inside ``band_r`` (``out`` updated); the edges' mean radius.
 
     The partner's vertices within :data:`GATHER_CM` of its edge along the
-    axis (on its own side of the edge) are drawn toward the axis, fully at
-    the edge and not at all :data:`GATHER_CM` from it; none is moved inside
-    the skin's clearance (that edge then holds the band out).
+    axis of ``ring`` (on its own side of the edge) are drawn toward the axis,
+    fully at the edge and not at all :data:`GATHER_CM` from it; none is moved
+    inside the skin's clearance (``scene.radial_clearance``: that edge then
+    holds the band out).
     """
     radii = []
     for _, other, vo in sides:
         x = out[other]
-        th, h, r = _polar(x, centre, axis, e0, e1)
+        th, h, r = ring.coordinates(x)
         edge_h = float(np.mean(h[vo]))
         inward = 1.0 if np.mean(h) >= edge_h else -1.0
         s = np.clip((h - edge_h) * inward, 0.0, None)
@@ -163,16 +147,9 @@ def _gather_edges(out: dict, sides: list, centre, axis, e0, e1, band_r: float, s
         moving = w > 0
         r_new = r * (1.0 - w * (1.0 - scale))
         if scene is not None and moving.any():
-            r_new[moving] = _clear(scene, centre, axis, e0, e1, th[moving], h[moving], r_new[moving])
+            r_new[moving] = scene.radial_clearance(ring, th[moving], h[moving], r_new[moving], CLEARANCE_CM)
         x = x.copy()
-        x[moving] = _cartesian(th[moving], h[moving], r_new[moving], centre, axis, e0, e1)
+        x[moving] = ring.points(th[moving], h[moving], r_new[moving])
         out[other] = x
         radii.append(r_new[vo])
     return float(np.mean(np.concatenate(radii)))
-
-
-def _clear(scene, centre, axis, e0, e1, th, h, r) -> np.ndarray:
-    """Radii kept :data:`CLEARANCE_CM` outside the skin along the ray from the axis (see ``radial_clearance``)."""
-    from types import SimpleNamespace
-
-    return scene.radial_clearance(SimpleNamespace(center=centre, axis=axis, e0=e0, e1=e1), th, h, r, CLEARANCE_CM)
