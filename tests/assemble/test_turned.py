@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import trimesh
+from measured import clean_measured
 
 from patternbridge.assemble.turned import free_edge_faces, outward_cos, patches, turned_cloth
 from patternbridge.assemble.verdict import Check, Measured, Verdict, VerdictLimits, judge
@@ -174,16 +175,4 @@ def test_outward_cos_is_the_normal_against_the_direction_off_the_skin():
 
 
 def _measured(t) -> Measured:
-    return Measured(
-        seam_gaps_mm={},
-        seam_excess_cm={},
-        self_crossing={},
-        skin_depth_mm=0.0,
-        skin_share=0.0,
-        skin_pieces=(),
-        stretch_share=0.0,
-        torn_share=0.0,
-        stretch_pieces=(),
-        levels_cm={},
-        turned_cm2={"strap": float(t.area_cm2.max())} if len(t.area_cm2) else {},
-    )
+    return clean_measured(turned_cm2={"strap": float(t.area_cm2.max())} if len(t.area_cm2) else {})

@@ -8,6 +8,7 @@ import json
 import numpy as np
 import pytest
 import trimesh
+from measured import clean_measured
 
 from patternbridge.assemble.defects import girth_strain, seam_excess_cm
 from patternbridge.assemble.mesh2d import mesh_pattern
@@ -16,19 +17,8 @@ from patternbridge.assemble.verdict import Check, Measured, Verdict, VerdictLimi
 
 
 def _measured(**kw) -> Measured:
-    base = dict(
-        seam_gaps_mm={"side": 0.5},
-        seam_excess_cm={"side": 0.0},
-        self_crossing={},
-        skin_depth_mm=0.0,
-        skin_share=0.0,
-        skin_pieces=(),
-        stretch_share=0.0,
-        torn_share=0.0,
-        stretch_pieces=(),
-        levels_cm={"front": 0.5},
-    )
-    return Measured(**{**base, **kw})
+    sewn = dict(seam_gaps_mm={"side": 0.5}, seam_excess_cm={"side": 0.0}, levels_cm={"front": 0.5})
+    return clean_measured(**{**sewn, **kw})
 
 
 def test_a_clean_drape_is_ok_with_no_reason():
