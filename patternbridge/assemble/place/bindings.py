@@ -39,10 +39,14 @@ NEAREST = 3
 
 
 def binding_keys(pattern: Pattern, pmesh: PatternMesh) -> set[str]:
-    """Instance keys of the bindings sewn to other pieces."""
-    sewn = {i.key for sp in pmesh.seams if sp.a.key != sp.b.key for i in (sp.a, sp.b)}
+    """Instance keys of the bindings sewn to pieces that are not bindings (bands sewn only to one another, as
+    ``clo-pattern.dxf``'s, bind no edge)."""
+    binding = {inst.key for inst in pmesh.instances if pattern.piece(inst.piece).role in BINDING_ROLES}
     return {
-        inst.key for inst in pmesh.instances if pattern.piece(inst.piece).role in BINDING_ROLES and inst.key in sewn
+        i.key
+        for sp in pmesh.seams
+        for i, other in ((sp.a, sp.b), (sp.b, sp.a))
+        if i.key in binding and other.key not in binding
     }
 
 
