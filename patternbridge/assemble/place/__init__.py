@@ -1,6 +1,6 @@
 """Place a garment's cut copies on the body from its seam graph and the body's landmarks.
 
-Three steps, all driven by data only (placement hints, seams, landmarks):
+The steps, all driven by data only (placement hints, seams, landmarks):
 
 1. :mod:`.wrap` lays every cut copy on its body part's proxy surface (a
    bounding cylinder; a ring round the hips above the crotch) with its anchor
@@ -9,7 +9,10 @@ Three steps, all driven by data only (placement hints, seams, landmarks):
    round its seams face their partners (its front cap on the front);
 3. :mod:`.seam_graph` moves and bends all copies at once so that each seam's
    two sides meet, keeping every piece's wrapped shape, with the body as an
-   obstacle.
+   obstacle;
+4. :mod:`.bindings` lays each binding again along the edge the seam graph
+   closed, as the cloth's continuation beyond it, and the seam graph settles
+   it.
 
 :func:`place_garment` chains them; ``benchmarks/placement.py`` measures the
 seam gaps it leaves on every library garment and character.
@@ -24,6 +27,7 @@ from ...report import Report
 from ..bodyparts import BodyParts
 from ..mesh2d import PatternMesh
 from .bands import bands_on_edges
+from .bindings import binding_keys, lay_bindings
 from .handedness import choose_mirrored, paired_limb_pieces, sewn_turned, with_mirrored
 from .seam_graph import SeamGraphSettings, close_seam_graph, layer_ranks
 from .wrap import LIMBS, Cylinder, bounding_cylinders, instance_part, landmark_position, mirror_name, place_instances
@@ -106,7 +110,12 @@ def place_garment(
         A piece has no placement hint, or its body part has no vertices.
     """
     pmesh, wrapped = wrap_worn_side(character, vertices, pattern, pmesh, parts, report, scene=scene)
-    return pmesh, close_seams(pmesh, wrapped, scene)
+    closed = close_seams(pmesh, wrapped, scene)
+    bindings = binding_keys(pattern, pmesh)
+    if not bindings:
+        return pmesh, closed
+    # the bindings laid again along the edges the seam graph closed, then settled with the rest (.bindings)
+    return pmesh, close_seams(pmesh, lay_bindings(pmesh, closed, bindings), scene)
 
 
 def wrap_worn_side(
