@@ -271,12 +271,14 @@ def find_edge_pairs(
     found = cKDTree(mid).query_pairs(r, output_type="ndarray")
     if len(found) == 0:
         return EdgePairs(edges=np.zeros((0, 2, 2), np.int64), direction=np.zeros((0, 3)), key=np.zeros(0, np.int64))
-    i, j = np.sort(found, axis=1).astype(np.int64).T
     # the cheap tests first, the rest on what they leave (the same pairs, in the same order): two edges whose
     # midpoints lie farther apart than their half lengths and the reach are farther apart than the reach
-    bound = np.linalg.norm(mid[i] - mid[j], axis=1) - half[i] - half[j]
-    keep = np.flatnonzero(bound < reach_cm + 1e-3)
-    i, j = i[keep], j[keep]
+    a, b = found[:, 0], found[:, 1]
+    apart = mid[a] - mid[b]
+    within = half[a] + half[b] + (reach_cm + 1e-3)
+    keep = np.flatnonzero(np.einsum("ij,ij->i", apart, apart) < within * within)
+    a, b = a[keep].astype(np.int64), b[keep].astype(np.int64)
+    i, j = np.minimum(a, b), np.maximum(a, b)
     ei, ej = edges[i], edges[j]
     p1, p2, q1, q2 = x[ei[:, 0]], x[ei[:, 1]], x[ej[:, 0]], x[ej[:, 1]]
     s, t = _segment_params(p1, p2, q1, q2)
