@@ -1,5 +1,8 @@
 """Points on a mesh surface: the closest point to a query, its face and barycentric weights.
 
+:func:`closest_on_triangles` is the one closest-point-on-triangle test of the package (the landmarks here,
+the cloth's self-contact in :mod:`patternbridge.assemble.cloth.selfcontact`).
+
 A landmark placed by a rule that defines a level or a point between vertices
 lies inside a face; :class:`SurfaceLocation` gives it that face, its weights
 and its nearest vertex (:class:`~patternbridge.mesh.character.Landmark`).
@@ -13,7 +16,7 @@ import numpy as np
 
 from .character import Landmark
 
-__all__ = ["SurfaceLocation", "closest_point_on_triangles", "locate_on_surface"]
+__all__ = ["SurfaceLocation", "closest_on_triangles", "locate_on_surface", "point_on_triangles"]
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -74,7 +77,7 @@ def locate_on_surface(vertices: np.ndarray, faces: np.ndarray, points: np.ndarra
     for i, p in enumerate(points):
         cand = np.unique(np.concatenate([vf_face[starts[v] : starts[v + 1]] for v in near[i]]))
         tri = vertices[faces[cand]]
-        q = closest_point_on_triangles(np.broadcast_to(p, (len(cand), 3)).copy(), tri[:, 0], tri[:, 1], tri[:, 2])
+        q = point_on_triangles(closest_on_triangles(np.broadcast_to(p, (len(cand), 3)), tri), tri)
         j = int(np.argmin(np.sum((q - p) ** 2, axis=1)))
         positions[i] = q[j]
         face[i] = cand[j]
@@ -98,38 +101,55 @@ def _barycentric(q: np.ndarray, tri: np.ndarray) -> np.ndarray:
     return w / w.sum()
 
 
-def closest_point_on_triangles(p: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
-    """Closest points of triangles (a, b, c) to points p, all (n, 3); vectorised region test."""
-    ab, ac, ap = b - a, c - a, p - a
-    d1, d2 = np.einsum("ij,ij->i", ab, ap), np.einsum("ij,ij->i", ac, ap)
-    bp = p - b
-    d3, d4 = np.einsum("ij,ij->i", ab, bp), np.einsum("ij,ij->i", ac, bp)
-    cp = p - c
-    d5, d6 = np.einsum("ij,ij->i", ab, cp), np.einsum("ij,ij->i", ac, cp)
-    va = d3 * d6 - d5 * d4
-    vb = d5 * d2 - d1 * d6
-    vc = d1 * d4 - d3 * d2
-    denom = va + vb + vc
-    denom = np.where(np.abs(denom) < 1e-300, 1e-300, denom)
-    v = vb / denom
-    w = vc / denom
-    out = a + ab * v[:, None] + ac * w[:, None]  # inside the face
-    with np.errstate(divide="ignore", invalid="ignore"):
-        # edges
-        t_ab = d1 / (d1 - d3)
-        m = (vc <= 0) & (d1 >= 0) & (d3 <= 0)
-        out[m] = (a + ab * t_ab[:, None])[m]
-        t_ac = d2 / (d2 - d6)
-        m = (vb <= 0) & (d2 >= 0) & (d6 <= 0)
-        out[m] = (a + ac * t_ac[:, None])[m]
-        t_bc = (d4 - d3) / ((d4 - d3) + (d5 - d6))
-        m = (va <= 0) & ((d4 - d3) >= 0) & ((d5 - d6) >= 0)
-        out[m] = (b + (c - b) * t_bc[:, None])[m]
-    # corners
-    m = (d1 <= 0) & (d2 <= 0)
-    out[m] = a[m]
-    m = (d3 >= 0) & (d4 <= d3)
-    out[m] = b[m]
-    m = (d6 >= 0) & (d5 <= d6)
-    out[m] = c[m]
+def closest_on_triangles(p: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    """(k, 3) barycentric weights of the points of the triangles ``tri`` (k, 3, 3) closest to ``p`` (k, 3).
+
+    The region tests of Ericson (Real-Time Collision Detection, 5.1.5): the
+    closest point is a corner, a point of an edge or the foot inside.
+    """
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+    ab, ac = b - a, c - a
+
+    def dot(u, v):
+        return np.einsum("ij,ij->i", u, v)
+
+    ap, bp, cp = p - a, p - b, p - c
+    d1, d2, d3, d4, d5, d6 = dot(ab, ap), dot(ac, ap), dot(ab, bp), dot(ac, bp), dot(ab, cp), dot(ac, cp)
+    va, vb, vc = d3 * d6 - d5 * d4, d5 * d2 - d1 * d6, d1 * d4 - d3 * d2
+
+    def ratio(num, den):
+        return num / np.where(np.abs(den) > 1e-18, den, 1e-18)
+
+    v, w = ratio(vb, va + vb + vc), ratio(vc, va + vb + vc)
+    out = np.stack([1.0 - v - w, v, w], axis=1)
+    one, zero = np.ones(len(p)), np.zeros(len(p))
+    t_bc, t_ac, t_ab = ratio(d4 - d3, (d4 - d3) + (d5 - d6)), ratio(d2, d2 - d6), ratio(d1, d1 - d3)
+    regions = (  # lowest priority first: a later region overrides an earlier one
+        ((va <= 0) & (d4 - d3 >= 0) & (d5 - d6 >= 0), (zero, 1.0 - t_bc, t_bc)),  # edge bc
+        ((vb <= 0) & (d2 >= 0) & (d6 <= 0), (1.0 - t_ac, zero, t_ac)),  # edge ac
+        ((d6 >= 0) & (d5 <= d6), (zero, zero, one)),  # corner c
+        ((vc <= 0) & (d1 >= 0) & (d3 <= 0), (1.0 - t_ab, t_ab, zero)),  # edge ab
+        ((d3 >= 0) & (d4 <= d3), (zero, one, zero)),  # corner b
+        ((d1 <= 0) & (d2 <= 0), (one, zero, zero)),  # corner a
+    )
+    for mask, weights in regions:
+        out[mask] = np.stack(weights, axis=1)[mask]
+    return np.clip(out, 0.0, 1.0)
+
+
+def point_on_triangles(bary: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    """(k, 3) points of the barycentric weights ``bary`` (k, 3) on the triangles ``tri`` (k, 3, 3).
+
+    A weight of 1 is its corner itself and a point with one zero weight is
+    found along the edge of the other two from its first corner, so a point on
+    a corner or an edge lies there to the last bit (as a sum of all three
+    weighted corners it would not).
+    """
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+    out = a + (b - a) * bary[:, 1, None] + (c - a) * bary[:, 2, None]  # inside, and on the edges from a
+    on_bc = bary[:, 0] == 0.0
+    out[on_bc] = (b + (c - b) * bary[:, 2, None])[on_bc]
+    for k in range(3):
+        corner = bary[:, k] == 1.0
+        out[corner] = tri[corner, k]
     return out

@@ -41,6 +41,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...mesh.surface_point import closest_on_triangles
+
 __all__ = [
     "EdgePairs",
     "SelfPairs",
@@ -106,42 +108,6 @@ def rest_near_keys(n: int, edges: np.ndarray, lengths: np.ndarray, seams: np.nda
 def _is_in(keys: np.ndarray, sorted_keys: np.ndarray) -> np.ndarray:
     pos = np.clip(np.searchsorted(sorted_keys, keys), 0, max(len(sorted_keys) - 1, 0))
     return sorted_keys[pos] == keys if len(sorted_keys) else np.zeros(len(keys), dtype=bool)
-
-
-def closest_on_triangles(p: np.ndarray, tri: np.ndarray) -> np.ndarray:
-    """(k, 3) barycentric weights of the points of the triangles ``tri`` (k, 3, 3) closest to ``p`` (k, 3).
-
-    The region tests of Ericson (Real-Time Collision Detection, 5.1.5): the
-    closest point is a corner, a point of an edge or the foot inside.
-    """
-    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
-    ab, ac = b - a, c - a
-
-    def dot(u, v):
-        return np.einsum("ij,ij->i", u, v)
-
-    ap, bp, cp = p - a, p - b, p - c
-    d1, d2, d3, d4, d5, d6 = dot(ab, ap), dot(ac, ap), dot(ab, bp), dot(ac, bp), dot(ab, cp), dot(ac, cp)
-    va, vb, vc = d3 * d6 - d5 * d4, d5 * d2 - d1 * d6, d1 * d4 - d3 * d2
-
-    def ratio(num, den):
-        return num / np.where(np.abs(den) > 1e-18, den, 1e-18)
-
-    v, w = ratio(vb, va + vb + vc), ratio(vc, va + vb + vc)
-    out = np.stack([1.0 - v - w, v, w], axis=1)
-    one, zero = np.ones(len(p)), np.zeros(len(p))
-    t_bc, t_ac, t_ab = ratio(d4 - d3, (d4 - d3) + (d5 - d6)), ratio(d2, d2 - d6), ratio(d1, d1 - d3)
-    regions = (  # lowest priority first: a later region overrides an earlier one
-        ((va <= 0) & (d4 - d3 >= 0) & (d5 - d6 >= 0), (zero, 1.0 - t_bc, t_bc)),  # edge bc
-        ((vb <= 0) & (d2 >= 0) & (d6 <= 0), (1.0 - t_ac, zero, t_ac)),  # edge ac
-        ((d6 >= 0) & (d5 <= d6), (zero, zero, one)),  # corner c
-        ((vc <= 0) & (d1 >= 0) & (d3 <= 0), (1.0 - t_ab, t_ab, zero)),  # edge ab
-        ((d3 >= 0) & (d4 <= d3), (zero, one, zero)),  # corner b
-        ((d1 <= 0) & (d2 <= 0), (one, zero, zero)),  # corner a
-    )
-    for mask, weights in regions:
-        out[mask] = np.stack(weights, axis=1)[mask]
-    return np.clip(out, 0.0, 1.0)
 
 
 def keep_sides(keys: np.ndarray, direction: np.ndarray, old_keys: np.ndarray, old_direction: np.ndarray) -> np.ndarray:
@@ -305,16 +271,23 @@ def find_edge_pairs(
     found = cKDTree(mid).query_pairs(r, output_type="ndarray")
     if len(found) == 0:
         return EdgePairs(edges=np.zeros((0, 2, 2), np.int64), direction=np.zeros((0, 3)), key=np.zeros(0, np.int64))
-    i, j = np.sort(found, axis=1).astype(np.int64).T
+    # the cheap tests first, the rest on what they leave (the same pairs, in the same order): two edges whose
+    # midpoints lie farther apart than their half lengths and the reach are farther apart than the reach
+    a, b = found[:, 0], found[:, 1]
+    apart = mid[a] - mid[b]
+    within = half[a] + half[b] + (reach_cm + 1e-3)
+    keep = np.flatnonzero(np.einsum("ij,ij->i", apart, apart) < within * within)
+    a, b = a[keep].astype(np.int64), b[keep].astype(np.int64)
+    i, j = np.minimum(a, b), np.maximum(a, b)
     ei, ej = edges[i], edges[j]
-    keys = ei[:, :, None] * n + ej[:, None, :]
-    keep = ~_is_in(keys.reshape(-1), near).reshape(-1, 4).any(axis=1)
-    i, j, ei, ej = i[keep], j[keep], ei[keep], ej[keep]
     p1, p2, q1, q2 = x[ei[:, 0]], x[ei[:, 1]], x[ej[:, 0]], x[ej[:, 1]]
     s, t = _segment_params(p1, p2, q1, q2)
     d = (p1 + s[:, None] * (p2 - p1)) - (q1 + t[:, None] * (q2 - q1))
     dist = np.linalg.norm(d, axis=1)
-    keep = (dist < reach_cm) & (dist > 1e-6) & (s > 0.0) & (s < 1.0) & (t > 0.0) & (t < 1.0)
+    keep = np.flatnonzero((dist < reach_cm) & (dist > 1e-6) & (s > 0.0) & (s < 1.0) & (t > 0.0) & (t < 1.0))
+    i, j, ei, ej, s, t, d, dist = i[keep], j[keep], ei[keep], ej[keep], s[keep], t[keep], d[keep], dist[keep]
+    keys = ei[:, :, None] * n + ej[:, None, :]
+    keep = ~_is_in(keys.reshape(-1), near).reshape(-1, 4).any(axis=1)
     if moved is not None and gap_cm is not None:
         m1, m2, n1, n2 = moved[ei[:, 0]], moved[ei[:, 1]], moved[ej[:, 0]], moved[ej[:, 1]]
         rel = (m1 + s[:, None] * (m2 - m1)) - (n1 + t[:, None] * (n2 - n1))
