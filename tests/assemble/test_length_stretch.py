@@ -212,3 +212,29 @@ def test_the_leggings_place_the_same_from_memory_and_from_their_files_read_back(
     np.testing.assert_array_equal(a.cloth.rest, b.cloth.rest)
     np.testing.assert_array_equal(a.cloth.uv, b.cloth.uv)
     assert a.stretches == b.stretches and all(ls.stretched for ls in a.stretches.values()) and len(a.stretches) == 2
+
+
+@pytest.mark.shared
+def test_the_leggings_crotch_corners_start_under_the_crotch(character_e, leggings):
+    # the rise of a knit worn stretched is laid stretched (up to the knit's
+    # 30 % along the grain) to take its crotch corners under the body's
+    # crotch, the waist kept on its landmark (length.crotch_drop). Laid at its
+    # pattern length, the front rise's corner sat 1.8 cm above E's crotch and
+    # 8 cm in front of it, the back's behind it, and closing the inseam's top
+    # folded the crotch through itself (104 self-crossing triangles on E)
+    from patternbridge.assemble.place.wrap import instance_points2d
+
+    crotch = character_e.landmarks["crotch_point"].position
+    stretches, placed, pm = _placed(character_e, leggings)
+    for inst in pm.instances:
+        p2 = instance_points2d(pm, inst)[: pm.pieces[inst.piece].n_boundary]
+        # the rise tips: the outline's two extreme vertices across the grain (front and back crotch corners)
+        tips = placed[inst.key][[int(np.argmin(p2[:, 0])), int(np.argmax(p2[:, 0]))]]
+        assert np.all(tips[:, 1] < crotch[1] - 0.5), (inst.key, tips, crotch)
+        assert np.all(np.linalg.norm(tips - crotch, axis=1) < 4.5), (inst.key, tips, crotch)
+        # the waist stays on its landmark: the anchor mark placed within 1.5 cm of its height
+        pl = leggings.piece(inst.piece).placement
+        side = "left" if inst.copy.value == "mirror" else "right"
+        anchor = placed[inst.key][pm.pieces[inst.piece].marks[pl.anchor_mark]]
+        assert abs(anchor[1] - character_e.landmarks[f"waist_side_{side}"].position[1]) < 1.5
+        assert stretches[inst.key].rise.rise_scale > 1.0 and stretches[inst.key].rise.shift_cm == 0.0

@@ -96,15 +96,20 @@ def crotch_drop(
     cm from its partners (B, D, F and the leggings on E, B, D), and closing
     the inseam's top folded the crotch through itself. The rise takes as much
     of the drop as its fabric stretches along the grain
-    (``FabricStretch.along_limit``, a woven 3 %); the rest lowers the whole
-    piece, as a woven rise too short is worn: lower on the hips. A knit worn
-    stretched along the grain (``along_worn`` > 0, leggings) is not dropped:
-    it is pulled up into the crotch on the body, and the drape stretches its
-    rise there. Dropped, the leggings graded to B and D (rises 5 and 4 cm
-    short, taken by the rise laid stretched up to the knit's 30 %, or by
-    the waist laid lower) crumpled at the seat and slid down the hips (259
-    and 1426 crossing triangles, the waists 7 and 21 cm low). ``crotch_h``:
-    the crotch's height on the placement's axis (None: no drop).
+    (``FabricStretch.along_limit``, a woven 3 %, a stretch knit 30 %). The
+    rest lowers the whole piece when the fabric is not worn stretched along
+    the grain, as a woven rise too short is worn: lower on the hips. A knit
+    worn stretched along the grain (``along_worn`` > 0, leggings) is pulled
+    up into the crotch and held at the waist: it is never laid lower, its
+    rise is laid stretched as far as the knit goes and the drape takes the
+    rest (lowered, the leggings graded to B and D crumpled at the seat and
+    slid down the hips: 259 and 1426 crossing triangles, the waists 7 and
+    21 cm low; laid at its pattern length, the front's crotch corner sat in
+    front of the body, 8 cm from the back's on E, and sewing folded the
+    crotch through itself: 104 / 133 / 68 crossing triangles on E / B / D).
+    The copy worn stretched wears its rise so (:func:`worn_lengths`).
+    ``crotch_h``: the crotch's height on the placement's axis (None: no
+    drop).
     """
     piece = pattern.piece(piece_name)
     mark = piece.landmarks.get(CROTCH_LANDMARK)
@@ -115,10 +120,9 @@ def crotch_drop(
     if crotch_y >= anchor_y - 1.0 or drop <= 0.0:
         return CrotchDrop()
     fabric = FabricClass(piece.fabric_class or pattern.fabric_class).stretch
-    if fabric.along_worn > 0.0:
-        return CrotchDrop()  # a knit worn stretched along the grain is pulled up into the crotch on the body
     stretch = min(float(drop), fabric.along_limit * (anchor_y - crotch_y))
-    return CrotchDrop(crotch_y=crotch_y, anchor_y=anchor_y, stretch_cm=stretch, shift_cm=float(drop) - stretch)
+    shift = 0.0 if fabric.along_worn > 0.0 else float(drop) - stretch  # a knit worn stretched is held at the waist
+    return CrotchDrop(crotch_y=crotch_y, anchor_y=anchor_y, stretch_cm=stretch, shift_cm=shift)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
