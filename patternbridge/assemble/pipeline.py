@@ -550,19 +550,27 @@ def finish(sim: Simulation, limits: VerdictLimits | None = None) -> Garment:
     )
 
 
-def clear_skin(collider, wx: np.ndarray, wf: np.ndarray, offset_cm: float) -> np.ndarray:
+SKIN_TOLERANCE_CM = 0.1  # the verdict's skin limit (VerdictLimits.skin_depth_flawed_mm): the skin mesh's own
+SKIN_SAMPLES = 4  # divisions of the barycentric grid a skin-crossing triangle is sampled on (15 points)
+
+
+def clear_skin(
+    collider, wx: np.ndarray, wf: np.ndarray, offset_cm: float, *, tolerance_cm: float = SKIN_TOLERANCE_CM
+) -> np.ndarray:
     """The welded cloth ``wx`` moved out of the skin (vertices, then triangles, then skin tips).
 
     Every push carries the cloth layers over the pushed vertices along
     (:func:`~patternbridge.assemble.collision.carry_layers`): a fold lying on
     the skin is lifted as a whole instead of its inner layer pushed through
-    the outer one.
+    the outer one. A push that would still pass the cloth through itself is
+    taken back where that leaves no triangle deeper than ``tolerance_cm``
+    in the skin (see :func:`_keep_layers`).
     """
     gap = 0.5 * offset_cm
 
     def carried(y: np.ndarray) -> np.ndarray:
         nonlocal wx
-        wx = _keep_layers(collider, wx, y, wf, gap)
+        wx = _keep_layers(collider, wx, y, wf, gap, tolerance_cm)
         return wx
 
     for _ in range(3):
@@ -585,7 +593,9 @@ def clear_skin(collider, wx: np.ndarray, wf: np.ndarray, offset_cm: float) -> np
     return carried(collider.lift_over_skin(wx, wf, offset_cm))
 
 
-def _keep_layers(collider, x: np.ndarray, y: np.ndarray, wf: np.ndarray, gap_cm: float) -> np.ndarray:
+def _keep_layers(
+    collider, x: np.ndarray, y: np.ndarray, wf: np.ndarray, gap_cm: float, tolerance_cm: float = 0.0
+) -> np.ndarray:
     """The clean-up move of the welded cloth from ``x`` to ``y``, kept from passing the cloth through itself.
 
     The layers over each moved vertex are carried along
@@ -593,8 +603,10 @@ def _keep_layers(collider, x: np.ndarray, y: np.ndarray, wf: np.ndarray, gap_cm:
     triangles that then cross the cloth and did not before go back where
     they were (up to 3 rounds), unless that leaves them inside the body; the
     round with the fewest crossing triangles is kept. The skin comes first:
-    triangles through it that the move had cleared get their corners' moves
-    back.
+    triangles through it deeper than ``tolerance_cm`` (:func:`_deep_in_skin`)
+    that the move had cleared get their corners' moves back. A tip of the
+    skin grazing through a triangle by less (in an armpit's crease) is not
+    worth a fold pushed through the cloth beside it.
     """
     from .collision import carry_layers
     from .selfcross import self_crossing
@@ -615,14 +627,39 @@ def _keep_layers(collider, x: np.ndarray, y: np.ndarray, wf: np.ndarray, gap_cm:
         if np.count_nonzero(crossed) < fewest:
             best, fewest = z.copy(), np.count_nonzero(crossed)
     z = best.copy()
-    allowed = int(np.count_nonzero(skin_crossing(collider, y, wf)))
+
+    def deep(v: np.ndarray) -> np.ndarray:
+        return _deep_in_skin(collider, v, wf, tolerance_cm)
+
+    allowed = int(np.count_nonzero(deep(y)))
     for ref in (z0, y):  # through the skin: the carried move back, else the plain one
-        skin = skin_crossing(collider, z, wf)
+        skin = deep(z)
         if np.count_nonzero(skin) <= allowed:
             break
         corners = np.unique(wf[skin])
         z[corners] = ref[corners]
-    return z if np.count_nonzero(skin_crossing(collider, z, wf)) <= allowed else y
+    return z if np.count_nonzero(deep(z)) <= allowed else y
+
+
+def _deep_in_skin(collider, x: np.ndarray, wf: np.ndarray, tolerance_cm: float) -> np.ndarray:
+    """(F,) bool: triangles crossing the skin (:func:`skin_crossing`) with a point deeper than ``tolerance_cm``.
+
+    The depth is the collider's signed distance of points on a barycentric
+    grid over each crossing triangle, as the verdict's independent skin
+    check samples them (:mod:`.skin_check`).
+    """
+    crossing = skin_crossing(collider, x, wf)
+    if tolerance_cm <= 0.0 or not crossing.any():
+        return crossing
+    k = SKIN_SAMPLES
+    i, j = np.meshgrid(np.arange(k + 1), np.arange(k + 1), indexing="ij")
+    keep = i + j <= k
+    bary = np.stack([i[keep], j[keep], k - i[keep] - j[keep]], axis=1) / k
+    ids = np.flatnonzero(crossing)
+    samples = np.einsum("sc,fcd->fsd", bary, x[wf[ids]])
+    depth = -collider.signed_distance(samples.reshape(-1, 3)).reshape(len(ids), -1).min(axis=1)
+    crossing[ids[depth <= tolerance_cm]] = False
+    return crossing
 
 
 def with_anchor_landmarks(character: Character, pattern: Pattern) -> tuple[Character, list[str]]:
