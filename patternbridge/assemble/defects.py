@@ -13,7 +13,7 @@ import numpy as np
 
 from ..pattern.model import Pattern
 from .mesh2d import PatternMesh
-from .place.wrap import landmark_position
+from .place.wrap import anchor_position
 
 if TYPE_CHECKING:
     from .place.length import LengthStretch
@@ -72,7 +72,7 @@ def anchor_levels_cm(
     for i, inst in enumerate(pmesh.instances):
         pl = pattern.piece(inst.piece).placement
         marks = pmesh.pieces[inst.piece].marks
-        lm = landmark_position(character, body, pl.anchor, inst.copy.value == "mirror")
+        lm = anchor_position(character, body, pl, inst.copy.value == "mirror")
         if lm is None or pl.anchor_mark not in marks:
             continue
         out[inst.key] = float(abs(x[offsets[i] + marks[pl.anchor_mark], 1] - lm[1]))

@@ -12,7 +12,14 @@ these, the band vertex nearest the middle of the band's sewn span anchors it
 (a landmark's distance from the seam counts against it):
 that vertex goes on that landmark, on the body part the landmark belongs to
 (:data:`LANDMARK_PART`). A band whose partners carry no landmark on its seams
-(a cuff on a sleeve hem) keeps the role's place (:data:`.landmarks` ``_BAND_PLACE``).
+(a cuff on a sleeve hem) hangs from its partner's anchor instead
+(:func:`band_below`): on a limb piece (a sleeve, a leg) the band vertex
+meeting the middle of the sewn edge goes as far below the partner's anchor
+landmark (the sleeve's cap top on the shoulder point) as that edge lies below
+the partner's anchor mark in the upright drawing, down the limb's landmarks
+(``Placement.drop_cm``): a short sleeve's cuff sits at its hem, a long
+sleeve's near the wrist. Only a band sewn to nothing with a place keeps the
+role's place (:data:`.landmarks` ``_BAND_PLACE``).
 
 Only the band's drawn copy is read; the mirror copy is placed mirrored, on
 the mirrored landmark.
@@ -20,13 +27,15 @@ the mirrored landmark.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from ..library.seams import sew_line
 from ..pattern.model import Pattern
 from .model import BridgeInference, Join, is_band
 
-__all__ = ["LANDMARK_PART", "MAX_SNAP_CM", "band_anchor"]
+__all__ = ["LANDMARK_PART", "MAX_SNAP_CM", "BandBelow", "band_anchor", "band_below"]
 
 #: a body landmark a band meets -> the body part (assembler proxy) the band is wrapped on; a landmark of the
 #: body's right side is named here, its left twin maps to the left limb
@@ -154,3 +163,60 @@ def band_anchor(pattern: Pattern, inference: BridgeInference, band: str, found: 
             if best is None or off < best[0] - 1e-6:
                 best = (off, name, v)
     return None if best is None else (best[1], best[2])
+
+
+#: the body parts of a limb piece, below whose anchor a band sewn to it hangs
+_LIMBS = ("right_arm", "left_arm", "right_leg", "left_leg")
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class BandBelow:
+    """A band hung from its partner's anchor: the band vertex that goes ``drop_cm`` below the partner's anchor
+    landmark on the partner's limb."""
+
+    vertex: int
+    body_part: str
+    anchor: str
+    drop_cm: float
+
+
+def band_below(pattern: Pattern, inference: BridgeInference, band: str, found: dict) -> BandBelow | None:
+    """Where a band sewn to a limb piece's edge without landmarks hangs: the middle of that edge, as far
+    below the partner's anchor landmark as it lies below the partner's anchor mark upright (sample size).
+
+    Of the band's drawn copy's seams to a non-band piece placed on a limb, the one to a piece of the default
+    garment first (a cuff sewn to a sleeve and to its alternative), then the longest; None when there is none.
+    """
+    chosen = set(inference.chosen)
+    seams = []
+    for j in inference.joins:
+        if j.b.piece != band or j.a.piece == band or j.kind == "band" or (j.copy_b or "primary") != "primary":
+            continue
+        partner = found.get(j.a.piece)
+        pl = None if partner is None else partner.placement
+        if pl is None or pl.get("body_part") not in _LIMBS or pl.get("anchor_mark") not in partner.marks:
+            continue
+        if is_band(inference.roles[j.a.piece].role):
+            continue
+        arc_a, total_a = _arc(pattern, j.a.piece)
+        d_a, len_a = _along(arc_a, total_a, j.a.start, j.a.end)
+        seams.append((j.a.piece in chosen, len_a, j, d_a))
+    if not seams:
+        return None
+    _, len_a, j, d_a = max(seams, key=lambda s: (s[0], s[1]))
+    inside = np.flatnonzero(d_a <= len_a + 1e-6)
+    mid = int(inside[np.argmin(np.abs(d_a[inside] - 0.5 * len_a))])
+    met = _meets(pattern, inference, j, mid)
+    if met is None:  # pragma: no cover - the middle of the range lies inside it
+        return None
+    arc_b, total_b = _arc(pattern, band)
+    gap = np.abs(np.mod(arc_b - met[0] + 0.5 * total_b, total_b) - 0.5 * total_b)
+    partner = found[j.a.piece]
+    up = inference.orientations[j.a.piece].apply(sew_line(pattern.piece(j.a.piece))[0])
+    drop = float(up[partner.marks[partner.placement["anchor_mark"]], 1] - up[mid, 1])
+    return BandBelow(
+        vertex=int(np.argmin(gap)),
+        body_part=partner.placement["body_part"],
+        anchor=partner.placement["anchor"],
+        drop_cm=round(max(drop, 0.0), 3),
+    )

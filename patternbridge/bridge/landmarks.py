@@ -38,7 +38,7 @@ import numpy as np
 from ..library.seams import sew_line
 from ..pattern.model import Pattern, Role
 from .alternatives import copies_cut
-from .band_anchor import LANDMARK_PART, band_anchor
+from .band_anchor import LANDMARK_PART, band_anchor, band_below
 from .model import BridgeInference, Orientation
 from .openings import shapes_scooped
 
@@ -73,7 +73,7 @@ class PieceLandmarks:
 
     marks: dict[str, int] = field(default_factory=dict)
     landmarks: dict[str, str] = field(default_factory=dict)
-    placement: dict[str, str] | None = None
+    placement: dict[str, str | float] | None = None
 
 
 def _right_half(up: np.ndarray, o: Orientation, back: bool) -> np.ndarray:
@@ -296,10 +296,21 @@ def piece_landmarks(pattern: Pattern, inference: BridgeInference) -> dict[str, P
 
 
 def _band_on_opening(pattern: Pattern, inference: BridgeInference, name: str, found: dict) -> PieceLandmarks:
-    """A band placed where the opening it is sewn to lies (:mod:`.band_anchor`), else by its role."""
+    """A band placed where the opening it is sewn to lies (:mod:`.band_anchor`): on a landmark of that
+    opening, else below the anchor of the limb piece it is sewn to, else by its role."""
     anchored = band_anchor(pattern, inference, name, found)
     if anchored is None:
-        return found[name]
+        below = band_below(pattern, inference, name, found)
+        if below is None:
+            return found[name]
+        placement = {
+            "body_part": below.body_part,
+            "side": "around",
+            "anchor": below.anchor,
+            "anchor_mark": "band_anchor",
+            "drop_cm": below.drop_cm,
+        }
+        return PieceLandmarks(marks={"band_anchor": below.vertex}, placement=placement)
     landmark, vertex = anchored
     part = LANDMARK_PART[landmark.replace("_left", "_right")]
     if landmark.endswith("_left"):

@@ -10,6 +10,11 @@ draping, :func:`worn_pattern` removes the strip beyond them and sews the two
 cut ends to each other, on every copy the seams sew. The graded DXF sent back
 keeps the designer's whole strip.
 
+A band hung below a limb piece's anchor (a short sleeve's cuff,
+``Placement.drop_cm``, :func:`.band_anchor.band_below`) takes its drop from
+the graded partner (:func:`hung_bands`): the sidecar's drop is the sample
+size's, and a sleeve graded shorter brings its cuff up with its hem.
+
 A band the file cuts more often than the garment sews it (``GLX0926S16``'s
 neck binding, cut as a pair for one neckline) is draped in the copies sewn
 (``worn_copies``); the DXF keeps the file's quantity.
@@ -23,10 +28,10 @@ import os
 import numpy as np
 
 from ..io.json_file import read_json
-from ..library.seams import range_indices
+from ..library.seams import range_indices, sew_line
 from ..pattern.model import Copy, EdgeRange, Pattern, Piece, Quantity, Seam
 
-__all__ = ["trim_piece", "worn_pattern"]
+__all__ = ["hung_bands", "trim_piece", "worn_pattern"]
 
 
 def _between(n: int, a: int, b: int) -> list[int]:
@@ -148,14 +153,47 @@ def _worn_copies(pattern: Pattern, worn: dict[str, list[str]]) -> Pattern:
     return dataclasses.replace(pattern, pieces=pieces, seams=seams)
 
 
+def _hem_drop(pattern: Pattern, band: Piece) -> float | None:
+    """How far the middle of the edge ``band``'s drawn copy is sewn to lies below the anchor mark of the piece
+    it hangs from (the seam partner placed on the same anchor, upright pattern); None when there is none."""
+    for s in pattern.seams:
+        for mine, other in ((s.a, s.b), (s.b, s.a)):
+            if mine.piece != band.name or other.piece == band.name or mine.copy is not Copy.PRIMARY:
+                continue
+            partner = pattern.piece(other.piece)
+            pl = partner.placement
+            if pl is None or pl.anchor != band.placement.anchor or pl.drop_cm or pl.anchor_mark not in partner.marks:
+                continue
+            pts = np.asarray(sew_line(partner)[0], dtype=np.float64)
+            idx = range_indices(partner, other.start, other.end)
+            run = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pts[idx], axis=0), axis=1))])
+            mid = idx[int(np.argmin(np.abs(run - 0.5 * run[-1])))]
+            return max(float(pts[partner.marks[pl.anchor_mark], 1] - pts[mid, 1]), 0.0)
+    return None
+
+
+def hung_bands(pattern: Pattern) -> Pattern:
+    """``pattern`` (stood upright) with the drop of every band hung below its partner's anchor measured on the
+    pattern's own (graded) partner."""
+    pieces = []
+    for p in pattern.pieces:
+        drop = _hem_drop(pattern, p) if p.placement is not None and p.placement.drop_cm > 0.0 else None
+        pieces.append(
+            p if drop is None else dataclasses.replace(p, placement=dataclasses.replace(p.placement, drop_cm=drop))
+        )
+    return dataclasses.replace(pattern, pieces=tuple(pieces))
+
+
 def worn_pattern(pattern: Pattern, sidecar: str | os.PathLike) -> Pattern:
-    """``pattern`` as the garment is worn: bands cut in the copies the sidecar's ``worn_copies`` lists only,
-    and every band it records a ``trim`` for cut to its opening and closed there.
+    """``pattern`` as the garment is worn: bands hung below a limb piece at its graded hem (:func:`hung_bands`),
+    bands cut in the copies the sidecar's ``worn_copies`` lists only, and every band it records a ``trim`` for
+    cut to its opening and closed there.
 
     The closure is sewn on each copy of the band that the pattern's seams sew;
     measurement links naming a removed mark are dropped (the drape does not
     grade).
     """
+    pattern = hung_bands(pattern)
     data = read_json(sidecar, hint="give a sidecar written by 'patternbridge bridge infer'", what="sidecar file")
     entries = data.get("pieces", [])
     worn = {e["name"]: [Copy(c) for c in e["worn_copies"]] for e in entries if e.get("worn_copies")}

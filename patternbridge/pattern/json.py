@@ -207,12 +207,13 @@ def placement_to_dict(placement: Placement | None) -> dict[str, Any] | None:
     """JSON form of a piece's placement hint (``None`` stays ``None``)."""
     if placement is None:
         return None
-    return {
+    out = {
         "body_part": str(placement.body_part),
         "side": str(placement.side),
         "anchor": placement.anchor,
         "anchor_mark": placement.anchor_mark,
     }
+    return out | ({"drop_cm": placement.drop_cm} if placement.drop_cm else {})
 
 
 def seam_to_dict(seam: Seam) -> dict[str, Any]:
@@ -255,8 +256,7 @@ def measurement_link_to_dict(link: MeasurementLink) -> dict[str, Any]:
     if link.proportional:
         d["proportional"] = True
     d["legs"] = [
-        {"piece": g.piece, "start": g.start, "end": g.end, "along": g.along, "factor": g.factor}
-        for g in link.legs
+        {"piece": g.piece, "start": g.start, "end": g.end, "along": g.along, "factor": g.factor} for g in link.legs
     ]
     return d
 
@@ -362,9 +362,7 @@ def pattern_from_dict(d: dict[str, Any]) -> Pattern:
         ),
         pieces=tuple(_piece_from_dict(p) for p in d["pieces"]),
         seams=tuple(seam_from_dict(s) for s in d.get("seams", ())),
-        measurements=tuple(
-            measurement_link_from_dict(m) for m in d.get("measurements", ())
-        ),
+        measurements=tuple(measurement_link_from_dict(m) for m in d.get("measurements", ())),
         fabric_class=d.get("fabric_class", FabricClass.WOVEN),
         fabric_why=d.get("fabric_why", ""),
     )

@@ -107,13 +107,11 @@ _PIECE = {
     "cutouts": _List(_POLYLINE),
     "drill_holes": _List({"position": _Req(_POINT), "diameter_cm": NUM, "rule": _Opt(STR), "label": _Opt(STR)}),
     "sew_lines": _List(_POLYLINE),
-    "annotations": _List(
-        {"text": _Req(STR), "position": _Req(_POINT), "height_cm": NUM, "angle": NUM, "layer": INT}
-    ),
+    "annotations": _List({"text": _Req(STR), "position": _Req(_POINT), "height_cm": NUM, "angle": NUM, "layer": INT}),
     "marks": _Map(INT),
     "landmarks": _Map(STR),
     "placement": _Opt(
-        {"body_part": _Req(STR), "side": _Req(STR), "anchor": _Req(STR), "anchor_mark": _Opt(STR)}
+        {"body_part": _Req(STR), "side": _Req(STR), "anchor": _Req(STR), "anchor_mark": _Opt(STR), "drop_cm": NUM}
     ),
     "extra_text": _Map(STR),
     "fabric_class": STR,

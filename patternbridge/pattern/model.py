@@ -340,8 +340,7 @@ class Annotation:
         return (
             self.text == other.text
             and _arrays_equal(self.position, other.position)
-            and (self.height_cm, self.angle, self.layer)
-            == (other.height_cm, other.angle, other.layer)
+            and (self.height_cm, self.angle, self.layer) == (other.height_cm, other.angle, other.layer)
         )
 
     __hash__ = None  # type: ignore[assignment]
@@ -379,16 +378,21 @@ class Placement:
     The mirror copy (``Quantity.left``) goes on the mirrored body part.
     anchor : body landmark name fixing the piece's height (``"waist_side_right"``)
     anchor_mark : the piece mark that goes on ``anchor``
+    drop_cm : how far below ``anchor`` the mark goes, cm along the limb's
+        landmarks (shoulder, elbow, wrist; hip, knee, ankle): a band sewn to an
+        edge that carries no landmark, the cuff of a short sleeve's hem
     """
 
     body_part: BodyPart
     side: Side
     anchor: str
     anchor_mark: str
+    drop_cm: float = 0.0
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "body_part", BodyPart(self.body_part))
         object.__setattr__(self, "side", Side(self.side))
+        object.__setattr__(self, "drop_cm", float(self.drop_cm))
 
 
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)

@@ -77,15 +77,18 @@ def write_outputs(
 
     rep = dict(report)
     if drape and subject.character is not None:
+        from ..bridge.layers import draped_only
+
         draped = grading.pattern
         if drape_sidecar is not None:
             from ..bridge.upright import upright_pattern
             from ..bridge.worn import worn_pattern
 
             draped = worn_pattern(upright_pattern(draped, drape_sidecar), drape_sidecar)
+        draped, kept_off = draped_only(draped)
         drape_names, drape_report = _write_drape(tmp, subject, draped, seed, progress)
         names += drape_names
-        rep["drape"] = drape_report
+        rep["drape"] = {**drape_report, "left_out": [x.as_dict() for x in kept_off]} if kept_off else drape_report
     elif drape:
         rep["drape"] = {"skipped": "measurements given without a character mesh"}
 

@@ -27,6 +27,7 @@ front), ``e1 = axis x e0`` (angle +π/2, the right as seen from outside).
 
 from __future__ import annotations
 
+import itertools
 import logging
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -205,6 +206,36 @@ def landmark_position(character, vertices: np.ndarray, name: str, mirrored: bool
     return mark.at(vertices, character.faces)
 
 
+#: a limb landmark -> the landmarks below it down the limb, that a placement's ``drop_cm`` walks along
+_DOWN_THE_LIMB = {
+    "shoulder_point": ("elbow_point", "wrist_point"),
+    "elbow_point": ("wrist_point",),
+    "hip_side": ("knee_point", "ankle_outside"),
+    "knee_point": ("ankle_outside",),
+}
+
+
+def anchor_position(character, vertices: np.ndarray, placement, mirrored: bool) -> np.ndarray | None:
+    """(3,) where a placement's anchor mark goes: its landmark (:func:`landmark_position`), moved
+    ``placement.drop_cm`` down the limb along the landmarks below it (past the last, along the last step);
+    None if the landmark is absent."""
+    anchor = landmark_position(character, vertices, placement.anchor, mirrored)
+    drop = float(getattr(placement, "drop_cm", 0.0))
+    if anchor is None or drop <= 0.0:
+        return anchor
+    stem, _, side = placement.anchor.rpartition("_")
+    below = [landmark_position(character, vertices, f"{n}_{side}", mirrored) for n in _DOWN_THE_LIMB.get(stem, ())]
+    chain = [anchor, *(p for p in below if p is not None)]
+    if len(chain) < 2:
+        return anchor
+    for a, b in itertools.pairwise(chain):
+        step = float(np.linalg.norm(b - a))
+        if drop <= step or b is chain[-1]:
+            return a + (b - a) * (drop / max(step, 1e-9))
+        drop -= step
+    return anchor  # pragma: no cover
+
+
 def place_instances(
     character,
     vertices: np.ndarray,
@@ -258,7 +289,7 @@ def place_instances(
         p2 = instance_points2d(pmesh, inst)
         marks = pmesh.pieces[inst.piece].marks
         R = cyl.radius_cm
-        anchor = landmark_position(character, vertices, pl.anchor, mirrored)
+        anchor = anchor_position(character, vertices, pl, mirrored)
         if anchor is not None and pl.anchor_mark in marks:
             th_a, h_a, _ = cyl.coordinates(anchor[None])
             th_a, h_a = float(th_a[0]), float(h_a[0])
