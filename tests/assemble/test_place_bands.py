@@ -93,7 +93,7 @@ def test_the_collar_is_wrapped_down_the_neckline_and_placed_outside_the_neck(shi
     # front stood 1.2 cm higher than its back, on the throat under the chin), its back on the back neck point
     assert collar[marks["cb"], 1] - front[1] > 0.9 * (bn[1] - fn[1]), (collar[marks["cb"], 1], front[1], bn, fn)
     assert abs(collar[marks["cb"], 1] - bn[1]) < 1.0
-    # wrapped and placed, the collar stays outside the neck by the independent signed distance
+    # placed (the seam graph's contact clears the top leant over the nape), the collar is outside the neck by the
+    # independent signed distance
     placed = sim.cloth.x[sim.cloth.group == sim.names.index("collar")]
-    for x in (collar, placed):
-        assert signed_distance(sim.body, faces, x).min() > 0.5
+    assert signed_distance(sim.body, faces, placed).min() > 0.5

@@ -19,9 +19,9 @@ is leant by the angle whose sine is ``|(a, b)| / r`` (``r`` the radius of
 the band's seam side: a ring of radius r turned by that angle drops ``|(a,
 b)|`` on one side and rises as much on the other) toward the side where the
 edge lies lower, at most :data:`MAX_TILT_DEG`. Points then inside the skin are
-moved out along their radius from the leant axis, and those still inside or
-nearer than :data:`~.bands.CLEARANCE_CM` to the skin (a nape the leant
-axis runs out of) to that far outside their closest skin point. The heights come from the
+moved out along their radius from the leant axis where that axis runs inside
+the body; the top of a collar leant over a nape can still start inside it
+(A: 3.8 cm), and the seam graph's contact rounds push it out. The heights come from the
 wrap: each partner hangs from its own landmark (a shirt's fronts from the
 neck-shoulder points, its yoke from the back neck point), so the slope is
 the pattern's own; a level edge (a skirt's waist) leaves the band as it was.
@@ -134,6 +134,5 @@ def bands_on_openings(
         if scene is not None and x is not band:
             th, h, r = turned.coordinates(x)
             x = turned.points(th, h, scene.radial_clearance(turned, th, h, r, CLEARANCE_CM))
-            x, _ = scene.push_out(x, CLEARANCE_CM, robust=True)  # off a nape the leant axis runs out of
         out[key] = x
     return out
