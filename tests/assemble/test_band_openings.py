@@ -45,7 +45,7 @@ def test_the_slope_of_a_plane_cut_is_its_first_harmonic():
     np.testing.assert_allclose(opening_slope(th, dh), [-3.0, 0.5], atol=1e-12)
 
 
-@pytest.mark.parametrize("deg", [10.0, 30.0])
+@pytest.mark.parametrize("deg", [10.0, 25.0])
 def test_a_band_on_an_edge_tilted_about_its_anchor_is_turned_onto_it(deg):
     band, cyl = _ring()
     seam = np.arange(36)  # row 0

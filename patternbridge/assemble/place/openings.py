@@ -39,7 +39,7 @@ from .wrap import BAND_PARTS, Cylinder
 
 __all__ = ["MAX_TILT_DEG", "bands_on_openings", "opening_slope", "tilted_about"]
 
-MAX_TILT_DEG = 45.0  # a band's axis leans at most this far from its proxy's
+MAX_TILT_DEG = 30.0  # a band's axis leans at most this far from its proxy's
 
 
 def opening_slope(theta: np.ndarray, dh: np.ndarray) -> np.ndarray:
