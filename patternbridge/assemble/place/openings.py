@@ -25,6 +25,11 @@ the body; the top of a collar leant over a nape can still start inside it
 wrap: each partner hangs from its own landmark (a shirt's fronts from the
 neck-shoulder points, its yoke from the back neck point), so the slope is
 the pattern's own; a level edge (a skirt's waist) leaves the band as it was.
+A front's neck edge hangs straight down on the torso's cylinder, steeper
+than it lies over the chest, so the fit overstates a neckline's slope (the
+library shirt's collars fit 54-64°; E's neckline slopes 35° between its
+neck points): the limit, 30°, is what the shirts' collars are turned. At
+45° their walls, leant as far, folded the top of the collar's closure.
 """
 
 from __future__ import annotations
