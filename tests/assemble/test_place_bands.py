@@ -11,6 +11,7 @@ from brute_force import crossing_triangles
 from patternbridge.assemble.cloth import weld_groups
 from patternbridge.assemble.pipeline import prepare
 from patternbridge.assemble.place import bounding_cylinders, wrap_worn_side
+from patternbridge.assemble.skin_check import signed_distance
 from patternbridge.io.pattern_json import load_pattern_json
 from patternbridge.mesh.load import load_character
 from patternbridge.pattern.model import BodyPart
@@ -77,3 +78,22 @@ def test_the_placed_sleeves_and_cuffs_do_not_pass_through_each_other(shirt_on_a)
         for k in range(3):
             x[:, k] = (np.bincount(label, x[:, k]) / np.bincount(label))[label]
         assert crossing_triangles(x, cloth.faces[keep], label) == 0
+
+
+@pytest.mark.shared
+def test_the_collar_is_wrapped_down_the_neckline_and_placed_outside_the_neck(shirt_on_a, characters_dir):
+    sim, wrapped = shirt_on_a
+    character, _ = load_character(characters_dir / "A_superhero.obj")
+    faces = np.asarray(character.faces)
+    bn, fn = (character.landmarks[k].at(sim.body, faces) for k in ("back_neck_point", "front_neck_point"))
+    marks = sim.pmesh.pieces["collar"].marks
+    collar = wrapped["collar"]
+    front = 0.5 * (collar[marks["end_left"]] + collar[marks["end_right"]])
+    # the collar's neck edge follows the neckline down to the front (wrapped level at the back neck point its
+    # front stood 1.2 cm higher than its back, on the throat under the chin), its back on the back neck point
+    assert collar[marks["cb"], 1] - front[1] > 0.9 * (bn[1] - fn[1]), (collar[marks["cb"], 1], front[1], bn, fn)
+    assert abs(collar[marks["cb"], 1] - bn[1]) < 1.0
+    # placed (the seam graph's contact clears the top leant over the nape), the collar is outside the neck by the
+    # independent signed distance
+    placed = sim.cloth.x[sim.cloth.group == sim.names.index("collar")]
+    assert signed_distance(sim.body, faces, placed).min() > 0.5

@@ -29,6 +29,7 @@ from ..mesh2d import PatternMesh
 from .bands import bands_on_edges
 from .bindings import binding_keys, lay_bindings
 from .handedness import choose_mirrored, paired_limb_pieces, sewn_turned, with_mirrored
+from .openings import bands_on_openings
 from .seam_graph import SeamGraphSettings, close_seam_graph, layer_ranks
 from .wrap import LIMBS, Cylinder, bounding_cylinders, instance_part, landmark_position, mirror_name, place_instances
 
@@ -149,9 +150,15 @@ def wrap_worn_side(
             where=name,
         )
     pmesh = with_mirrored(pmesh, turned)
+    anchors = {
+        i.key: marks[pl.anchor_mark]
+        for i in pmesh.instances
+        if (pl := pattern.piece(i.piece).placement).anchor_mark in (marks := pmesh.pieces[i.piece].marks)
+    }
     drawn = place_instances(character, vertices, pattern, pmesh, cylinders, report, scene=scene, parts=parts)
     if not candidates:
-        return pmesh, bands_on_edges(pmesh, drawn, proxies, part, around, scene)
+        wrapped = bands_on_edges(pmesh, drawn, proxies, part, around, scene)
+        return pmesh, bands_on_openings(pmesh, wrapped, proxies, part, around, anchors, scene)
     flipped_mesh = with_mirrored(pmesh, candidates)
     flipped = place_instances(character, vertices, pattern, flipped_mesh, cylinders, Report(), scene=scene, parts=parts)
     chosen = choose_mirrored(pmesh, candidates, drawn, flipped, part)
@@ -164,4 +171,5 @@ def wrap_worn_side(
         )
     pick = {inst.key: (flipped if inst.piece in chosen else drawn)[inst.key] for inst in pmesh.instances}
     worn = with_mirrored(pmesh, chosen)
-    return worn, bands_on_edges(worn, pick, proxies, part, around, scene)
+    wrapped = bands_on_edges(worn, pick, proxies, part, around, scene)
+    return worn, bands_on_openings(worn, wrapped, proxies, part, around, anchors, scene)

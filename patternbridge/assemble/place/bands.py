@@ -24,10 +24,11 @@ The band's body then lies beyond the edge (its drawing puts it there: a
 cuff below its top edge), not over the tube, and its seam side lies one
 layer outside its partner's. A band sewn to pieces that are not tubes round
 its own proxy (a collar or a neckband on the torso's neckline, a waistband
-on a skirt's fronts and backs or on trouser legs) is left as wrapped: their
+on a skirt's fronts and backs or on trouser legs) is not moved here: their
 edge is no ring about the band's axis (the torso's cylinder has no top),
 its landmark already puts it in phase with them (turns of 0-1.5° on A), and
-the seam graph brings the neckline in.
+the seam graph brings the neckline in; :mod:`.openings` tilts it to follow
+that edge's slope.
 """
 
 from __future__ import annotations
@@ -40,7 +41,7 @@ from ..mesh2d import PatternMesh
 from .seam_graph import SeamGraphSettings, layer_ranks
 from .wrap import Cylinder
 
-__all__ = ["GATHER_CM", "LAYER_CM", "bands_on_edges"]
+__all__ = ["GATHER_CM", "LAYER_CM", "band_partners", "bands_on_edges", "rings", "sewn_sides"]
 
 GATHER_CM = 5.0  # length along the axis over which a tube's edge is gathered in to its band
 LAYER_CM = SeamGraphSettings().layer_cm  # a band's seam side lies this far outside its partner's edge
@@ -67,17 +68,23 @@ def band_partners(pmesh: PatternMesh, around: set[str]) -> dict[str, list[tuple[
     rank = dict(zip(keys, layer_ranks(sizes).tolist(), strict=True))
     out: dict[str, list] = {}
     for key in rings(pmesh, around):
-        sides = []
-        for sp in pmesh.seams:
-            if sp.a.key == sp.b.key:
-                continue
-            if sp.a.key == key:
-                sides.append((sp.a_vertices, sp.b.key, sp.b_vertices))
-            elif sp.b.key == key:
-                sides.append((sp.b_vertices, sp.a.key, sp.a_vertices))
+        sides = sewn_sides(pmesh, key)
         if sides and all(rank[other] < rank[key] for _, other, _ in sides):
             out[key] = sides
     return out
+
+
+def sewn_sides(pmesh: PatternMesh, key: str) -> list[tuple[np.ndarray, str, np.ndarray]]:
+    """Every seam of instance ``key`` to another instance: [(its seam vertices, partner key, partner's vertices)]."""
+    sides = []
+    for sp in pmesh.seams:
+        if sp.a.key == sp.b.key:
+            continue
+        if sp.a.key == key:
+            sides.append((sp.a_vertices, sp.b.key, sp.b_vertices))
+        elif sp.b.key == key:
+            sides.append((sp.b_vertices, sp.a.key, sp.a_vertices))
+    return sides
 
 
 def bands_on_edges(

@@ -42,7 +42,7 @@ from ..mesh2d import Instance, PatternMesh
 from ..strategy import LEGS, mirror_part
 from .length import CROTCH_LANDMARK, crotch_drop, length_stretches
 
-__all__ = ["Cylinder", "bounding_cylinders", "landmark_position", "mirror_name", "place_instances"]
+__all__ = ["BAND_PARTS", "Cylinder", "bounding_cylinders", "landmark_position", "mirror_name", "place_instances"]
 
 log = logging.getLogger(__name__)
 
@@ -56,6 +56,9 @@ _DISTAL = {
     BodyPart.RIGHT_LEG: 0.12,
 }  # share of a limb's length taken by the hand / the foot
 LIMBS = frozenset(_DISTAL)
+#: parts a band goes round once on its own length, about the body's cross-section at its anchor (a waistband, a
+#: collar); round a limb a ring is a tube (a sleeve, a cuff)
+BAND_PARTS = frozenset({BodyPart.TORSO, BodyPart.HEAD})
 
 
 @dataclass(frozen=True, slots=True, kw_only=True, eq=False)
@@ -284,7 +287,7 @@ def place_instances(
             )
         cyl = cylinders[part]
         mirrored = inst.copy is Copy.MIRROR
-        if part in (BodyPart.TORSO, BodyPart.HEAD) and pl.side is Side.AROUND and parts is not None:
+        if part in BAND_PARTS and pl.side is Side.AROUND and parts is not None:
             cyl = _band_cylinder(character, vertices, parts, cyl, pl.anchor, mirrored)
         p2 = instance_points2d(pmesh, inst)
         marks = pmesh.pieces[inst.piece].marks
@@ -828,7 +831,7 @@ def _row_radii(pmesh: PatternMesh, inst: Instance, part: BodyPart, side: Side, r
     if not (closes and side is Side.AROUND):
         return np.full(n, float(radius_cm))
     b = pts[: pmesh.pieces[inst.piece].n_boundary]
-    if part in (BodyPart.TORSO, BodyPart.HEAD):
+    if part in BAND_PARTS:
         # a band round the waist or the neck (a waistband, a collar): once
         # round on its full length, its closure edges side by side (on the
         # head's radius a collar went a third again round, its side neck
