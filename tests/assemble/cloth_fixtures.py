@@ -44,3 +44,17 @@ def arm_and_mitt(radius: float = 2.5):
     mitt = trimesh.creation.box(extents=[8.0, 7.0, 7.0])
     mitt.apply_translation([12.0, 0.0, 0.0])
     return arm, mitt
+
+
+def captured_on_a(characters_dir, name: str):
+    """A patch of cloth captured on A_superhero (``tests/assemble/data/NAME.npz``): its vertices (V, 3), faces
+    (F, 3), the clearance offset the finish used, and a collider of A's skin."""
+    from pathlib import Path
+
+    from patternbridge.assemble.collision import BodyCollider
+    from patternbridge.mesh.load import load_character
+
+    data = np.load(Path(__file__).parent / "data" / f"{name}.npz")
+    character, _ = load_character(characters_dir / "A_superhero.obj")
+    body = BodyCollider(np.asarray(character.vertices, dtype=np.float64), character.faces)
+    return data["vertices"], data["faces"], float(data["offset"]), body

@@ -7,7 +7,7 @@ import dataclasses
 import numpy as np
 import pytest
 import trimesh
-from cloth_fixtures import arm_and_mitt
+from cloth_fixtures import arm_and_mitt, captured_on_a
 
 from patternbridge.assemble.bodyparts import PARTS, BodyParts, crotch_height, hand_masks, segment_body
 from patternbridge.assemble.collision import BodyCollider, hand_mitts
@@ -190,14 +190,7 @@ def test_a_triangle_pierced_beside_an_armpit_is_cleared_by_sliding_it(characters
     # drove an edge into the arm (two triangles through instead of one);
     # with the pierced triangles also slid along their normals each round it
     # clears, one corner leaving the crease by 5 cm (``escape``)
-    from pathlib import Path
-
-    from patternbridge.mesh.load import load_character
-
-    data = np.load(Path(__file__).parent / "data" / "a_armpit_pierced.npz")
-    v, f, offset = data["vertices"], data["faces"], float(data["offset"])
-    character, _ = load_character(characters_dir / "A_superhero.obj")
-    body = BodyCollider(np.asarray(character.vertices, dtype=np.float64), character.faces)
+    v, f, offset, body = captured_on_a(characters_dir, "a_armpit_pierced")
 
     def through(x):
         return len(np.unique(body.skin_through(x, f)[0])) + int(body.crossing_triangles(x, f).sum())

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import trimesh
+from cloth_fixtures import captured_on_a
 
 from patternbridge.assemble.collision import BodyCollider, carry_layers
 from patternbridge.assemble.pipeline import clear_skin
@@ -79,15 +80,9 @@ def test_a_tip_of_skin_grazing_an_armpit_is_left_rather_than_the_fold_beside_it_
     # crossing the cloth. Lifting them off the tips drove the fold of sleeve
     # and back beside them through itself (26 crossing triangles); under the
     # skin check's tolerance (1 mm) the tips are left
-    from pathlib import Path
-
     from patternbridge.assemble.skin_check import skin_check
-    from patternbridge.mesh.load import load_character
 
-    data = np.load(Path(__file__).parent / "data" / "a_armpit_grazed.npz")
-    v, f, offset = data["vertices"], data["faces"], float(data["offset"])
-    character, _ = load_character(characters_dir / "A_superhero.obj")
-    body = BodyCollider(np.asarray(character.vertices, dtype=np.float64), character.faces)
+    v, f, offset, body = captured_on_a(characters_dir, "a_armpit_grazed")
     before = int(self_crossing(v, f).sum())
     assert before == 4 and len(np.unique(body.skin_through(v, f)[0])) == 3
 
