@@ -119,10 +119,7 @@ def bands_on_edges(
     for key, sides in band_partners(pmesh, around).items():
         if not all(other in tubes and same_proxy[other] == same_proxy[key] for _, other, _ in sides):
             continue
-        band = out[key]
-        ring = dataclasses.replace(proxies[key], center=band.mean(axis=0))  # the proxy's axis through the band
-        own = np.concatenate([v for v, _, _ in sides])
-        them = np.concatenate([out[other][vo] for _, other, vo in sides])
+        band, ring, own, them = band_and_partners(out, proxies[key], key, sides)
         th_b, h_b, r_b = ring.coordinates(band)
         th_t, h_t, _ = ring.coordinates(them)
         th_b = th_b + float(np.angle(np.sum(np.exp(1j * (th_t - th_b[own])))))
@@ -131,6 +128,20 @@ def bands_on_edges(
         r_b = r_b * max(1.0, (edge_r + LAYER_CM) / float(np.mean(r_b[own])))
         out[key] = ring.points(th_b, h_b, r_b)
     return out
+
+
+def band_and_partners(
+    placed: dict[str, np.ndarray], proxy: Cylinder, key: str, sides: list
+) -> tuple[np.ndarray, Cylinder, np.ndarray, np.ndarray]:
+    """The band ``key`` as placed, its proxy's axis moved through it, its sewn vertices and their partners' positions.
+
+    ``sides`` is :func:`sewn_sides`' list for the band: (its vertices, partner key, partner vertices) per seam.
+    """
+    band = placed[key]
+    ring = dataclasses.replace(proxy, center=band.mean(axis=0))
+    own = np.concatenate([v for v, _, _ in sides])
+    them = np.concatenate([placed[other][vo] for _, other, vo in sides])
+    return band, ring, own, them
 
 
 def _gather_edges(out: dict, sides: list, ring: Cylinder, band_r: float, scene) -> float:

@@ -39,7 +39,7 @@ import dataclasses
 import numpy as np
 
 from ..mesh2d import PatternMesh
-from .bands import CLEARANCE_CM, rings, sewn_sides
+from .bands import CLEARANCE_CM, band_and_partners, rings, sewn_sides
 from .wrap import BAND_PARTS, Cylinder
 
 __all__ = ["MAX_TILT_DEG", "bands_on_openings", "opening_slope", "tilted_about"]
@@ -131,10 +131,7 @@ def bands_on_openings(
         sides = sewn_sides(pmesh, key)
         if same_proxy[key] not in BAND_PARTS or not sides or key not in anchors:
             continue
-        band = out[key]
-        ring = dataclasses.replace(proxies[key], center=band.mean(axis=0))  # the proxy's axis through the band
-        own = np.concatenate([v for v, _, _ in sides])
-        them = np.concatenate([out[other][vo] for _, other, vo in sides])
+        band, ring, own, them = band_and_partners(out, proxies[key], key, sides)
         x, turned = tilted_about(band, own, them, ring, band[anchors[key]])
         if scene is not None and x is not band:
             th, h, r = turned.coordinates(x)
