@@ -150,10 +150,14 @@ def wrap_worn_side(
             where=name,
         )
     pmesh = with_mirrored(pmesh, turned)
+    # a band turned to its opening's slope keeps its anchor; the bindings, laid again along their edges once the
+    # seam graph has closed the pieces (``lay_bindings``), are left as wrapped
+    laid_later = binding_keys(pattern, pmesh)
     anchors = {
         i.key: marks[pl.anchor_mark]
         for i in pmesh.instances
         if (pl := pattern.piece(i.piece).placement).anchor_mark in (marks := pmesh.pieces[i.piece].marks)
+        and i.key not in laid_later
     }
     drawn = place_instances(character, vertices, pattern, pmesh, cylinders, report, scene=scene, parts=parts)
     if not candidates:
