@@ -101,6 +101,19 @@ def _has_mirror_copy(pattern: Pattern, inference: BridgeInference, name: str) ->
     return inference.orientations[name].fold is not None or copies_cut(pattern.piece(name)) > 1
 
 
+def folded_double(pattern: Pattern, inference: BridgeInference, j: Join) -> bool:
+    """Whether ``j`` is the fold of a band folded along its length (its fold edge at least half as long as the
+    band along its principal axis): cut unfolded and folded double over the edge it is sewn by, it is worn as
+    its drawn half, both layers together, so the drape sews no mirror half to it; its mirror copy is the band
+    of the other body side (a short sleeve's rib cuff, drawn 2.2 cm wide on its fold for each sleeve)."""
+    if j.kind != "fold" or not is_band(inference.roles[j.a.piece].role):
+        return False
+    pts = np.asarray(pattern.piece(j.a.piece).outline, dtype=np.float64)
+    centred = pts - pts.mean(axis=0)
+    length = float(np.ptp(centred @ np.linalg.svd(centred, full_matrices=False)[2][0]))
+    return float(np.linalg.norm(pts[j.a.end] - pts[j.a.start])) >= 0.5 * length
+
+
 def _with_twins(pattern: Pattern, inference: BridgeInference, seams: list[dict[str, Any]]) -> list[dict[str, Any]]:
     """Each seam between pieces that both have a mirror copy, also on the other body side (copies swapped).
 
@@ -275,7 +288,8 @@ def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str,
     chart = choose_chart(pattern.sizes, pattern.sample_size)
     links = measurement_links(pattern, inference, chart)
     found = piece_landmarks(pattern, inference)
-    seams = _with_twins(pattern, inference, [_seam(pattern, inference, j) for j in inference.joins])
+    joins = [j for j in inference.joins if not folded_double(pattern, inference, j)]
+    seams = _with_twins(pattern, inference, [_seam(pattern, inference, j) for j in joins])
     sewn_to_others = {e["piece"] for s in seams if s["a"]["piece"] != s["b"]["piece"] for e in (s["a"], s["b"])}
     fabric = infer_fabric(pattern, inference.roles, inference.chosen, links, chart.body_cm, neck_cm=neck)
     extras = _PieceExtras(
