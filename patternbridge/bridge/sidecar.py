@@ -20,7 +20,7 @@ import numpy as np
 from ..library.seams import sew_line
 from ..library.sidecar import SIDECAR_FORMAT
 from ..pattern.json import measurement_link_to_dict
-from ..pattern.model import MeasurementLink, Pattern, Piece, Role
+from ..pattern.model import BINDING_ROLES, MeasurementLink, Pattern, Piece
 from .alternatives import copies_cut
 from .band_spans import split_bands
 from .fabric import FabricInference, infer_fabric, pullover_neck_cm
@@ -298,7 +298,7 @@ def inference_sidecar(pattern: Pattern, inference: BridgeInference) -> dict[str,
         found=found,
         trims=trims,
         worn=_worn_copies(pattern, inference, seams),
-        bound={n for n in sewn_to_others if inference.roles[n].role in (Role.NECK_BINDING, Role.ARMHOLE_BINDING)},
+        bound={n for n in sewn_to_others if inference.roles[n].role in BINDING_ROLES},
         fabric=fabric,
     )
     return {

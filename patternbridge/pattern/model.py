@@ -32,6 +32,7 @@ from .._arrays import as_float_array, frozen
 from .fabric import FabricClass
 
 __all__ = [
+    "BINDING_ROLES",
     "Annotation",
     "BodyPart",
     "Copy",
@@ -158,6 +159,10 @@ class Role(_StrEnum):
     GUSSET = "gusset"
     INTERLINING = "interlining"
     OTHER = "other"
+
+
+#: pieces sewn flat along an opening by one long edge
+BINDING_ROLES = frozenset({Role.NECK_BINDING, Role.ARMHOLE_BINDING})
 
 
 def _vertex_kinds(kinds, n: int, name: str) -> tuple[VertexKind, ...]:

@@ -26,14 +26,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...pattern.model import Pattern, Role
+from ...pattern.model import BINDING_ROLES, Pattern
+from ..export_attributes import vertex_normals
 from ..mesh2d import PatternMesh
 from .wrap import instance_points2d
 
-__all__ = ["BINDING_ROLES", "NEAREST", "binding_keys", "lay_bindings"]
+__all__ = ["NEAREST", "binding_keys", "lay_bindings"]
 
-#: pieces sewn flat along an opening by one long edge
-BINDING_ROLES = (Role.NECK_BINDING, Role.ARMHOLE_BINDING)
 #: sewn vertices whose frames are blended for each vertex of a binding
 NEAREST = 3
 
@@ -103,16 +102,11 @@ def _edge_frames(
 def _away_from_cloth(x: np.ndarray, faces: np.ndarray, edge: np.ndarray) -> np.ndarray:
     """(k, 3) unit vectors at the boundary vertices ``edge`` of a placed piece: in its surface (the mean normal of
     the faces round each), across its edge, pointing off its cloth."""
-    tri = x[faces]
-    fn = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    normal = np.zeros_like(x)
+    centroid = x[faces].mean(axis=1)
     inward = np.zeros_like(x)
-    centroid = tri.mean(axis=1)
     for c in range(3):
-        np.add.at(normal, faces[:, c], fn)
         np.add.at(inward, faces[:, c], centroid - x[faces[:, c]])
-    n = normal[edge]
-    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-12)
+    n = vertex_normals(x, faces)[edge]
     off = -inward[edge]
     off -= np.sum(off * n, axis=1, keepdims=True) * n
     return off / np.maximum(np.linalg.norm(off, axis=1, keepdims=True), 1e-12)

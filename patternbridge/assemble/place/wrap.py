@@ -35,7 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import InputError
-from ...pattern.model import BodyPart, Copy, Pattern, Role, Side
+from ...pattern.model import BINDING_ROLES, BodyPart, Copy, Pattern, Side
 from ...report import Report
 from ..bodyparts import HAND_SHARE, PARTS, BodyParts, crotch_height, limb_axis
 from ..mesh2d import Instance, PatternMesh
@@ -411,7 +411,7 @@ def _bindings_way_up(pattern: Pattern, pmesh: PatternMesh, rows: list, shared: d
     fall below :data:`TURNED_GAIN` of those as drawn.
     """
     for inst, pl, part, cyl, p2, R, th_a, h_a, a2 in rows:
-        if pattern.piece(inst.piece).role not in (Role.NECK_BINDING, Role.ARMHOLE_BINDING) or inst.key in shared:
+        if pattern.piece(inst.piece).role not in BINDING_ROLES or inst.key in shared:
             continue
         sides = [
             (va, out[other.key][vb])
