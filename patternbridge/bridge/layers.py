@@ -20,22 +20,38 @@ from __future__ import annotations
 import dataclasses
 from collections import Counter
 from dataclasses import dataclass
+from enum import StrEnum
 
 from ..pattern.model import Pattern, Role
 from .model import is_body
 
-__all__ = ["LeftOut", "draped_only", "left_out"]
+__all__ = ["LeftOut", "LeftOutReason", "draped_only", "left_out"]
+
+
+class LeftOutReason(StrEnum):
+    """Why the drape leaves a piece out (its value is the report's ``why``)."""
+
+    INTERLINING = "interlining"
+    UNSEWN = "unsewn"
+
+    @property
+    def words(self) -> str:
+        """The reason as the user reads it."""
+        return {
+            LeftOutReason.INTERLINING: "interlining, fused to the piece it stiffens",
+            LeftOutReason.UNSEWN: "sewn to no piece of the garment",
+        }[self]
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class LeftOut:
-    """A piece the drape leaves out and why (``interlining`` or ``unsewn``)."""
+    """A piece the drape leaves out and why."""
 
     piece: str
-    why: str
+    why: LeftOutReason
 
     def as_dict(self) -> dict[str, str]:
-        return {"piece": self.piece, "why": self.why}
+        return {"piece": self.piece, "why": str(self.why)}
 
 
 def _components(pattern: Pattern) -> dict[str, int]:
@@ -69,10 +85,10 @@ def left_out(pattern: Pattern) -> tuple[LeftOut, ...]:
     >>> sq = [[0, 0], [1, 0], [1, 1], [0, 1]]
     >>> shell, fused = Piece(name="a", outline=sq, role="front"), Piece(name="f", outline=sq, role="interlining")
     >>> p = Pattern(style="s", pieces=(shell, fused))
-    >>> [(x.piece, x.why) for x in left_out(p)]
+    >>> [(x.piece, str(x.why)) for x in left_out(p)]
     [('f', 'interlining')]
     """
-    out = [LeftOut(piece=p.name, why="interlining") for p in pattern.pieces if p.role is Role.INTERLINING]
+    out = [LeftOut(piece=p.name, why=LeftOutReason.INTERLINING) for p in pattern.pieces if p.role is Role.INTERLINING]
     gone = {x.piece for x in out}
     comp = _components(pattern)
     if not any(s.a.piece != s.b.piece for s in pattern.seams):
@@ -80,9 +96,8 @@ def left_out(pattern: Pattern) -> tuple[LeftOut, ...]:
     body = {comp[p.name] for p in pattern.pieces if is_body(p.role) and p.name not in gone}
     if not body:
         body = {Counter(comp[n] for n in comp if n not in gone).most_common(1)[0][0]}
-    out += [
-        LeftOut(piece=p.name, why="unsewn") for p in pattern.pieces if p.name not in gone and comp[p.name] not in body
-    ]
+    unsewn = [p.name for p in pattern.pieces if p.name not in gone and comp[p.name] not in body]
+    out += [LeftOut(piece=name, why=LeftOutReason.UNSEWN) for name in unsewn]
     order = {p.name: k for k, p in enumerate(pattern.pieces)}
     return tuple(sorted(out, key=lambda x: order[x.piece]))
 

@@ -167,23 +167,17 @@ def run(args: argparse.Namespace) -> int:
     return 3 if result.verdict is Verdict.FAILED else 0
 
 
-#: why a piece is left out of the drape (``bridge.layers.LeftOut.why``) -> the words the user reads
-_LEFT_OUT_WHY = {
-    "interlining": "interlining, fused to the piece it stiffens",
-    "unsewn": "sewn to no piece of the garment",
-}
-
-
 def drape_warnings(drape: dict) -> list[str]:
     """One line per thing in the ``drape`` report a user should look at in the pictures."""
     from ..assemble.drape_measure import WELDED_OPEN_MM
+    from ..bridge.layers import LeftOutReason
 
     out = []
     kept_off = drape.get("left_out") or []
     if kept_off:
         out.append(
             "[fit] not draped (graded and exported in the DXF): "
-            + ", ".join(f"{r['piece']} ({_LEFT_OUT_WHY.get(r['why'], r['why'])})" for r in kept_off)
+            + ", ".join(f"{r['piece']} ({LeftOutReason(r['why']).words})" for r in kept_off)
         )
     opened = drape.get("seams_open_before_weld") or []
     if opened:
