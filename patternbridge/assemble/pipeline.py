@@ -551,7 +551,6 @@ def finish(sim: Simulation, limits: VerdictLimits | None = None) -> Garment:
 
 
 SKIN_TOLERANCE_CM = 0.1  # the verdict's skin limit (VerdictLimits.skin_depth_flawed_mm): the skin mesh's own
-SKIN_SAMPLES = 4  # divisions of the barycentric grid a skin-crossing triangle is sampled on (15 points)
 
 
 def clear_skin(
@@ -651,12 +650,10 @@ def _deep_in_skin(collider, x: np.ndarray, wf: np.ndarray, tolerance_cm: float) 
     crossing = skin_crossing(collider, x, wf)
     if tolerance_cm <= 0.0 or not crossing.any():
         return crossing
-    k = SKIN_SAMPLES
-    i, j = np.meshgrid(np.arange(k + 1), np.arange(k + 1), indexing="ij")
-    keep = i + j <= k
-    bary = np.stack([i[keep], j[keep], k - i[keep] - j[keep]], axis=1) / k
+    from .skin_check import triangle_samples
+
     ids = np.flatnonzero(crossing)
-    samples = np.einsum("sc,fcd->fsd", bary, x[wf[ids]])
+    samples = triangle_samples(x, wf[ids])
     depth = -collider.signed_distance(samples.reshape(-1, 3)).reshape(len(ids), -1).min(axis=1)
     crossing[ids[depth <= tolerance_cm]] = False
     return crossing

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["SkinCheck", "skin_check"]
+__all__ = ["SkinCheck", "skin_check", "triangle_samples"]
 
 RAY_VOTES = 5  # rays cast per point for the inside/outside sign (odd)
 SAMPLE_DIVISIONS = 4  # each triangle is sampled on a barycentric grid of this many divisions (15 points)
@@ -49,6 +49,16 @@ def signed_distance(body_vertices: np.ndarray, body_faces: np.ndarray, points: n
     return scene.compute_signed_distance(query, nsamples=RAY_VOTES).numpy().astype(np.float64)
 
 
+def triangle_samples(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """(F, s, 3) points on a barycentric grid of :data:`SAMPLE_DIVISIONS` over each triangle (corners, edges and
+    inside; s = 15)."""
+    k = SAMPLE_DIVISIONS
+    i, j = np.meshgrid(np.arange(k + 1), np.arange(k + 1), indexing="ij")
+    keep = i + j <= k
+    bary = np.stack([i[keep], j[keep], k - i[keep] - j[keep]], axis=1) / k  # (s, 3) barycentric samples
+    return np.einsum("sc,fcd->fsd", bary, vertices[faces])
+
+
 def skin_check(body_vertices: np.ndarray, body_faces: np.ndarray, vertices: np.ndarray, faces: np.ndarray) -> SkinCheck:
     """Depth inside the body of every garment triangle.
 
@@ -61,12 +71,7 @@ def skin_check(body_vertices: np.ndarray, body_faces: np.ndarray, vertices: np.n
     -------
     :class:`SkinCheck`
     """
-    v = np.asarray(vertices, dtype=np.float64)
     f = np.asarray(faces, dtype=np.int64)
-    k = SAMPLE_DIVISIONS
-    i, j = np.meshgrid(np.arange(k + 1), np.arange(k + 1), indexing="ij")
-    keep = i + j <= k
-    bary = np.stack([i[keep], j[keep], k - i[keep] - j[keep]], axis=1) / k  # (s, 3) barycentric samples
-    samples = np.einsum("sc,fcd->fsd", bary, v[f])  # (F, s, 3)
+    samples = triangle_samples(np.asarray(vertices, dtype=np.float64), f)  # (F, s, 3)
     d = signed_distance(body_vertices, body_faces, samples.reshape(-1, 3)).reshape(len(f), -1)
     return SkinCheck(depth_cm=np.maximum(-d.min(axis=1, initial=np.inf), 0.0) if len(f) else np.zeros(0))
